@@ -1,0 +1,29 @@
+# Third-party libraries, all from Debian 12 packages (see README.md).
+
+find_package(Eigen3 3.3 CONFIG REQUIRED)
+find_package(Threads REQUIRED)
+
+# OCCT: asking for COMPONENTS fails in Debian's config, so take the plain targets.
+find_package(OpenCASCADE CONFIG REQUIRED)
+add_library(bvmesh_occt INTERFACE)
+target_include_directories(bvmesh_occt SYSTEM INTERFACE ${OpenCASCADE_INCLUDE_DIR})
+target_link_libraries(bvmesh_occt INTERFACE
+  TKSTEP TKIGES TKXSBase TKShHealing TKOffset TKBool TKBO TKPrim TKMesh
+  TKTopAlgo TKGeomAlgo TKBRep TKGeomBase TKG3d TKG2d TKMath TKernel)
+
+# OpenSubdiv: Debian's OpenSubdivConfig names static libraries that are not shipped,
+# so locate the header and the CPU library directly.
+find_path(OPENSUBDIV_INCLUDE_DIR opensubdiv/far/topologyRefiner.h REQUIRED)
+find_library(OPENSUBDIV_CPU_LIBRARY NAMES osdCPU REQUIRED)
+add_library(bvmesh_opensubdiv INTERFACE)
+target_include_directories(bvmesh_opensubdiv SYSTEM INTERFACE ${OPENSUBDIV_INCLUDE_DIR})
+target_link_libraries(bvmesh_opensubdiv INTERFACE ${OPENSUBDIV_CPU_LIBRARY})
+
+if(BVMESH_BUILD_PYTHON)
+  find_package(Python 3.9 REQUIRED COMPONENTS Interpreter Development.Module)
+  find_package(pybind11 CONFIG REQUIRED)
+endif()
+if(BVMESH_BUILD_TESTS)
+  find_package(GTest CONFIG REQUIRED)
+  include(GoogleTest)
+endif()

@@ -1,0 +1,10 @@
+// One registration function per core area; module.cpp calls them all.
+#pragma once
+
+#include <pybind11/pybind11.h>
+
+namespace bvmesh::python {
+
+void bindErrors(pybind11::module_& module);
+
+}  // namespace bvmesh::python

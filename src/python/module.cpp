@@ -1,0 +1,6 @@
+#include "bindings.h"
+
+PYBIND11_MODULE(_core, module) {
+  module.doc() = "BVMesh compiled core: subdivision, projection and fitting for B-spline meshing";
+  bvmesh::python::bindErrors(module);
+}
