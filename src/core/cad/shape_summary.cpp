@@ -1,0 +1,188 @@
+#include "core/cad/shape_summary.h"
+
+#include <BRepAdaptor_Surface.hxx>
+#include <BRepBndLib.hxx>
+#include <BRepGProp.hxx>
+#include <BRep_Tool.hxx>
+#include <Bnd_Box.hxx>
+#include <GProp_GProps.hxx>
+#include <Geom2d_Curve.hxx>
+#include <GeomAbs_SurfaceType.hxx>
+#include <TopExp.hxx>
+#include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopTools_ListOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
+#include <TopoDS_Face.hxx>
+#include <gp_Vec.hxx>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/common/errors.h"
+#include "core/common/occt_errors.h"
+
+namespace bvmesh::cad {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// Outward normal of `face` at the point of `edge` with edge parameter t; false where the surface
+// is singular there (e.g. a pole).
+bool faceNormalOnEdge(const TopoDS_Face& face, const TopoDS_Edge& edge, double t, gp_Vec& normal) {
+  double first = 0.0;
+  double last = 0.0;
+  Handle(Geom2d_Curve) pcurve = BRep_Tool::CurveOnSurface(edge, face, first, last);
+  if (pcurve.IsNull()) return false;
+  const gp_Pnt2d uv = pcurve->Value(t);
+  BRepAdaptor_Surface surface(face, false);
+  gp_Pnt point;
+  gp_Vec du;
+  gp_Vec dv;
+  surface.D1(uv.X(), uv.Y(), point, du, dv);
+  normal = du.Crossed(dv);
+  if (normal.Magnitude() < 1e-14 * std::max(1.0, du.Magnitude() * dv.Magnitude())) return false;
+  normal.Normalize();
+  if (face.Orientation() == TopAbs_REVERSED) normal.Reverse();
+  return true;
+}
+
+double maxDihedralDegrees(const TopoDS_Edge& edge, const TopoDS_Face& a, const TopoDS_Face& b,
+                          int samples) {
+  double first = 0.0;
+  double last = 0.0;
+  BRep_Tool::Range(edge, first, last);
+  double maxAngle = 0.0;
+  for (int i = 0; i < samples; ++i) {
+    // Interior points only: at the ends the edge meets other faces and normals may be singular.
+    const double t = first + (last - first) * (i + 0.5) / samples;
+    gp_Vec na;
+    gp_Vec nb;
+    if (!faceNormalOnEdge(a, edge, t, na) || !faceNormalOnEdge(b, edge, t, nb)) continue;
+    maxAngle = std::max(maxAngle, na.Angle(nb));
+  }
+  return maxAngle * 180.0 / kPi;
+}
+
+EdgeInfo classifyEdge(const TopoDS_Edge& edge, const TopTools_ListOfShape& adjacentFaces,
+                      const TopTools_IndexedMapOfShape& faceIndex,
+                      const ShapeSummaryOptions& options) {
+  EdgeInfo info;
+  for (const TopoDS_Shape& face : adjacentFaces) {
+    const int index = faceIndex.FindIndex(face) - 1;
+    if (std::find(info.faces.begin(), info.faces.end(), index) == info.faces.end()) {
+      info.faces.push_back(index);
+    }
+  }
+  GProp_GProps props;
+  BRepGProp::LinearProperties(edge, props);
+  info.length = props.Mass();
+
+  if (BRep_Tool::Degenerated(edge)) {
+    info.kind = EdgeKind::Degenerate;
+  } else if (info.faces.size() >= 3) {
+    info.kind = EdgeKind::NonManifold;
+  } else if (info.faces.size() == 1) {
+    const TopoDS_Face& face = TopoDS::Face(faceIndex(info.faces[0] + 1));
+    info.kind = BRep_Tool::IsClosed(edge, face) ? EdgeKind::Seam : EdgeKind::Free;
+  } else if (info.faces.size() == 2) {
+    info.maxDihedralDegrees =
+        maxDihedralDegrees(edge, TopoDS::Face(faceIndex(info.faces[0] + 1)),
+                           TopoDS::Face(faceIndex(info.faces[1] + 1)), options.samplesPerEdge);
+    info.kind = info.maxDihedralDegrees >= options.sharpAngleDegrees ? EdgeKind::Sharp
+                                                                      : EdgeKind::Smooth;
+  } else {
+    info.kind = EdgeKind::Free;  // an edge of the shape that bounds no face (wire geometry)
+  }
+  return info;
+}
+
+}  // namespace
+
+int ShapeSummary::countEdges(EdgeKind kind) const {
+  return static_cast<int>(std::count_if(edges.begin(), edges.end(),
+                                        [kind](const EdgeInfo& edge) { return edge.kind == kind; }));
+}
+
+int ShapeSummary::countFacesOfType(const std::string& surfaceType) const {
+  return static_cast<int>(std::count(faceSurfaceTypes.begin(), faceSurfaceTypes.end(), surfaceType));
+}
+
+std::string surfaceTypeName(int geomAbsSurfaceType) {
+  switch (static_cast<GeomAbs_SurfaceType>(geomAbsSurfaceType)) {
+    case GeomAbs_Plane: return "Plane";
+    case GeomAbs_Cylinder: return "Cylinder";
+    case GeomAbs_Cone: return "Cone";
+    case GeomAbs_Sphere: return "Sphere";
+    case GeomAbs_Torus: return "Torus";
+    case GeomAbs_BezierSurface: return "BezierSurface";
+    case GeomAbs_BSplineSurface: return "BSplineSurface";
+    case GeomAbs_SurfaceOfRevolution: return "SurfaceOfRevolution";
+    case GeomAbs_SurfaceOfExtrusion: return "SurfaceOfExtrusion";
+    case GeomAbs_OffsetSurface: return "OffsetSurface";
+    case GeomAbs_OtherSurface: return "OtherSurface";
+  }
+  return "OtherSurface";
+}
+
+const char* edgeKindName(EdgeKind kind) {
+  switch (kind) {
+    case EdgeKind::Smooth: return "smooth";
+    case EdgeKind::Sharp: return "sharp";
+    case EdgeKind::Free: return "free";
+    case EdgeKind::Seam: return "seam";
+    case EdgeKind::NonManifold: return "non-manifold";
+    case EdgeKind::Degenerate: return "degenerate";
+  }
+  return "smooth";
+}
+
+ShapeSummary summarizeShape(const TopoDS_Shape& shape, const ShapeSummaryOptions& options) {
+  if (shape.IsNull()) throw InvalidInputError("cannot summarize a null shape");
+  if (options.samplesPerEdge < 1) throw InvalidInputError("samplesPerEdge must be at least 1");
+  return translateOcctErrors("summarizing shape", [&] {
+    ShapeSummary summary;
+    TopTools_IndexedMapOfShape solids;
+    TopTools_IndexedMapOfShape shells;
+    TopTools_IndexedMapOfShape faces;
+    TopTools_IndexedMapOfShape vertices;
+    TopExp::MapShapes(shape, TopAbs_SOLID, solids);
+    TopExp::MapShapes(shape, TopAbs_SHELL, shells);
+    TopExp::MapShapes(shape, TopAbs_FACE, faces);
+    TopExp::MapShapes(shape, TopAbs_VERTEX, vertices);
+    summary.solidCount = solids.Extent();
+    summary.shellCount = shells.Extent();
+    summary.vertexCount = vertices.Extent();
+
+    for (int i = 1; i <= faces.Extent(); ++i) {
+      const TopoDS_Face& face = TopoDS::Face(faces(i));
+      summary.faceSurfaceTypes.push_back(surfaceTypeName(BRepAdaptor_Surface(face, false).GetType()));
+      GProp_GProps props;
+      BRepGProp::SurfaceProperties(face, props);
+      summary.faceAreas.push_back(props.Mass());
+    }
+
+    // Edges in MapShapes order, each with the faces around it.
+    TopTools_IndexedDataMapOfShapeListOfShape edgeFaces;
+    TopExp::MapShapesAndUniqueAncestors(shape, TopAbs_EDGE, TopAbs_FACE, edgeFaces);
+    TopTools_IndexedMapOfShape edges;
+    TopExp::MapShapes(shape, TopAbs_EDGE, edges);
+    for (int i = 1; i <= edges.Extent(); ++i) {
+      const TopoDS_Edge& edge = TopoDS::Edge(edges(i));
+      const TopTools_ListOfShape* adjacent = edgeFaces.Seek(edge);
+      summary.edges.push_back(
+          classifyEdge(edge, adjacent != nullptr ? *adjacent : TopTools_ListOfShape(), faces, options));
+    }
+
+    Bnd_Box box;
+    BRepBndLib::AddOptimal(shape, box, false, false);
+    if (!box.IsVoid()) {
+      box.Get(summary.boundsMin[0], summary.boundsMin[1], summary.boundsMin[2],
+              summary.boundsMax[0], summary.boundsMax[1], summary.boundsMax[2]);
+    }
+    return summary;
+  });
+}
+
+}  // namespace bvmesh::cad

@@ -1,0 +1,150 @@
+#include <gtest/gtest.h>
+
+#include <BRepAdaptor_Surface.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepTools.hxx>
+#include <GeomAbs_SurfaceType.hxx>
+#include <TopExp.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
+
+#include <fstream>
+#include <string>
+
+#include "core/cad/bspline_face.h"
+#include "core/cad/shape_io.h"
+#include "core/cad/shape_summary.h"
+#include "core/common/errors.h"
+
+namespace bvmesh::cad {
+namespace {
+
+const std::string kDataDir = BVMESH_TEST_DATA_DIR;
+const std::string kWing = kDataDir + "/AileM6_with_sharp_TE.stp";
+
+TEST(ShapeIo, ReadsTheM6WingStep) {
+  const ShapeSummary summary = summarizeShape(readShapeFile(kWing));
+  EXPECT_EQ(summary.faceCount(), 11);
+  EXPECT_EQ(summary.countFacesOfType("BSplineSurface"), 8);
+  EXPECT_EQ(summary.countFacesOfType("Plane"), 3);
+  EXPECT_EQ(summary.solidCount, 1);
+  // The half wing lies on y >= 0 with its root in y = 0 and a root chord of about 806 mm.
+  EXPECT_NEAR(summary.boundsMin[1], 0.0, 1e-3);
+  EXPECT_GT(summary.boundsMax[0] - summary.boundsMin[0], 800.0);
+  // A closed solid: every edge has two faces (or is a seam / collapsed edge).
+  EXPECT_EQ(summary.countEdges(EdgeKind::Free), 0);
+  EXPECT_EQ(summary.countEdges(EdgeKind::NonManifold), 0);
+  EXPECT_GT(summary.countEdges(EdgeKind::Sharp), 0);
+}
+
+TEST(ShapeIo, BrepTextRoundTripKeepsTheShape) {
+  const TopoDS_Shape wing = readShapeFile(kWing);
+  const TopoDS_Shape again = readBrepString(writeBrepString(wing));
+  const ShapeSummary before = summarizeShape(wing);
+  const ShapeSummary after = summarizeShape(again);
+  EXPECT_EQ(after.faceSurfaceTypes, before.faceSurfaceTypes);
+  EXPECT_EQ(after.edges.size(), before.edges.size());
+  for (int k = 0; k < 3; ++k) EXPECT_DOUBLE_EQ(after.boundsMax[k], before.boundsMax[k]);
+}
+
+TEST(ShapeIo, BadInputGivesClearErrors) {
+  EXPECT_THROW(readShapeFile(kDataDir + "/no_such_file.stp"), InvalidInputError);
+  EXPECT_THROW(readBrepString(""), InvalidInputError);
+  EXPECT_THROW(readBrepString("this is not a BREP"), InvalidInputError);
+  EXPECT_THROW(writeBrepString(TopoDS_Shape()), InvalidInputError);
+  EXPECT_THROW(summarizeShape(TopoDS_Shape()), InvalidInputError);
+
+  const std::string garbage = std::string(BVMESH_TEST_OUTPUT_DIR) + "/garbage.step";
+  std::ofstream(garbage) << "ISO-10303-21;\nthis is no STEP data\n";
+  try {
+    readShapeFile(garbage);
+    FAIL() << "corrupt STEP accepted";
+  } catch (const InvalidInputError& error) {
+    EXPECT_NE(std::string(error.what()).find("garbage.step"), std::string::npos) << error.what();
+  }
+  const std::string unknown = std::string(BVMESH_TEST_OUTPUT_DIR) + "/shape.xyz";
+  std::ofstream(unknown) << "1 2 3\n";
+  EXPECT_THROW(readShapeFile(unknown), InvalidInputError);
+}
+
+TEST(ShapeSummary, BoxHasTwelveSharpEdges) {
+  const ShapeSummary summary = summarizeShape(BRepPrimAPI_MakeBox(1.0, 2.0, 3.0).Shape());
+  EXPECT_EQ(summary.faceCount(), 6);
+  ASSERT_EQ(summary.edges.size(), 12u);
+  for (const EdgeInfo& edge : summary.edges) {
+    EXPECT_EQ(edge.kind, EdgeKind::Sharp);
+    EXPECT_NEAR(edge.maxDihedralDegrees, 90.0, 1e-9);
+    EXPECT_EQ(edge.faces.size(), 2u);
+  }
+  // A higher threshold than the box's dihedral angle makes every edge smooth.
+  ShapeSummaryOptions options;
+  options.sharpAngleDegrees = 91.0;
+  EXPECT_EQ(summarizeShape(BRepPrimAPI_MakeBox(1.0, 2.0, 3.0).Shape(), options).countEdges(EdgeKind::Sharp), 0);
+}
+
+// A bicubic patch with one interior knot per direction on a paraboloid-like grid.
+BSplineSurfaceData bicubicPatch() {
+  BSplineSurfaceData data;
+  data.uPoleCount = 5;
+  data.vPoleCount = 4;
+  for (int i = 0; i < data.uPoleCount; ++i) {
+    for (int j = 0; j < data.vPoleCount; ++j) {
+      data.poles.insert(data.poles.end(), {double(i), double(j), 0.1 * (i * i - j * j)});
+    }
+  }
+  data.uKnots = {0.0, 0.5, 1.0};
+  data.uMultiplicities = {4, 1, 4};
+  data.vKnots = {0.0, 1.0};
+  data.vMultiplicities = {4, 4};
+  return data;
+}
+
+TEST(BSplineFace, BuildsAValidFaceThatInterpolatesItsCornerPoles) {
+  const TopoDS_Face face = makeBSplineFace(bicubicPatch());
+  BRepAdaptor_Surface surface(face);
+  EXPECT_EQ(surface.GetType(), GeomAbs_BSplineSurface);
+  // Clamped knots: the surface passes through its corner poles.
+  const gp_Pnt corner = surface.Value(1.0, 1.0);
+  EXPECT_NEAR(corner.X(), 4.0, 1e-12);
+  EXPECT_NEAR(corner.Y(), 3.0, 1e-12);
+  EXPECT_NEAR(corner.Z(), 0.1 * (16 - 9), 1e-12);
+  // ... and survives the trip through BREP text.
+  const TopoDS_Shape copy = readBrepString(writeBrepString(face));
+  TopTools_IndexedMapOfShape faces;
+  TopExp::MapShapes(copy, TopAbs_FACE, faces);
+  ASSERT_EQ(faces.Extent(), 1);
+  EXPECT_NEAR(BRepAdaptor_Surface(TopoDS::Face(faces(1))).Value(1.0, 1.0).Z(), 0.7, 1e-12);
+}
+
+TEST(BSplineFace, InconsistentDataIsRejectedWithTheReason) {
+  auto expectRejected = [](BSplineSurfaceData data, const std::string& expectedText) {
+    try {
+      makeBSplineFace(data);
+      ADD_FAILURE() << "accepted data that should mention: " << expectedText;
+    } catch (const InvalidInputError& error) {
+      EXPECT_NE(std::string(error.what()).find(expectedText), std::string::npos) << error.what();
+    }
+  };
+  BSplineSurfaceData data = bicubicPatch();
+  data.uMultiplicities = {4, 2, 4};
+  expectRejected(data, "multiplicities add up to");
+  data = bicubicPatch();
+  data.vKnots = {1.0, 0.0};
+  expectRejected(data, "increase");
+  data = bicubicPatch();
+  data.poles[7] = std::nan("");
+  expectRejected(data, "pole 2");
+  data = bicubicPatch();
+  data.poles.pop_back();
+  expectRejected(data, "poles hold");
+  data = bicubicPatch();
+  data.uDegree = 0;
+  expectRejected(data, "u degree 0");
+  data = bicubicPatch();
+  data.weights.assign(20, 1.0);
+  data.weights[3] = -1.0;
+  expectRejected(data, "weight 3");
+}
+
+}  // namespace
+}  // namespace bvmesh::cad
