@@ -13,5 +13,7 @@ except ImportError as error:  # the C++ module has not been built, or was built 
     ) from error
 
 from ._core import CancelledError, InvalidInputError, SolverError, TopologyError
+from ._core import (ControlMesh, LimitEvaluator, LimitSamples, SampleElement, SampleFeature,
+                    SubdivisionOptions, read_control_mesh, write_control_mesh)
 
 __version__ = "0.1.0"
