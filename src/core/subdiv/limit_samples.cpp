@@ -10,68 +10,30 @@
 #include "core/subdiv/osd_refiner.h"
 
 namespace bvmesh {
-namespace {
-
-using Triplets = std::vector<Eigen::Triplet<double>>;
-
-// Primvar types that make OpenSubdiv's PrimvarRefiner::Limit write its masks as matrix rows:
-// a source "value" is a refined vertex index, a destination records weighted indices.
-struct VertexRef {
-  int index;
-};
-
-class MaskRow {
-public:
-  MaskRow(Triplets* out, const std::vector<int>* order, int row)
-      : out_(out), order_(order), row_(row) {}
-  void Clear() {}
-  void AddWithWeight(const VertexRef& source, double weight) {
-    out_->emplace_back(row_, (*order_)[static_cast<size_t>(source.index)], weight);
-  }
-
-private:
-  Triplets* out_;
-  const std::vector<int>* order_;
-  int row_;
-};
-
-RowSparseMatrix fromTriplets(const Triplets& triplets, Eigen::Index size) {
-  RowSparseMatrix result(size, size);
-  result.setFromTriplets(triplets.begin(), triplets.end());
-  return result;
-}
-
-}  // namespace
 
 LimitSamples::LimitSamples(const ControlMesh& mesh, const SubdivisionOptions& options) {
   const auto refiner = osd::createRefinedOnce(mesh, options);
   const std::vector<int> order = osd::childVertexOrder(*refiner, mesh);
-  const RowSparseMatrix subdivision = osd::subdivisionOperator(*refiner, order);
+  const osd::RowBuilder subdivision = osd::firstRefinementRows(*refiner);
 
-  // Limit masks of the refined vertices, rows and columns in our child order (which is also the
-  // sample order: vertices, edges, faces).
+  // Limit masks of the refined vertices composed with the refinement rows: sample i (in our
+  // child order, which is also the sample order: vertices, edges, faces) is the limit of
+  // refined vertex i.
   const size_t count = order.size();
-  std::vector<VertexRef> sources(count);
-  for (size_t i = 0; i < count; ++i) sources[i].index = static_cast<int>(i);
-  Triplets position, tangent1, tangent2;
-  position.reserve(10 * count);
-  tangent1.reserve(10 * count);
-  tangent2.reserve(10 * count);
-  std::vector<MaskRow> rowsP, rowsT1, rowsT2;
-  rowsP.reserve(count);
-  rowsT1.reserve(count);
-  rowsT2.reserve(count);
-  for (size_t i = 0; i < count; ++i) {
-    rowsP.emplace_back(&position, &order, order[i]);
-    rowsT1.emplace_back(&tangent1, &order, order[i]);
-    rowsT2.emplace_back(&tangent2, &order, order[i]);
-  }
-  OpenSubdiv::Far::PrimvarRefinerReal<double>(*refiner).Limit(sources, rowsP, rowsT1, rowsT2);
-
-  const auto size = static_cast<Eigen::Index>(count);
-  positionOperator_ = fromTriplets(position, size) * subdivision;
-  tangentU_ = fromTriplets(tangent1, size) * subdivision;
-  tangentV_ = fromTriplets(tangent2, size) * subdivision;
+  const auto numRows = static_cast<int>(count);
+  const int numBase = mesh.numVertices();
+  // A regular sample depends on 16 control points (one bicubic patch).
+  osd::RowBuilder position(numRows, numBase, 16), tangent1(numRows, numBase, 16),
+      tangent2(numRows, numBase, 16);
+  osd::ComposedRows rowsP{&position, &subdivision}, rowsT1{&tangent1, &subdivision},
+      rowsT2{&tangent2, &subdivision};
+  OpenSubdiv::Far::PrimvarRefinerReal<double>(*refiner).Limit(osd::VertexRefs{}, rowsP, rowsT1, rowsT2);
+  position.finish();
+  tangent1.finish();
+  tangent2.finish();
+  positionOperator_ = position.takeMatrix(order);
+  tangentU_ = tangent1.takeMatrix(order);
+  tangentV_ = tangent2.takeMatrix(order);
 
   // Sample descriptions in the same order.
   const std::vector<int> ptex = ptexFaceOffsets(mesh);
@@ -79,8 +41,8 @@ LimitSamples::LimitSamples(const ControlMesh& mesh, const SubdivisionOptions& op
   elements_.reserve(count);
   features_.reserve(count);
   locations_.reserve(count);
-  sourceIds_.resize(size);
-  sourceVertices_.resize(size, 2);
+  sourceIds_.resize(numRows);
+  sourceVertices_.resize(numRows, 2);
   Eigen::Index s = 0;
   for (int v = 0; v < mesh.numVertices(); ++v, ++s) {
     SampleFeature feature = SampleFeature::Smooth;

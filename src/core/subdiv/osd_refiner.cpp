@@ -1,11 +1,11 @@
 #include "core/subdiv/osd_refiner.h"
 
 #include <opensubdiv/far/error.h>
-#include <opensubdiv/far/stencilTable.h>
-#include <opensubdiv/far/stencilTableFactory.h>
+#include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 #include <opensubdiv/sdc/crease.h>
 
+#include <algorithm>
 #include <mutex>
 #include <string>
 
@@ -107,31 +107,76 @@ std::vector<int> childVertexOrder(const Far::TopologyRefiner& refiner, const Con
   return order;
 }
 
+RowBuilder::RowBuilder(int numRows, int numColumns, int expectedRowSize)
+    : start_(static_cast<size_t>(numRows), 0),
+      count_(static_cast<size_t>(numRows), 0),
+      dense_(static_cast<size_t>(numColumns), 0.0),
+      marked_(static_cast<size_t>(numColumns), false) {
+  columns_.reserve(static_cast<size_t>(numRows) * static_cast<size_t>(expectedRowSize));
+  weights_.reserve(static_cast<size_t>(numRows) * static_cast<size_t>(expectedRowSize));
+}
+
+void RowBuilder::begin(int row) {
+  finish();
+  current_ = row;
+}
+
+void RowBuilder::addRow(const RowBuilder& source, int row, double weight) {
+  const auto r = static_cast<size_t>(row);
+  for (int k = source.start_[r]; k < source.start_[r] + source.count_[r]; ++k) {
+    add(source.columns_[static_cast<size_t>(k)], weight * source.weights_[static_cast<size_t>(k)]);
+  }
+}
+
+void RowBuilder::finish() {
+  if (current_ < 0) return;
+  std::sort(touched_.begin(), touched_.end());
+  start_[static_cast<size_t>(current_)] = static_cast<int>(columns_.size());
+  count_[static_cast<size_t>(current_)] = static_cast<int>(touched_.size());
+  for (int column : touched_) {
+    columns_.push_back(column);
+    weights_.push_back(dense_[static_cast<size_t>(column)]);
+    dense_[static_cast<size_t>(column)] = 0.0;
+    marked_[static_cast<size_t>(column)] = false;
+  }
+  touched_.clear();
+  current_ = -1;
+}
+
+RowSparseMatrix RowBuilder::takeMatrix(const std::vector<int>& rowOrder) {
+  const size_t rows = start_.size();
+  std::vector<int> source(rows);
+  for (size_t r = 0; r < rows; ++r) source[static_cast<size_t>(rowOrder[r])] = static_cast<int>(r);
+  RowSparseMatrix result(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(dense_.size()));
+  result.resizeNonZeros(static_cast<Eigen::Index>(columns_.size()));
+  int* outer = result.outerIndexPtr();
+  int* inner = result.innerIndexPtr();
+  double* values = result.valuePtr();
+  outer[0] = 0;
+  for (size_t out = 0; out < rows; ++out) {
+    const auto r = static_cast<size_t>(source[out]);
+    const auto first = static_cast<size_t>(start_[r]), n = static_cast<size_t>(count_[r]);
+    std::copy_n(columns_.begin() + static_cast<std::ptrdiff_t>(first), n, inner + outer[out]);
+    std::copy_n(weights_.begin() + static_cast<std::ptrdiff_t>(first), n, values + outer[out]);
+    outer[out + 1] = outer[out] + static_cast<int>(n);
+  }
+  *this = RowBuilder(0, 0, 0);
+  return result;
+}
+
+RowBuilder firstRefinementRows(const Far::TopologyRefiner& refiner) {
+  const int numBase = refiner.GetLevel(0).GetNumVertices();
+  const int numChildren = refiner.GetLevel(1).GetNumVertices();
+  RowBuilder builder(numChildren, numBase, 7);  // quads: 4, 6 or 9 entries
+  BuilderRows rows{&builder};
+  Far::PrimvarRefinerReal<double>(refiner).Interpolate(1, VertexRefs{}, rows);
+  builder.finish();
+  return builder;
+}
+
 RowSparseMatrix subdivisionOperator(const Far::TopologyRefiner& refiner,
                                     const std::vector<int>& childOrder) {
-  using Factory = Far::StencilTableFactoryReal<double>;
-  Factory::Options options;
-  options.generateIntermediateLevels = false;
-  options.generateOffsets = true;
-  options.maxLevel = 1;
-  std::unique_ptr<const Far::StencilTableReal<double>> table(Factory::Create(refiner, options));
-
-  const auto& sizes = table->GetSizes();
-  const auto& offsets = table->GetOffsets();
-  const auto& indices = table->GetControlIndices();
-  const auto& weights = table->GetWeights();
-  std::vector<Eigen::Triplet<double>> triplets;
-  triplets.reserve(weights.size());
-  for (size_t s = 0; s < sizes.size(); ++s) {
-    const int row = childOrder[s];
-    for (int k = offsets[s]; k < offsets[s] + sizes[s]; ++k) {
-      triplets.emplace_back(row, indices[static_cast<size_t>(k)], weights[static_cast<size_t>(k)]);
-    }
-  }
-  RowSparseMatrix result(static_cast<Eigen::Index>(sizes.size()),
-                         refiner.GetLevel(0).GetNumVertices());
-  result.setFromTriplets(triplets.begin(), triplets.end());
-  return result;
+  return firstRefinementRows(refiner).takeMatrix(childOrder);
 }
 
 }  // namespace bvmesh::osd

@@ -30,6 +30,96 @@ std::unique_ptr<Far::TopologyRefiner> createRefinedOnce(const ControlMesh& mesh,
 // points in ControlMesh edge order, then face points).
 std::vector<int> childVertexOrder(const Far::TopologyRefiner& refiner, const ControlMesh& mesh);
 
+// Sparse rows built one at a time from OpenSubdiv's masks (PrimvarRefiner calls Clear() once per
+// destination row, then AddWithWeight for each contribution). Duplicate columns are summed with
+// a dense scatter array, so a row costs O(its entries).
+class RowBuilder {
+public:
+  // expectedRowSize: entries per row to reserve room for (a hint).
+  RowBuilder(int numRows, int numColumns, int expectedRowSize);
+  void begin(int row);  // finishes the previous row
+  void add(int column, double weight) {
+    if (!marked_[static_cast<size_t>(column)]) {
+      marked_[static_cast<size_t>(column)] = true;
+      touched_.push_back(column);
+    }
+    dense_[static_cast<size_t>(column)] += weight;
+  }
+  // Adds weight * (finished row `row` of `source`).
+  void addRow(const RowBuilder& source, int row, double weight);
+  void finish();
+  // The matrix with row r of this builder at row rowOrder[r]; the builder is emptied (its memory
+  // released) so that large operators are not held twice.
+  RowSparseMatrix takeMatrix(const std::vector<int>& rowOrder);
+
+private:
+  std::vector<int> start_;
+  std::vector<int> count_;
+  std::vector<int> columns_;
+  std::vector<double> weights_;
+  std::vector<double> dense_;
+  std::vector<char> marked_;
+  std::vector<int> touched_;
+  int current_ = -1;
+};
+
+// Primvar "arrays" for PrimvarRefiner that record masks into RowBuilders instead of combining
+// values. Element i of VertexRefs is source vertex i; element i of BuilderRows is destination
+// row i, and can itself be a source (refined points made from other refined points); element i
+// of ComposedRows is row i of a builder that, for each source vertex j, adds row j of an inner
+// builder (the composition of two operators). Elements are made on the fly, so no per-vertex
+// storage is needed.
+struct VertexRef {
+  int index;
+};
+
+struct VertexRefs {
+  VertexRef operator[](int index) const { return {index}; }
+};
+
+class BuilderRow {
+public:
+  BuilderRow(RowBuilder* builder, int row) : builder_(builder), row_(row) {}
+  void Clear() const { builder_->begin(row_); }
+  void AddWithWeight(const VertexRef& source, double weight) const { builder_->add(source.index, weight); }
+  void AddWithWeight(const BuilderRow& source, double weight) const {
+    builder_->addRow(*source.builder_, source.row_, weight);
+  }
+
+private:
+  RowBuilder* builder_;
+  int row_;
+};
+
+struct BuilderRows {
+  RowBuilder* builder;
+  BuilderRow operator[](int row) const { return {builder, row}; }
+};
+
+class ComposedRow {
+public:
+  ComposedRow(RowBuilder* builder, const RowBuilder* inner, int row)
+      : builder_(builder), inner_(inner), row_(row) {}
+  void Clear() const { builder_->begin(row_); }
+  void AddWithWeight(const VertexRef& source, double weight) const {
+    builder_->addRow(*inner_, source.index, weight);
+  }
+
+private:
+  RowBuilder* builder_;
+  const RowBuilder* inner_;
+  int row_;
+};
+
+struct ComposedRows {
+  RowBuilder* builder;
+  const RowBuilder* inner;
+  ComposedRow operator[](int row) const { return {builder, inner, row}; }
+};
+
+// The rows of the first refinement's operator, in OpenSubdiv's level-1 vertex order (finished).
+RowBuilder firstRefinementRows(const Far::TopologyRefiner& refiner);
+
 // #V' x #V operator of the first refinement, rows in our child order.
 RowSparseMatrix subdivisionOperator(const Far::TopologyRefiner& refiner,
                                     const std::vector<int>& childOrder);
