@@ -16,6 +16,14 @@ _CORE_NAMES = (
     "TopologyError",
     "SolverError",
     "CancelledError",
+    "ControlMesh",
+    "LimitEvaluator",
+    "LimitSamples",
+    "SampleElement",
+    "SampleFeature",
+    "SubdivisionOptions",
+    "read_control_mesh",
+    "write_control_mesh",
 )
 
 
