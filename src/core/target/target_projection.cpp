@@ -31,7 +31,9 @@
 namespace bvmesh::target {
 namespace {
 
-constexpr int kMaxNewtonIterations = 60;
+constexpr int kMaxNewtonIterations = 200;
+// Relative change of |S - q|^2 below which a step counts as not increasing it (round-off).
+constexpr double kRoundOff = 1e-13;
 constexpr int kMaxFaceSolvesPerPoint = 16;
 constexpr int kMaxCurveSeeds = 4;
 constexpr int kMaxLineHits = 16;
@@ -180,7 +182,7 @@ NewtonResult newtonOnSurface(const FaceData& face, GeomAdaptor_Surface& surface,
       surface.D2(un, vn, t.p, t.su, t.sv, t.suu, t.svv, t.suv);
       const Eigen::Vector3d rn = toEigen(t.p) - q;
       const double fn = rn.squaredNorm();
-      if (fn <= f * (1 + 1e-15) + 1e-300) {
+      if (fn <= f * (1 + kRoundOff) + 1e-300) {
         moved = (rn - r).norm();
         accepted = true;
         u = un;
@@ -193,10 +195,14 @@ NewtonResult newtonOnSurface(const FaceData& face, GeomAdaptor_Surface& surface,
         lambda = std::max(1e-6, 10 * lambda);
       }
     }
-    // Converged: an undamped step moved the point by less than the tolerance, or no step
-    // descends any more at machine precision.
-    if (!accepted || (fullStep && moved <= convergence)) {
-      result.converged = accepted || std::sqrt(g.squaredNorm() / std::max(jtj.trace(), 1e-300)) <= 1e3 * convergence;
+    // Converged: a step moved the point by less than the tolerance and was either undamped or
+    // taken where the gradient vanishes; or no step descends any more.
+    // Stationary: the gradient along the free parameters vanishes (relative to |S_u|, |S_v|).
+    const double gu = fixU ? 0.0 : g[0] * g[0] / std::max(jtj(0, 0), 1e-300);
+    const double gv = fixV ? 0.0 : g[1] * g[1] / std::max(jtj(1, 1), 1e-300);
+    const bool stationary = std::sqrt(gu + gv) <= 1e3 * convergence;
+    if (!accepted || (moved <= convergence && (fullStep || stationary))) {
+      result.converged = accepted || stationary;
       break;
     }
   }
@@ -237,7 +243,7 @@ CurveResult newtonOnCurve(const EdgeData& edge, const Eigen::Vector3d& q, double
       edge.curve->D2(tn, pn, e1, e2);
       const Eigen::Vector3d rn = toEigen(pn) - q;
       const double fn = rn.squaredNorm();
-      if (fn <= f * (1 + 1e-15) + 1e-300) {
+      if (fn <= f * (1 + kRoundOff) + 1e-300) {
         moved = (rn - r).norm();
         accepted = true;
         t = tn;
