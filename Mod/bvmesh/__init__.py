@@ -16,6 +16,8 @@ _CORE_NAMES = (
     "TopologyError",
     "SolverError",
     "CancelledError",
+    "Target",
+    "ProjectionStatus",
 )
 
 
