@@ -24,6 +24,8 @@ _CORE_NAMES = (
     "SubdivisionOptions",
     "read_control_mesh",
     "write_control_mesh",
+    "Target",
+    "ProjectionStatus",
 )
 
 
