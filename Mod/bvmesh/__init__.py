@@ -26,6 +26,7 @@ _CORE_NAMES = (
     "write_control_mesh",
     "Target",
     "ProjectionStatus",
+    "SurfaceFitter",
 )
 
 

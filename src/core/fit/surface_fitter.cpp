@@ -348,9 +348,9 @@ struct SurfaceFitter::State {
   }
 };
 
-SurfaceFitter::SurfaceFitter(std::shared_ptr<const target::Target> target, ControlMesh mesh, FeatureMap features,
-                             FitOptions options) {
-  if (!target) throw InvalidInputError("the surface fitter needs a target");
+namespace {
+
+void checkOptions(const FitOptions& options) {
   if (options.maxLevel < 0 || options.maxCorrections < 0) {
     throw InvalidInputError("maxLevel and maxCorrections must not be negative");
   }
@@ -358,14 +358,39 @@ SurfaceFitter::SurfaceFitter(std::shared_ptr<const target::Target> target, Contr
       (options.tolerance == 0.0 && options.relativeTolerance == 0.0)) {
     throw InvalidInputError("the fitting tolerance must be positive (absolute or relative)");
   }
-  if (options.symmetryPlane && !(options.symmetryPlane->normal.norm() > 0.0)) {
-    throw InvalidInputError("the symmetry plane needs a non-zero normal");
+  if (!(options.stagnationRatio > 0.0)) throw InvalidInputError("the stagnation ratio must be positive");
+  if (options.checkSamplesPerFace < 0) throw InvalidInputError("checkSamplesPerFace must not be negative");
+  if (options.symmetryPlane &&
+      (!(options.symmetryPlane->normal.norm() > 0.0) || !options.symmetryPlane->point.allFinite())) {
+    throw InvalidInputError("the symmetry plane needs a finite point and a non-zero normal");
   }
+}
+
+double absoluteToleranceOf(const FitOptions& options, const target::Target& target) {
+  return options.tolerance > 0.0 ? options.tolerance : options.relativeTolerance * target.report().diagonal;
+}
+
+}  // namespace
+
+SurfaceFitter::SurfaceFitter(std::shared_ptr<const target::Target> target, ControlMesh mesh, FeatureMap features,
+                             FitOptions options) {
+  if (!target) throw InvalidInputError("the surface fitter needs a target");
+  checkOptions(options);
   checkFeatureMap(features, mesh, *target);
   state_ = std::make_unique<State>(std::move(target), std::move(mesh), std::move(features), std::move(options));
-  state_->tolerance = state_->options.tolerance > 0.0
-                          ? state_->options.tolerance
-                          : state_->options.relativeTolerance * state_->target->report().diagonal;
+  state_->tolerance = absoluteToleranceOf(state_->options, *state_->target);
+}
+
+void SurfaceFitter::setOptions(FitOptions options) {
+  checkOptions(options);
+  State& s = *state_;
+  s.options = std::move(options);
+  s.tolerance = absoluteToleranceOf(s.options, *s.target);
+  // Same topology, so the last projections still warm-start the next ones.
+  s.samples.reset();
+  s.solver.reset();
+  s.destinations.clear();
+  s.dropGeometry();
 }
 
 SurfaceFitter::~SurfaceFitter() = default;
