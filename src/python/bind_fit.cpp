@@ -78,6 +78,10 @@ void applyOptions(FitOptions& options, const py::dict& kwargs) {
       } else {
         throw py::value_error("solver must be 'cholesky' or 'cgls', got '" + solver + "'");
       }
+    } else if (name == "cgls_tolerance") {
+      options.solver.cglsTolerance = value.cast<double>();
+    } else if (name == "cgls_max_iterations") {
+      options.solver.cglsMaxIterations = value.cast<int>();
     } else if (name == "weights") {
       for (const auto& [kind, weight] : value.cast<py::dict>()) {
         const std::string k = py::str(kind);
@@ -110,7 +114,7 @@ void applyOptions(FitOptions& options, const py::dict& kwargs) {
     } else {
       throw py::value_error("unknown fitting option '" + name +
                             "'; known: tolerance, relative_tolerance, max_level, max_corrections, stagnation_ratio, "
-                            "solver, weights, fixed_vertices, symmetry_plane, relative_plane_tolerance, "
+                            "solver, cgls_tolerance, cgls_max_iterations, weights, fixed_vertices, symmetry_plane, relative_plane_tolerance, "
                             "project_along_normals, check_samples_per_face, subdivision");
     }
   }
@@ -124,6 +128,8 @@ py::dict optionsToDict(const FitOptions& options) {
   dict["max_corrections"] = options.maxCorrections;
   dict["stagnation_ratio"] = options.stagnationRatio;
   dict["solver"] = options.solver.method == fit::LeastSquaresMethod::Cholesky ? "cholesky" : "cgls";
+  dict["cgls_tolerance"] = options.solver.cglsTolerance;
+  dict["cgls_max_iterations"] = options.solver.cglsMaxIterations;
   dict["weights"] = py::dict(py::arg("smooth") = options.weights.smooth, py::arg("crease") = options.weights.crease,
                              py::arg("boundary") = options.weights.boundary, py::arg("corner") = options.weights.corner);
   dict["fixed_vertices"] = options.fixedVertices;
@@ -200,7 +206,8 @@ void bindFit(py::module_& module) {
            "curves (lists of target edge ids), edge_curve (#E curve index or -1) and\n"
            "vertex_cad_vertex (#V target vertex or -1), or None. Keyword options: tolerance,\n"
            "relative_tolerance (of the target's diagonal, default 1e-5), max_level (5),\n"
-           "max_corrections (4), stagnation_ratio (0.9), solver ('cholesky' or 'cgls'), weights\n"
+           "max_corrections (4), stagnation_ratio (0.9), solver ('cgls' (default) or 'cholesky'),\n"
+           "cgls_tolerance, cgls_max_iterations, weights\n"
            "(dict smooth/crease/boundary/corner), fixed_vertices, symmetry_plane ((point, normal)),\n"
            "relative_plane_tolerance, project_along_normals, check_samples_per_face (4), subdivision.")
       .def_property_readonly("mesh", &SurfaceFitter::mesh, "the current control mesh (a copy)")

@@ -127,7 +127,10 @@ struct SurfaceFitter::State {
   bool positionsValid = false;
   target::ProjectionResult projections;
   bool projectionsValid = false;
-  bool haveHints = false;  // `projections` belong to this topology and can warm-start the next
+  // Per-sample surface locations that warm-start the next projection: the last projections of
+  // this topology, or after a subdivision those of the parent samples at (or next to) each sample.
+  target::SurfaceHints hints;
+  bool haveHints = false;
 
   std::vector<PassRecord> history;
   Clock::time_point lastRecord = Clock::now();
@@ -144,6 +147,27 @@ struct SurfaceFitter::State {
     haveHints = false;
     correction = 0;
     dropGeometry();
+  }
+
+  // The vertices of the subdivided mesh are numbered like the parent's samples (old vertices,
+  // edge points, face points), and each lies at its parent sample's limit point: it inherits that
+  // sample's projection as a hint. New edge and face samples take the hint of their first vertex.
+  void inheritHints(const target::SurfaceHints& parent) {
+    ensureSamples();
+    hints.faces.resize(samples->size());
+    hints.uv.resize(samples->size(), 2);
+    for (int i = 0; i < samples->size(); ++i) {
+      const int source = samples->sourceIds()[i];
+      int parentSample = source;
+      switch (samples->elements()[static_cast<size_t>(i)]) {
+        case SampleElement::Vertex: break;
+        case SampleElement::Edge: parentSample = mesh.edges()(source, 0); break;
+        case SampleElement::Face: parentSample = mesh.faceVertex(source, 0); break;
+      }
+      hints.faces[i] = parent.faces[parentSample];
+      hints.uv.row(i) = parent.uv.row(parentSample);
+    }
+    haveHints = true;
   }
 
   // Curve id for a set of CAD edges; unions at feature junctions get ids after the user's curves.
@@ -274,10 +298,10 @@ struct SurfaceFitter::State {
   const target::Target& cad() const { return *target; }
 
   target::ProjectionResult projectGroup(Destination kind, int id, const RowMatrixX3d& points,
-                                        const RowMatrixX3d& normals, const target::SurfaceHints* hints) const {
+                                        const RowMatrixX3d& normals, const target::SurfaceHints* warmStart) const {
     switch (kind) {
       case Destination::Surface:
-        return options.projectAlongNormals ? cad().projectAlong(points, normals) : cad().project(points, hints);
+        return options.projectAlongNormals ? cad().projectAlong(points, normals) : cad().project(points, warmStart);
       case Destination::Curve:
         return cad().projectToEdges(points, destinationCurves[static_cast<size_t>(id)]);
       case Destination::FreeBoundary:
@@ -303,20 +327,21 @@ struct SurfaceFitter::State {
       const auto count = static_cast<Eigen::Index>(members.size());
       RowMatrixX3d points(count, 3);
       RowMatrixX3d directions(options.projectAlongNormals ? count : 0, 3);
-      target::SurfaceHints hints;
-      hints.faces.resize(count);
-      hints.uv.resize(count, 2);
+      target::SurfaceHints groupHints;
+      groupHints.faces.resize(count);
+      groupHints.uv.resize(count, 2);
       for (Eigen::Index k = 0; k < count; ++k) {
         const int i = members[static_cast<size_t>(k)];
         points.row(k) = positions.row(i);
         if (options.projectAlongNormals) directions.row(k) = normals.row(i);
         if (haveHints) {
-          hints.faces[k] = projections.faces[i];
-          hints.uv.row(k) = projections.params.row(i);
+          groupHints.faces[k] = hints.faces[i];
+          groupHints.uv.row(k) = hints.uv.row(i);
         }
       }
       const auto kind = static_cast<Destination>(key.first);
-      const target::ProjectionResult part = projectGroup(kind, key.second, points, directions, haveHints ? &hints : nullptr);
+      const target::ProjectionResult part =
+          projectGroup(kind, key.second, points, directions, haveHints ? &groupHints : nullptr);
       for (Eigen::Index k = 0; k < count; ++k) {
         const int i = members[static_cast<size_t>(k)];
         all.points.row(i) = part.points.row(k);
@@ -330,6 +355,8 @@ struct SurfaceFitter::State {
     }
     projections = std::move(all);
     projectionsValid = true;
+    hints.faces = projections.faces;
+    hints.uv = projections.params;
     haveHints = true;
   }
 
@@ -413,10 +440,13 @@ void SurfaceFitter::subdivide() {
   State& s = *state_;
   SubdivisionResult refined = bvmesh::subdivide(s.mesh, s.options.subdivision);
   FeatureMap features = propagateFeatures(s.features, s.mesh, refined.mesh);
+  const bool parentHints = s.haveHints;
+  const target::SurfaceHints parent = std::move(s.hints);
   s.mesh = std::move(refined.mesh);
   s.features = std::move(features);
   ++s.level;
   s.dropTopology();
+  if (parentHints) s.inheritHints(parent);
 }
 
 const LimitSamples& SurfaceFitter::computeLimitSamples() {
