@@ -6,9 +6,10 @@
 // are computed with OpenSubdiv: one uniform refinement (the subdivision operator S) composed
 // with OpenSubdiv's vertex limit masks on the refined mesh (L), A = L S; the tangent operators
 // likewise. The limit masks are exact for smooth surfaces, extraordinary vertices, boundaries,
-// corners and infinitely sharp creases. Known limitation: at darts (a vertex ending a single
-// crease edge) and around semi-sharp creases OpenSubdiv's masks are approximations (errors of
-// about 1% of the local edge length were seen at darts); LimitEvaluator is exact there.
+// corners and infinitely sharp creases. They are not exact at darts (a vertex ending a single
+// crease edge inside the surface) and around semi-sharp creases; the rows of those samples come
+// from OpenSubdiv's limit stencils on the adaptively refined patch table instead (isolation
+// level 10, Gregory end patches).
 #pragma once
 
 #include <cstdint>
