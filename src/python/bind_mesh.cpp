@@ -5,6 +5,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <string>
 
 #include "bindings.h"
@@ -73,15 +74,33 @@ ControlMesh makeControlMesh(const py::object& vertices, const py::object& faces,
                             const py::object& cornerSharpness) {
   auto [sizes, indices] = faceLists(faces);
   RowMatrixX2i creasePairs(0, 2);
+  py::object sharpnessObject = creaseSharpness;
   if (!creases.is_none()) {
-    const auto array = IntArray::ensure(creases);
-    if (!array || (!(array.ndim() == 2 && array.shape(1) == 2) && !(array.ndim() == 1 && array.size() == 0))) {
-      throw py::value_error("creases must have shape (k, 2)" + (array ? ", got " + shapeText(array) : std::string()));
+    // (k, 2) vertex pairs, or (k, 3) rows (v0, v1, sharpness).
+    const auto array = DoubleArray::ensure(creases);
+    const bool empty = array && array.ndim() == 1 && array.size() == 0;
+    if (!array || (!empty && (array.ndim() != 2 || (array.shape(1) != 2 && array.shape(1) != 3)))) {
+      throw py::value_error("creases must have shape (k, 2) or (k, 3)" +
+                            (array ? ", got " + shapeText(array) : std::string()));
     }
-    creasePairs = Eigen::Map<const RowMatrixX2i>(array.data(), array.size() / 2, 2);
+    const py::ssize_t rows = empty ? 0 : array.shape(0), columns = empty ? 2 : array.shape(1);
+    creasePairs.resize(rows, 2);
+    for (py::ssize_t c = 0; c < rows; ++c) {
+      for (py::ssize_t k = 0; k < 2; ++k) {
+        const double id = array.at(c, k);
+        if (id != std::floor(id)) throw py::value_error("crease vertex ids must be integers");
+        creasePairs(c, k) = static_cast<int>(id);
+      }
+    }
+    if (columns == 3) {
+      if (!creaseSharpness.is_none()) throw py::value_error("give crease sharpness either as a third column or as crease_sharpness");
+      py::array_t<double> column(rows);
+      for (py::ssize_t c = 0; c < rows; ++c) column.mutable_at(c) = array.at(c, 2);
+      sharpnessObject = column;
+    }
   }
   std::vector<int> cornerList = corners.is_none() ? std::vector<int>() : intVector(corners, "corners");
-  Eigen::VectorXd creaseValues = realVector(creaseSharpness, "crease_sharpness", creasePairs.rows());
+  Eigen::VectorXd creaseValues = realVector(sharpnessObject, "crease_sharpness", creasePairs.rows());
   Eigen::VectorXd cornerValues = realVector(cornerSharpness, "corner_sharpness", static_cast<py::ssize_t>(cornerList.size()));
   return ControlMesh(points(vertices, "vertices"), std::move(sizes), std::move(indices), std::move(creasePairs),
                      std::move(creaseValues), std::move(cornerList), std::move(cornerValues));
@@ -179,8 +198,9 @@ void bindMesh(py::module_& module) {
            py::arg("crease_sharpness") = py::none(), py::arg("corners") = py::none(),
            py::arg("corner_sharpness") = py::none(),
            "vertices: (#V, 3); faces: list of vertex-id lists (counter-clockwise), or a tuple\n"
-           "(sizes, flat indices); creases: (k, 2) vertex pairs; crease_sharpness: (k,) or None for\n"
-           "infinitely sharp; corners: vertex ids; corner_sharpness: like crease_sharpness.")
+           "(sizes, flat indices); creases: (k, 2) vertex pairs or (k, 3) rows (v0, v1, sharpness);\n"
+           "crease_sharpness: (k,) or None for infinitely sharp (numpy.inf is infinite too);\n"
+           "corners: vertex ids; corner_sharpness: like crease_sharpness.")
       .def_property("vertices", [](const ControlMesh& m) { return m.vertices(); },
                     [](ControlMesh& m, const py::object& v) { m.setVertices(points(v, "vertices")); },
                     "(#V, 3) positions; assigning keeps the topology")
@@ -261,6 +281,18 @@ void bindMesh(py::module_& module) {
       .def_property_readonly("tangent_operators", [](const PyLimitSamples& s) {
             return py::make_tuple(s.samples.tangentOperatorU(), s.samples.tangentOperatorV());
           }, "two (#S, #V) csr matrices; normals are the normalized cross product of their images")
+      .def_property_readonly("locations", [](const PyLimitSamples& s) {
+            const auto count = static_cast<py::ssize_t>(s.samples.size());
+            py::array_t<int> faces(count);
+            py::array_t<double> us(count), vs(count);
+            for (py::ssize_t i = 0; i < count; ++i) {
+              const SurfaceLocation& at = s.samples.locations()[static_cast<size_t>(i)];
+              faces.mutable_at(i) = at.face;
+              us.mutable_at(i) = at.u;
+              vs.mutable_at(i) = at.v;
+            }
+            return py::make_tuple(faces, us, vs);
+          }, "(faces, u, v): three (#S,) arrays, e.g. mesh.evaluate(*samples.locations)")
       .def_property_readonly("location_faces", [](const PyLimitSamples& s) {
             std::vector<int> faces;
             for (const auto& l : s.samples.locations()) faces.push_back(l.face);
