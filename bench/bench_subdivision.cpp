@@ -43,7 +43,8 @@ ControlMesh torus(int n, int m) {
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < m; ++j) {
       const double a = 2.0 * M_PI * i / n, b = 2.0 * M_PI * j / m;
-      vertices.row(i * m + j) << (2.0 + std::cos(b)) * std::cos(a), (2.0 + std::cos(b)) * std::sin(a), std::sin(b);
+      vertices.row(i * m + j) << (2.0 + std::cos(b)) * std::cos(a),
+          (2.0 + std::cos(b)) * std::sin(a), std::sin(b);
     }
   }
   std::vector<int> sizes(static_cast<size_t>(n) * static_cast<size_t>(m), 4), indices;
@@ -133,7 +134,9 @@ int main(int argc, char** argv) {
       return 1;
     }
     std::printf("%9d %8d", figures.faces, figures.samples);
-    for (int s = 0; s < kStages; ++s) std::printf(" | %12.4f %9.1f", figures.seconds[s], figures.peakMegabytes[s]);
+    for (int s = 0; s < kStages; ++s) {
+      std::printf(" | %12.4f %9.1f", figures.seconds[s], figures.peakMegabytes[s]);
+    }
     std::printf("\n");
     std::fflush(stdout);
     results.push_back(figures);
@@ -148,7 +151,8 @@ int main(int argc, char** argv) {
       times.push_back(f.seconds[s]);
       memory.push_back(std::max(f.peakMegabytes[s], 1e-3));
     }
-    std::printf("  %-10s time %.2f  memory %.2f\n", kStageNames[s], slope(faces, times), slope(faces, memory));
+    std::printf("  %-10s time %.2f  memory %.2f\n", kStageNames[s], slope(faces, times),
+                slope(faces, memory));
   }
   return 0;
 }

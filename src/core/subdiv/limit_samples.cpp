@@ -31,7 +31,9 @@ void replaceInexactRows(const ControlMesh& mesh, const SubdivisionOptions& optio
   for (int v = 0; v < level.GetNumVertices(); ++v) {
     bool semiSharp = level.IsVertexSemiSharp(v);
     for (const int e : level.GetVertexEdges(v)) semiSharp = semiSharp || level.IsEdgeSemiSharp(e);
-    if (semiSharp || level.GetVertexRule(v) == OpenSubdiv::Sdc::Crease::RULE_DART) inexact.push_back(v);
+    if (semiSharp || level.GetVertexRule(v) == OpenSubdiv::Sdc::Crease::RULE_DART) {
+      inexact.push_back(v);
+    }
   }
   if (inexact.empty()) return;
 
@@ -55,14 +57,15 @@ void replaceInexactRows(const ControlMesh& mesh, const SubdivisionOptions& optio
     arrays[i].s = &u[i];
     arrays[i].t = &v[i];
   }
-  const std::unique_ptr<const Far::LimitStencilTableReal<double>> table(Factory::Create(*adaptive, arrays));
+  const std::unique_ptr<const Far::LimitStencilTableReal<double>> table(
+      Factory::Create(*adaptive, arrays));
   const auto& sizes = table->GetSizes();
   const auto& offsets = table->GetOffsets();
   const auto& indices = table->GetControlIndices();
   for (size_t i = 0; i < inexact.size(); ++i) {
-    for (auto [builder, weights] : {std::pair{&position, &table->GetWeights()},
-                                    std::pair{&tangentU, &table->GetDuWeights()},
-                                    std::pair{&tangentV, &table->GetDvWeights()}}) {
+    for (auto [builder, weights] :
+         {std::pair{&position, &table->GetWeights()}, std::pair{&tangentU, &table->GetDuWeights()},
+          std::pair{&tangentV, &table->GetDvWeights()}}) {
       builder->begin(inexact[i]);
       for (int k = offsets[i]; k < offsets[i] + sizes[i]; ++k) {
         builder->add(indices[static_cast<size_t>(k)], (*weights)[static_cast<size_t>(k)]);
@@ -104,8 +107,8 @@ LimitSamples::LimitSamples(const ControlMesh& mesh, const SubdivisionOptions& op
     features_.push_back(feature);
     sourceIds_(s) = v;
     sourceVertices_.row(s) << v, -1;
-    locations_.push_back(cornerLocation(mesh, ptex, mesh.vertexFirstCorner()(v, 0),
-                                        mesh.vertexFirstCorner()(v, 1)));
+    locations_.push_back(
+        cornerLocation(mesh, ptex, mesh.vertexFirstCorner()(v, 0), mesh.vertexFirstCorner()(v, 1)));
   }
   // The corner of its first face at which each edge starts.
   std::vector<int> edgeCorner(static_cast<size_t>(mesh.numEdges()), -1);
@@ -117,13 +120,13 @@ LimitSamples::LimitSamples(const ControlMesh& mesh, const SubdivisionOptions& op
   }
   for (int e = 0; e < mesh.numEdges(); ++e, ++s) {
     elements_.push_back(SampleElement::Edge);
-    features_.push_back(mesh.isBoundaryEdge(e)         ? SampleFeature::Boundary
+    features_.push_back(mesh.isBoundaryEdge(e)          ? SampleFeature::Boundary
                         : mesh.edgeSharpness()(e) > 0.0 ? SampleFeature::Crease
                                                         : SampleFeature::Smooth);
     sourceIds_(s) = e;
     sourceVertices_.row(s) = mesh.edges().row(e);
-    locations_.push_back(
-        edgeMidpointLocation(mesh, ptex, mesh.edgeFaces()(e, 0), edgeCorner[static_cast<size_t>(e)]));
+    locations_.push_back(edgeMidpointLocation(mesh, ptex, mesh.edgeFaces()(e, 0),
+                                              edgeCorner[static_cast<size_t>(e)]));
   }
   for (int f = 0; f < mesh.numFaces(); ++f, ++s) {
     elements_.push_back(SampleElement::Face);
@@ -144,7 +147,8 @@ LimitSamples::LimitSamples(const ControlMesh& mesh, const SubdivisionOptions& op
       tangent2(numRows, numBase, 16);
   osd::ComposedRows rowsP{&position, &subdivision}, rowsT1{&tangent1, &subdivision},
       rowsT2{&tangent2, &subdivision};
-  OpenSubdiv::Far::PrimvarRefinerReal<double>(*refiner).Limit(osd::VertexRefs{}, rowsP, rowsT1, rowsT2);
+  OpenSubdiv::Far::PrimvarRefinerReal<double>(*refiner).Limit(osd::VertexRefs{}, rowsP, rowsT1,
+                                                              rowsT2);
   replaceInexactRows(mesh, options, *refiner, order, locations_, position, tangent1, tangent2);
   position.finish();
   tangent1.finish();
@@ -175,7 +179,8 @@ RowMatrixX3d LimitSamples::normals(const RowMatrixX3d& controlPoints) const {
   for (Eigen::Index i = 0; i < du.rows(); ++i) {
     const Eigen::Vector3d n = du.row(i).transpose().cross(dv.row(i).transpose());
     const double length = n.norm();
-    result.row(i) = length > 0.0 ? Eigen::RowVector3d((n / length).transpose()) : Eigen::RowVector3d::Zero();
+    result.row(i) =
+        length > 0.0 ? Eigen::RowVector3d((n / length).transpose()) : Eigen::RowVector3d::Zero();
   }
   return result;
 }

@@ -150,7 +150,9 @@ RowSparseMatrix RowBuilder::takeMatrix(const std::vector<int>& rowOrder) {
   RowSparseMatrix result(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(dense_.size()));
   int* outer = result.outerIndexPtr();
   outer[0] = 0;
-  for (size_t out = 0; out < rows; ++out) outer[out + 1] = outer[out] + count_[static_cast<size_t>(source[out])];
+  for (size_t out = 0; out < rows; ++out) {
+    outer[out + 1] = outer[out] + count_[static_cast<size_t>(source[out])];
+  }
   // Rows that were built twice (replaced) leave unused entries behind; only the listed ones count.
   result.resizeNonZeros(outer[rows]);
   int* inner = result.innerIndexPtr();

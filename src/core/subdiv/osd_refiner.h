@@ -81,7 +81,9 @@ class BuilderRow {
 public:
   BuilderRow(RowBuilder* builder, int row) : builder_(builder), row_(row) {}
   void Clear() const { builder_->begin(row_); }
-  void AddWithWeight(const VertexRef& source, double weight) const { builder_->add(source.index, weight); }
+  void AddWithWeight(const VertexRef& source, double weight) const {
+    builder_->add(source.index, weight);
+  }
   void AddWithWeight(const BuilderRow& source, double weight) const {
     builder_->addRow(*source.builder_, source.row_, weight);
   }
