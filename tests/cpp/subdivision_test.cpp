@@ -1,11 +1,13 @@
 #include "core/subdiv/subdivision.h"
 
 #include <gtest/gtest.h>
+#include <opensubdiv/far/error.h>
 
 #include <numeric>
 #include <set>
 
 #include "core/common/errors.h"
+#include "core/subdiv/osd_refiner.h"
 #include "mesh_fixtures.h"
 
 namespace bvmesh {
@@ -195,6 +197,16 @@ TEST(Subdivision, OptionsChangeTheResult) {
   EXPECT_GT(
       (subdivide(prism).mesh.vertices() - subdivide(prism, smoothTriangles).mesh.vertices()).norm(),
       1e-6);
+}
+
+TEST(Subdivision, OpenSubdivErrorsBecomeTopologyErrors) {
+  osd::installErrorHandler();
+  try {
+    OpenSubdiv::Far::Error(OpenSubdiv::Far::FAR_RUNTIME_ERROR, "face %d is broken", 7);
+    FAIL() << "no exception";
+  } catch (const TopologyError& error) {
+    EXPECT_STREQ(error.what(), "OpenSubdiv: face 7 is broken");
+  }
 }
 
 }  // namespace

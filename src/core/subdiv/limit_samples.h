@@ -48,8 +48,9 @@ public:
   // #S x 3 limit positions for #V x 3 control points.
   RowMatrixX3d positions(const RowMatrixX3d& controlPoints) const;
   // #S x 3 unit limit normals for #V x 3 control points (zero where the tangents are parallel).
-  // On a crease the normal is the one OpenSubdiv's crease tangent masks give (one of the two
-  // one-sided normals averaged), so it is not meaningful across the crease.
+  // On a crease the normal is one-sided: OpenSubdiv's crease tangent masks run the first tangent
+  // along the crease and the second into one of the two sides (seen to be the side of the
+  // vertex's first face), so for the normals on both sides evaluate each face with LimitEvaluator.
   RowMatrixX3d normals(const RowMatrixX3d& controlPoints) const;
 
   const std::vector<SampleElement>& elements() const { return elements_; }
