@@ -5,4 +5,6 @@ PYBIND11_MODULE(_core, module) {
   bvmesh::python::bindErrors(module);
   bvmesh::python::bindCad(module);
   bvmesh::python::bindMesh(module);
+  bvmesh::python::bindTarget(module);
+  bvmesh::python::bindFit(module);
 }
