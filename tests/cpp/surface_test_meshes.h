@@ -1,0 +1,195 @@
+// Control meshes for the surface tests: grids, an L-shape, a torus, a tube and Catmull-Clark
+// refinements of a cube (OpenSubdiv uniform refinement, the same rules as the limit evaluator).
+#pragma once
+
+#include <opensubdiv/far/primvarRefiner.h>
+#include <opensubdiv/far/topologyDescriptor.h>
+#include <opensubdiv/far/topologyRefinerFactory.h>
+
+#include <cmath>
+#include <functional>
+#include <memory>
+#include <stdexcept>
+#include <vector>
+
+#include "core/surface/quad_charts.h"
+
+namespace bvmesh::surface::testing {
+
+inline QuadControlMesh fromLists(const std::vector<Eigen::Vector3d>& points, const std::vector<std::array<int, 4>>& quads,
+                                 const std::vector<std::array<int, 2>>& creases = {}) {
+  QuadControlMesh mesh;
+  mesh.vertices.resize(static_cast<Eigen::Index>(points.size()), 3);
+  for (size_t v = 0; v < points.size(); ++v) mesh.vertices.row(static_cast<Eigen::Index>(v)) = points[v].transpose();
+  mesh.faces.resize(static_cast<Eigen::Index>(quads.size()), 4);
+  for (size_t f = 0; f < quads.size(); ++f) {
+    for (int k = 0; k < 4; ++k) mesh.faces(static_cast<Eigen::Index>(f), k) = quads[f][static_cast<size_t>(k)];
+  }
+  mesh.creases.resize(static_cast<Eigen::Index>(creases.size()), 2);
+  for (size_t c = 0; c < creases.size(); ++c) {
+    mesh.creases(static_cast<Eigen::Index>(c), 0) = creases[c][0];
+    mesh.creases(static_cast<Eigen::Index>(c), 1) = creases[c][1];
+  }
+  return mesh;
+}
+
+// An (nx x ny)-quad grid over [0, nx] x [0, ny] with height z(x, y), counter-clockwise seen from +z;
+// faces for which `keep(i, j)` is false are left out (unused vertices stay, unreferenced).
+inline QuadControlMesh grid(int nx, int ny, const std::function<double(double, double)>& z,
+                            const std::function<bool(int, int)>& keep = nullptr) {
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i <= nx; ++i) {
+    for (int j = 0; j <= ny; ++j) points.emplace_back(i, j, z(i, j));
+  }
+  auto id = [ny](int i, int j) { return i * (ny + 1) + j; };
+  std::vector<std::array<int, 4>> quads;
+  for (int i = 0; i < nx; ++i) {
+    for (int j = 0; j < ny; ++j) {
+      if (keep && !keep(i, j)) continue;
+      quads.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+    }
+  }
+  return fromLists(points, quads);
+}
+
+// A regular closed torus mesh of n x m quads (all vertices valence 4), outward oriented.
+inline QuadControlMesh torus(int n, int m, double major = 3.0, double minor = 1.0) {
+  std::vector<Eigen::Vector3d> points;
+  const double pi = std::acos(-1.0);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < m; ++j) {
+      const double a = 2 * pi * i / n;
+      const double b = 2 * pi * j / m;
+      points.emplace_back((major + minor * std::cos(b)) * std::cos(a), (major + minor * std::cos(b)) * std::sin(a),
+                          minor * std::sin(b));
+    }
+  }
+  std::vector<std::array<int, 4>> quads;
+  auto id = [n, m](int i, int j) { return ((i + n) % n) * m + (j + m) % m; };
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < m; ++j) quads.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+  }
+  return fromLists(points, quads);
+}
+
+// An open tube of n x m quads around the z axis: two boundary loops, all vertices regular.
+inline QuadControlMesh tube(int n, int m) {
+  std::vector<Eigen::Vector3d> points;
+  const double pi = std::acos(-1.0);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j <= m; ++j) points.emplace_back(std::cos(2 * pi * i / n), std::sin(2 * pi * i / n), j);
+  }
+  std::vector<std::array<int, 4>> quads;
+  auto id = [n, m](int i, int j) { return ((i + n) % n) * (m + 1) + j; };
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < m; ++j) quads.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+  }
+  return fromLists(points, quads);
+}
+
+// The cube [-1, 1]^3 as six outward quads.
+inline QuadControlMesh cube() {
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i < 8; ++i) points.emplace_back(2 * (i & 1) - 1, 2 * ((i >> 1) & 1) - 1, 2 * ((i >> 2) & 1) - 1);
+  return fromLists(points, {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}});
+}
+
+// `levels` Catmull-Clark steps (Catmark, edge-and-corner boundaries, uniform creases); creases
+// and corners carry over to the refined mesh.
+inline QuadControlMesh subdivide(const QuadControlMesh& mesh, int levels) {
+  namespace Far = OpenSubdiv::Far;
+  namespace Sdc = OpenSubdiv::Sdc;
+  const int faceCount = static_cast<int>(mesh.faces.rows());
+  std::vector<int> sizes(static_cast<size_t>(faceCount), 4);
+  std::vector<int> creaseIndices(mesh.creases.data(), mesh.creases.data() + mesh.creases.size());
+  std::vector<float> creaseWeights(static_cast<size_t>(mesh.creases.rows()), Sdc::Crease::SHARPNESS_INFINITE);
+  std::vector<float> cornerWeights(mesh.corners.size(), Sdc::Crease::SHARPNESS_INFINITE);
+  Far::TopologyDescriptor descriptor;
+  descriptor.numVertices = static_cast<int>(mesh.vertices.rows());
+  descriptor.numFaces = faceCount;
+  descriptor.numVertsPerFace = sizes.data();
+  descriptor.vertIndicesPerFace = mesh.faces.data();
+  descriptor.numCreases = static_cast<int>(mesh.creases.rows());
+  descriptor.creaseVertexIndexPairs = creaseIndices.data();
+  descriptor.creaseWeights = creaseWeights.data();
+  descriptor.numCorners = static_cast<int>(mesh.corners.size());
+  descriptor.cornerVertexIndices = mesh.corners.data();
+  descriptor.cornerWeights = cornerWeights.data();
+  Sdc::Options options;
+  options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
+  options.SetCreasingMethod(Sdc::Options::CREASE_UNIFORM);
+  using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
+  std::unique_ptr<Far::TopologyRefiner> refiner(
+      Factory::Create(descriptor, Factory::Options(Sdc::SCHEME_CATMARK, options)));
+  if (!refiner) throw std::runtime_error("OpenSubdiv rejected the test mesh");
+  Far::TopologyRefiner::UniformOptions uniform(levels);
+  uniform.fullTopologyInLastLevel = true;
+  refiner->RefineUniform(uniform);
+
+  struct Point {
+    double x[3];
+    void Clear() { x[0] = x[1] = x[2] = 0; }
+    void AddWithWeight(const Point& p, double w) {
+      for (int d = 0; d < 3; ++d) x[d] += w * p.x[d];
+    }
+  };
+  std::vector<Point> points(static_cast<size_t>(refiner->GetNumVerticesTotal()));
+  for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v) {
+    for (int d = 0; d < 3; ++d) points[static_cast<size_t>(v)].x[d] = mesh.vertices(v, d);
+  }
+  Far::PrimvarRefinerReal<double> primvars(*refiner);
+  Point* source = points.data();
+  for (int level = 1; level <= levels; ++level) {
+    Point* destination = source + refiner->GetLevel(level - 1).GetNumVertices();
+    primvars.Interpolate(level, source, destination);
+    source = destination;
+  }
+  const Far::TopologyLevel& last = refiner->GetLevel(levels);
+  QuadControlMesh result;
+  result.vertices.resize(last.GetNumVertices(), 3);
+  for (int v = 0; v < last.GetNumVertices(); ++v) {
+    for (int d = 0; d < 3; ++d) result.vertices(v, d) = source[v].x[d];
+    if (last.GetVertexSharpness(v) >= Sdc::Crease::SHARPNESS_INFINITE) result.corners.push_back(v);
+  }
+  result.faces.resize(last.GetNumFaces(), 4);
+  for (int f = 0; f < last.GetNumFaces(); ++f) {
+    const Far::ConstIndexArray fv = last.GetFaceVertices(f);
+    for (int k = 0; k < 4; ++k) result.faces(f, k) = fv[k];
+  }
+  std::vector<std::array<int, 2>> creases;
+  for (int e = 0; e < last.GetNumEdges(); ++e) {
+    if (last.GetEdgeSharpness(e) >= Sdc::Crease::SHARPNESS_INFINITE) {
+      const Far::ConstIndexArray ev = last.GetEdgeVertices(e);
+      creases.push_back({ev[0], ev[1]});
+    }
+  }
+  result.creases.resize(static_cast<Eigen::Index>(creases.size()), 2);
+  for (size_t c = 0; c < creases.size(); ++c) {
+    result.creases(static_cast<Eigen::Index>(c), 0) = creases[c][0];
+    result.creases(static_cast<Eigen::Index>(c), 1) = creases[c][1];
+  }
+  return result;
+}
+
+// The cube refined once with the equator loop (z = 0) made an infinitely sharp crease.
+inline QuadControlMesh cubeWithCreasedEquator() {
+  QuadControlMesh mesh = subdivide(cube(), 1);
+  std::vector<std::array<int, 2>> creases;
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    for (int k = 0; k < 4; ++k) {
+      const int a = mesh.faces(f, k);
+      const int b = mesh.faces(f, (k + 1) % 4);
+      if (a < b && std::abs(mesh.vertices(a, 2)) < 1e-12 && std::abs(mesh.vertices(b, 2)) < 1e-12) {
+        creases.push_back({a, b});
+      }
+    }
+  }
+  mesh.creases.resize(static_cast<Eigen::Index>(creases.size()), 2);
+  for (size_t c = 0; c < creases.size(); ++c) {
+    mesh.creases(static_cast<Eigen::Index>(c), 0) = creases[c][0];
+    mesh.creases(static_cast<Eigen::Index>(c), 1) = creases[c][1];
+  }
+  return mesh;
+}
+
+}  // namespace bvmesh::surface::testing
