@@ -4,6 +4,7 @@
 #include <BRepBuilderAPI_Sewing.hxx>
 #include <BRepCheck_Analyzer.hxx>
 #include <BRepGProp.hxx>
+#include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <GProp_GProps.hxx>
 #include <ShapeFix_Solid.hxx>
@@ -550,6 +551,14 @@ SewnShape sewBSplineSurfaces(const std::vector<cad::BSplineSurfaceData>& surface
     sewing.Perform();
     result.shape = sewing.SewedShape();
     result.freeEdges = sewing.NbFreeEdges();
+    if (result.shape.ShapeType() == TopAbs_FACE) {
+      // A single face (e.g. a torus chart sewn to itself) comes back bare: give it its shell.
+      TopoDS_Shell shell;
+      BRep_Builder builder;
+      builder.MakeShell(shell);
+      builder.Add(shell, result.shape);
+      result.shape = shell;
+    }
     if (result.freeEdges == 0 && options.makeSolid && result.shape.ShapeType() == TopAbs_SHELL) {
       BRepBuilderAPI_MakeSolid maker(TopoDS::Shell(result.shape));
       if (maker.IsDone()) {

@@ -192,7 +192,9 @@ SubdivisionLimitSurface::SubdivisionLimitSurface(const QuadControlMesh& mesh, co
     source = destination;
   }
   if (localCount > 0) {
-    impl_->patches->ComputeLocalPointValues(impl_->points.data(), impl_->points.data() + refinedCount);
+    // PatchTable::ComputeLocalPointValues assumes single precision; use the double table directly.
+    impl_->patches->GetLocalPointStencilTable<double>()->UpdateValues(impl_->points.data(),
+                                                                       impl_->points.data() + refinedCount);
   }
 }
 

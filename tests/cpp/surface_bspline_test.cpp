@@ -1,0 +1,344 @@
+#include <gtest/gtest.h>
+
+#include <BRepGProp.hxx>
+#include <GProp_GProps.hxx>
+#include <Geom_BSplineSurface.hxx>
+#include <TopAbs_ShapeEnum.hxx>
+#include <gp_Pnt.hxx>
+#include <gp_Vec.hxx>
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <iostream>
+#include <string>
+
+#include "core/cad/bspline_face.h"
+#include "core/common/errors.h"
+#include "core/surface/limit_bsplines.h"
+#include "surface_test_meshes.h"
+
+namespace bvmesh::surface {
+namespace {
+
+using testing::cube;
+using testing::cubeWithCreasedEquator;
+using testing::grid;
+using testing::subdivide;
+
+double modelSize(const QuadControlMesh& mesh) {
+  return (mesh.vertices.colwise().maxCoeff() - mesh.vertices.colwise().minCoeff()).norm();
+}
+
+double bump(double x, double y) { return 0.3 * std::sin(1.3 * x + 0.4) * std::cos(0.9 * y - 0.2) + 0.05 * x * y; }
+
+// Face location of chart parameters, from the documented cell convention alone: cell corner k is
+// face vertex (k + rotation) % 4, and the face's corners sit at (0,0), (1,0), (1,1), (0,1).
+FaceLocation locateInCell(const QuadChart& chart, int i, int j, double a, double b) {
+  const double cu[4] = {0, 1, 1, 0};
+  const double cv[4] = {0, 0, 1, 1};
+  const double weight[4] = {(1 - a) * (1 - b), a * (1 - b), a * b, (1 - a) * b};
+  FaceLocation location{chart.face(i, j), 0.0, 0.0};
+  for (int k = 0; k < 4; ++k) {
+    const int corner = (k + chart.rotation(i, j)) % 4;
+    location.u += weight[k] * cu[corner];
+    location.v += weight[k] * cv[corner];
+  }
+  return location;
+}
+
+FaceLocation locate(const QuadChart& chart, double s, double t) {
+  const int i = std::min(static_cast<int>(s), chart.uCells - 1);
+  const int j = std::min(static_cast<int>(t), chart.vCells - 1);
+  return locateInCell(chart, i, j, s - i, t - j);
+}
+
+Eigen::Vector3d occtPoint(const Handle(Geom_BSplineSurface) & surface, double s, double t) {
+  const gp_Pnt p = surface->Value(s, t);
+  return {p.X(), p.Y(), p.Z()};
+}
+
+// The uniform cubic B-spline basis, written out.
+void uniformBasis(double t, double b[4]) {
+  b[0] = (1 - t) * (1 - t) * (1 - t) / 6;
+  b[1] = (3 * t * t * t - 6 * t * t + 4) / 6;
+  b[2] = (-3 * t * t * t + 3 * t * t + 3 * t + 1) / 6;
+  b[3] = t * t * t / 6;
+}
+
+// Max distance between the OCCT B-spline surfaces and the limit surface on a grid of points per
+// cell that differs from both the fit and the check sampling.
+double maxDistanceToLimit(const LimitBSplines& result, const SubdivisionLimitSurface& limit, int perCell) {
+  double worst = 0.0;
+  for (size_t c = 0; c < result.layout.charts.size(); ++c) {
+    const QuadChart& chart = result.layout.charts[c];
+    const Handle(Geom_BSplineSurface) surface = cad::makeBSplineSurface(result.surfaces[c]);
+    std::vector<FaceLocation> locations;
+    std::vector<Eigen::Vector3d> fitted;
+    for (int a = 0; a <= chart.uCells * perCell; ++a) {
+      for (int b = 0; b <= chart.vCells * perCell; ++b) {
+        const double s = static_cast<double>(a) / perCell;
+        const double t = static_cast<double>(b) / perCell;
+        locations.push_back(locate(chart, s, t));
+        fitted.push_back(occtPoint(surface, s, t));
+      }
+    }
+    RowMatrixX3d points;
+    limit.evaluate(locations, points);
+    for (size_t k = 0; k < fitted.size(); ++k) {
+      worst = std::max(worst, (points.row(static_cast<Eigen::Index>(k)).transpose() - fitted[k]).norm());
+    }
+  }
+  return worst;
+}
+
+// Max distance between the two OCCT surfaces along every shared border segment.
+double maxSharedBorderDistance(const LimitBSplines& result) {
+  double worst = 0.0;
+  for (const BorderSegment& segment : result.layout.segments) {
+    if (segment.uses.size() != 2) continue;
+    const int length = static_cast<int>(segment.vertices.size()) - 1;
+    for (int q = 0; q <= 10 * length; ++q) {
+      const double y = q / 10.0;
+      Eigen::Vector3d p[2];
+      for (int k = 0; k < 2; ++k) {
+        const SegmentUse& use = segment.uses[static_cast<size_t>(k)];
+        const QuadChart& chart = result.layout.charts[static_cast<size_t>(use.chart)];
+        const double position = use.reversed ? use.first - y : use.first + y;
+        double s = position;
+        double t = 0.0;
+        if (use.side == ChartSide::UMax || use.side == ChartSide::UMin) std::swap(s, t);
+        if (use.side == ChartSide::UMax) s = chart.uCells;
+        if (use.side == ChartSide::VMax) t = chart.vCells;
+        p[k] = occtPoint(cad::makeBSplineSurface(result.surfaces[static_cast<size_t>(use.chart)]), s, t);
+      }
+      worst = std::max(worst, (p[0] - p[1]).norm());
+    }
+  }
+  return worst;
+}
+
+// Volume inside the limit surface: divergence theorem on a k x k triangulation per face,
+// Richardson-extrapolated from k and 2k (the error of the triangulation falls like 1/k^2).
+double limitVolume(const QuadControlMesh& mesh, const SubdivisionLimitSurface& limit, int k) {
+  auto triangulated = [&](int n) {
+    std::vector<FaceLocation> locations;
+    for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+      for (int a = 0; a <= n; ++a) {
+        for (int b = 0; b <= n; ++b) locations.push_back({static_cast<int>(f), static_cast<double>(a) / n, static_cast<double>(b) / n});
+      }
+    }
+    RowMatrixX3d p;
+    limit.evaluate(locations, p);
+    double volume = 0.0;
+    const int stride = (n + 1) * (n + 1);
+    for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+      auto at = [&](int a, int b) {
+        return Eigen::Vector3d(p.row(static_cast<Eigen::Index>(f * stride + a * (n + 1) + b)).transpose());
+      };
+      for (int a = 0; a < n; ++a) {
+        for (int b = 0; b < n; ++b) {
+          const Eigen::Vector3d p00 = at(a, b), p10 = at(a + 1, b), p11 = at(a + 1, b + 1), p01 = at(a, b + 1);
+          volume += p00.dot(p10.cross(p11)) / 6 + p00.dot(p11.cross(p01)) / 6;
+        }
+      }
+    }
+    return volume;
+  };
+  const double coarse = triangulated(k);
+  const double fine = triangulated(2 * k);
+  return (4 * fine - coarse) / 3;
+}
+
+TEST(SurfaceBSplines, RegularGridsAreReproducedExactly) {
+  for (bool curved : {false, true}) {
+    const int nx = 6;
+    const int ny = 5;
+    const QuadControlMesh mesh = grid(nx, ny, curved ? bump : [](double, double) { return 0.0; });
+    const double size = modelSize(mesh);
+    const LimitBSplines result = limitSurfaceToBSplines(mesh);
+    ASSERT_EQ(result.surfaces.size(), 1u);
+    EXPECT_LT(result.maxDeviation[0], 1e-12 * size);
+    const SubdivisionLimitSurface limit(mesh);
+    EXPECT_LT(maxDistanceToLimit(result, limit, 7), 1e-12 * size);
+
+    // Independent of OpenSubdiv: on faces away from the boundary the limit surface is the uniform
+    // bicubic B-spline of the 4 x 4 surrounding control points.
+    const QuadChart& chart = result.layout.charts[0];
+    const Handle(Geom_BSplineSurface) surface = cad::makeBSplineSurface(result.surfaces[0]);
+    double worst = 0.0;
+    for (int ci = 0; ci < chart.uCells; ++ci) {
+      for (int cj = 0; cj < chart.vCells; ++cj) {
+        const int f = chart.face(ci, cj);
+        const int i = f / ny;  // grid() numbers face (i, j) as i * ny + j
+        const int j = f % ny;
+        if (i < 1 || j < 1 || i > nx - 2 || j > ny - 2) continue;
+        for (double a : {0.0, 0.3, 0.77, 1.0}) {
+          for (double b : {0.0, 0.45, 0.9}) {
+            const FaceLocation at = locateInCell(chart, ci, cj, a, b);
+            double bu[4];
+            double bv[4];
+            uniformBasis(at.u, bu);
+            uniformBasis(at.v, bv);
+            Eigen::Vector3d expected = Eigen::Vector3d::Zero();
+            for (int p = 0; p < 4; ++p) {
+              for (int q = 0; q < 4; ++q) {
+                expected += bu[p] * bv[q] * mesh.vertices.row((i - 1 + p) * (ny + 1) + (j - 1 + q)).transpose();
+              }
+            }
+            worst = std::max(worst, (occtPoint(surface, ci + a, cj + b) - expected).norm());
+          }
+        }
+      }
+    }
+    EXPECT_LT(worst, 1e-12 * size) << (curved ? "curved" : "planar");
+  }
+}
+
+TEST(SurfaceBSplines, PassThroughBorderStaysExactAndShared) {
+  // A crease along x = 2 and a notch at the top right: the notch's concave vertex sends a
+  // separatrix into the crease at (2, 3), so the left chart's crease side passes a node where two
+  // right charts meet. The left chart is regular (crease patches included): exact.
+  QuadControlMesh mesh = grid(4, 4, bump, [](int i, int j) { return !(i == 3 && j == 3); });
+  mesh.creases.resize(4, 2);
+  mesh.creases << 10, 11, 11, 12, 12, 13, 13, 14;
+  const double size = modelSize(mesh);
+  const LimitBSplines result = limitSurfaceToBSplines(mesh);
+  ASSERT_EQ(result.layout.charts.size(), 4u);
+  bool sawLongLine = false;
+  for (const BorderLine& line : result.layout.lines) sawLongLine |= line.segments.size() == 2;
+  EXPECT_TRUE(sawLongLine);
+  for (size_t c = 0; c < result.layout.charts.size(); ++c) {
+    const QuadChart& chart = result.layout.charts[c];
+    if (chart.uCells * chart.vCells == 8) {
+      EXPECT_LT(result.maxDeviation[c], 1e-12 * size);
+    }
+  }
+  EXPECT_LT(result.maxBorderGap, 1e-12 * size);
+  EXPECT_LT(maxSharedBorderDistance(result), 1e-12 * size);
+}
+
+void expectWatertightSolid(const QuadControlMesh& mesh, const std::string& name) {
+  const double size = modelSize(mesh);
+  const LimitBSplines result = limitSurfaceToBSplines(mesh);
+  EXPECT_LT(result.maxBorderGap, 1e-12 * size) << name;
+  EXPECT_LT(maxSharedBorderDistance(result), 1e-12 * size) << name;
+  double maxDeviation = 0.0;
+  for (double d : result.maxDeviation) maxDeviation = std::max(maxDeviation, d);
+
+  const SewnShape sewn = sewBSplineSurfaces(result.surfaces);
+  EXPECT_TRUE(sewn.solid) << name;
+  EXPECT_TRUE(sewn.valid) << name;
+  EXPECT_EQ(sewn.freeEdges, 0) << name;
+  EXPECT_LE(sewn.maxEdgeTolerance, sewn.tolerance) << name;
+  ASSERT_EQ(sewn.shape.ShapeType(), TopAbs_SOLID) << name;
+  GProp_GProps volumeProps;
+  BRepGProp::VolumeProperties(sewn.shape, volumeProps);
+  GProp_GProps areaProps;
+  BRepGProp::SurfaceProperties(sewn.shape, areaProps);
+  const SubdivisionLimitSurface limit(mesh);
+  const double exact = limitVolume(mesh, limit, 24);
+  // The volumes differ by at most area x max deviation (plus the extrapolated tessellation error).
+  const double bound = areaProps.Mass() * maxDeviation + 1e-6 * exact;
+  std::cout << name << ": charts " << result.surfaces.size() << ", max deviation " << maxDeviation
+            << ", solid volume " << volumeProps.Mass() << ", limit volume " << exact << ", bound " << bound
+            << ", sewing max tolerance " << sewn.maxEdgeTolerance << "\n";
+  EXPECT_GT(volumeProps.Mass(), 0.0) << name;
+  EXPECT_NEAR(volumeProps.Mass(), exact, bound) << name;
+  EXPECT_LT(std::abs(volumeProps.Mass() - exact), 2e-3 * exact) << name;
+}
+
+TEST(SurfaceBSplines, SubdividedCubeIsAWatertightSolid) { expectWatertightSolid(subdivide(cube(), 1), "cube"); }
+
+TEST(SurfaceBSplines, CreasedCubeIsAWatertightSolidWithASharpCrease) {
+  const QuadControlMesh mesh = cubeWithCreasedEquator();
+  expectWatertightSolid(mesh, "creased cube");
+  // Across the crease the two neighbouring surfaces meet at an angle (normals differ).
+  const LimitBSplines result = limitSurfaceToBSplines(mesh);
+  int creaseSegments = 0;
+  for (const BorderSegment& segment : result.layout.segments) {
+    if (segment.kind != BorderKind::Crease) continue;
+    ++creaseSegments;
+    gp_Vec normal[2];
+    for (int k = 0; k < 2; ++k) {
+      const SegmentUse& use = segment.uses[static_cast<size_t>(k)];
+      const QuadChart& chart = result.layout.charts[static_cast<size_t>(use.chart)];
+      const double position = use.reversed ? use.first - 0.5 : use.first + 0.5;
+      double s = position;
+      double t = 0.0;
+      if (use.side == ChartSide::UMax || use.side == ChartSide::UMin) std::swap(s, t);
+      if (use.side == ChartSide::UMax) s = chart.uCells;
+      if (use.side == ChartSide::VMax) t = chart.vCells;
+      gp_Pnt p;
+      gp_Vec du;
+      gp_Vec dv;
+      cad::makeBSplineSurface(result.surfaces[static_cast<size_t>(use.chart)])->D1(s, t, p, du, dv);
+      normal[k] = du.Crossed(dv).Normalized();
+    }
+    EXPECT_LT(normal[0].Dot(normal[1]), 0.95);
+  }
+  EXPECT_EQ(creaseSegments, 4);
+}
+
+TEST(SurfaceBSplines, DeviationShrinksUnderSubdivision) {
+  // Same limit surface, finer control meshes: the approximation near the 8 extraordinary
+  // vertices improves; report the rate log2(d_k / d_{k+1}).
+  const QuadControlMesh base = cube();
+  double previous = 0.0;
+  for (int levels = 1; levels <= 4; ++levels) {
+    const QuadControlMesh mesh = subdivide(base, levels);
+    const LimitBSplines result = limitSurfaceToBSplines(mesh);
+    double deviation = 0.0;
+    for (double d : result.maxDeviation) deviation = std::max(deviation, d);
+    std::cout << "cube level " << levels << ": " << mesh.faces.rows() << " faces, max deviation " << deviation;
+    if (levels > 1) {
+      std::cout << ", rate " << std::log2(previous / deviation);
+      EXPECT_LT(deviation, previous / 2);
+    }
+    std::cout << "\n";
+    EXPECT_GT(deviation, 0.0);  // extraordinary vertices: not in the spline space
+    previous = deviation;
+  }
+}
+
+TEST(SurfaceBSplines, TorusAndTubeCharts) {
+  // Cut charts share a border with themselves: the fit still closes up exactly.
+  for (const QuadControlMesh& mesh : {testing::torus(8, 6), testing::tube(8, 3)}) {
+    const double size = modelSize(mesh);
+    const LimitBSplines result = limitSurfaceToBSplines(mesh);
+    ASSERT_EQ(result.surfaces.size(), 1u);
+    EXPECT_LT(result.maxDeviation[0], 1e-12 * size);
+    EXPECT_LT(maxSharedBorderDistance(result), 1e-12 * size);
+  }
+  const SewnShape sewn = sewBSplineSurfaces(limitSurfaceToBSplines(testing::torus(8, 6)).surfaces);
+  EXPECT_EQ(sewn.freeEdges, 0);
+  EXPECT_TRUE(sewn.solid);
+  EXPECT_TRUE(sewn.valid);
+}
+
+TEST(SurfaceBSplines, OpenGridSewsIntoAShellWithFreeEdges) {
+  const QuadControlMesh mesh = grid(4, 4, bump, [](int i, int j) { return i < 2 || j < 2; });
+  const SewnShape sewn = sewBSplineSurfaces(limitSurfaceToBSplines(mesh).surfaces);
+  EXPECT_FALSE(sewn.solid);
+  EXPECT_TRUE(sewn.valid);
+  EXPECT_EQ(sewn.shape.ShapeType(), TopAbs_SHELL);
+  EXPECT_EQ(sewn.freeEdges, 8);  // the L's outline in boundary segments
+}
+
+TEST(SurfaceBSplines, RejectsBadOptionsAndEvaluators) {
+  const QuadControlMesh mesh = grid(2, 2, bump);
+  LimitBSplineOptions options;
+  options.samplesPerSpan = 3;
+  EXPECT_THROW(limitSurfaceToBSplines(mesh, options), InvalidInputError);
+  const LimitEvaluator broken = [](const std::vector<FaceLocation>& locations, RowMatrixX3d& points) {
+    points = RowMatrixX3d::Constant(static_cast<Eigen::Index>(locations.size()), 3, std::nan(""));
+  };
+  EXPECT_THROW(fitLimitBSplines(buildChartLayout(mesh), broken), SolverError);
+  SubdivisionLimitOptions limitOptions;
+  limitOptions.maxIsolationLevel = 0;
+  EXPECT_THROW(limitSurfaceToBSplines(mesh, {}, limitOptions), InvalidInputError);
+  EXPECT_THROW(sewBSplineSurfaces({}), InvalidInputError);
+}
+
+}  // namespace
+}  // namespace bvmesh::surface
