@@ -16,6 +16,7 @@ _CORE_NAMES = (
     "TopologyError",
     "SolverError",
     "CancelledError",
+    "limit_surface_to_bsplines",
 )
 
 

@@ -7,5 +7,6 @@ namespace bvmesh::python {
 
 void bindErrors(pybind11::module_& module);
 void bindCad(pybind11::module_& module);
+void bindSurface(pybind11::module_& module);
 
 }  // namespace bvmesh::python

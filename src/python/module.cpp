@@ -4,4 +4,5 @@ PYBIND11_MODULE(_core, module) {
   module.doc() = "BVMesh compiled core: subdivision, projection and fitting for B-spline meshing";
   bvmesh::python::bindErrors(module);
   bvmesh::python::bindCad(module);
+  bvmesh::python::bindSurface(module);
 }
