@@ -216,6 +216,13 @@ TEST(SurfaceBSplines, PassThroughBorderStaysExactAndShared) {
   }
   EXPECT_LT(result.maxBorderGap, 1e-12 * size);
   EXPECT_LT(maxSharedBorderDistance(result), 1e-12 * size);
+  // Sewing splits the long crease edge at the T-junction: a valid open shell whose free edges
+  // are the 9 chart sides on the mesh boundary.
+  const SewnShape sewn = sewBSplineSurfaces(result.surfaces);
+  EXPECT_TRUE(sewn.valid);
+  EXPECT_FALSE(sewn.solid);
+  EXPECT_EQ(sewn.shape.ShapeType(), TopAbs_SHELL);
+  EXPECT_EQ(sewn.freeEdges, 9);
 }
 
 void expectWatertightSolid(const QuadControlMesh& mesh, const std::string& name) {
@@ -278,6 +285,19 @@ TEST(SurfaceBSplines, CreasedCubeIsAWatertightSolidWithASharpCrease) {
     EXPECT_LT(normal[0].Dot(normal[1]), 0.95);
   }
   EXPECT_EQ(creaseSegments, 4);
+}
+
+TEST(SurfaceBSplines, CubeWithCreasedTopRimAndCornersIsAWatertightSolid) {
+  // Crease corners: at the top corners one side of the rim crease holds 1 face, the other 2.
+  for (bool tagCorners : {false, true}) {
+    QuadControlMesh base = cube();
+    base.creases.resize(4, 2);
+    base.creases << 4, 5, 5, 7, 7, 6, 6, 4;
+    if (tagCorners) base.corners = {4, 5, 6, 7};
+    const QuadControlMesh mesh = subdivide(base, 1);
+    EXPECT_EQ(buildChartLayout(mesh).charts.size(), 6u);
+    expectWatertightSolid(mesh, tagCorners ? "creased rim with corners" : "creased rim");
+  }
 }
 
 TEST(SurfaceBSplines, DeviationShrinksUnderSubdivision) {
