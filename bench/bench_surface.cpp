@@ -55,10 +55,12 @@ QuadControlMesh sphere(int n) {
   }
   QuadControlMesh mesh;
   mesh.vertices.resize(static_cast<Eigen::Index>(points.size()), 3);
-  for (size_t v = 0; v < points.size(); ++v) mesh.vertices.row(static_cast<Eigen::Index>(v)) = points[v].transpose();
+  for (size_t v = 0; v < points.size(); ++v)
+    mesh.vertices.row(static_cast<Eigen::Index>(v)) = points[v].transpose();
   mesh.faces.resize(static_cast<Eigen::Index>(quads.size()), 4);
   for (size_t f = 0; f < quads.size(); ++f) {
-    for (int k = 0; k < 4; ++k) mesh.faces(static_cast<Eigen::Index>(f), k) = quads[f][static_cast<size_t>(k)];
+    for (int k = 0; k < 4; ++k)
+      mesh.faces(static_cast<Eigen::Index>(f), k) = quads[f][static_cast<size_t>(k)];
   }
   return mesh;
 }
@@ -74,7 +76,8 @@ QuadControlMesh creasedGrid(int n) {
   }
   mesh.faces.resize(n * n, 4);
   for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < n; ++j) mesh.faces.row(i * n + j) << id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1);
+    for (int j = 0; j < n; ++j)
+      mesh.faces.row(i * n + j) << id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1);
   }
   std::vector<std::array<int, 2>> creases;
   for (int line = 8; line < n; line += 8) {
@@ -120,19 +123,22 @@ Row run(const QuadControlMesh& mesh) {
   return row;
 }
 
-void family(const char* name, const std::function<QuadControlMesh(int)>& make, const std::vector<int>& sizes) {
-  std::printf("\n%s\n%8s %7s %9s %9s %9s %9s %9s %10s %9s %10s\n", name, "quads", "charts", "layout s", "limit s",
-              "fit s", "sew s", "total s", "fit/eval", "exponent", "max dev");
+void family(const char* name, const std::function<QuadControlMesh(int)>& make,
+            const std::vector<int>& sizes) {
+  std::printf("\n%s\n%8s %7s %9s %9s %9s %9s %9s %10s %9s %10s\n", name, "quads", "charts", "layout s",
+              "limit s", "fit s", "sew s", "total s", "fit/eval", "exponent", "max dev");
   Row previous;
   for (int n : sizes) {
     const Row row = run(make(n));
     char exponent[32] = "-";
     if (previous.faces > 0) {
       std::snprintf(exponent, sizeof exponent, "%.2f",
-                    std::log(row.total() / previous.total()) / std::log(static_cast<double>(row.faces) / static_cast<double>(previous.faces)));
+                    std::log(row.total() / previous.total()) /
+                        std::log(static_cast<double>(row.faces) / static_cast<double>(previous.faces)));
     }
-    std::printf("%8ld %7zu %9.3f %9.3f %9.3f %9.3f %9.3f %10.2f %9s %10.2e\n", row.faces, row.charts, row.layout,
-                row.limit, row.fit, row.sew, row.total(), row.fit / row.baseline, exponent, row.deviation);
+    std::printf("%8ld %7zu %9.3f %9.3f %9.3f %9.3f %9.3f %10.2f %9s %10.2e\n", row.faces, row.charts,
+                row.layout, row.limit, row.fit, row.sew, row.total(), row.fit / row.baseline, exponent,
+                row.deviation);
     std::fflush(stdout);
     previous = row;
   }

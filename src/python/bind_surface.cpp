@@ -25,8 +25,10 @@ std::string shapeText(const py::array& array) {
 }
 
 // An integer array of shape (rows, columns); `columns` < 0 means one-dimensional.
-py::array_t<int, py::array::c_style | py::array::forcecast> integerArray(const py::object& object, const char* name,
-                                                                         py::ssize_t columns, const char* what) {
+py::array_t<int, py::array::c_style | py::array::forcecast> integerArray(const py::object& object,
+                                                                         const char* name,
+                                                                         py::ssize_t columns,
+                                                                         const char* what) {
   const py::array array = py::array::ensure(object);
   if (!array) throw py::value_error(std::string(name) + " must be an array");
   const bool empty = array.size() == 0;
@@ -34,8 +36,9 @@ py::array_t<int, py::array::c_style | py::array::forcecast> integerArray(const p
     throw py::value_error(std::string(name) + " must hold integers (vertex ids), got dtype " +
                           std::string(py::str(array.dtype())));
   }
-  const bool shapeOk = columns < 0 ? array.ndim() == 1
-                                   : (array.ndim() == 2 && array.shape(1) == columns) || (empty && array.ndim() <= 2);
+  const bool shapeOk = columns < 0
+                           ? array.ndim() == 1
+                           : (array.ndim() == 2 && array.shape(1) == columns) || (empty && array.ndim() <= 2);
   if (!shapeOk) {
     throw py::value_error(std::string(name) + " must have shape " + what + ", got " + shapeText(array));
   }
@@ -44,8 +47,8 @@ py::array_t<int, py::array::c_style | py::array::forcecast> integerArray(const p
   return result;
 }
 
-surface::QuadControlMesh meshFromArrays(const py::object& vertices, const py::object& faces, const py::object& creases,
-                                        const py::object& corners) {
+surface::QuadControlMesh meshFromArrays(const py::object& vertices, const py::object& faces,
+                                        const py::object& creases, const py::object& corners) {
   auto points = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(vertices);
   if (!points || points.ndim() != 2 || points.shape(1) != 3) {
     throw py::value_error("vertices must have shape (#V, 3), got " +
@@ -84,19 +87,26 @@ surface::QuadControlMesh meshFromArrays(const py::object& vertices, const py::ob
 
 const char* sideName(ChartSide side) {
   switch (side) {
-    case ChartSide::VMin: return "v_min";
-    case ChartSide::UMax: return "u_max";
-    case ChartSide::VMax: return "v_max";
-    case ChartSide::UMin: return "u_min";
+    case ChartSide::VMin:
+      return "v_min";
+    case ChartSide::UMax:
+      return "u_max";
+    case ChartSide::VMax:
+      return "v_max";
+    case ChartSide::UMin:
+      return "u_min";
   }
   return "";
 }
 
 const char* kindName(BorderKind kind) {
   switch (kind) {
-    case BorderKind::Boundary: return "boundary";
-    case BorderKind::Crease: return "crease";
-    case BorderKind::Separatrix: return "separatrix";
+    case BorderKind::Boundary:
+      return "boundary";
+    case BorderKind::Crease:
+      return "crease";
+    case BorderKind::Separatrix:
+      return "separatrix";
   }
   return "";
 }
@@ -108,12 +118,14 @@ py::array_t<int> gridArray(const std::vector<int>& values, py::ssize_t rows, py:
 }
 
 py::array_t<double> polesArray(const std::vector<double>& poles, py::ssize_t rows, py::ssize_t columns) {
-  py::array_t<double> array(columns > 0 ? std::vector<py::ssize_t>{rows, columns, 3} : std::vector<py::ssize_t>{rows, 3});
+  py::array_t<double> array(columns > 0 ? std::vector<py::ssize_t>{rows, columns, 3}
+                                        : std::vector<py::ssize_t>{rows, 3});
   std::copy(poles.begin(), poles.end(), array.mutable_data());
   return array;
 }
 
-py::dict resultToDict(const surface::LimitBSplines& result, const surface::SewnShape* sewn, const std::string& brep) {
+py::dict resultToDict(const surface::LimitBSplines& result, const surface::SewnShape* sewn,
+                      const std::string& brep) {
   py::list charts;
   double maxDeviation = 0.0;
   for (size_t c = 0; c < result.layout.charts.size(); ++c) {
@@ -181,9 +193,9 @@ py::dict resultToDict(const surface::LimitBSplines& result, const surface::SewnS
 void bindSurface(py::module_& module) {
   module.def(
       "limit_surface_to_bsplines",
-      [](const py::object& vertices, const py::object& faces, const py::object& creases, const py::object& corners,
-         int samplesPerSpan, int checkSamplesPerSpan, int maxIsolationLevel, bool sew, double sewingTolerance,
-         bool makeSolid) {
+      [](const py::object& vertices, const py::object& faces, const py::object& creases,
+         const py::object& corners, int samplesPerSpan, int checkSamplesPerSpan, int maxIsolationLevel,
+         bool sew, double sewingTolerance, bool makeSolid) {
         const surface::QuadControlMesh mesh = meshFromArrays(vertices, faces, creases, corners);
         surface::LimitBSplineOptions options;
         options.samplesPerSpan = samplesPerSpan;
@@ -207,8 +219,9 @@ void bindSurface(py::module_& module) {
         return resultToDict(result, sew ? &sewn : nullptr, brep);
       },
       py::arg("vertices"), py::arg("faces"), py::arg("creases") = py::none(), py::arg("corners") = py::none(),
-      py::arg("samples_per_span") = 4, py::arg("check_samples_per_span") = 9, py::arg("max_isolation_level") = 8,
-      py::arg("sew") = true, py::arg("sewing_tolerance") = 1e-7, py::arg("make_solid") = true,
+      py::arg("samples_per_span") = 4, py::arg("check_samples_per_span") = 9,
+      py::arg("max_isolation_level") = 8, py::arg("sew") = true, py::arg("sewing_tolerance") = 1e-7,
+      py::arg("make_solid") = true,
       R"doc(Converts the Catmull-Clark limit surface of an all-quad control mesh to bicubic B-spline surfaces.
 
 vertices: (#V, 3) float; faces: (#F, 4) int, counter-clockwise; creases: (#C, 2) int vertex pairs of

@@ -30,7 +30,9 @@ double modelSize(const QuadControlMesh& mesh) {
   return (mesh.vertices.colwise().maxCoeff() - mesh.vertices.colwise().minCoeff()).norm();
 }
 
-double bump(double x, double y) { return 0.3 * std::sin(1.3 * x + 0.4) * std::cos(0.9 * y - 0.2) + 0.05 * x * y; }
+double bump(double x, double y) {
+  return 0.3 * std::sin(1.3 * x + 0.4) * std::cos(0.9 * y - 0.2) + 0.05 * x * y;
+}
 
 // Face location of chart parameters, from the documented cell convention alone: cell corner k is
 // face vertex (k + rotation) % 4, and the face's corners sit at (0,0), (1,0), (1,1), (0,1).
@@ -125,7 +127,8 @@ double limitVolume(const QuadControlMesh& mesh, const SubdivisionLimitSurface& l
     std::vector<FaceLocation> locations;
     for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
       for (int a = 0; a <= n; ++a) {
-        for (int b = 0; b <= n; ++b) locations.push_back({static_cast<int>(f), static_cast<double>(a) / n, static_cast<double>(b) / n});
+        for (int b = 0; b <= n; ++b)
+          locations.push_back({static_cast<int>(f), static_cast<double>(a) / n, static_cast<double>(b) / n});
       }
     }
     RowMatrixX3d p;
@@ -138,7 +141,8 @@ double limitVolume(const QuadControlMesh& mesh, const SubdivisionLimitSurface& l
       };
       for (int a = 0; a < n; ++a) {
         for (int b = 0; b < n; ++b) {
-          const Eigen::Vector3d p00 = at(a, b), p10 = at(a + 1, b), p11 = at(a + 1, b + 1), p01 = at(a, b + 1);
+          const Eigen::Vector3d p00 = at(a, b), p10 = at(a + 1, b), p11 = at(a + 1, b + 1),
+                                p01 = at(a, b + 1);
           volume += p00.dot(p10.cross(p11)) / 6 + p00.dot(p11.cross(p01)) / 6;
         }
       }
@@ -154,7 +158,8 @@ TEST(SurfaceBSplines, RegularGridsAreReproducedExactly) {
   for (bool curved : {false, true}) {
     const int nx = 6;
     const int ny = 5;
-    const QuadControlMesh mesh = grid(nx, ny, curved ? bump : [](double, double) { return 0.0; });
+    const QuadControlMesh mesh = grid(
+        nx, ny, curved ? bump : [](double, double) { return 0.0; });
     const double size = modelSize(mesh);
     const LimitBSplines result = limitSurfaceToBSplines(mesh);
     ASSERT_EQ(result.surfaces.size(), 1u);
@@ -183,7 +188,8 @@ TEST(SurfaceBSplines, RegularGridsAreReproducedExactly) {
             Eigen::Vector3d expected = Eigen::Vector3d::Zero();
             for (int p = 0; p < 4; ++p) {
               for (int q = 0; q < 4; ++q) {
-                expected += bu[p] * bv[q] * mesh.vertices.row((i - 1 + p) * (ny + 1) + (j - 1 + q)).transpose();
+                expected +=
+                    bu[p] * bv[q] * mesh.vertices.row((i - 1 + p) * (ny + 1) + (j - 1 + q)).transpose();
               }
             }
             worst = std::max(worst, (occtPoint(surface, ci + a, cj + b) - expected).norm());
@@ -255,7 +261,9 @@ void expectWatertightSolid(const QuadControlMesh& mesh, const std::string& name)
   EXPECT_LT(std::abs(volumeProps.Mass() - exact), 2e-3 * exact) << name;
 }
 
-TEST(SurfaceBSplines, SubdividedCubeIsAWatertightSolid) { expectWatertightSolid(subdivide(cube(), 1), "cube"); }
+TEST(SurfaceBSplines, SubdividedCubeIsAWatertightSolid) {
+  expectWatertightSolid(subdivide(cube(), 1), "cube");
+}
 
 TEST(SurfaceBSplines, CreasedCubeIsAWatertightSolidWithASharpCrease) {
   const QuadControlMesh mesh = cubeWithCreasedEquator();
@@ -310,7 +318,8 @@ TEST(SurfaceBSplines, DeviationShrinksUnderSubdivision) {
     const LimitBSplines result = limitSurfaceToBSplines(mesh);
     double deviation = 0.0;
     for (double d : result.maxDeviation) deviation = std::max(deviation, d);
-    std::cout << "cube level " << levels << ": " << mesh.faces.rows() << " faces, max deviation " << deviation;
+    std::cout << "cube level " << levels << ": " << mesh.faces.rows() << " faces, max deviation "
+              << deviation;
     if (levels > 1) {
       std::cout << ", rate " << std::log2(previous / deviation);
       EXPECT_LT(deviation, previous / 2);

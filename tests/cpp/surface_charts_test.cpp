@@ -135,7 +135,8 @@ TEST(SurfaceCharts, LShapeSplitsAtTheConcaveCorner) {
   EXPECT_EQ(layout.junctions.size(), 6u);  // five convex corners + the concave one
   // Boundary: 6 sides of the L, split at the two separatrix ends: 8 boundary segments; 2 inner.
   int boundary = 0;
-  for (const BorderSegment& segment : layout.segments) boundary += segment.kind == BorderKind::Boundary ? 1 : 0;
+  for (const BorderSegment& segment : layout.segments)
+    boundary += segment.kind == BorderKind::Boundary ? 1 : 0;
   EXPECT_EQ(boundary, 8);
   EXPECT_EQ(layout.segments.size(), 10u);
 }
@@ -149,8 +150,8 @@ TEST(SurfaceCharts, SubdividedCubeGivesOneChartPerCubeFace) {
     const ChartLayout layout = buildChartLayout(mesh);
     expectConsistentLayout(mesh, layout);
     const int n = 1 << levels;
-    EXPECT_EQ(chartSizes(layout), (std::multiset<std::pair<int, int>>(
-                                      {{n, n}, {n, n}, {n, n}, {n, n}, {n, n}, {n, n}})));
+    EXPECT_EQ(chartSizes(layout),
+              (std::multiset<std::pair<int, int>>({{n, n}, {n, n}, {n, n}, {n, n}, {n, n}, {n, n}})));
     EXPECT_EQ(layout.junctions.size(), 8u);
     EXPECT_EQ(layout.nodes.size(), 8u);
     EXPECT_EQ(layout.segments.size(), 12u);
@@ -185,7 +186,8 @@ TEST(SurfaceCharts, CreaseDartsEmitSeparatrices) {
   mesh.creases << 2 * 5 + 1, 2 * 5 + 2, 2 * 5 + 2, 2 * 5 + 3;
   const ChartLayout layout = buildChartLayout(mesh);
   expectConsistentLayout(mesh, layout);
-  EXPECT_EQ(chartSizes(layout), (std::multiset<std::pair<int, int>>{{1, 2}, {1, 2}, {1, 2}, {1, 2}, {2, 2}, {2, 2}}));
+  EXPECT_EQ(chartSizes(layout),
+            (std::multiset<std::pair<int, int>>{{1, 2}, {1, 2}, {1, 2}, {1, 2}, {2, 2}, {2, 2}}));
 }
 
 TEST(SurfaceCharts, CreaseAcrossAGridEndsAtTheBoundary) {
@@ -232,7 +234,8 @@ TEST(SurfaceCharts, RejectsBadMeshes) {
     buildChartLayout(bad);
     FAIL() << "no exception";
   } catch (const InvalidInputError& error) {
-    EXPECT_NE(std::string(error.what()).find("face 1 refers to vertex 99"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("face 1 refers to vertex 99"), std::string::npos)
+        << error.what();
   }
   bad = mesh;
   bad.faces(0, 3) = bad.faces(0, 1);

@@ -16,14 +16,17 @@
 
 namespace bvmesh::surface::testing {
 
-inline QuadControlMesh fromLists(const std::vector<Eigen::Vector3d>& points, const std::vector<std::array<int, 4>>& quads,
+inline QuadControlMesh fromLists(const std::vector<Eigen::Vector3d>& points,
+                                 const std::vector<std::array<int, 4>>& quads,
                                  const std::vector<std::array<int, 2>>& creases = {}) {
   QuadControlMesh mesh;
   mesh.vertices.resize(static_cast<Eigen::Index>(points.size()), 3);
-  for (size_t v = 0; v < points.size(); ++v) mesh.vertices.row(static_cast<Eigen::Index>(v)) = points[v].transpose();
+  for (size_t v = 0; v < points.size(); ++v)
+    mesh.vertices.row(static_cast<Eigen::Index>(v)) = points[v].transpose();
   mesh.faces.resize(static_cast<Eigen::Index>(quads.size()), 4);
   for (size_t f = 0; f < quads.size(); ++f) {
-    for (int k = 0; k < 4; ++k) mesh.faces(static_cast<Eigen::Index>(f), k) = quads[f][static_cast<size_t>(k)];
+    for (int k = 0; k < 4; ++k)
+      mesh.faces(static_cast<Eigen::Index>(f), k) = quads[f][static_cast<size_t>(k)];
   }
   mesh.creases.resize(static_cast<Eigen::Index>(creases.size()), 2);
   for (size_t c = 0; c < creases.size(); ++c) {
@@ -60,8 +63,8 @@ inline QuadControlMesh torus(int n, int m, double major = 3.0, double minor = 1.
     for (int j = 0; j < m; ++j) {
       const double a = 2 * pi * i / n;
       const double b = 2 * pi * j / m;
-      points.emplace_back((major + minor * std::cos(b)) * std::cos(a), (major + minor * std::cos(b)) * std::sin(a),
-                          minor * std::sin(b));
+      points.emplace_back((major + minor * std::cos(b)) * std::cos(a),
+                          (major + minor * std::cos(b)) * std::sin(a), minor * std::sin(b));
     }
   }
   std::vector<std::array<int, 4>> quads;
@@ -90,8 +93,10 @@ inline QuadControlMesh tube(int n, int m) {
 // The cube [-1, 1]^3 as six outward quads.
 inline QuadControlMesh cube() {
   std::vector<Eigen::Vector3d> points;
-  for (int i = 0; i < 8; ++i) points.emplace_back(2 * (i & 1) - 1, 2 * ((i >> 1) & 1) - 1, 2 * ((i >> 2) & 1) - 1);
-  return fromLists(points, {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}});
+  for (int i = 0; i < 8; ++i)
+    points.emplace_back(2 * (i & 1) - 1, 2 * ((i >> 1) & 1) - 1, 2 * ((i >> 2) & 1) - 1);
+  return fromLists(points,
+                   {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}});
 }
 
 // `levels` Catmull-Clark steps (Catmark, edge-and-corner boundaries, uniform creases); creases

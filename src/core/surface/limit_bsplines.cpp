@@ -90,13 +90,14 @@ std::vector<double> checkParameters(int spans, int perSpan) {
 // fitParameters) returns the interior poles X minimising |A_int X - R|. The normal equations are
 // banded and well conditioned; one refinement step brings the residual to rounding level.
 class EndConstrainedFit {
-public:
-  EndConstrainedFit(int spans, int perSpan) : spans_(spans), knots_(clampedKnots(spans)) {
+ public:
+  EndConstrainedFit(int spans, int perSpan) {
+    const std::vector<double> knots = clampedKnots(spans);
     const std::vector<double> x = fitParameters(spans, perSpan);
     full_.resize(static_cast<Eigen::Index>(x.size()), spans + 3);
     std::vector<Eigen::Triplet<double>> entries;
     for (size_t r = 0; r < x.size(); ++r) {
-      const CubicBasis b = cubicBasis(knots_, spans, x[r]);
+      const CubicBasis b = cubicBasis(knots, spans, x[r]);
       for (int k = 0; k < 4; ++k) entries.emplace_back(static_cast<int>(r), b.first + k, b.w[k]);
     }
     full_.setFromTriplets(entries.begin(), entries.end());
@@ -115,9 +116,7 @@ public:
     return x;
   }
 
-private:
-  int spans_;
-  std::vector<double> knots_;
+ private:
   SparseMatrix full_;
   SparseMatrix interior_;
   SparseMatrix interiorT_;
@@ -125,15 +124,16 @@ private:
 };
 
 class FitCache {
-public:
+ public:
   explicit FitCache(int perSpan) : perSpan_(perSpan) {}
   const EndConstrainedFit& get(int spans) {
     auto it = fits_.find(spans);
-    if (it == fits_.end()) it = fits_.emplace(spans, std::make_unique<EndConstrainedFit>(spans, perSpan_)).first;
+    if (it == fits_.end())
+      it = fits_.emplace(spans, std::make_unique<EndConstrainedFit>(spans, perSpan_)).first;
     return *it->second;
   }
 
-private:
+ private:
   int perSpan_;
   std::map<int, std::unique_ptr<EndConstrainedFit>> fits_;
 };
@@ -168,7 +168,9 @@ std::vector<Vector3d> restrictCurve(const std::vector<Vector3d>& poles, int span
   }
   size_t start = 0;
   if (a > 0) {
-    start = static_cast<size_t>(std::find(knots.begin(), knots.end(), static_cast<double>(a)) - knots.begin()) - 1;
+    start =
+        static_cast<size_t>(std::find(knots.begin(), knots.end(), static_cast<double>(a)) - knots.begin()) -
+        1;
   }
   return std::vector<Vector3d>(work.begin() + static_cast<std::ptrdiff_t>(start),
                                work.begin() + static_cast<std::ptrdiff_t>(start) + (b - a) + 3);
@@ -182,20 +184,28 @@ FaceLocation chartLocation(const QuadChart& chart, double s, double t) {
   const double b = t - j;
   const int face = chart.face(i, j);
   switch (chart.rotation(i, j)) {
-    case 1: return {face, 1.0 - b, a};
-    case 2: return {face, 1.0 - a, 1.0 - b};
-    case 3: return {face, b, 1.0 - a};
-    default: return {face, a, b};
+    case 1:
+      return {face, 1.0 - b, a};
+    case 2:
+      return {face, 1.0 - a, 1.0 - b};
+    case 3:
+      return {face, b, 1.0 - a};
+    default:
+      return {face, a, b};
   }
 }
 
 // Chart parameters of a position along one of its sides.
 std::pair<double, double> sideParameters(const QuadChart& chart, ChartSide side, double position) {
   switch (side) {
-    case ChartSide::VMin: return {position, 0.0};
-    case ChartSide::UMax: return {chart.uCells, position};
-    case ChartSide::VMax: return {position, chart.vCells};
-    case ChartSide::UMin: return {0.0, position};
+    case ChartSide::VMin:
+      return {position, 0.0};
+    case ChartSide::UMax:
+      return {chart.uCells, position};
+    case ChartSide::VMax:
+      return {position, chart.vCells};
+    case ChartSide::UMin:
+      return {0.0, position};
   }
   return {0.0, 0.0};
 }
@@ -241,7 +251,7 @@ std::vector<double> distinctKnots(int spans) {
 }
 
 class Fitter {
-public:
+ public:
   Fitter(ChartLayout layout, const LimitEvaluator& limit, const LimitBSplineOptions& options)
       : limit_(limit), options_(options), fits_(options.samplesPerSpan) {
     result_.layout = std::move(layout);
@@ -255,7 +265,7 @@ public:
     return std::move(result_);
   }
 
-private:
+ private:
   const ChartLayout& layout() const { return result_.layout; }
 
   // Face location of parameter y in [0, #edges] along a segment (seen from its first use).
@@ -274,7 +284,8 @@ private:
       const BorderLine& line = layout().lines[l];
       int offset = 0;
       for (size_t k = 0; k < line.segments.size(); ++k) {
-        places_[static_cast<size_t>(line.segments[k])] = LinePlace{static_cast<int>(l), offset, line.reversed[k]};
+        places_[static_cast<size_t>(line.segments[k])] =
+            LinePlace{static_cast<int>(l), offset, line.reversed[k]};
         offset += segmentLength(layout().segments[static_cast<size_t>(line.segments[k])]);
       }
       lineSpans_.push_back(offset);
@@ -331,9 +342,9 @@ private:
     for (size_t s = 0; s < layout().segments.size(); ++s) {
       const LinePlace& place = places_[s];
       const int length = segmentLength(layout().segments[s]);
-      std::vector<Vector3d> poles = restrictCurve(linePoles_[static_cast<size_t>(place.line)],
-                                                  lineSpans_[static_cast<size_t>(place.line)], place.offset,
-                                                  place.offset + length);
+      std::vector<Vector3d> poles =
+          restrictCurve(linePoles_[static_cast<size_t>(place.line)],
+                        lineSpans_[static_cast<size_t>(place.line)], place.offset, place.offset + length);
       if (place.reversed) std::reverse(poles.begin(), poles.end());
       BSplineCurveData& curve = result_.segmentCurves[s];
       for (const Vector3d& p : poles) curve.poles.insert(curve.poles.end(), {p.x(), p.y(), p.z()});
@@ -363,8 +374,9 @@ private:
     const int x0 = place.offset + (place.reversed ? length - y0 : y0);
     const bool along = use->reversed == place.reversed;
     const int a = along ? x0 : x0 - sideLength;
-    std::vector<Vector3d> poles = restrictCurve(linePoles_[static_cast<size_t>(place.line)],
-                                                lineSpans_[static_cast<size_t>(place.line)], a, a + sideLength);
+    std::vector<Vector3d> poles =
+        restrictCurve(linePoles_[static_cast<size_t>(place.line)],
+                      lineSpans_[static_cast<size_t>(place.line)], a, a + sideLength);
     if (!along) std::reverse(poles.begin(), poles.end());
     return poles;
   }
@@ -400,15 +412,24 @@ private:
           const int q = static_cast<int>(k);
           for (int d = 0; d < 3; ++d) {
             switch (side) {
-              case ChartSide::VMin: poles[static_cast<size_t>(d)](q, 0) = row[k][d]; break;
-              case ChartSide::UMax: poles[static_cast<size_t>(d)](m + 2, q) = row[k][d]; break;
-              case ChartSide::VMax: poles[static_cast<size_t>(d)](q, n + 2) = row[k][d]; break;
-              case ChartSide::UMin: poles[static_cast<size_t>(d)](0, q) = row[k][d]; break;
+              case ChartSide::VMin:
+                poles[static_cast<size_t>(d)](q, 0) = row[k][d];
+                break;
+              case ChartSide::UMax:
+                poles[static_cast<size_t>(d)](m + 2, q) = row[k][d];
+                break;
+              case ChartSide::VMax:
+                poles[static_cast<size_t>(d)](q, n + 2) = row[k][d];
+                break;
+              case ChartSide::UMin:
+                poles[static_cast<size_t>(d)](0, q) = row[k][d];
+                break;
             }
           }
         }
       };
-      for (ChartSide side : {ChartSide::VMin, ChartSide::UMax, ChartSide::VMax, ChartSide::UMin}) setRow(side);
+      for (ChartSide side : {ChartSide::VMin, ChartSide::UMax, ChartSide::VMax, ChartSide::UMin})
+        setRow(side);
       const EndConstrainedFit& fu = fits_.get(m);
       const EndConstrainedFit& fv = fits_.get(n);
       const Eigen::MatrixXd av(fv.full());
@@ -421,16 +442,18 @@ private:
       for (int d = 0; d < 3; ++d) {
         Eigen::MatrixXd samples(rows, cols);
         for (Eigen::Index r = 0; r < rows; ++r) {
-          samples.row(r) = points.col(d).segment(static_cast<Eigen::Index>(first[c]) + r * cols, cols).transpose();
+          samples.row(r) =
+              points.col(d).segment(static_cast<Eigen::Index>(first[c]) + r * cols, cols).transpose();
         }
         // Kronecker-structured least squares: (A_u (x) A_v) P = S separates into two 1D solves.
         const Eigen::MatrixXd residual = samples - fu.full() * poles[static_cast<size_t>(d)] * av.transpose();
-        const Eigen::MatrixXd half = fu.solve(residual);      // (m + 1) x cols
+        const Eigen::MatrixXd half = fu.solve(residual);           // (m + 1) x cols
         const Eigen::MatrixXd inner = fv.solve(half.transpose());  // (n + 1) x (m + 1)
         poles[static_cast<size_t>(d)].block(1, 1, m + 1, n + 1) = inner.transpose();
         for (int i = 0; i < m + 3; ++i) {
           for (int j = 0; j < n + 3; ++j) {
-            surface.poles[static_cast<size_t>(3 * (i * (n + 3) + j) + d)] = poles[static_cast<size_t>(d)](i, j);
+            surface.poles[static_cast<size_t>(3 * (i * (n + 3) + j) + d)] =
+                poles[static_cast<size_t>(d)](i, j);
           }
         }
       }
@@ -507,7 +530,8 @@ private:
 
 }  // namespace
 
-LimitBSplines fitLimitBSplines(ChartLayout layout, const LimitEvaluator& limit, const LimitBSplineOptions& options) {
+LimitBSplines fitLimitBSplines(ChartLayout layout, const LimitEvaluator& limit,
+                               const LimitBSplineOptions& options) {
   if (options.samplesPerSpan < 4) {
     throw InvalidInputError("samplesPerSpan " + std::to_string(options.samplesPerSpan) +
                             " is too small: a cubic span needs at least 4 samples");
@@ -527,7 +551,8 @@ LimitBSplines limitSurfaceToBSplines(const QuadControlMesh& mesh, const LimitBSp
   return fitLimitBSplines(std::move(layout), surface.evaluator(), options);
 }
 
-SewnShape sewBSplineSurfaces(const std::vector<cad::BSplineSurfaceData>& surfaces, const SewingOptions& options) {
+SewnShape sewBSplineSurfaces(const std::vector<cad::BSplineSurfaceData>& surfaces,
+                             const SewingOptions& options) {
   if (surfaces.empty()) throw InvalidInputError("no surfaces to sew");
   if (!(options.relativeTolerance > 0.0)) {
     throw InvalidInputError("the relative sewing tolerance must be positive");
@@ -573,7 +598,8 @@ SewnShape sewBSplineSurfaces(const std::vector<cad::BSplineSurfaceData>& surface
       }
     }
     for (TopExp_Explorer it(result.shape, TopAbs_EDGE); it.More(); it.Next()) {
-      result.maxEdgeTolerance = std::max(result.maxEdgeTolerance, BRep_Tool::Tolerance(TopoDS::Edge(it.Current())));
+      result.maxEdgeTolerance =
+          std::max(result.maxEdgeTolerance, BRep_Tool::Tolerance(TopoDS::Edge(it.Current())));
     }
     for (TopExp_Explorer it(result.shape, TopAbs_VERTEX); it.More(); it.Next()) {
       result.maxEdgeTolerance =

@@ -41,7 +41,8 @@ struct LimitBSplines {
 };
 
 // Fits the surfaces of a given layout to the limit surface given by `limit`.
-LimitBSplines fitLimitBSplines(ChartLayout layout, const LimitEvaluator& limit, const LimitBSplineOptions& options = {});
+LimitBSplines fitLimitBSplines(ChartLayout layout, const LimitEvaluator& limit,
+                               const LimitBSplineOptions& options = {});
 
 // One shot: chart layout, OpenSubdiv limit evaluation and fit.
 LimitBSplines limitSurfaceToBSplines(const QuadControlMesh& mesh, const LimitBSplineOptions& options = {},
@@ -53,7 +54,7 @@ struct SewingOptions {
 };
 
 struct SewnShape {
-  TopoDS_Shape shape;             // a shell (or compound of shells), or a solid when closed
+  TopoDS_Shape shape;  // a shell (or compound of shells), or a solid when closed
   bool solid = false;
   int freeEdges = 0;              // edges with a single face after sewing
   double tolerance = 0.0;         // the sewing tolerance used
@@ -62,6 +63,7 @@ struct SewnShape {
 };
 
 // Builds one face per surface (cad::makeBSplineFace) and sews them.
-SewnShape sewBSplineSurfaces(const std::vector<cad::BSplineSurfaceData>& surfaces, const SewingOptions& options = {});
+SewnShape sewBSplineSurfaces(const std::vector<cad::BSplineSurfaceData>& surfaces,
+                             const SewingOptions& options = {});
 
 }  // namespace bvmesh::surface

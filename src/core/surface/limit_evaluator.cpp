@@ -105,7 +105,8 @@ struct SubdivisionLimitSurface::Impl {
       dv->resize(count, 3);
     }
     // Patch lookup and evaluation only read shared data: split large batches over threads.
-    const size_t threadCount = locations.size() < 20000 ? 1 : std::max(1u, std::thread::hardware_concurrency());
+    const size_t threadCount =
+        locations.size() < 20000 ? 1 : std::max(1u, std::thread::hardware_concurrency());
     if (threadCount == 1) {
       evaluateRange(locations, 0, locations.size(), out, du, dv);
       return;
@@ -129,7 +130,8 @@ struct SubdivisionLimitSurface::Impl {
   }
 };
 
-SubdivisionLimitSurface::SubdivisionLimitSurface(const QuadControlMesh& mesh, const SubdivisionLimitOptions& options)
+SubdivisionLimitSurface::SubdivisionLimitSurface(const QuadControlMesh& mesh,
+                                                 const SubdivisionLimitOptions& options)
     : impl_(std::make_unique<Impl>()) {
   validateQuadControlMesh(mesh);
   if (options.maxIsolationLevel < 1 || options.maxIsolationLevel > 10) {
@@ -194,13 +196,14 @@ SubdivisionLimitSurface::SubdivisionLimitSurface(const QuadControlMesh& mesh, co
   if (localCount > 0) {
     // PatchTable::ComputeLocalPointValues assumes single precision; use the double table directly.
     impl_->patches->GetLocalPointStencilTable<double>()->UpdateValues(impl_->points.data(),
-                                                                       impl_->points.data() + refinedCount);
+                                                                      impl_->points.data() + refinedCount);
   }
 }
 
 SubdivisionLimitSurface::~SubdivisionLimitSurface() = default;
 
-void SubdivisionLimitSurface::evaluate(const std::vector<FaceLocation>& locations, RowMatrixX3d& points) const {
+void SubdivisionLimitSurface::evaluate(const std::vector<FaceLocation>& locations,
+                                       RowMatrixX3d& points) const {
   impl_->evaluateAll(locations, points, nullptr, nullptr);
 }
 
@@ -210,7 +213,9 @@ void SubdivisionLimitSurface::evaluate(const std::vector<FaceLocation>& location
 }
 
 LimitEvaluator SubdivisionLimitSurface::evaluator() const {
-  return [this](const std::vector<FaceLocation>& locations, RowMatrixX3d& points) { evaluate(locations, points); };
+  return [this](const std::vector<FaceLocation>& locations, RowMatrixX3d& points) {
+    evaluate(locations, points);
+  };
 }
 
 }  // namespace bvmesh::surface

@@ -32,7 +32,7 @@ struct SubdivisionLimitOptions {
 // infinitely sharp creases and corners) evaluated with OpenSubdiv's adaptive patch table in double
 // precision. Regular faces, also along regular creases and boundaries, are exact bicubic patches.
 class SubdivisionLimitSurface {
-public:
+ public:
   explicit SubdivisionLimitSurface(const QuadControlMesh& mesh, const SubdivisionLimitOptions& options = {});
   ~SubdivisionLimitSurface();
   SubdivisionLimitSurface(const SubdivisionLimitSurface&) = delete;
@@ -45,7 +45,7 @@ public:
   // A callback bound to this object (which must outlive it).
   LimitEvaluator evaluator() const;
 
-private:
+ private:
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };

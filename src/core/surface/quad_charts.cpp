@@ -21,7 +21,7 @@ std::uint64_t edgeKey(int a, int b) {
 
 // Edges, their faces and the faces around each vertex of a validated-array quad mesh.
 class Connectivity {
-public:
+ public:
   explicit Connectivity(const QuadControlMesh& mesh) : faces_(mesh.faces) {
     const int faceCount = static_cast<int>(faces_.rows());
     vertexEdges.resize(static_cast<size_t>(mesh.vertices.rows()));
@@ -61,8 +61,8 @@ public:
     for (Eigen::Index c = 0; c < mesh.creases.rows(); ++c) {
       const int e = edge(mesh.creases(c, 0), mesh.creases(c, 1));
       if (e < 0) {
-        throw TopologyError("crease " + std::to_string(c) + " " + edgeName(mesh.creases(c, 0), mesh.creases(c, 1)) +
-                            " is not an edge of the mesh");
+        throw TopologyError("crease " + std::to_string(c) + " " +
+                            edgeName(mesh.creases(c, 0), mesh.creases(c, 1)) + " is not an edge of the mesh");
       }
       crease[static_cast<size_t>(e)] = 1;
     }
@@ -111,7 +111,7 @@ public:
   std::vector<std::vector<int>> vertexEdges;
   std::vector<char> crease;
 
-private:
+ private:
   const RowMatrixX4i& faces_;
   std::unordered_map<std::uint64_t, int> edgeIds_;
 };
@@ -123,7 +123,7 @@ struct Frame {
 };
 
 class LayoutBuilder {
-public:
+ public:
   LayoutBuilder(const QuadControlMesh& mesh, const Connectivity& topo)
       : mesh_(mesh), topo_(topo), border_(topo.edgeVertices.size(), 0) {
     classifyVertices();
@@ -145,7 +145,7 @@ public:
     throw TopologyError("the quad mesh could not be split into rectangular charts");
   }
 
-private:
+ private:
   int faceCount() const { return static_cast<int>(mesh_.faces.rows()); }
   bool isBorder(int e) const { return border_[static_cast<size_t>(e)] != 0; }
   int cellEdge(const Frame& f, int k) const {
@@ -381,7 +381,8 @@ private:
         continue;
       }
       if (!complete) continue;
-      for (int face : chart.faces) layout_.faceChart[static_cast<size_t>(face)] = static_cast<int>(layout_.charts.size());
+      for (int face : chart.faces)
+        layout_.faceChart[static_cast<size_t>(face)] = static_cast<int>(layout_.charts.size());
       layout_.charts.push_back(std::move(chart));
     }
     return complete;
@@ -392,8 +393,8 @@ private:
     segmentEdges_.clear();
     std::vector<char> isNode(static_cast<size_t>(mesh_.vertices.rows()), 0);
     for (const QuadChart& chart : layout_.charts) {
-      for (int v : {chart.vertex(0, 0), chart.vertex(chart.uCells, 0), chart.vertex(chart.uCells, chart.vCells),
-                    chart.vertex(0, chart.vCells)}) {
+      for (int v : {chart.vertex(0, 0), chart.vertex(chart.uCells, 0),
+                    chart.vertex(chart.uCells, chart.vCells), chart.vertex(0, chart.vCells)}) {
         isNode[static_cast<size_t>(v)] = 1;
       }
     }
@@ -424,9 +425,9 @@ private:
               edges.push_back(e);
               edgeSegment[static_cast<size_t>(e)] = segment;
             }
-            seg.kind = topo_.boundary(first) ? BorderKind::Boundary
+            seg.kind = topo_.boundary(first)                           ? BorderKind::Boundary
                        : topo_.crease[static_cast<size_t>(first)] != 0 ? BorderKind::Crease
-                                                                      : BorderKind::Separatrix;
+                                                                       : BorderKind::Separatrix;
             layout_.segments.push_back(std::move(seg));
             segmentEdges_.push_back(std::move(edges));
           } else {
@@ -462,7 +463,8 @@ private:
       for (const SegmentUse& use : layout_.segments[static_cast<size_t>(segment)].uses) {
         if (use.chart != chart || use.side != side) continue;
         if (use.first == position) return 2 * segment;
-        const int length = static_cast<int>(layout_.segments[static_cast<size_t>(segment)].vertices.size()) - 1;
+        const int length =
+            static_cast<int>(layout_.segments[static_cast<size_t>(segment)].vertices.size()) - 1;
         if (use.first + (use.reversed ? -length : length) == position) return 2 * segment + 1;
       }
       throw SolverError("chart layout: segment " + std::to_string(segment) + " is not where its chart says");
@@ -514,10 +516,22 @@ private:
       int from = -1;
       int to = -1;
       switch (pass.side) {
-        case ChartSide::VMin: from = chart.vertex(p, 0); to = chart.vertex(p, 1); break;
-        case ChartSide::UMax: from = chart.vertex(chart.uCells, p); to = chart.vertex(chart.uCells - 1, p); break;
-        case ChartSide::VMax: from = chart.vertex(p, chart.vCells); to = chart.vertex(p, chart.vCells - 1); break;
-        case ChartSide::UMin: from = chart.vertex(0, p); to = chart.vertex(1, p); break;
+        case ChartSide::VMin:
+          from = chart.vertex(p, 0);
+          to = chart.vertex(p, 1);
+          break;
+        case ChartSide::UMax:
+          from = chart.vertex(chart.uCells, p);
+          to = chart.vertex(chart.uCells - 1, p);
+          break;
+        case ChartSide::VMax:
+          from = chart.vertex(p, chart.vCells);
+          to = chart.vertex(p, chart.vCells - 1);
+          break;
+        case ChartSide::UMin:
+          from = chart.vertex(0, p);
+          to = chart.vertex(1, p);
+          break;
       }
       extendLine(from, topo_.edge(from, to));
       return false;
@@ -541,10 +555,14 @@ int QuadChart::sideLength(ChartSide side) const {
 
 int QuadChart::sideVertex(ChartSide side, int position) const {
   switch (side) {
-    case ChartSide::VMin: return vertex(position, 0);
-    case ChartSide::UMax: return vertex(uCells, position);
-    case ChartSide::VMax: return vertex(position, vCells);
-    case ChartSide::UMin: return vertex(0, position);
+    case ChartSide::VMin:
+      return vertex(position, 0);
+    case ChartSide::UMax:
+      return vertex(uCells, position);
+    case ChartSide::VMax:
+      return vertex(position, vCells);
+    case ChartSide::UMin:
+      return vertex(0, position);
   }
   return -1;
 }
@@ -582,8 +600,9 @@ void validateQuadControlMesh(const QuadControlMesh& mesh) {
   }
   for (size_t c = 0; c < mesh.corners.size(); ++c) {
     if (mesh.corners[c] < 0 || mesh.corners[c] >= vertexCount) {
-      throw InvalidInputError("corner " + std::to_string(c) + " refers to vertex " + std::to_string(mesh.corners[c]) +
-                              ", outside 0.." + std::to_string(vertexCount - 1));
+      throw InvalidInputError("corner " + std::to_string(c) + " refers to vertex " +
+                              std::to_string(mesh.corners[c]) + ", outside 0.." +
+                              std::to_string(vertexCount - 1));
     }
   }
   Connectivity topology(mesh);

@@ -47,7 +47,7 @@ enum class BorderKind { Boundary, Crease, Separatrix };
 // A run of border edges between two nodes (chart corners). Shared by the one or two chart sides
 // that contain it; both see the same vertex chain.
 struct BorderSegment {
-  std::vector<int> vertices;     // chain of #edges + 1 vertex ids, from one node to the other
+  std::vector<int> vertices;  // chain of #edges + 1 vertex ids, from one node to the other
   BorderKind kind = BorderKind::Separatrix;
   std::vector<SegmentUse> uses;  // 1 (boundary) or 2 entries
 };
@@ -55,19 +55,19 @@ struct BorderSegment {
 // Segments that some chart side passes through without a corner: the limit surface is smooth
 // across their common nodes, so they are fitted as one curve (with simple knots at those nodes).
 struct BorderLine {
-  std::vector<int> segments;  // in order along the line
-  std::vector<bool> reversed; // segment k runs against the line's direction
+  std::vector<int> segments;   // in order along the line
+  std::vector<bool> reversed;  // segment k runs against the line's direction
 };
 
 // A rectangular chart: cell (i, j), 0 <= i < uCells, 0 <= j < vCells, is one mesh face; its
 // corners (i, j), (i+1, j), (i+1, j+1), (i, j+1) run counter-clockwise like the face's vertices,
 // so the chart's normal agrees with the mesh orientation.
 struct QuadChart {
-  int uCells = 0;                  // m
-  int vCells = 0;                  // n
-  std::vector<int> faces;          // m x n face ids, cell (i, j) at i * n + j
-  std::vector<int> rotations;      // m x n: cell corner k is face vertex (k + rotation) % 4
-  std::vector<int> vertices;       // (m + 1) x (n + 1) vertex ids, (i, j) at i * (n + 1) + j
+  int uCells = 0;                                // m
+  int vCells = 0;                                // n
+  std::vector<int> faces;                        // m x n face ids, cell (i, j) at i * n + j
+  std::vector<int> rotations;                    // m x n: cell corner k is face vertex (k + rotation) % 4
+  std::vector<int> vertices;                     // (m + 1) x (n + 1) vertex ids, (i, j) at i * (n + 1) + j
   std::array<std::vector<int>, 4> sideSegments;  // per ChartSide, segment ids by increasing position
 
   int face(int i, int j) const { return faces[static_cast<size_t>(i * vCells + j)]; }
@@ -82,9 +82,9 @@ struct ChartLayout {
   std::vector<QuadChart> charts;
   std::vector<BorderSegment> segments;
   std::vector<BorderLine> lines;
-  std::vector<int> nodes;          // vertex ids that are a corner of some chart, increasing
-  std::vector<int> faceChart;      // #F: chart of each face
-  std::vector<int> junctions;      // extraordinary / irregular crease / corner vertices, increasing
+  std::vector<int> nodes;      // vertex ids that are a corner of some chart, increasing
+  std::vector<int> faceChart;  // #F: chart of each face
+  std::vector<int> junctions;  // extraordinary / irregular crease / corner vertices, increasing
 };
 
 // Builds the charts. Throws TopologyError when a component cannot be made rectangular.
