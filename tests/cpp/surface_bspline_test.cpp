@@ -310,9 +310,16 @@ TEST(SurfaceBSplines, CubeWithCreasedTopRimAndCornersIsAWatertightSolid) {
 
 TEST(SurfaceBSplines, DeviationShrinksUnderSubdivision) {
   // Same limit surface, finer control meshes: the approximation near the 8 extraordinary
-  // vertices improves; report the rate log2(d_k / d_{k+1}).
+  // vertices improves. Near a valence-n vertex the limit surface deviates from a polynomial
+  // patch through its characteristic map, whose scale shrinks by the subdominant eigenvalue
+  //   lambda_n = (5 + cos(2 pi / n) + cos(pi / n) sqrt(18 + 2 cos(2 pi / n))) / 16
+  // per step, so the rate log2(d_k / d_{k+1}) tends to log2(1 / lambda_3) = 1.286.
+  const double pi = std::acos(-1.0);
+  const double lambda3 =
+      (5 + std::cos(2 * pi / 3) + std::cos(pi / 3) * std::sqrt(18 + 2 * std::cos(2 * pi / 3))) / 16;
   const QuadControlMesh base = cube();
   double previous = 0.0;
+  double rate = 0.0;
   for (int levels = 1; levels <= 4; ++levels) {
     const QuadControlMesh mesh = subdivide(base, levels);
     const LimitBSplines result = limitSurfaceToBSplines(mesh);
@@ -321,13 +328,16 @@ TEST(SurfaceBSplines, DeviationShrinksUnderSubdivision) {
     std::cout << "cube level " << levels << ": " << mesh.faces.rows() << " faces, max deviation "
               << deviation;
     if (levels > 1) {
-      std::cout << ", rate " << std::log2(previous / deviation);
+      rate = std::log2(previous / deviation);
+      std::cout << ", rate " << rate;
       EXPECT_LT(deviation, previous / 2);
     }
     std::cout << "\n";
     EXPECT_GT(deviation, 0.0);  // extraordinary vertices: not in the spline space
     previous = deviation;
   }
+  std::cout << "expected asymptotic rate log2(1 / lambda_3) = " << std::log2(1 / lambda3) << "\n";
+  EXPECT_NEAR(rate, std::log2(1 / lambda3), 0.05);
 }
 
 TEST(SurfaceBSplines, TorusAndTubeCharts) {
@@ -339,6 +349,11 @@ TEST(SurfaceBSplines, TorusAndTubeCharts) {
     EXPECT_LT(result.maxDeviation[0], 1e-12 * size);
     EXPECT_LT(maxSharedBorderDistance(result), 1e-12 * size);
   }
+  // A closed crease ring fitted as one clamped curve from its single break node round to it.
+  const QuadControlMesh ringed = testing::staggeredCreasedTube();
+  const LimitBSplines ring = limitSurfaceToBSplines(ringed);
+  for (double deviation : ring.maxDeviation) EXPECT_LT(deviation, 1e-12 * modelSize(ringed));
+  EXPECT_LT(maxSharedBorderDistance(ring), 1e-12 * modelSize(ringed));
   const SewnShape sewn = sewBSplineSurfaces(limitSurfaceToBSplines(testing::torus(8, 6)).surfaces);
   EXPECT_EQ(sewn.freeEdges, 0);
   EXPECT_TRUE(sewn.solid);

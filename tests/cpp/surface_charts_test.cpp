@@ -223,6 +223,23 @@ TEST(SurfaceCharts, TubeIsCutAlongItsLength) {
   EXPECT_EQ(chartSizes(layout), (std::multiset<std::pair<int, int>>{{3, 8}}));
 }
 
+TEST(SurfaceCharts, ClosedChainOfPassedNodesIsBrokenByACut) {
+  const QuadControlMesh mesh = testing::staggeredCreasedTube();
+  const ChartLayout layout = buildChartLayout(mesh);
+  expectConsistentLayout(mesh, layout);
+  // Bands of 8 x 1 and 8 x 2 quads, each cut open; one of them is cut a second time where the
+  // crease ring's chain of passed nodes has to end.
+  EXPECT_EQ(layout.charts.size(), 3u);
+  int ringLines = 0;
+  for (const BorderLine& line : layout.lines) {
+    const BorderSegment& first = layout.segments[static_cast<size_t>(line.segments.front())];
+    if (first.kind != BorderKind::Crease) continue;
+    ++ringLines;
+    EXPECT_EQ(line.segments.size(), 2u);
+  }
+  EXPECT_EQ(ringLines, 1);
+}
+
 TEST(SurfaceCharts, RejectsBadMeshes) {
   QuadControlMesh mesh = grid(2, 2, flat);
   QuadControlMesh bad = mesh;

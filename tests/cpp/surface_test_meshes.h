@@ -90,6 +90,22 @@ inline QuadControlMesh tube(int n, int m) {
   return fromLists(points, quads);
 }
 
+// tube(8, 3) with a crease ring at height 1 and the faces listed with a shift of 3 per row, so
+// the two bands' loop cuts (which start at their first face) land at different angles: each
+// crease-ring node is then passed straight by the chart on the other side, a closed chain.
+inline QuadControlMesh staggeredCreasedTube() {
+  const int n = 8;
+  const int m = 3;
+  QuadControlMesh mesh = tube(n, m);
+  const RowMatrixX4i faces = mesh.faces;
+  for (int j = 0; j < m; ++j) {
+    for (int k = 0; k < n; ++k) mesh.faces.row(j * n + k) = faces.row(((k + 3 * j) % n) * m + j);
+  }
+  mesh.creases.resize(n, 2);
+  for (int i = 0; i < n; ++i) mesh.creases.row(i) << i * (m + 1) + 1, ((i + 1) % n) * (m + 1) + 1;
+  return mesh;
+}
+
 // The cube [-1, 1]^3 as six outward quads.
 inline QuadControlMesh cube() {
   std::vector<Eigen::Vector3d> points;
