@@ -30,7 +30,7 @@ py::array_t<int, py::array::c_style | py::array::forcecast> integerArray(const p
                                                                          py::ssize_t columns,
                                                                          const char* what) {
   const py::array array = py::array::ensure(object);
-  if (!array) throw py::value_error(std::string(name) + " must be an array");
+  if (!array) throw py::value_error(std::string(name) + " must be an array of shape " + what);
   const bool empty = array.size() == 0;
   if (!empty && array.dtype().kind() != 'i' && array.dtype().kind() != 'u') {
     throw py::value_error(std::string(name) + " must hold integers (vertex ids), got dtype " +
@@ -62,7 +62,7 @@ surface::QuadControlMesh meshFromArrays(const py::object& vertices, const py::ob
   if (faceObject && faceObject.dtype().kind() == 'O') {
     throw py::value_error("faces must be quads, shape (#F, 4); got faces of different sizes");
   }
-  const auto faceArray = integerArray(faces, "faces", 4, "(#F, 4)");
+  const auto faceArray = integerArray(faces, "faces", 4, "(#F, 4), quads only");
   surface::QuadControlMesh mesh;
   mesh.vertices.resize(points.shape(0), 3);
   std::copy(points.data(), points.data() + points.size(), mesh.vertices.data());

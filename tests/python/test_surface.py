@@ -134,6 +134,8 @@ class LimitSurfaceToBSplines(unittest.TestCase):
             bvmesh.limit_surface_to_bsplines(vertices, faces[:, :3])
         with self.assertRaisesRegex(ValueError, "quads"):
             bvmesh.limit_surface_to_bsplines(vertices, np.array([[0, 1, 4, 3], [1, 2, 5, 4, 7]], dtype=object))
+        with self.assertRaisesRegex(ValueError, "quads"):
+            bvmesh.limit_surface_to_bsplines(vertices, [[0, 1, 4, 3], [1, 2, 5]])
         with self.assertRaisesRegex(ValueError, r"vertices must have shape \(#V, 3\)"):
             bvmesh.limit_surface_to_bsplines(vertices[:, :2], faces)
         bad = vertices.copy()
