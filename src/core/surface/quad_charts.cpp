@@ -251,17 +251,26 @@ class LayoutBuilder {
 
   // Walks from `start` across cell edge k until a border edge; cuts and returns false on a loop.
   bool walk(Frame& f, int k, std::vector<Frame>* cells) {
+    // A walk that meets a face again (back at its start, or crossing itself) runs round a loop.
+    const int stamp = nextStamp();
     const Frame start = f;
+    visited_[static_cast<size_t>(f.face)] = stamp;
     if (cells != nullptr) cells->push_back(f);
     while (!isBorder(cellEdge(f, k))) {
       f = cross(f, k);
-      if (f.face == start.face) {
+      if (visited_[static_cast<size_t>(f.face)] == stamp) {
         cutThrough(cellEdge(start, k));
         return false;
       }
+      visited_[static_cast<size_t>(f.face)] = stamp;
       if (cells != nullptr) cells->push_back(f);
     }
     return true;
+  }
+
+  int nextStamp() {
+    if (visited_.empty()) visited_.assign(static_cast<size_t>(faceCount()), 0);
+    return ++stamp_;
   }
 
   // Rectangle from a component, or false after adding border edges that make progress.
@@ -282,8 +291,13 @@ class LayoutBuilder {
     int n = 0;
     for (const auto& column : columns) n = std::max(n, static_cast<int>(column.size()));
     bool rectangular = static_cast<size_t>(m) * static_cast<size_t>(n) == comp.size();
+    const int distinct = nextStamp();
     for (int i = 0; rectangular && i < m; ++i) {
       rectangular = static_cast<int>(columns[static_cast<size_t>(i)].size()) == n;
+      for (const Frame& cell : columns[static_cast<size_t>(i)]) {
+        rectangular = rectangular && visited_[static_cast<size_t>(cell.face)] != distinct;
+        visited_[static_cast<size_t>(cell.face)] = distinct;
+      }
     }
     for (int i = 0; rectangular && i < m; ++i) {
       const auto& col = columns[static_cast<size_t>(i)];
@@ -544,6 +558,8 @@ class LayoutBuilder {
   std::vector<char> border_;
   std::vector<char> stop_;  // junctions and vertices on sharp edges end separatrices
   std::vector<std::vector<int>> segmentEdges_;
+  std::vector<int> visited_;  // per face: stamp of the last walk (or check) that saw it
+  int stamp_ = 0;
   ChartLayout layout_;
 };
 
