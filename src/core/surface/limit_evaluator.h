@@ -31,6 +31,7 @@ struct SubdivisionLimitOptions {
 // Catmull-Clark limit surface (Catmark, VTX_BOUNDARY_EDGE_AND_CORNER, uniform crease method,
 // infinitely sharp creases and corners) evaluated with OpenSubdiv's adaptive patch table in double
 // precision. Regular faces, also along regular creases and boundaries, are exact bicubic patches.
+// Installs (once per process) an OpenSubdiv error callback that throws SolverError.
 class SubdivisionLimitSurface {
  public:
   explicit SubdivisionLimitSurface(const QuadControlMesh& mesh, const SubdivisionLimitOptions& options = {});

@@ -52,8 +52,10 @@ struct BorderSegment {
   std::vector<SegmentUse> uses;  // 1 (boundary) or 2 entries
 };
 
-// Segments that some chart side passes through without a corner: the limit surface is smooth
-// across their common nodes, so they are fitted as one curve (with simple knots at those nodes).
+// A maximal chain of segments joined at nodes that some chart side passes straight through (no
+// corner there). Such a side needs a simple knot at the node, so the whole chain is fitted as one
+// curve; sides and segments get restrictions of it. A chain that would close on itself is broken
+// by an extra cut during the layout, so every line has two clamped ends (possibly the same node).
 struct BorderLine {
   std::vector<int> segments;   // in order along the line
   std::vector<bool> reversed;  // segment k runs against the line's direction
