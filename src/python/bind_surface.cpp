@@ -175,6 +175,8 @@ py::dict resultToDict(const surface::LimitBSplines& result, const surface::SewnS
   out["segments"] = segments;
   out["junctions"] = result.layout.junctions;
   out["nodes"] = result.layout.nodes;
+  out["face_chart"] = py::array_t<int>(static_cast<py::ssize_t>(result.layout.faceChart.size()),
+                                       result.layout.faceChart.data());
   out["max_deviation"] = maxDeviation;
   out["max_border_gap"] = result.maxBorderGap;
   if (sewn != nullptr) {
@@ -230,7 +232,7 @@ infinitely sharp crease edges; corners: (#K,) int sharp corner vertices. Boundar
 Returns a dict: 'charts' (per chart: 'faces', 'vertices', 'rotations', 'poles' (n_u, n_v, 3), 'u_knots',
 'v_knots', 'u_multiplicities', 'v_multiplicities', 'max_deviation', 'side_segments'), 'segments' (shared
 border curves: 'vertices', 'kind', 'uses', 'poles', 'knots', 'multiplicities'), 'max_deviation',
-'max_border_gap', 'junctions', 'nodes', and with sew=True: 'brep' (the sewn shell or solid as BREP
+'max_border_gap', 'junctions', 'nodes', 'face_chart' (#F,), and with sew=True: 'brep' (the sewn shell or solid as BREP
 text), 'solid', 'free_edges', 'sewing_tolerance' (relative to the bounding-box diagonal),
 'max_edge_tolerance', 'valid'.)doc");
 }

@@ -98,6 +98,10 @@ class LimitSurfaceToBSplines(unittest.TestCase):
         self.assertEqual(len(result["charts"]), 6)
         self.assertEqual(len(result["segments"]), 12)
         self.assertEqual(len(result["junctions"]), 8)
+        # Every face sits in exactly one chart, and face_chart says which.
+        for index, chart in enumerate(result["charts"]):
+            self.assertTrue(np.all(result["face_chart"][chart["faces"]] == index))
+        self.assertEqual(sorted(np.concatenate([c["faces"].ravel() for c in result["charts"]])), list(range(len(faces))))
         self.assertTrue(result["solid"])
         self.assertTrue(result["valid"])
         self.assertEqual(result["free_edges"], 0)
