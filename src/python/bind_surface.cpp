@@ -229,12 +229,12 @@ void bindSurface(py::module_& module) {
 vertices: (#V, 3) float; faces: (#F, 4) int, counter-clockwise; creases: (#C, 2) int vertex pairs of
 infinitely sharp crease edges; corners: (#K,) int sharp corner vertices. Boundaries act as creases.
 
-Returns a dict: 'charts' (per chart: 'faces', 'vertices', 'rotations', 'poles' (n_u, n_v, 3), 'u_knots',
-'v_knots', 'u_multiplicities', 'v_multiplicities', 'max_deviation', 'side_segments'), 'segments' (shared
-border curves: 'vertices', 'kind', 'uses', 'poles', 'knots', 'multiplicities'), 'max_deviation',
-'max_border_gap', 'junctions', 'nodes', 'face_chart' (#F,), and with sew=True: 'brep' (the sewn shell or solid as BREP
-text), 'solid', 'free_edges', 'sewing_tolerance' (relative to the bounding-box diagonal),
-'max_edge_tolerance', 'valid'.)doc");
+Returns a dict: 'charts' (per chart: 'faces', 'vertices', 'rotations', 'poles' (n_u, n_v, 3),
+'u_knots', 'v_knots', 'u_multiplicities', 'v_multiplicities', 'max_deviation', 'side_segments'),
+'segments' (shared border curves: 'vertices', 'kind', 'uses', 'poles', 'knots', 'multiplicities'),
+'max_deviation', 'max_border_gap', 'junctions', 'nodes', 'face_chart' (#F,), and with sew=True:
+'brep' (the sewn shell or solid as BREP text), 'solid', 'free_edges', 'sewing_tolerance' (absolute:
+the sewing_tolerance argument times the bounding-box diagonal), 'max_edge_tolerance', 'valid'.)doc");
 }
 
 }  // namespace bvmesh::python
