@@ -1,0 +1,341 @@
+#include "core/target/target.h"
+
+#include <BRepBuilderAPI_Copy.hxx>
+#include <BRepMesh_IncrementalMesh.hxx>
+#include <BRepTools.hxx>
+#include <BRep_Tool.hxx>
+#include <GCPnts_TangentialDeflection.hxx>
+#include <GeomAdaptor_Curve.hxx>
+#include <Poly_Triangulation.hxx>
+#include <Precision.hxx>
+#include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
+#include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/common/errors.h"
+#include "core/common/occt_errors.h"
+#include "core/target/target_data.h"
+
+namespace bvmesh::target {
+namespace {
+
+int indexOf(const TopTools_IndexedMapOfShape& map, const TopoDS_Shape& shape) {
+  return map.FindIndex(shape) - 1;
+}
+
+// Extracts faces, edges and vertices with their adjacency.
+void extractTopology(Target::Data& data) {
+  TopTools_IndexedMapOfShape faceMap, edgeMap, vertexMap;
+  TopExp::MapShapes(data.shape, TopAbs_FACE, faceMap);
+  TopExp::MapShapes(data.shape, TopAbs_EDGE, edgeMap);
+  TopExp::MapShapes(data.shape, TopAbs_VERTEX, vertexMap);
+  if (faceMap.IsEmpty()) throw TopologyError("Target: the shape has no faces");
+
+  data.vertices.resize(static_cast<std::size_t>(vertexMap.Extent()));
+  for (int i = 1; i <= vertexMap.Extent(); ++i)
+    data.vertices[static_cast<std::size_t>(i - 1)] = toEigen(BRep_Tool::Pnt(TopoDS::Vertex(vertexMap(i))));
+
+  data.edges.resize(static_cast<std::size_t>(edgeMap.Extent()));
+  for (int i = 1; i <= edgeMap.Extent(); ++i) {
+    const TopoDS_Edge& edge = TopoDS::Edge(edgeMap(i));
+    EdgeData& e = data.edges[static_cast<std::size_t>(i - 1)];
+    TopoDS_Vertex first, last;
+    TopExp::Vertices(edge, first, last);
+    if (!first.IsNull()) e.vertex0 = indexOf(vertexMap, first);
+    if (!last.IsNull()) e.vertex1 = indexOf(vertexMap, last);
+    e.degenerate = BRep_Tool::Degenerated(edge);
+    if (!e.degenerate) e.curve = BRep_Tool::Curve(edge, e.first, e.last);
+    if (e.curve.IsNull()) e.degenerate = true;
+  }
+
+  data.faces.resize(static_cast<std::size_t>(faceMap.Extent()));
+  for (int i = 1; i <= faceMap.Extent(); ++i) {
+    FaceData& f = data.faces[static_cast<std::size_t>(i - 1)];
+    f.face = TopoDS::Face(faceMap(i));
+    f.surface = BRep_Tool::Surface(f.face);
+    if (f.surface.IsNull()) throw TopologyError("Target: face " + std::to_string(i - 1) + " has no surface");
+    f.reversed = f.face.Orientation() == TopAbs_REVERSED;
+    BRepTools::UVBounds(f.face, f.u0, f.u1, f.v0, f.v1);
+    f.surface->Bounds(f.uMin, f.uMax, f.vMin, f.vMax);
+    f.uPeriodic = f.surface->IsUPeriodic();
+    f.vPeriodic = f.surface->IsVPeriodic();
+    if (f.uPeriodic) f.uPeriod = f.surface->UPeriod();
+    if (f.vPeriodic) f.vPeriod = f.surface->VPeriod();
+    for (TopExp_Explorer it(f.face, TopAbs_EDGE); it.More(); it.Next()) {
+      const TopoDS_Edge& edge = TopoDS::Edge(it.Current());
+      const int id = indexOf(edgeMap, edge);
+      EdgeData& e = data.edges[static_cast<std::size_t>(id)];
+      if (std::find(e.faces.begin(), e.faces.end(), i - 1) == e.faces.end()) e.faces.push_back(i - 1);
+      if (e.degenerate) continue;
+      double first = 0, last = 0;
+      FaceEdgeUse use{id, BRep_Tool::CurveOnSurface(edge, f.face, first, last)};
+      if (!use.pcurve.IsNull()) f.edges.push_back(use);
+    }
+  }
+
+  TopTools_IndexedDataMapOfShapeListOfShape vertexFaces;
+  TopExp::MapShapesAndAncestors(data.shape, TopAbs_VERTEX, TopAbs_FACE, vertexFaces);
+  data.vertexFaces.resize(data.vertices.size());
+  for (int i = 1; i <= vertexFaces.Extent(); ++i) {
+    std::vector<int>& faces = data.vertexFaces[static_cast<std::size_t>(indexOf(vertexMap, vertexFaces.FindKey(i)))];
+    for (const TopoDS_Shape& face : vertexFaces(i)) {
+      const int id = indexOf(faceMap, face);
+      if (std::find(faces.begin(), faces.end(), id) == faces.end()) faces.push_back(id);
+    }
+  }
+}
+
+void measureSize(Target::Data& data) {
+  const cad::ShapeSummary& summary = data.report.shape;
+  const Eigen::Vector3d lo(summary.boundsMin[0], summary.boundsMin[1], summary.boundsMin[2]);
+  const Eigen::Vector3d hi(summary.boundsMax[0], summary.boundsMax[1], summary.boundsMax[2]);
+  data.diagonal = (hi - lo).norm();
+  if (!(data.diagonal > 0) || !std::isfinite(data.diagonal))
+    throw TopologyError("Target: the shape's bounding box is degenerate or infinite");
+  data.deflection = data.options.relativeDeflection * data.diagonal;
+  data.tolerance = data.options.relativeTolerance * data.diagonal;
+  // BRepMesh keeps triangles within about the deflection of the surface; twice that is safe.
+  data.margin = 2.0 * data.deflection + data.tolerance;
+  data.convergence = 1e-14 * data.diagonal;
+}
+
+void tessellate(Target::Data& data) {
+  BRepMesh_IncrementalMesh mesher(data.shape, data.deflection, false, data.options.angularDeflection, true);
+  std::vector<Eigen::Vector3d> nodes;
+  std::vector<Eigen::Vector2d> uv;
+  std::vector<Eigen::Vector3i> triangles;
+  std::vector<int> triangleFaces;
+  for (std::size_t f = 0; f < data.faces.size(); ++f) {
+    TopLoc_Location location;
+    const Handle(Poly_Triangulation) mesh = BRep_Tool::Triangulation(data.faces[f].face, location);
+    if (mesh.IsNull() || !mesh->HasUVNodes()) continue;
+    const gp_Trsf transform = location.Transformation();
+    const int offset = static_cast<int>(nodes.size());
+    for (int n = 1; n <= mesh->NbNodes(); ++n) {
+      nodes.push_back(toEigen(mesh->Node(n).Transformed(transform)));
+      const gp_Pnt2d p = mesh->UVNode(n);
+      uv.emplace_back(p.X(), p.Y());
+    }
+    for (int t = 1; t <= mesh->NbTriangles(); ++t) {
+      int a, b, c;
+      mesh->Triangle(t).Get(a, b, c);
+      triangles.emplace_back(offset + a - 1, offset + b - 1, offset + c - 1);
+      triangleFaces.push_back(static_cast<int>(f));
+    }
+  }
+  data.nodes.resize(static_cast<Eigen::Index>(nodes.size()), 3);
+  data.nodeUV.resize(static_cast<Eigen::Index>(nodes.size()), 2);
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    data.nodes.row(static_cast<Eigen::Index>(n)) = nodes[n].transpose();
+    data.nodeUV.row(static_cast<Eigen::Index>(n)) = uv[n].transpose();
+  }
+  data.triangles.resize(static_cast<Eigen::Index>(triangles.size()), 3);
+  data.triangleFaces.resize(static_cast<Eigen::Index>(triangles.size()));
+  data.triangleSize.resize(triangles.size());
+  std::vector<Box3> boxes(triangles.size());
+  for (std::size_t t = 0; t < triangles.size(); ++t) {
+    data.triangles.row(static_cast<Eigen::Index>(t)) = triangles[t].transpose();
+    data.triangleFaces[static_cast<Eigen::Index>(t)] = triangleFaces[t];
+    const Eigen::Vector3d& a = nodes[static_cast<std::size_t>(triangles[t][0])];
+    const Eigen::Vector3d& b = nodes[static_cast<std::size_t>(triangles[t][1])];
+    const Eigen::Vector3d& c = nodes[static_cast<std::size_t>(triangles[t][2])];
+    boxes[t].extend(a);
+    boxes[t].extend(b);
+    boxes[t].extend(c);
+    data.triangleSize[t] = std::max({(a - b).norm(), (b - c).norm(), (c - a).norm()});
+  }
+  data.tree = AabbTree(std::move(boxes));
+
+  // Edge polylines within the deflection: seeds for the curve projections.
+  for (std::size_t i = 0; i < data.edges.size(); ++i) {
+    EdgeData& e = data.edges[i];
+    if (e.degenerate) continue;
+    GeomAdaptor_Curve curve(e.curve, e.first, e.last);
+    GCPnts_TangentialDeflection sampler(curve, data.options.angularDeflection, data.deflection, 4);
+    for (int k = 1; k <= sampler.NbPoints(); ++k) {
+      e.polyline.push_back(toEigen(sampler.Value(k)));
+      e.polyParams.push_back(sampler.Parameter(k));
+    }
+  }
+}
+
+// Free edges that nearly meet a free edge of another face.
+void findGaps(const Target::Data& data, TargetReport& report) {
+  const double search = data.options.relativeGapSearch * data.diagonal;
+  std::vector<Box3> boxes(data.edges.size());
+  for (int id : report.freeEdges)
+    for (const Eigen::Vector3d& p : data.edges[static_cast<std::size_t>(id)].polyline)
+      boxes[static_cast<std::size_t>(id)].extend(p);
+  for (int id : report.freeEdges) {
+    const EdgeData& e = data.edges[static_cast<std::size_t>(id)];
+    Box3 grown = boxes[static_cast<std::size_t>(id)];
+    grown.lo.array() -= search;
+    grown.hi.array() += search;
+    std::vector<int> others;
+    for (int other : report.freeEdges) {
+      const Box3& b = boxes[static_cast<std::size_t>(other)];
+      const bool overlap = (b.lo.array() <= grown.hi.array()).all() && (b.hi.array() >= grown.lo.array()).all();
+      if (other != id && overlap && data.edges[static_cast<std::size_t>(other)].faces != e.faces) others.push_back(other);
+    }
+    if (others.empty()) continue;
+    constexpr int kSamples = 8;
+    double width = 0.0;
+    int nearestAtMiddle = -1;
+    for (int k = 0; k < kSamples; ++k) {
+      const double t = e.first + (k + 0.5) / kSamples * (e.last - e.first);
+      const Eigen::Vector3d q = toEigen(e.curve->Value(t));
+      double best = std::numeric_limits<double>::infinity();
+      int bestEdge = -1;
+      for (int other : others) {
+        const Foot foot = closestOnEdge(data, other, q);
+        if (foot.distance >= 0 && foot.distance < best) {
+          best = foot.distance;
+          bestEdge = other;
+        }
+      }
+      width = std::max(width, best);
+      if (k == kSamples / 2) nearestAtMiddle = bestEdge;
+    }
+    if (width > data.tolerance && width <= search && nearestAtMiddle >= 0)
+      report.gaps.push_back({id, nearestAtMiddle, width});
+  }
+}
+
+void buildReport(Target::Data& data) {
+  TargetReport& report = data.report;
+  report.triangleCount = static_cast<int>(data.triangles.rows());
+  report.diagonal = data.diagonal;
+  report.tolerance = data.tolerance;
+  report.deflection = data.deflection;
+  std::vector<bool> tessellated(data.faces.size(), false);
+  for (Eigen::Index t = 0; t < data.triangleFaces.size(); ++t)
+    tessellated[static_cast<std::size_t>(data.triangleFaces[t])] = true;
+  for (std::size_t f = 0; f < tessellated.size(); ++f)
+    if (!tessellated[f]) report.untessellatedFaces.push_back(static_cast<int>(f));
+  const std::vector<cad::EdgeInfo>& edges = report.shape.edges;
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    const int id = static_cast<int>(i);
+    if (edges[i].kind == cad::EdgeKind::Sharp) report.sharpEdges.push_back(id);
+    if (edges[i].kind == cad::EdgeKind::Free && !data.edges[i].degenerate) report.freeEdges.push_back(id);
+    if (edges[i].kind == cad::EdgeKind::NonManifold) report.nonManifoldEdges.push_back(id);
+  }
+  findGaps(data, report);
+}
+
+}  // namespace
+
+Eigen::Vector3d toEigen(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
+Eigen::Vector3d toEigen(const gp_Vec& v) { return {v.X(), v.Y(), v.Z()}; }
+
+GeomAdaptor_Surface& ThreadContext::surface(int face) {
+  std::unique_ptr<GeomAdaptor_Surface>& slot = surfaces_[static_cast<std::size_t>(face)];
+  if (!slot) slot = std::make_unique<GeomAdaptor_Surface>(data_.faces[static_cast<std::size_t>(face)].surface);
+  return *slot;
+}
+
+Eigen::Vector3d faceNormal(const FaceData& face, GeomAdaptor_Surface& surface, double u, double v) {
+  gp_Pnt p;
+  gp_Vec su, sv;
+  surface.D1(u, v, p, su, sv);
+  Eigen::Vector3d n = toEigen(su).cross(toEigen(sv));
+  // At a pole (sphere apex) one derivative vanishes: step towards the face's interior.
+  if (n.norm() <= 1e-12 * (toEigen(su).norm() + toEigen(sv).norm()) + 1e-300) {
+    const double uc = 0.5 * (face.u0 + face.u1);
+    const double vc = 0.5 * (face.v0 + face.v1);
+    surface.D1(u + 1e-6 * (uc - u), v + 1e-6 * (vc - v), p, su, sv);
+    n = toEigen(su).cross(toEigen(sv));
+  }
+  const double length = n.norm();
+  if (!(length > 0) || !std::isfinite(length)) return Eigen::Vector3d::Zero();
+  n /= length;
+  return face.reversed ? Eigen::Vector3d(-n) : n;
+}
+
+TopAbs_State ThreadContext::classify(int face, double u, double v) {
+  std::unique_ptr<BRepTopAdaptor_FClass2d>& slot = classifiers_[static_cast<std::size_t>(face)];
+  if (!slot) slot = std::make_unique<BRepTopAdaptor_FClass2d>(data_.faces[static_cast<std::size_t>(face)].face,
+                                                              Precision::PConfusion());
+  return slot->Perform(gp_Pnt2d(u, v));
+}
+
+std::unique_ptr<ThreadContext> Target::Data::acquireContext() const {
+  std::lock_guard<std::mutex> lock(poolMutex);
+  if (pool.empty()) return std::make_unique<ThreadContext>(*this);
+  std::unique_ptr<ThreadContext> context = std::move(pool.back());
+  pool.pop_back();
+  return context;
+}
+
+void Target::Data::releaseContext(std::unique_ptr<ThreadContext> context) const {
+  std::lock_guard<std::mutex> lock(poolMutex);
+  pool.push_back(std::move(context));
+}
+
+void ProjectionResult::resize(Eigen::Index count) {
+  points.setZero(count, 3);
+  distances.setConstant(count, -1.0);
+  ids.setConstant(count, -1);
+  faces.setConstant(count, -1);
+  params.setZero(count, 2);
+  normals.setZero(count, 3);
+  status.assign(static_cast<std::size_t>(count), ProjectionStatus::Failed);
+}
+
+Target::Target(const TopoDS_Shape& shape, const TargetOptions& options) : data_(std::make_unique<Data>()) {
+  if (shape.IsNull()) throw InvalidInputError("Target: the shape is null");
+  if (!(options.relativeDeflection > 0) || !(options.angularDeflection > 0) || !(options.relativeTolerance > 0))
+    throw InvalidInputError("Target: deflections and tolerance must be positive");
+  data_->options = options;
+  translateOcctErrors("Target: reading the shape", [&] {
+    // Own copy: meshing writes triangulations into the shape.
+    data_->shape = BRepBuilderAPI_Copy(shape, true, false).Shape();
+    extractTopology(*data_);
+    cad::ShapeSummaryOptions summaryOptions;
+    summaryOptions.sharpAngleDegrees = options.sharpAngleDeg;
+    data_->report.shape = cad::summarizeShape(data_->shape, summaryOptions);
+    measureSize(*data_);
+    tessellate(*data_);
+    buildReport(*data_);
+  });
+  if (data_->triangles.rows() == 0) throw TopologyError("Target: no face of the shape could be tessellated");
+}
+
+Target::~Target() = default;
+Target::Target(Target&&) noexcept = default;
+Target& Target::operator=(Target&&) noexcept = default;
+
+const TargetReport& Target::report() const { return data_->report; }
+const TargetOptions& Target::options() const { return data_->options; }
+int Target::faceCount() const { return static_cast<int>(data_->faces.size()); }
+int Target::edgeCount() const { return static_cast<int>(data_->edges.size()); }
+int Target::vertexCount() const { return static_cast<int>(data_->vertices.size()); }
+
+std::vector<int> Target::sharpEdges(double angleDeg) const {
+  std::vector<int> result;
+  const std::vector<cad::EdgeInfo>& edges = data_->report.shape.edges;
+  for (std::size_t i = 0; i < edges.size(); ++i) {
+    const bool twoFaces = edges[i].kind == cad::EdgeKind::Smooth || edges[i].kind == cad::EdgeKind::Sharp;
+    if (twoFaces && edges[i].maxDihedralDegrees >= angleDeg) result.push_back(static_cast<int>(i));
+  }
+  return result;
+}
+
+std::vector<int> Target::freeEdges() const { return data_->report.freeEdges; }
+
+Eigen::Vector3d Target::vertexPosition(int vertex) const {
+  if (vertex < 0 || vertex >= vertexCount())
+    throw InvalidInputError("Target: vertex " + std::to_string(vertex) + " does not exist (" +
+                            std::to_string(vertexCount()) + " vertices)");
+  return data_->vertices[static_cast<std::size_t>(vertex)];
+}
+
+const Points& Target::meshNodes() const { return data_->nodes; }
+const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& Target::meshTriangles() const { return data_->triangles; }
+const Eigen::VectorXi& Target::meshTriangleFaces() const { return data_->triangleFaces; }
+
+}  // namespace bvmesh::target

@@ -1,0 +1,136 @@
+// Internals of Target shared by its construction (target.cpp) and its projections
+// (target_projection.cpp): per-face and per-edge geometry extracted once, the tessellation
+// with its spatial index, and the per-thread evaluation context.
+#pragma once
+
+#include <BRepTopAdaptor_FClass2d.hxx>
+#include <GeomAdaptor_Surface.hxx>
+#include <Geom2d_Curve.hxx>
+#include <Geom_Curve.hxx>
+#include <Geom_Surface.hxx>
+#include <TopAbs_State.hxx>
+#include <TopoDS_Face.hxx>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "core/target/aabb_tree.h"
+#include "core/target/target.h"
+
+namespace bvmesh::target {
+
+// One use of an edge in a face's boundary; a seam edge appears twice with its two pcurves.
+struct FaceEdgeUse {
+  int edge = 0;
+  Handle(Geom2d_Curve) pcurve;
+};
+
+struct FaceData {
+  TopoDS_Face face;
+  Handle(Geom_Surface) surface;  // with the face's location applied
+  bool reversed = false;         // normals flip: the face is reversed relative to its surface
+  double u0 = 0, u1 = 0, v0 = 0, v1 = 0;  // parameter box of the trimmed face
+  // Newton stays inside the surface's own domain (infinite for planes, unbounded when periodic).
+  double uMin = 0, uMax = 0, vMin = 0, vMax = 0;
+  bool uPeriodic = false, vPeriodic = false;
+  double uPeriod = 0, vPeriod = 0;
+  std::vector<FaceEdgeUse> edges;                        // non-degenerate boundary edges
+};
+
+struct EdgeData {
+  Handle(Geom_Curve) curve;  // with the edge's location applied; null when degenerate
+  double first = 0, last = 0;
+  bool degenerate = false;
+  int vertex0 = -1, vertex1 = -1;
+  std::vector<int> faces;
+  // Polyline within the tessellation deflection of the curve: seeds for Newton.
+  std::vector<Eigen::Vector3d> polyline;
+  std::vector<double> polyParams;
+};
+
+// A located point on the target.
+struct Foot {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  double distance = -1.0;  // < 0: none
+  int face = -1;           // face whose (u, v) are given
+  double u = 0, v = 0;
+  int edge = -1;           // edge and curve parameter when the foot lies on an edge
+  double t = 0;
+  ProjectionStatus status = ProjectionStatus::Failed;
+};
+
+class ThreadContext;
+
+struct Target::Data {
+  TargetOptions options;
+  TopoDS_Shape shape;
+  TargetReport report;
+  double diagonal = 0;
+  double deflection = 0;
+  double tolerance = 0;
+  double margin = 0;         // how far the surface may lie from its tessellation (with safety)
+  double convergence = 0;    // Newton stops when a step moves the point less than this
+
+  std::vector<FaceData> faces;
+  std::vector<EdgeData> edges;
+  std::vector<Eigen::Vector3d> vertices;
+  std::vector<std::vector<int>> vertexFaces;
+
+  Points nodes;                                                // #N x 3
+  Params nodeUV;                                               // #N x 2 (u, v) on the node's face
+  Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> triangles;  // #T x 3
+  Eigen::VectorXi triangleFaces;                               // #T
+  std::vector<double> triangleSize;                            // #T longest edge length
+  AabbTree tree;
+
+  // Evaluation contexts kept between calls, so that each worker thread reuses the adaptors and
+  // classifiers built by earlier calls.
+  std::unique_ptr<ThreadContext> acquireContext() const;
+  void releaseContext(std::unique_ptr<ThreadContext> context) const;
+  mutable std::mutex poolMutex;
+  mutable std::vector<std::unique_ptr<ThreadContext>> pool;
+};
+
+// Per-thread evaluation state: GeomAdaptor_Surface caches B-spline spans and
+// BRepTopAdaptor_FClass2d keeps a face explorer for its exact fallback, so each thread has its
+// own (created on first use). Geom_Curve / Geom2d_Curve evaluation keeps no state.
+class ThreadContext {
+public:
+  explicit ThreadContext(const Target::Data& data)
+      : data_(data), surfaces_(data.faces.size()), classifiers_(data.faces.size()) {}
+  GeomAdaptor_Surface& surface(int face);
+  // IN, ON or OUT of the face's trim.
+  TopAbs_State classify(int face, double u, double v);
+
+  struct Candidate {
+    int triangle;
+    double distance;
+    Eigen::Vector3d point;
+    double u, v;
+  };
+  struct Anchor {
+    int face;
+    Eigen::Vector3d point;
+  };
+  std::vector<Candidate> candidates;
+  std::vector<Anchor> anchors;
+
+private:
+  const Target::Data& data_;
+  std::vector<std::unique_ptr<GeomAdaptor_Surface>> surfaces_;
+  std::vector<std::unique_ptr<BRepTopAdaptor_FClass2d>> classifiers_;
+};
+
+// Geometry kernels used by both construction and projection.
+Eigen::Vector3d toEigen(const gp_Pnt& p);
+Eigen::Vector3d toEigen(const gp_Vec& v);
+// Unit normal of the face at (u, v) (orientation applied); zero where it is undefined.
+Eigen::Vector3d faceNormal(const FaceData& face, GeomAdaptor_Surface& surface, double u, double v);
+// Closest point on one edge (all local minima of the polyline distance are refined).
+Foot closestOnEdge(const Target::Data& data, int edge, const Eigen::Vector3d& q);
+
+}  // namespace bvmesh::target

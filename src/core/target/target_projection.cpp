@@ -1,0 +1,785 @@
+// Projections onto the target: closest points on the trimmed surface (warm or cold start),
+// on edge chains and on vertices, and intersections along given directions.
+//
+// Closest point on the surface, per point q:
+//   1. candidates: tessellation triangles within r of q, nearest first, where r is the
+//      distance to the nearest triangle (cold) or to the warm-started foot point, plus the
+//      margin by which the surface may deviate from its tessellation;
+//   2. per candidate (face, (u, v) interpolated from the triangle's nodes): Levenberg-Marquardt
+//      Newton on |S(u, v) - q|^2 with the exact Hessian (D2), inside the surface's domain;
+//   3. trim test with the face's 2D classifier; outside: the closest point of the face's
+//      boundary edges (Newton on each edge curve);
+//   4. keep the nearest; stop when a triangle's distance minus the margin exceeds the best.
+// Candidates near a foot point already found on the same face are skipped (same basin).
+#include <BRep_Tool.hxx>
+#include <Precision.hxx>
+#include <Standard_Failure.hxx>
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <exception>
+#include <mutex>
+#include <thread>
+
+#include "core/common/errors.h"
+#include "core/target/target.h"
+#include "core/target/target_data.h"
+
+namespace bvmesh::target {
+namespace {
+
+constexpr int kMaxNewtonIterations = 200;
+// Relative change of |S - q|^2 below which a step counts as not increasing it (round-off).
+constexpr double kRoundOff = 1e-13;
+constexpr int kMaxFaceSolvesPerPoint = 16;
+constexpr int kMaxCurveSeeds = 4;
+constexpr int kMaxLineHits = 16;
+
+// Closest point of triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5);
+// returns the barycentric weights of b and c in (wb, wc).
+Eigen::Vector3d closestOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                  const Eigen::Vector3d& c, double& wb, double& wc) {
+  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) { wb = 0; wc = 0; return a; }
+  const Eigen::Vector3d bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) { wb = 1; wc = 0; return b; }
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
+    wb = d1 / (d1 - d3); wc = 0;
+    return a + wb * ab;
+  }
+  const Eigen::Vector3d cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) { wb = 0; wc = 1; return c; }
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
+    wb = 0; wc = d2 / (d2 - d6);
+    return a + wc * ac;
+  }
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
+    wc = (d4 - d3) / ((d4 - d3) + (d5 - d6)); wb = 1 - wc;
+    return b + wc * (c - b);
+  }
+  const double denominator = 1.0 / (va + vb + vc);
+  wb = vb * denominator;
+  wc = vc * denominator;
+  return a + wb * ab + wc * ac;
+}
+
+struct TrianglePoint {
+  Eigen::Vector3d point;
+  double u, v;
+};
+
+TrianglePoint closestOnMeshTriangle(const Target::Data& data, int triangle, const Eigen::Vector3d& q) {
+  const auto nodes = data.triangles.row(triangle);
+  double wb = 0, wc = 0;
+  const Eigen::Vector3d point =
+      closestOnTriangle(q, data.nodes.row(nodes[0]).transpose(), data.nodes.row(nodes[1]).transpose(),
+                        data.nodes.row(nodes[2]).transpose(), wb, wc);
+  const Eigen::Vector2d uv = (1 - wb - wc) * data.nodeUV.row(nodes[0]) + wb * data.nodeUV.row(nodes[1]) +
+                             wc * data.nodeUV.row(nodes[2]);
+  return {point, uv[0], uv[1]};
+}
+
+double clampTo(double x, double lo, double hi) { return std::min(std::max(x, lo), hi); }
+
+// Brings a periodic parameter into the face's range [lo, lo + period] so that equal points get
+// equal (u, v); a parameter already in the range (u = 2 pi included) stays.
+double wrapInto(double x, bool periodic, double period, double lo) {
+  if (!periodic || !(period > 0) || (x >= lo && x <= lo + period)) return x;
+  return x - period * std::floor((x - lo) / period);
+}
+
+// Trust region in parameter space: a step moves u and v each by at most half the face's
+// parameter range, so that a seed near a singular point (sphere pole, where the Hessian loses
+// rank in one parameter) cannot throw the iteration far away. Clipping per parameter keeps the
+// well-determined parameter's step intact.
+Eigen::Vector2d clipStep(const FaceData& face, const Eigen::Vector2d& step) {
+  const double du = 0.5 * (face.u1 - face.u0);
+  const double dv = 0.5 * (face.v1 - face.v0);
+  return {du > 0 ? clampTo(step[0], -du, du) : step[0], dv > 0 ? clampTo(step[1], -dv, dv) : step[1]};
+}
+
+struct SurfaceSample {
+  gp_Pnt p;
+  gp_Vec su, sv, suu, svv, suv;
+};
+
+struct NewtonResult {
+  double u = 0, v = 0;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  bool converged = false;
+  bool singular = false;  // stopped where the parametrization degenerates (a pole)
+};
+
+bool isSingular(const gp_Vec& su, const gp_Vec& sv) {
+  const double scale = su.Magnitude() + sv.Magnitude();
+  return !(su.Crossed(sv).Magnitude() > 1e-10 * scale * scale);
+}
+
+// Minimizes |S(u, v) - q|^2 over the surface's domain: Newton with the exact Hessian when it
+// is positive definite, Gauss-Newton otherwise, Levenberg-Marquardt damping as trust region,
+// bounds handled by fixing a parameter whose descent direction leaves the domain.
+NewtonResult newtonOnSurface(const FaceData& face, GeomAdaptor_Surface& surface, const Eigen::Vector3d& q, double u,
+                             double v, double convergence) {
+  const double uLo = face.uPeriodic ? -Precision::Infinite() : face.uMin;
+  const double uHi = face.uPeriodic ? Precision::Infinite() : face.uMax;
+  const double vLo = face.vPeriodic ? -Precision::Infinite() : face.vMin;
+  const double vHi = face.vPeriodic ? Precision::Infinite() : face.vMax;
+  u = clampTo(u, uLo, uHi);
+  v = clampTo(v, vLo, vHi);
+  SurfaceSample s;
+  surface.D2(u, v, s.p, s.su, s.sv, s.suu, s.svv, s.suv);
+  Eigen::Vector3d r = toEigen(s.p) - q;
+  double f = r.squaredNorm();
+  double lambda = 0.0;
+  NewtonResult result;
+  for (int iteration = 0; iteration < kMaxNewtonIterations; ++iteration) {
+    const Eigen::Vector3d su = toEigen(s.su), sv = toEigen(s.sv);
+    const Eigen::Vector2d g(r.dot(su), r.dot(sv));
+    Eigen::Matrix2d jtj;
+    jtj << su.dot(su), su.dot(sv), su.dot(sv), sv.dot(sv);
+    Eigen::Matrix2d h = jtj;
+    h(0, 0) += r.dot(toEigen(s.suu));
+    h(1, 1) += r.dot(toEigen(s.svv));
+    h(0, 1) += r.dot(toEigen(s.suv));
+    h(1, 0) = h(0, 1);
+    if (!(h(0, 0) > 0 && h.determinant() > 0)) h = jtj;
+    // A parameter on its bound whose descent leaves the domain stays fixed.
+    const bool fixU = (u <= uLo && g[0] > 0) || (u >= uHi && g[0] < 0);
+    const bool fixV = (v <= vLo && g[1] > 0) || (v >= vHi && g[1] < 0);
+    if (fixU && fixV) {
+      result.converged = true;
+      break;
+    }
+    bool accepted = false;
+    bool fullStep = false;
+    double moved = 0.0;
+    for (int attempt = 0; attempt < 40 && !accepted; ++attempt) {
+      fullStep = lambda == 0.0;
+      Eigen::Matrix2d a = h;
+      a(0, 0) += lambda * jtj(0, 0) + 1e-300;
+      a(1, 1) += lambda * jtj(1, 1) + 1e-300;
+      Eigen::Vector2d step = Eigen::Vector2d::Zero();
+      if (fixU) step[1] = -g[1] / a(1, 1);
+      else if (fixV) step[0] = -g[0] / a(0, 0);
+      else step = a.ldlt().solve(-g);
+      if (!step.allFinite()) {
+        lambda = std::max(1e-6, 10 * lambda);
+        continue;
+      }
+      step = clipStep(face, step);
+      const double un = clampTo(u + step[0], uLo, uHi);
+      const double vn = clampTo(v + step[1], vLo, vHi);
+      SurfaceSample t;
+      surface.D2(un, vn, t.p, t.su, t.sv, t.suu, t.svv, t.suv);
+      const Eigen::Vector3d rn = toEigen(t.p) - q;
+      const double fn = rn.squaredNorm();
+      if (fn <= f * (1 + kRoundOff) + 1e-300) {
+        moved = (rn - r).norm();
+        accepted = true;
+        u = un;
+        v = vn;
+        s = t;
+        r = rn;
+        f = fn;
+        lambda = lambda < 1e-9 ? 0.0 : 0.1 * lambda;
+      } else {
+        lambda = std::max(1e-6, 10 * lambda);
+      }
+    }
+    // Converged: a step moved the point by less than the tolerance and was either undamped or
+    // taken where the gradient vanishes; or no step descends any more.
+    // Stationary: the gradient along the free parameters vanishes (relative to |S_u|, |S_v|).
+    const double gu = fixU ? 0.0 : g[0] * g[0] / std::max(jtj(0, 0), 1e-300);
+    const double gv = fixV ? 0.0 : g[1] * g[1] / std::max(jtj(1, 1), 1e-300);
+    const bool stationary = std::sqrt(gu + gv) <= 1e3 * convergence;
+    if (!accepted || (moved <= convergence && (fullStep || stationary))) {
+      result.converged = accepted || stationary;
+      break;
+    }
+  }
+  result.u = u;
+  result.v = v;
+  result.point = toEigen(s.p);
+  result.singular = isSingular(s.su, s.sv);
+  return result;
+}
+
+struct CurveResult {
+  double t = 0;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+};
+
+// Minimizes |C(t) - q|^2 on [first, last]: Newton with the exact second derivative, Gauss-Newton
+// where it is not positive, halving steps that do not descend.
+CurveResult newtonOnCurve(const EdgeData& edge, const Eigen::Vector3d& q, double t, double convergence) {
+  t = clampTo(t, edge.first, edge.last);
+  gp_Pnt p;
+  gp_Vec d1, d2;
+  edge.curve->D2(t, p, d1, d2);
+  Eigen::Vector3d r = toEigen(p) - q;
+  double f = r.squaredNorm();
+  for (int iteration = 0; iteration < kMaxNewtonIterations; ++iteration) {
+    const Eigen::Vector3d c1 = toEigen(d1);
+    const double g = r.dot(c1);
+    double h = c1.squaredNorm() + r.dot(toEigen(d2));
+    if (!(h > 0)) h = c1.squaredNorm();
+    if (!(h > 0)) break;
+    double step = -g / h;
+    bool accepted = false;
+    double moved = 0;
+    for (int attempt = 0; attempt < 40 && !accepted; ++attempt, step *= 0.5) {
+      const double tn = clampTo(t + step, edge.first, edge.last);
+      gp_Pnt pn;
+      gp_Vec e1, e2;
+      edge.curve->D2(tn, pn, e1, e2);
+      const Eigen::Vector3d rn = toEigen(pn) - q;
+      const double fn = rn.squaredNorm();
+      if (fn <= f * (1 + kRoundOff) + 1e-300) {
+        moved = (rn - r).norm();
+        accepted = true;
+        t = tn;
+        p = pn;
+        d1 = e1;
+        d2 = e2;
+        r = rn;
+        f = fn;
+      }
+    }
+    if (!accepted || moved <= convergence) break;
+  }
+  return {t, toEigen(p)};
+}
+
+// At a pole (one parameter undetermined, the other at its bound) Newton cannot tell along
+// which meridian to leave. Picks the meridian of steepest descent from the pole and sets (u, v)
+// a little way along it; false when no meridian descends (the pole is the minimum).
+bool leavePole(const FaceData& face, GeomAdaptor_Surface& surface, const Eigen::Vector3d& q, double& u, double& v) {
+  gp_Pnt p;
+  gp_Vec su, sv;
+  surface.D1(u, v, p, su, sv);
+  const Eigen::Vector3d r = toEigen(p) - q;
+  const bool uFree = su.Magnitude() < sv.Magnitude();  // Su = 0: u only turns around the pole
+  const double radial = uFree ? v : u;
+  const double radialLo = uFree ? face.v0 : face.u0, radialHi = uFree ? face.v1 : face.u1;
+  const double inward = radial - radialLo < radialHi - radial ? 1.0 : -1.0;
+  const double freeLo = uFree ? face.u0 : face.v0, freeHi = uFree ? face.u1 : face.v1;
+  constexpr int kMeridians = 16;
+  double bestSlope = 0.0;
+  double bestFree = 0.0;
+  for (int k = 0; k < kMeridians; ++k) {
+    const double c = freeLo + (k + 0.5) / kMeridians * (freeHi - freeLo);
+    surface.D1(uFree ? c : u, uFree ? v : c, p, su, sv);
+    const double slope = inward * r.dot(toEigen(uFree ? sv : su));
+    if (slope < bestSlope) {
+      bestSlope = slope;
+      bestFree = c;
+    }
+  }
+  if (!(bestSlope < 0)) return false;
+  const double step = inward * 1e-3 * (radialHi - radialLo);
+  if (uFree) {
+    u = bestFree;
+    v += step;
+  } else {
+    v = bestFree;
+    u += step;
+  }
+  return true;
+}
+
+// Closest point on the face: Newton from (u, v), then the trim test, then the face's boundary.
+Foot solveOnFace(const Target::Data& data, ThreadContext& context, int faceId, const Eigen::Vector3d& q, double u,
+                 double v) {
+  const FaceData& face = data.faces[static_cast<std::size_t>(faceId)];
+  NewtonResult newton = newtonOnSurface(face, context.surface(faceId), q, u, v, data.convergence);
+  for (int escape = 0; escape < 2 && newton.singular; ++escape) {
+    if (!leavePole(face, context.surface(faceId), q, u, v)) break;
+    newton = newtonOnSurface(face, context.surface(faceId), q, u, v, data.convergence);
+  }
+  Foot foot;
+  foot.face = faceId;
+  foot.u = wrapInto(newton.u, face.uPeriodic, face.uPeriod, face.u0);
+  foot.v = wrapInto(newton.v, face.vPeriodic, face.vPeriod, face.v0);
+  const TopAbs_State state = context.classify(faceId, foot.u, foot.v);
+  if (state == TopAbs_IN || state == TopAbs_ON) {
+    foot.point = newton.point;
+    foot.distance = (newton.point - q).norm();
+    foot.status = !newton.converged ? ProjectionStatus::Fallback
+                  : state == TopAbs_IN ? ProjectionStatus::Ok
+                                       : ProjectionStatus::OnTrimBoundary;
+    return foot;
+  }
+  // The minimum over the untrimmed surface lies outside the trim: the closest point of the
+  // trimmed face is on its boundary.
+  for (const FaceEdgeUse& use : face.edges) {
+    const Foot onEdge = closestOnEdge(data, use.edge, q);
+    if (onEdge.distance < 0 || (foot.distance >= 0 && onEdge.distance >= foot.distance)) continue;
+    const gp_Pnt2d uv = use.pcurve->Value(onEdge.t);
+    foot.point = onEdge.point;
+    foot.distance = onEdge.distance;
+    foot.u = uv.X();
+    foot.v = uv.Y();
+    foot.edge = onEdge.edge;
+    foot.t = onEdge.t;
+    foot.status = ProjectionStatus::OnTrimBoundary;
+  }
+  return foot;
+}
+
+bool nearAnchor(const ThreadContext& context, int face, const Eigen::Vector3d& point, double radius) {
+  for (const ThreadContext::Anchor& anchor : context.anchors)
+    if (anchor.face == face && (anchor.point - point).squaredNorm() <= radius * radius) return true;
+  return false;
+}
+
+Foot closestOnSurface(const Target::Data& data, ThreadContext& context, const Eigen::Vector3d& q, int hintFace,
+                      double hintU, double hintV) {
+  Foot best;
+  context.anchors.clear();
+  context.candidates.clear();
+  double radius = 0;
+  if (hintFace >= 0) {
+    best = solveOnFace(data, context, hintFace, q, hintU, hintV);
+    context.anchors.push_back({hintFace, best.point});
+  }
+  if (best.distance >= 0) {
+    radius = best.distance + data.margin;
+  } else {
+    double nearestSquared = 0;
+    const int nearest = data.tree.nearest(
+        q, [&](int t, const Eigen::Vector3d& p) { return (closestOnMeshTriangle(data, t, p).point - p).squaredNorm(); },
+        nearestSquared);
+    if (nearest < 0) return best;
+    radius = std::sqrt(nearestSquared) + data.margin;
+  }
+  data.tree.withinRadius(q, radius, [&](int t) {
+    const TrianglePoint closest = closestOnMeshTriangle(data, t, q);
+    const double distance = (closest.point - q).norm();
+    if (distance <= radius) context.candidates.push_back({t, distance, closest.point, closest.u, closest.v});
+  });
+  std::sort(context.candidates.begin(), context.candidates.end(),
+            [](const ThreadContext::Candidate& a, const ThreadContext::Candidate& b) { return a.distance < b.distance; });
+  int solves = 0;
+  for (const ThreadContext::Candidate& candidate : context.candidates) {
+    // The surface under this triangle is at least (distance - margin) away.
+    if (best.distance >= 0 && candidate.distance - data.margin > best.distance) break;
+    const int face = data.triangleFaces[candidate.triangle];
+    if (nearAnchor(context, face, candidate.point, 1.5 * data.triangleSize[static_cast<std::size_t>(candidate.triangle)]))
+      continue;
+    if (++solves > kMaxFaceSolvesPerPoint) break;
+    const Foot foot = solveOnFace(data, context, face, q, candidate.u, candidate.v);
+    context.anchors.push_back({face, candidate.point});
+    if (foot.distance < 0) continue;
+    context.anchors.push_back({face, foot.point});
+    if (best.distance < 0 || foot.distance < best.distance) best = foot;
+  }
+  return best;
+}
+
+// Intersection of the line q + s d with the face near (u, v, s): Newton on S(u, v) - q - s d.
+bool newtonOnLine(const FaceData& face, GeomAdaptor_Surface& surface, const Eigen::Vector3d& q,
+                  const Eigen::Vector3d& d, double convergence, double& u, double& v, double& s, Eigen::Vector3d& point) {
+  const double uLo = face.uPeriodic ? -Precision::Infinite() : face.uMin;
+  const double uHi = face.uPeriodic ? Precision::Infinite() : face.uMax;
+  const double vLo = face.vPeriodic ? -Precision::Infinite() : face.vMin;
+  const double vHi = face.vPeriodic ? Precision::Infinite() : face.vMax;
+  gp_Pnt p;
+  gp_Vec su, sv;
+  surface.D1(u, v, p, su, sv);
+  Eigen::Vector3d residual = toEigen(p) - q - s * d;
+  for (int iteration = 0; iteration < kMaxNewtonIterations; ++iteration) {
+    Eigen::Matrix3d jacobian;
+    jacobian << toEigen(su), toEigen(sv), -d;
+    Eigen::Vector3d step = jacobian.partialPivLu().solve(-residual);
+    if (!step.allFinite()) return false;
+    step.head<2>() = clipStep(face, step.head<2>());
+    double scale = 1.0;
+    bool accepted = false;
+    for (int attempt = 0; attempt < 30 && !accepted; ++attempt, scale *= 0.5) {
+      const double un = clampTo(u + scale * step[0], uLo, uHi);
+      const double vn = clampTo(v + scale * step[1], vLo, vHi);
+      const double sn = s + scale * step[2];
+      gp_Pnt pn;
+      gp_Vec sun, svn;
+      surface.D1(un, vn, pn, sun, svn);
+      const Eigen::Vector3d rn = toEigen(pn) - q - sn * d;
+      if (rn.norm() <= residual.norm() * (1 + 1e-12) + 1e-300) {
+        accepted = true;
+        const double moved = (toEigen(pn) - toEigen(p)).norm();
+        u = un; v = vn; s = sn; p = pn; su = sun; sv = svn; residual = rn;
+        if (moved <= convergence) iteration = kMaxNewtonIterations;
+      }
+    }
+    if (!accepted) break;
+  }
+  point = toEigen(p);
+  return residual.norm() <= 1e3 * convergence;
+}
+
+Foot alongLine(const Target::Data& data, ThreadContext& context, const Eigen::Vector3d& q, const Eigen::Vector3d& direction) {
+  const Eigen::Vector3d d = direction.normalized();
+  context.candidates.clear();
+  // Line-triangle hits with a generous barycentric tolerance: a line that passes the
+  // tessellation just outside a triangle may still cross the true surface of its face.
+  constexpr double kSlack = 0.25;
+  data.tree.alongLine(q, d, [&](int t) {
+    const auto nodes = data.triangles.row(t);
+    const Eigen::Vector3d a = data.nodes.row(nodes[0]).transpose();
+    const Eigen::Vector3d e1 = data.nodes.row(nodes[1]).transpose() - a;
+    const Eigen::Vector3d e2 = data.nodes.row(nodes[2]).transpose() - a;
+    const Eigen::Vector3d pvec = d.cross(e2);
+    const double det = e1.dot(pvec);
+    if (std::abs(det) <= 1e-300) return;
+    const Eigen::Vector3d tvec = q - a;
+    const double wb = tvec.dot(pvec) / det;
+    const Eigen::Vector3d qvec = tvec.cross(e1);
+    const double wc = d.dot(qvec) / det;
+    if (wb < -kSlack || wc < -kSlack || wb + wc > 1 + kSlack) return;
+    const double s = e2.dot(qvec) / det;
+    const double cb = clampTo(wb, 0, 1), cc = clampTo(wc, 0, 1 - clampTo(wb, 0, 1));
+    const Eigen::Vector2d uv = (1 - cb - cc) * data.nodeUV.row(nodes[0]) + cb * data.nodeUV.row(nodes[1]) +
+                               cc * data.nodeUV.row(nodes[2]);
+    context.candidates.push_back({t, std::abs(s), q + s * d, uv[0], uv[1]});
+  });
+  std::sort(context.candidates.begin(), context.candidates.end(),
+            [](const ThreadContext::Candidate& a, const ThreadContext::Candidate& b) { return a.distance < b.distance; });
+  context.anchors.clear();
+  Foot best;
+  int solves = 0;
+  for (const ThreadContext::Candidate& candidate : context.candidates) {
+    const int faceId = data.triangleFaces[candidate.triangle];
+    if (nearAnchor(context, faceId, candidate.point, 1.5 * data.triangleSize[static_cast<std::size_t>(candidate.triangle)]))
+      continue;
+    if (++solves > kMaxLineHits) break;
+    context.anchors.push_back({faceId, candidate.point});
+    const FaceData& face = data.faces[static_cast<std::size_t>(faceId)];
+    double u = candidate.u, v = candidate.v;
+    double s = (candidate.point - q).dot(d);
+    Eigen::Vector3d point;
+    if (!newtonOnLine(face, context.surface(faceId), q, d, data.convergence, u, v, s, point)) continue;
+    u = wrapInto(u, face.uPeriodic, face.uPeriod, face.u0);
+    v = wrapInto(v, face.vPeriodic, face.vPeriod, face.v0);
+    const TopAbs_State state = context.classify(faceId, u, v);
+    if (state != TopAbs_IN && state != TopAbs_ON) continue;
+    context.anchors.push_back({faceId, point});
+    const double distance = (point - q).norm();
+    if (best.distance < 0 || distance < best.distance) {
+      best.point = point;
+      best.distance = distance;
+      best.face = faceId;
+      best.u = u;
+      best.v = v;
+      best.status = state == TopAbs_IN ? ProjectionStatus::Ok : ProjectionStatus::OnTrimBoundary;
+    }
+  }
+  if (best.distance >= 0) return best;
+  Foot fallback = closestOnSurface(data, context, q, -1, 0, 0);
+  if (fallback.distance >= 0) fallback.status = ProjectionStatus::Fallback;
+  return fallback;
+}
+
+// Runs work(context, i) for i in [0, count) on the configured number of threads, each with its
+// own evaluation context. An OCCT failure on one point marks that point failed (work's job);
+// any other exception stops the call and is rethrown.
+template <class Work>
+void parallelFor(const Target::Data& data, Eigen::Index count, Work&& work) {
+  constexpr Eigen::Index kChunk = 64;
+  const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
+  const Eigen::Index wanted = data.options.threads > 0 ? data.options.threads : static_cast<Eigen::Index>(hardware);
+  const Eigen::Index threads = std::max<Eigen::Index>(1, std::min(wanted, (count + kChunk - 1) / kChunk));
+  std::atomic<Eigen::Index> next{0};
+  std::exception_ptr error;
+  std::mutex errorMutex;
+  auto worker = [&] {
+    try {
+      std::unique_ptr<ThreadContext> context = data.acquireContext();
+      for (Eigen::Index begin = next.fetch_add(kChunk); begin < count; begin = next.fetch_add(kChunk))
+        for (Eigen::Index i = begin; i < std::min(count, begin + kChunk); ++i) work(*context, i);
+      data.releaseContext(std::move(context));
+    } catch (...) {
+      std::lock_guard<std::mutex> lock(errorMutex);
+      if (!error) error = std::current_exception();
+      next = count;
+    }
+  };
+  std::vector<std::thread> pool;
+  for (Eigen::Index t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (std::thread& thread : pool) thread.join();
+  if (error) std::rethrow_exception(error);
+}
+
+void checkPoints(const char* function, const Eigen::Ref<const Points>& points) {
+  for (Eigen::Index i = 0; i < points.rows(); ++i)
+    if (!points.row(i).allFinite())
+      throw InvalidInputError(std::string(function) + ": point " + std::to_string(i) + " has a non-finite coordinate");
+}
+
+// Unit bisector of the adjacent faces' normals at parameter t of an edge.
+Eigen::Vector3d edgeNormal(const Target::Data& data, ThreadContext& context, int edgeId, double t, int& face,
+                           double& u, double& v) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  face = -1;
+  for (int faceId : data.edges[static_cast<std::size_t>(edgeId)].faces) {
+    const FaceData& f = data.faces[static_cast<std::size_t>(faceId)];
+    for (const FaceEdgeUse& use : f.edges) {
+      if (use.edge != edgeId) continue;
+      const gp_Pnt2d uv = use.pcurve->Value(t);
+      if (face < 0) {
+        face = faceId;
+        u = uv.X();
+        v = uv.Y();
+      }
+      sum += faceNormal(f, context.surface(faceId), uv.X(), uv.Y());
+      break;
+    }
+  }
+  const double length = sum.norm();
+  return length > 1e-12 ? Eigen::Vector3d(sum / length) : Eigen::Vector3d::Zero();
+}
+
+// Unit mean of the adjacent faces' normals at a vertex (taken at the ends of their edges).
+Eigen::Vector3d vertexNormal(const Target::Data& data, ThreadContext& context, int vertex) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int faceId : data.vertexFaces[static_cast<std::size_t>(vertex)]) {
+    const FaceData& f = data.faces[static_cast<std::size_t>(faceId)];
+    for (const FaceEdgeUse& use : f.edges) {
+      const EdgeData& e = data.edges[static_cast<std::size_t>(use.edge)];
+      if (e.vertex0 != vertex && e.vertex1 != vertex) continue;
+      const gp_Pnt2d uv = use.pcurve->Value(e.vertex0 == vertex ? e.first : e.last);
+      sum += faceNormal(f, context.surface(faceId), uv.X(), uv.Y());
+      break;
+    }
+  }
+  const double length = sum.norm();
+  return length > 1e-12 ? Eigen::Vector3d(sum / length) : Eigen::Vector3d::Zero();
+}
+
+void storeFoot(const Target::Data& data, ThreadContext& context, const Foot& foot, Eigen::Index i,
+               ProjectionResult& result) {
+  if (foot.distance < 0 || foot.face < 0) return;
+  result.points.row(i) = foot.point.transpose();
+  result.distances[i] = foot.distance;
+  result.ids[i] = foot.face;
+  result.faces[i] = foot.face;
+  result.params(i, 0) = foot.u;
+  result.params(i, 1) = foot.v;
+  result.normals.row(i) =
+      faceNormal(data.faces[static_cast<std::size_t>(foot.face)], context.surface(foot.face), foot.u, foot.v).transpose();
+  result.status[static_cast<std::size_t>(i)] = foot.status;
+}
+
+}  // namespace
+
+Foot closestOnEdge(const Target::Data& data, int edgeId, const Eigen::Vector3d& q) {
+  const EdgeData& edge = data.edges[static_cast<std::size_t>(edgeId)];
+  Foot best;
+  if (edge.degenerate || edge.polyline.size() < 2) return best;
+  // Seeds: local minima of the distance to the polyline's segments within the margin of the
+  // nearest; Newton on the curve from each.
+  const std::size_t segments = edge.polyline.size() - 1;
+  double seedDistance[kMaxCurveSeeds];
+  double seedParam[kMaxCurveSeeds];
+  int seeds = 0;
+  double nearest = std::numeric_limits<double>::infinity();
+  double previous = std::numeric_limits<double>::infinity();
+  std::vector<double> distances(segments);
+  std::vector<double> params(segments);
+  for (std::size_t k = 0; k < segments; ++k) {
+    const Eigen::Vector3d a = edge.polyline[k];
+    const Eigen::Vector3d ab = edge.polyline[k + 1] - a;
+    const double length2 = ab.squaredNorm();
+    const double w = length2 > 0 ? clampTo((q - a).dot(ab) / length2, 0, 1) : 0;
+    distances[k] = (a + w * ab - q).norm();
+    params[k] = edge.polyParams[k] + w * (edge.polyParams[k + 1] - edge.polyParams[k]);
+    nearest = std::min(nearest, distances[k]);
+  }
+  for (std::size_t k = 0; k < segments; ++k) {
+    const double next = k + 1 < segments ? distances[k + 1] : std::numeric_limits<double>::infinity();
+    const bool localMinimum = distances[k] <= previous && distances[k] <= next;
+    previous = distances[k];
+    if (!localMinimum || distances[k] > nearest + data.margin) continue;
+    // Keep the kMaxCurveSeeds nearest local minima.
+    int slot = seeds < kMaxCurveSeeds ? seeds++ : -1;
+    if (slot < 0) {
+      slot = static_cast<int>(std::max_element(seedDistance, seedDistance + seeds) - seedDistance);
+      if (seedDistance[slot] <= distances[k]) continue;
+    }
+    seedDistance[slot] = distances[k];
+    seedParam[slot] = params[k];
+  }
+  for (int s = 0; s < seeds; ++s) {
+    const CurveResult result = newtonOnCurve(edge, q, seedParam[s], data.convergence);
+    const double distance = (result.point - q).norm();
+    if (best.distance < 0 || distance < best.distance) {
+      best.point = result.point;
+      best.distance = distance;
+      best.edge = edgeId;
+      best.t = result.t;
+      best.status = ProjectionStatus::Ok;
+    }
+  }
+  return best;
+}
+
+ProjectionResult Target::project(const Eigen::Ref<const Points>& points, const SurfaceHints* hints) const {
+  checkPoints("Target::project", points);
+  const Eigen::Index count = points.rows();
+  if (hints != nullptr) {
+    if (hints->faces.size() != count || hints->uv.rows() != count)
+      throw InvalidInputError("Target::project: hints for " + std::to_string(hints->faces.size()) + " faces and " +
+                              std::to_string(hints->uv.rows()) + " (u, v) pairs, expected " + std::to_string(count));
+    for (Eigen::Index i = 0; i < count; ++i) {
+      if (hints->faces[i] >= faceCount() || hints->faces[i] < -1)
+        throw InvalidInputError("Target::project: hint face " + std::to_string(hints->faces[i]) + " of point " +
+                                std::to_string(i) + " does not exist (" + std::to_string(faceCount()) + " faces)");
+      if (hints->faces[i] >= 0 && !hints->uv.row(i).allFinite())
+        throw InvalidInputError("Target::project: hint (u, v) of point " + std::to_string(i) + " is not finite");
+    }
+  }
+  ProjectionResult result;
+  result.resize(count);
+  parallelFor(*data_, count, [&](ThreadContext& context, Eigen::Index i) {
+    const Eigen::Vector3d q = points.row(i).transpose();
+    const int hint = hints != nullptr ? hints->faces[i] : -1;
+    try {
+      const Foot foot = closestOnSurface(*data_, context, q, hint, hint >= 0 ? hints->uv(i, 0) : 0.0,
+                                         hint >= 0 ? hints->uv(i, 1) : 0.0);
+      storeFoot(*data_, context, foot, i, result);
+    } catch (const Standard_Failure&) {
+      // Left as Failed: the kernel could not evaluate this point.
+    }
+    if (result.status[static_cast<std::size_t>(i)] == ProjectionStatus::Failed) result.points.row(i) = q.transpose();
+  });
+  return result;
+}
+
+ProjectionResult Target::projectToEdges(const Eigen::Ref<const Points>& points, const std::vector<int>& edges) const {
+  checkPoints("Target::projectToEdges", points);
+  if (edges.empty()) throw InvalidInputError("Target::projectToEdges: no edges given");
+  std::vector<Box3> boxes;
+  std::vector<int> boxEdge;
+  for (int id : edges) {
+    if (id < 0 || id >= edgeCount())
+      throw InvalidInputError("Target::projectToEdges: edge " + std::to_string(id) + " does not exist (" +
+                              std::to_string(edgeCount()) + " edges)");
+    const EdgeData& e = data_->edges[static_cast<std::size_t>(id)];
+    if (e.degenerate) throw InvalidInputError("Target::projectToEdges: edge " + std::to_string(id) + " is degenerate");
+    Box3 box;
+    for (const Eigen::Vector3d& p : e.polyline) box.extend(p);
+    boxes.push_back(box);
+    boxEdge.push_back(id);
+  }
+  // The polyline lies within the deflection of its curve: grow the boxes by the margin.
+  for (Box3& box : boxes) {
+    box.lo.array() -= data_->margin;
+    box.hi.array() += data_->margin;
+  }
+  ProjectionResult result;
+  result.resize(points.rows());
+  parallelFor(*data_, points.rows(), [&](ThreadContext& context, Eigen::Index i) {
+    const Eigen::Vector3d q = points.row(i).transpose();
+    try {
+      // Nearest boxes first; a box farther than the best foot cannot hold a nearer point.
+      std::vector<std::pair<double, std::size_t>> order(boxes.size());
+      for (std::size_t b = 0; b < boxes.size(); ++b) order[b] = {boxes[b].squaredDistance(q), b};
+      std::sort(order.begin(), order.end());
+      Foot best;
+      for (const auto& [boxSquared, b] : order) {
+        if (best.distance >= 0 && boxSquared > best.distance * best.distance) break;
+        const Foot foot = closestOnEdge(*data_, boxEdge[b], q);
+        if (foot.distance >= 0 && (best.distance < 0 || foot.distance < best.distance)) best = foot;
+      }
+      if (best.distance >= 0) {
+        int face = -1;
+        double u = 0, v = 0;
+        const Eigen::Vector3d normal = edgeNormal(*data_, context, best.edge, best.t, face, u, v);
+        result.points.row(i) = best.point.transpose();
+        result.distances[i] = best.distance;
+        result.ids[i] = best.edge;
+        result.faces[i] = face;
+        result.params(i, 0) = best.t;
+        result.normals.row(i) = normal.transpose();
+        result.status[static_cast<std::size_t>(i)] = ProjectionStatus::Ok;
+      }
+    } catch (const Standard_Failure&) {
+      // Left as Failed.
+    }
+    if (result.status[static_cast<std::size_t>(i)] == ProjectionStatus::Failed) result.points.row(i) = q.transpose();
+  });
+  return result;
+}
+
+ProjectionResult Target::projectToFreeBoundary(const Eigen::Ref<const Points>& points) const {
+  if (data_->report.freeEdges.empty()) {
+    checkPoints("Target::projectToFreeBoundary", points);
+    ProjectionResult result;
+    result.resize(points.rows());
+    result.points = points;
+    return result;
+  }
+  return projectToEdges(points, data_->report.freeEdges);
+}
+
+ProjectionResult Target::projectToVertices(const Eigen::Ref<const Points>& points, const std::vector<int>& vertices) const {
+  checkPoints("Target::projectToVertices", points);
+  if (vertices.empty()) throw InvalidInputError("Target::projectToVertices: no vertices given");
+  for (int id : vertices)
+    if (id < 0 || id >= vertexCount())
+      throw InvalidInputError("Target::projectToVertices: vertex " + std::to_string(id) + " does not exist (" +
+                              std::to_string(vertexCount()) + " vertices)");
+  ProjectionResult result;
+  result.resize(points.rows());
+  parallelFor(*data_, points.rows(), [&](ThreadContext& context, Eigen::Index i) {
+    const Eigen::Vector3d q = points.row(i).transpose();
+    int best = vertices.front();
+    for (int id : vertices)
+      if ((data_->vertices[static_cast<std::size_t>(id)] - q).squaredNorm() <
+          (data_->vertices[static_cast<std::size_t>(best)] - q).squaredNorm())
+        best = id;
+    const Eigen::Vector3d& p = data_->vertices[static_cast<std::size_t>(best)];
+    result.points.row(i) = p.transpose();
+    result.distances[i] = (p - q).norm();
+    result.ids[i] = best;
+    try {
+      result.normals.row(i) = vertexNormal(*data_, context, best).transpose();
+    } catch (const Standard_Failure&) {
+      result.normals.row(i).setZero();
+    }
+    result.status[static_cast<std::size_t>(i)] = ProjectionStatus::Ok;
+  });
+  return result;
+}
+
+ProjectionResult Target::projectAlong(const Eigen::Ref<const Points>& points, const Eigen::Ref<const Points>& directions) const {
+  checkPoints("Target::projectAlong", points);
+  if (directions.rows() != points.rows())
+    throw InvalidInputError("Target::projectAlong: " + std::to_string(directions.rows()) + " directions for " +
+                            std::to_string(points.rows()) + " points");
+  for (Eigen::Index i = 0; i < directions.rows(); ++i)
+    if (!directions.row(i).allFinite() || !(directions.row(i).norm() > 0))
+      throw InvalidInputError("Target::projectAlong: direction " + std::to_string(i) + " is zero or not finite");
+  ProjectionResult result;
+  result.resize(points.rows());
+  parallelFor(*data_, points.rows(), [&](ThreadContext& context, Eigen::Index i) {
+    const Eigen::Vector3d q = points.row(i).transpose();
+    try {
+      storeFoot(*data_, context, alongLine(*data_, context, q, directions.row(i).transpose()), i, result);
+    } catch (const Standard_Failure&) {
+      // Left as Failed.
+    }
+    if (result.status[static_cast<std::size_t>(i)] == ProjectionStatus::Failed) result.points.row(i) = q.transpose();
+  });
+  return result;
+}
+
+}  // namespace bvmesh::target

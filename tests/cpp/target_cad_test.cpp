@@ -1,0 +1,191 @@
+// Target on real CAD files, against independent truth: BRepExtrema_DistShapeShape (the
+// algorithm behind FreeCAD's distToShape) for distances, BRepClass_FaceClassifier for trims.
+#include <gtest/gtest.h>
+
+#include <BRepBuilderAPI_MakeVertex.hxx>
+#include <BRepClass_FaceClassifier.hxx>
+#include <BRepExtrema_DistShapeShape.hxx>
+#include <BRep_Builder.hxx>
+#include <BRep_Tool.hxx>
+#include <Geom_Surface.hxx>
+#include <TopExp.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Compound.hxx>
+
+#include <random>
+#include <string>
+
+#include "core/cad/shape_io.h"
+#include "core/target/target.h"
+
+namespace bvmesh::target {
+namespace {
+
+const std::string kDataDir = BVMESH_TEST_DATA_DIR;
+
+// #count points: half near the surface (a tessellation node moved by up to 2% of the model
+// size), half anywhere in the bounding box grown by half its size.
+Points mixedPoints(const Target& target, int count, unsigned seed) {
+  const TargetReport& report = target.report();
+  std::mt19937 generator(seed);
+  std::uniform_real_distribution<double> unit(-1, 1);
+  std::uniform_int_distribution<Eigen::Index> node(0, target.meshNodes().rows() - 1);
+  const Eigen::Vector3d lo(report.shape.boundsMin[0], report.shape.boundsMin[1], report.shape.boundsMin[2]);
+  const Eigen::Vector3d hi(report.shape.boundsMax[0], report.shape.boundsMax[1], report.shape.boundsMax[2]);
+  const Eigen::Vector3d center = 0.5 * (lo + hi);
+  Points points(count, 3);
+  for (int i = 0; i < count; ++i) {
+    const Eigen::Vector3d random(unit(generator), unit(generator), unit(generator));
+    if (i % 2 == 0)
+      points.row(i) = target.meshNodes().row(node(generator)) + 0.02 * report.diagonal * random.transpose();
+    else
+      points.row(i) = (center + random.cwiseProduct(hi - lo)).transpose();
+  }
+  return points;
+}
+
+class TargetCad : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(TargetCad, DistancesMatchBRepExtremaAndFeetLieOnTheirTrimmedFaces) {
+  const TopoDS_Shape shape = cad::readShapeFile(kDataDir + "/" + GetParam());
+  const Target target(shape);
+  const double size = target.report().diagonal;
+  TopTools_IndexedMapOfShape faces;
+  TopExp::MapShapes(shape, TopAbs_FACE, faces);
+  ASSERT_EQ(faces.Extent(), target.faceCount());
+
+  // The surface itself: BRepExtrema measures 0 for points inside a solid.
+  TopoDS_Compound surface;
+  BRep_Builder builder;
+  builder.MakeCompound(surface);
+  for (int f = 1; f <= faces.Extent(); ++f) builder.Add(surface, faces(f));
+
+  const Points points = mixedPoints(target, 300, 11);
+  const ProjectionResult result = target.project(points);
+  for (Eigen::Index i = 0; i < points.rows(); ++i) {
+    const gp_Pnt q(points(i, 0), points(i, 1), points(i, 2));
+    BRepExtrema_DistShapeShape reference(BRepBuilderAPI_MakeVertex(q).Vertex(), surface);
+    ASSERT_TRUE(reference.IsDone());
+    const auto status = result.status[static_cast<std::size_t>(i)];
+    ASSERT_TRUE(status == ProjectionStatus::Ok || status == ProjectionStatus::OnTrimBoundary) << "point " << i;
+    // Where the nearest point is a vertex or lies on an edge, the model itself is only defined
+    // to that vertex's or edge's tolerance (its 3D curves end up to 1e-3 mm from its vertices).
+    double modelTolerance = 0;
+    if (reference.SupportTypeShape2(1) == BRepExtrema_IsVertex)
+      modelTolerance = BRep_Tool::Tolerance(TopoDS::Vertex(reference.SupportOnShape2(1)));
+    else if (reference.SupportTypeShape2(1) == BRepExtrema_IsOnEdge)
+      modelTolerance = BRep_Tool::Tolerance(TopoDS::Edge(reference.SupportOnShape2(1)));
+    EXPECT_NEAR(result.distances[i], reference.Value(), 1e-9 * size + modelTolerance) << "point " << i;
+
+    // The foot point is S(u, v) of its face, and (u, v) lies inside that face's trim.
+    const TopoDS_Face& face = TopoDS::Face(faces(result.faces[i] + 1));
+    const gp_Pnt onSurface = BRep_Tool::Surface(face)->Value(result.params(i, 0), result.params(i, 1));
+    const double edgeTolerance = status == ProjectionStatus::OnTrimBoundary ? 2 * BRep_Tool::MaxTolerance(face, TopAbs_EDGE) : 0;
+    EXPECT_LE(onSurface.Distance(gp_Pnt(result.points(i, 0), result.points(i, 1), result.points(i, 2))),
+              1e-9 * size + edgeTolerance)
+        << "point " << i;
+    const BRepClass_FaceClassifier classifier(face, gp_Pnt2d(result.params(i, 0), result.params(i, 1)),
+                                              BRep_Tool::Tolerance(face));
+    EXPECT_NE(classifier.State(), TopAbs_OUT) << "point " << i << " face " << result.faces[i];
+  }
+}
+
+TEST_P(TargetCad, WarmStartsEqualColdStarts) {
+  const Target target(cad::readShapeFile(kDataDir + "/" + GetParam()));
+  const double size = target.report().diagonal;
+  const Points points = mixedPoints(target, 2000, 12);
+  const ProjectionResult previous = target.project(points);
+  // A fitting pass moves its samples a little and warm-starts from their previous locations.
+  const Points moved = points + 1e-3 * size * mixedPoints(target, 2000, 13).rowwise().normalized();
+  const SurfaceHints hints{previous.faces, previous.params};
+  const ProjectionResult warm = target.project(moved, &hints);
+  const ProjectionResult cold = target.project(moved);
+  for (Eigen::Index i = 0; i < points.rows(); ++i) {
+    EXPECT_NEAR(warm.distances[i], cold.distances[i], 1e-12 * size) << "point " << i;
+    EXPECT_LE((warm.points.row(i) - cold.points.row(i)).norm(), 1e-9 * size) << "point " << i;
+    EXPECT_EQ(warm.status[static_cast<std::size_t>(i)], cold.status[static_cast<std::size_t>(i)]) << "point " << i;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Files, TargetCad, ::testing::Values("AileM6_with_sharp_TE.stp", "hemisph-cyl.stp"));
+
+TEST(TargetCad, OneraM6Report) {
+  const Target target(cad::readShapeFile(kDataDir + "/AileM6_with_sharp_TE.stp"));
+  const TargetReport& report = target.report();
+  EXPECT_EQ(report.shape.faceCount(), 11);
+  EXPECT_EQ(report.shape.countFacesOfType("BSplineSurface"), 8);
+  EXPECT_EQ(report.shape.countFacesOfType("Plane"), 3);
+  EXPECT_GT(report.diagonal, 800.0);  // mm: root chord about 806
+  EXPECT_TRUE(report.freeEdges.empty()) << "the wing is closed by its root plane";
+  EXPECT_TRUE(report.gaps.empty());
+  EXPECT_FALSE(report.sharpEdges.empty());
+  EXPECT_TRUE(report.untessellatedFaces.empty());
+}
+
+// Points just off the upper and lower skins near the sharp trailing edge must project onto the
+// skin they are next to, although the other skin is only a fraction of a millimetre away.
+TEST(TargetCad, OneraM6TrailingEdgeSidesStaySeparate) {
+  const TopoDS_Shape shape = cad::readShapeFile(kDataDir + "/AileM6_with_sharp_TE.stp");
+  const Target target(shape);
+  const TargetReport& report = target.report();
+  // The trailing edge: the sharpest edge. It joins two narrow planar strips that close the
+  // upper and lower skins at the trailing edge.
+  ASSERT_FALSE(report.sharpEdges.empty());
+  int trailingEdge = report.sharpEdges.front();
+  for (int id : report.sharpEdges)
+    if (report.shape.edges[static_cast<std::size_t>(id)].maxDihedralDegrees >
+        report.shape.edges[static_cast<std::size_t>(trailingEdge)].maxDihedralDegrees)
+      trailingEdge = id;
+  const cad::EdgeInfo& edge = report.shape.edges[static_cast<std::size_t>(trailingEdge)];
+  ASSERT_EQ(edge.faces.size(), 2u);
+  EXPECT_GT(edge.maxDihedralDegrees, 150.0) << "a sharp trailing edge is nearly a knife edge";
+
+  // Random points of the two faces' triangles put exactly on their face, then moved off it
+  // along its outward normal by a tenth of their distance to the edge: there the other face
+  // is farther away than the offset, but only by a fraction of a millimetre.
+  std::mt19937 generator(21);
+  std::uniform_real_distribution<double> unit(0, 1);
+  std::vector<int> sides;
+  Points samples(0, 3);
+  for (Eigen::Index t = 0; t < target.meshTriangles().rows(); ++t) {
+    const int face = target.meshTriangleFaces()[t];
+    const int side = face == edge.faces[0] ? 0 : face == edge.faces[1] ? 1 : -1;
+    if (side < 0) continue;
+    for (int k = 0; k < 15; ++k) {
+      double a = unit(generator), b = unit(generator);
+      if (a + b > 1) {
+        a = 1 - a;
+        b = 1 - b;
+      }
+      const auto nodes = target.meshTriangles().row(t);
+      samples.conservativeResize(samples.rows() + 1, 3);
+      samples.row(samples.rows() - 1) = (1 - a - b) * target.meshNodes().row(nodes[0]) +
+                                        a * target.meshNodes().row(nodes[1]) + b * target.meshNodes().row(nodes[2]);
+      sides.push_back(side);
+    }
+  }
+  const ProjectionResult toEdge = target.projectToEdges(samples, {trailingEdge});
+  const ProjectionResult toFace = target.project(samples);
+  int checked[2] = {0, 0};
+  for (Eigen::Index i = 0; i < samples.rows(); ++i) {
+    const int side = sides[static_cast<std::size_t>(i)];
+    const int face = edge.faces[static_cast<std::size_t>(side)];
+    const double fromEdge = toEdge.distances[i];
+    if (toFace.faces[i] != face || fromEdge < 0.2) continue;
+    const double offset = 0.1 * fromEdge;
+    const Points q = toFace.points.row(i) + offset * toFace.normals.row(i);
+    const ProjectionResult result = target.project(q);
+    EXPECT_EQ(result.faces[0], face) << "side " << side << " sample " << i;
+    EXPECT_NEAR(result.distances[0], offset, 1e-9 * report.diagonal) << "side " << side << " sample " << i;
+    // q lies outside the wing, so the distance to the shape is the distance to its surface.
+    BRepExtrema_DistShapeShape reference(BRepBuilderAPI_MakeVertex(gp_Pnt(q(0, 0), q(0, 1), q(0, 2))).Vertex(), shape);
+    EXPECT_NEAR(result.distances[0], reference.Value(), 1e-9 * report.diagonal) << "side " << side << " sample " << i;
+    ++checked[side];
+  }
+  EXPECT_GE(checked[0], 10);
+  EXPECT_GE(checked[1], 10);
+}
+
+}  // namespace
+}  // namespace bvmesh::target

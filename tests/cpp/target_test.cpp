@@ -1,0 +1,200 @@
+// Target on analytic shapes: projections against closed forms, trims, edges, vertices,
+// directions, bad input.
+#include "core/target/target.h"
+
+#include <gtest/gtest.h>
+
+#include <BRep_Builder.hxx>
+#include <BRepBuilderAPI_MakeEdge.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakeWire.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRepPrimAPI_MakeSphere.hxx>
+#include <GC_MakeCircle.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Compound.hxx>
+#include <gp_Circ.hxx>
+#include <gp_Pln.hxx>
+
+#include <cmath>
+#include <random>
+
+#include "core/common/errors.h"
+
+namespace bvmesh::target {
+namespace {
+
+// #count x 3 points uniform in the box [lo, hi]^3.
+Points randomPoints(int count, double lo, double hi, unsigned seed) {
+  std::mt19937 generator(seed);
+  std::uniform_real_distribution<double> uniform(lo, hi);
+  Points points(count, 3);
+  for (int i = 0; i < count; ++i)
+    for (int k = 0; k < 3; ++k) points(i, k) = uniform(generator);
+  return points;
+}
+
+TEST(Target, SphereMatchesClosedForm) {
+  const double radius = 2.5;
+  const Eigen::Vector3d center(1, -2, 0.5);
+  const Target target(BRepPrimAPI_MakeSphere(gp_Pnt(center.x(), center.y(), center.z()), radius).Shape());
+  const double tolerance = 1e-12 * target.report().diagonal;
+  Points points = randomPoints(2000, -6, 6, 1);
+  const ProjectionResult result = target.project(points);
+  for (Eigen::Index i = 0; i < points.rows(); ++i) {
+    const Eigen::Vector3d q = points.row(i).transpose();
+    const Eigen::Vector3d radial = (q - center).normalized();
+    ASSERT_NE(result.status[static_cast<std::size_t>(i)], ProjectionStatus::Failed) << "point " << i;
+    EXPECT_NEAR(result.distances[i], std::abs((q - center).norm() - radius), tolerance) << "point " << i;
+    EXPECT_LE((result.points.row(i).transpose() - (center + radius * radial)).norm(), 1e-9) << "point " << i;
+    EXPECT_GT(result.normals.row(i).dot(radial), 1 - 1e-9) << "outward normal, point " << i;
+  }
+}
+
+// Distance from q to the boundary of the solid cylinder of radius r and height h on the z axis.
+double cylinderDistance(const Eigen::Vector3d& q, double r, double h) {
+  const double rho = std::hypot(q.x(), q.y());
+  const bool insideRadially = rho <= r;
+  const bool insideAxially = q.z() >= 0 && q.z() <= h;
+  if (insideRadially && insideAxially) return std::min({r - rho, q.z(), h - q.z()});
+  const double dz = q.z() < 0 ? -q.z() : std::max(0.0, q.z() - h);
+  if (insideRadially) return dz;
+  if (insideAxially) return rho - r;
+  return std::hypot(rho - r, dz);
+}
+
+TEST(Target, CylinderMatchesClosedFormIncludingRims) {
+  const double r = 1.5, h = 4.0;
+  const Target target(BRepPrimAPI_MakeCylinder(r, h).Shape());
+  const double tolerance = 1e-12 * target.report().diagonal;
+  const Points points = randomPoints(2000, -3, 6, 2);
+  const ProjectionResult result = target.project(points);
+  int onRim = 0;
+  for (Eigen::Index i = 0; i < points.rows(); ++i) {
+    const Eigen::Vector3d q = points.row(i).transpose();
+    ASSERT_NE(result.status[static_cast<std::size_t>(i)], ProjectionStatus::Failed) << "point " << i;
+    EXPECT_NEAR(result.distances[i], cylinderDistance(q, r, h), tolerance) << "point " << i;
+    EXPECT_NEAR((result.points.row(i) - points.row(i)).norm(), result.distances[i], tolerance);
+    onRim += result.status[static_cast<std::size_t>(i)] == ProjectionStatus::OnTrimBoundary ? 1 : 0;
+  }
+  EXPECT_GT(onRim, 100) << "points beyond the rims project onto the circular edges";
+}
+
+// A square plate z = 0, [-2, 2]^2, with a circular hole of radius 1 at the origin.
+TopoDS_Face plateWithHole() {
+  const gp_Pln plane(gp::XOY());
+  TopoDS_Face square = BRepBuilderAPI_MakeFace(plane, -2, 2, -2, 2).Face();
+  const gp_Circ circle(gp_Ax2(gp_Pnt(0, 0, 0), gp::DZ()), 1.0);
+  TopoDS_Wire hole = BRepBuilderAPI_MakeWire(BRepBuilderAPI_MakeEdge(circle).Edge()).Wire();
+  hole.Reverse();  // inner wires run clockwise
+  return BRepBuilderAPI_MakeFace(square, hole).Face();
+}
+
+TEST(Target, TrimmedPlateMatchesClosedForm) {
+  const Target target(plateWithHole());
+  EXPECT_EQ(target.report().freeEdges.size(), 5u);  // four sides and the hole
+  const double tolerance = 1e-12 * target.report().diagonal;
+  const Points points = randomPoints(2000, -3, 3, 3);
+  const ProjectionResult result = target.project(points);
+  int inHole = 0;
+  for (Eigen::Index i = 0; i < points.rows(); ++i) {
+    const Eigen::Vector3d q = points.row(i).transpose();
+    // Closest point of the plate: clamp to the square, then push out of the hole.
+    Eigen::Vector2d p(std::clamp(q.x(), -2.0, 2.0), std::clamp(q.y(), -2.0, 2.0));
+    if (p.norm() < 1) {
+      p = p.norm() > 0 ? Eigen::Vector2d(p.normalized()) : Eigen::Vector2d(1, 0);
+      ++inHole;
+    }
+    const double expected = (Eigen::Vector3d(p.x(), p.y(), 0) - q).norm();
+    EXPECT_NEAR(result.distances[i], expected, tolerance) << "point " << i << " at " << q.transpose();
+    const bool inside = std::abs(q.x()) < 2 && std::abs(q.y()) < 2 && q.head<2>().norm() > 1;
+    EXPECT_EQ(result.status[static_cast<std::size_t>(i)],
+              inside ? ProjectionStatus::Ok : ProjectionStatus::OnTrimBoundary)
+        << "point " << i;
+  }
+  EXPECT_GT(inHole, 100);
+}
+
+TEST(Target, WarmStartEqualsColdStart) {
+  const Target target(BRepPrimAPI_MakeCylinder(1.5, 4.0).Shape());
+  const Points points = randomPoints(2000, -3, 6, 4);
+  const ProjectionResult cold = target.project(points);
+  // Move the points a little, as a fitting pass does, and warm-start from the old locations.
+  const Points moved = points + 0.01 * randomPoints(2000, -1, 1, 5);
+  SurfaceHints hints{cold.faces, cold.params};
+  const ProjectionResult warm = target.project(moved, &hints);
+  const ProjectionResult reference = target.project(moved);
+  for (Eigen::Index i = 0; i < points.rows(); ++i) {
+    EXPECT_NEAR(warm.distances[i], reference.distances[i], 1e-12) << "point " << i;
+    EXPECT_LE((warm.points.row(i) - reference.points.row(i)).norm(), 1e-9) << "point " << i;
+  }
+}
+
+TEST(Target, EdgesVerticesAndDirections) {
+  const double r = 1.5, h = 4.0;
+  const Target target(BRepPrimAPI_MakeCylinder(r, h).Shape());
+  // The two rims are the sharp edges (90 degrees); the seam is not.
+  const std::vector<int> sharp = target.sharpEdges(60.0);
+  ASSERT_EQ(sharp.size(), 2u);
+  const Points points = randomPoints(500, -3, 6, 6);
+  const ProjectionResult onRims = target.projectToEdges(points, sharp);
+  for (Eigen::Index i = 0; i < points.rows(); ++i) {
+    const Eigen::Vector3d q = points.row(i).transpose();
+    const double rho = std::hypot(q.x(), q.y());
+    const double expected = std::hypot(rho - r, std::min(std::abs(q.z()), std::abs(q.z() - h)));
+    EXPECT_NEAR(onRims.distances[i], expected, 1e-12 * target.report().diagonal) << "point " << i;
+    EXPECT_EQ(onRims.status[static_cast<std::size_t>(i)], ProjectionStatus::Ok);
+    EXPECT_NEAR(onRims.normals.row(i).norm(), 1.0, 1e-12);
+  }
+  std::vector<int> all(static_cast<std::size_t>(target.vertexCount()));
+  for (int v = 0; v < target.vertexCount(); ++v) all[static_cast<std::size_t>(v)] = v;
+  const ProjectionResult vertices = target.projectToVertices(points, all);
+  for (Eigen::Index i = 0; i < points.rows(); ++i) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (int v : all) nearest = std::min(nearest, (target.vertexPosition(v) - points.row(i).transpose()).norm());
+    EXPECT_DOUBLE_EQ(vertices.distances[i], nearest);
+  }
+  // Horizontal lines through the axis cross the lateral face at distance |rho - r| or rho + r.
+  Points origins(300, 3);
+  Points directions(300, 3);
+  std::mt19937 generator(7);
+  std::uniform_real_distribution<double> uniform(0, 1);
+  for (int i = 0; i < 300; ++i) {
+    const double angle = 2 * M_PI * uniform(generator);
+    const double rho = 3 * uniform(generator);
+    origins.row(i) << rho * std::cos(angle), rho * std::sin(angle), 0.2 + 3.6 * uniform(generator);
+    directions.row(i) << std::cos(angle), std::sin(angle), 0;
+  }
+  const ProjectionResult along = target.projectAlong(origins, directions);
+  for (Eigen::Index i = 0; i < origins.rows(); ++i) {
+    const double rho = origins.row(i).head<2>().norm();
+    EXPECT_EQ(along.status[static_cast<std::size_t>(i)], ProjectionStatus::Ok) << "point " << i;
+    EXPECT_NEAR(along.distances[i], std::abs(rho - r), 1e-12 * target.report().diagonal) << "point " << i;
+    EXPECT_NEAR(along.points.row(i).head<2>().norm(), r, 1e-12);
+  }
+}
+
+TEST(Target, RejectsBadInput) {
+  EXPECT_THROW(Target{TopoDS_Shape{}}, InvalidInputError);
+  TopoDS_Compound empty;
+  BRep_Builder().MakeCompound(empty);
+  EXPECT_THROW(Target{empty}, TopologyError);
+  const Target target(BRepPrimAPI_MakeSphere(1.0).Shape());
+  Points points = Points::Zero(3, 3);
+  points(1, 2) = std::nan("");
+  try {
+    target.project(points);
+    FAIL() << "no exception";
+  } catch (const InvalidInputError& error) {
+    EXPECT_NE(std::string(error.what()).find("point 1"), std::string::npos) << error.what();
+  }
+  points(1, 2) = 0;
+  SurfaceHints hints{Eigen::VectorXi::Constant(3, 5), Params::Zero(3, 2)};
+  EXPECT_THROW(target.project(points, &hints), InvalidInputError);
+  EXPECT_THROW(target.projectToEdges(points, {99}), InvalidInputError);
+  EXPECT_THROW(target.projectToVertices(points, {}), InvalidInputError);
+  EXPECT_THROW(target.projectAlong(points, Points::Zero(3, 3)), InvalidInputError);
+}
+
+}  // namespace
+}  // namespace bvmesh::target
