@@ -4,11 +4,13 @@
 //           extraordinary vertices);
 //   creased: an n x n bumpy grid with creases every 8th line (many 8 x 8 charts).
 // Baseline in the same run: evaluating the limit surface at the fit's samples (16 per quad) alone.
+// The limit evaluator is the shared one (core/subdiv), built from the ControlMesh.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <functional>
 #include <map>
+#include <memory>
 #include <vector>
 
 #include "core/surface/limit_bsplines.h"
@@ -106,18 +108,23 @@ Row run(const QuadControlMesh& mesh) {
   ChartLayout layout;
   row.layout = seconds([&] { layout = buildChartLayout(mesh); });
   row.charts = layout.charts.size();
-  std::unique_ptr<SubdivisionLimitSurface> limit;
-  row.limit = seconds([&] { limit = std::make_unique<SubdivisionLimitSurface>(mesh); });
-  std::vector<FaceLocation> samples;
+  std::unique_ptr<bvmesh::ControlMesh> controlMesh;
+  std::unique_ptr<bvmesh::LimitEvaluator> limit;
+  row.limit = seconds([&] {
+    controlMesh = std::make_unique<bvmesh::ControlMesh>(toControlMesh(mesh));
+    limit = std::make_unique<bvmesh::LimitEvaluator>(*controlMesh, bvmesh::SubdivisionOptions{}, 8);
+  });
+  const LimitPointsFunction points = limitPoints(*limit, controlMesh->vertices());
+  std::vector<bvmesh::SurfaceLocation> samples;
   for (int f = 0; f < mesh.faces.rows(); ++f) {
     for (int a = 0; a < 4; ++a) {
       for (int b = 0; b < 4; ++b) samples.push_back({f, (a + 0.5) / 4, (b + 0.5) / 4});
     }
   }
-  RowMatrixX3d points;
-  row.baseline = seconds([&] { limit->evaluate(samples, points); });
+  bvmesh::RowMatrixX3d evaluated;
+  row.baseline = seconds([&] { points(samples, evaluated); });
   LimitBSplines result;
-  row.fit = seconds([&] { result = fitLimitBSplines(layout, limit->evaluator()); });
+  row.fit = seconds([&] { result = fitLimitBSplines(layout, points); });
   for (double d : result.maxDeviation) row.deviation = std::max(row.deviation, d);
   row.sew = seconds([&] { sewBSplineSurfaces(result.surfaces); });
   return row;

@@ -196,14 +196,13 @@ void bindSurface(py::module_& module) {
   module.def(
       "limit_surface_to_bsplines",
       [](const py::object& vertices, const py::object& faces, const py::object& creases,
-         const py::object& corners, int samplesPerSpan, int checkSamplesPerSpan, int maxIsolationLevel,
-         bool sew, double sewingTolerance, bool makeSolid) {
+         const py::object& corners, int samplesPerSpan, int checkSamplesPerSpan, int isolationLevel, bool sew,
+         double sewingTolerance, bool makeSolid) {
         const surface::QuadControlMesh mesh = meshFromArrays(vertices, faces, creases, corners);
         surface::LimitBSplineOptions options;
         options.samplesPerSpan = samplesPerSpan;
         options.checkSamplesPerSpan = checkSamplesPerSpan;
-        surface::SubdivisionLimitOptions limitOptions;
-        limitOptions.maxIsolationLevel = maxIsolationLevel;
+        options.isolationLevel = isolationLevel;
         surface::SewingOptions sewing;
         sewing.relativeTolerance = sewingTolerance;
         sewing.makeSolid = makeSolid;
@@ -212,7 +211,7 @@ void bindSurface(py::module_& module) {
         std::string brep;
         {
           py::gil_scoped_release release;
-          result = surface::limitSurfaceToBSplines(mesh, options, limitOptions);
+          result = surface::limitSurfaceToBSplines(mesh, options);
           if (sew) {
             sewn = surface::sewBSplineSurfaces(result.surfaces, sewing);
             brep = cad::writeBrepString(sewn.shape);
@@ -221,9 +220,8 @@ void bindSurface(py::module_& module) {
         return resultToDict(result, sew ? &sewn : nullptr, brep);
       },
       py::arg("vertices"), py::arg("faces"), py::arg("creases") = py::none(), py::arg("corners") = py::none(),
-      py::arg("samples_per_span") = 4, py::arg("check_samples_per_span") = 9,
-      py::arg("max_isolation_level") = 8, py::arg("sew") = true, py::arg("sewing_tolerance") = 1e-7,
-      py::arg("make_solid") = true,
+      py::arg("samples_per_span") = 4, py::arg("check_samples_per_span") = 9, py::arg("isolation_level") = 8,
+      py::arg("sew") = true, py::arg("sewing_tolerance") = 1e-7, py::arg("make_solid") = true,
       R"doc(Converts the Catmull-Clark limit surface of an all-quad control mesh to bicubic B-spline surfaces.
 
 vertices: (#V, 3) float; faces: (#F, 4) int, counter-clockwise; creases: (#C, 2) int vertex pairs of

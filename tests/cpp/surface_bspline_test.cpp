@@ -31,17 +31,28 @@ double modelSize(const QuadControlMesh& mesh) {
   return (mesh.vertices.colwise().maxCoeff() - mesh.vertices.colwise().minCoeff()).norm();
 }
 
+// The shared limit evaluator on a quad mesh, as the conversion uses it.
+struct Limit {
+  explicit Limit(const QuadControlMesh& mesh)
+      : controlMesh(toControlMesh(mesh)), evaluator(controlMesh, {}, 8) {}
+  RowMatrixX3d points(const std::vector<SurfaceLocation>& locations) const {
+    return evaluator.evaluate(controlMesh.vertices(), locations).positions;
+  }
+  ControlMesh controlMesh;
+  LimitEvaluator evaluator;
+};
+
 double bump(double x, double y) {
   return 0.3 * std::sin(1.3 * x + 0.4) * std::cos(0.9 * y - 0.2) + 0.05 * x * y;
 }
 
 // Face location of chart parameters, from the documented cell convention alone: cell corner k is
 // face vertex (k + rotation) % 4, and the face's corners sit at (0,0), (1,0), (1,1), (0,1).
-FaceLocation locateInCell(const QuadChart& chart, int i, int j, double a, double b) {
+SurfaceLocation locateInCell(const QuadChart& chart, int i, int j, double a, double b) {
   const double cu[4] = {0, 1, 1, 0};
   const double cv[4] = {0, 0, 1, 1};
   const double weight[4] = {(1 - a) * (1 - b), a * (1 - b), a * b, (1 - a) * b};
-  FaceLocation location{chart.face(i, j), 0.0, 0.0};
+  SurfaceLocation location{chart.face(i, j), 0.0, 0.0};
   for (int k = 0; k < 4; ++k) {
     const int corner = (k + chart.rotation(i, j)) % 4;
     location.u += weight[k] * cu[corner];
@@ -50,7 +61,7 @@ FaceLocation locateInCell(const QuadChart& chart, int i, int j, double a, double
   return location;
 }
 
-FaceLocation locate(const QuadChart& chart, double s, double t) {
+SurfaceLocation locate(const QuadChart& chart, double s, double t) {
   const int i = std::min(static_cast<int>(s), chart.uCells - 1);
   const int j = std::min(static_cast<int>(t), chart.vCells - 1);
   return locateInCell(chart, i, j, s - i, t - j);
@@ -71,12 +82,12 @@ void uniformBasis(double t, double b[4]) {
 
 // Max distance between the OCCT B-spline surfaces and the limit surface on a grid of points per
 // cell that differs from both the fit and the check sampling.
-double maxDistanceToLimit(const LimitBSplines& result, const SubdivisionLimitSurface& limit, int perCell) {
+double maxDistanceToLimit(const LimitBSplines& result, const Limit& limit, int perCell) {
   double worst = 0.0;
   for (size_t c = 0; c < result.layout.charts.size(); ++c) {
     const QuadChart& chart = result.layout.charts[c];
     const Handle(Geom_BSplineSurface) surface = cad::makeBSplineSurface(result.surfaces[c]);
-    std::vector<FaceLocation> locations;
+    std::vector<SurfaceLocation> locations;
     std::vector<Eigen::Vector3d> fitted;
     for (int a = 0; a <= chart.uCells * perCell; ++a) {
       for (int b = 0; b <= chart.vCells * perCell; ++b) {
@@ -86,8 +97,7 @@ double maxDistanceToLimit(const LimitBSplines& result, const SubdivisionLimitSur
         fitted.push_back(occtPoint(surface, s, t));
       }
     }
-    RowMatrixX3d points;
-    limit.evaluate(locations, points);
+    const RowMatrixX3d points = limit.points(locations);
     for (size_t k = 0; k < fitted.size(); ++k) {
       worst = std::max(worst, (points.row(static_cast<Eigen::Index>(k)).transpose() - fitted[k]).norm());
     }
@@ -123,17 +133,16 @@ double maxSharedBorderDistance(const LimitBSplines& result) {
 
 // Volume inside the limit surface: divergence theorem on a k x k triangulation per face,
 // Richardson-extrapolated from k and 2k (the error of the triangulation falls like 1/k^2).
-double limitVolume(const QuadControlMesh& mesh, const SubdivisionLimitSurface& limit, int k) {
+double limitVolume(const QuadControlMesh& mesh, const Limit& limit, int k) {
   auto triangulated = [&](int n) {
-    std::vector<FaceLocation> locations;
+    std::vector<SurfaceLocation> locations;
     for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
       for (int a = 0; a <= n; ++a) {
         for (int b = 0; b <= n; ++b)
           locations.push_back({static_cast<int>(f), static_cast<double>(a) / n, static_cast<double>(b) / n});
       }
     }
-    RowMatrixX3d p;
-    limit.evaluate(locations, p);
+    const RowMatrixX3d p = limit.points(locations);
     double volume = 0.0;
     const int stride = (n + 1) * (n + 1);
     for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
@@ -165,7 +174,7 @@ TEST(SurfaceBSplines, RegularGridsAreReproducedExactly) {
     const LimitBSplines result = limitSurfaceToBSplines(mesh);
     ASSERT_EQ(result.surfaces.size(), 1u);
     EXPECT_LT(result.maxDeviation[0], 1e-12 * size);
-    const SubdivisionLimitSurface limit(mesh);
+    const Limit limit(mesh);
     EXPECT_LT(maxDistanceToLimit(result, limit, 7), 1e-12 * size);
 
     // Independent of OpenSubdiv: on every face the limit surface is the uniform bicubic B-spline
@@ -189,7 +198,7 @@ TEST(SurfaceBSplines, RegularGridsAreReproducedExactly) {
         const int j = f % ny;
         for (double a : {0.0, 0.3, 0.77, 1.0}) {
           for (double b : {0.0, 0.45, 0.9}) {
-            const FaceLocation at = locateInCell(chart, ci, cj, a, b);
+            const SurfaceLocation at = locateInCell(chart, ci, cj, a, b);
             double bu[4];
             double bv[4];
             uniformBasis(at.u, bu);
@@ -255,7 +264,7 @@ void expectWatertightSolid(const QuadControlMesh& mesh, const std::string& name)
   BRepGProp::VolumeProperties(sewn.shape, volumeProps);
   GProp_GProps areaProps;
   BRepGProp::SurfaceProperties(sewn.shape, areaProps);
-  const SubdivisionLimitSurface limit(mesh);
+  const Limit limit(mesh);
   const double exact = limitVolume(mesh, limit, 24);
   // The volumes differ by at most area x max deviation (plus the extrapolated tessellation error).
   const double bound = areaProps.Mass() * maxDeviation + 1e-6 * exact;
@@ -380,13 +389,13 @@ TEST(SurfaceBSplines, RejectsBadOptionsAndEvaluators) {
   LimitBSplineOptions options;
   options.samplesPerSpan = 3;
   EXPECT_THROW(limitSurfaceToBSplines(mesh, options), InvalidInputError);
-  const LimitEvaluator broken = [](const std::vector<FaceLocation>& locations, RowMatrixX3d& points) {
+  const LimitPointsFunction broken = [](const std::vector<SurfaceLocation>& locations, RowMatrixX3d& points) {
     points = RowMatrixX3d::Constant(static_cast<Eigen::Index>(locations.size()), 3, std::nan(""));
   };
   EXPECT_THROW(fitLimitBSplines(buildChartLayout(mesh), broken), SolverError);
-  SubdivisionLimitOptions limitOptions;
-  limitOptions.maxIsolationLevel = 0;
-  EXPECT_THROW(limitSurfaceToBSplines(mesh, {}, limitOptions), InvalidInputError);
+  LimitBSplineOptions shallow;
+  shallow.isolationLevel = 0;
+  EXPECT_THROW(limitSurfaceToBSplines(mesh, shallow), InvalidInputError);
   EXPECT_THROW(sewBSplineSurfaces({}), InvalidInputError);
 }
 

@@ -1,18 +1,13 @@
 // Control meshes for the surface tests: grids, an L-shape, a torus, a tube and Catmull-Clark
-// refinements of a cube (OpenSubdiv uniform refinement, the same rules as the limit evaluator).
+// refinements of a cube (the core's subdivision, the same rules as the limit evaluator).
 #pragma once
-
-#include <opensubdiv/far/primvarRefiner.h>
-#include <opensubdiv/far/topologyDescriptor.h>
-#include <opensubdiv/far/topologyRefinerFactory.h>
 
 #include <cmath>
 #include <functional>
-#include <memory>
-#include <stdexcept>
 #include <vector>
 
-#include "core/surface/quad_charts.h"
+#include "core/subdiv/subdivision.h"
+#include "core/surface/limit_points.h"
 
 namespace bvmesh::surface::testing {
 
@@ -36,21 +31,31 @@ inline QuadControlMesh fromLists(const std::vector<Eigen::Vector3d>& points,
   return mesh;
 }
 
-// An (nx x ny)-quad grid over [0, nx] x [0, ny] with height z(x, y), counter-clockwise seen from +z;
-// faces for which `keep(i, j)` is false are left out (unused vertices stay, unreferenced).
+// An (nx x ny)-quad grid over [0, nx] x [0, ny] with height z(x, y), counter-clockwise seen from
+// +z. Vertex (i, j) is i * (ny + 1) + j; faces for which `keep(i, j)` is false are left out and
+// the vertices they leave unused are dropped (later ids shift down).
 inline QuadControlMesh grid(int nx, int ny, const std::function<double(double, double)>& z,
                             const std::function<bool(int, int)>& keep = nullptr) {
-  std::vector<Eigen::Vector3d> points;
-  for (int i = 0; i <= nx; ++i) {
-    for (int j = 0; j <= ny; ++j) points.emplace_back(i, j, z(i, j));
-  }
   auto id = [ny](int i, int j) { return i * (ny + 1) + j; };
   std::vector<std::array<int, 4>> quads;
+  std::vector<int> newId(static_cast<size_t>((nx + 1) * (ny + 1)), -1);
   for (int i = 0; i < nx; ++i) {
     for (int j = 0; j < ny; ++j) {
       if (keep && !keep(i, j)) continue;
       quads.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+      for (int v : quads.back()) newId[static_cast<size_t>(v)] = 0;
     }
+  }
+  std::vector<Eigen::Vector3d> points;
+  for (int i = 0; i <= nx; ++i) {
+    for (int j = 0; j <= ny; ++j) {
+      if (newId[static_cast<size_t>(id(i, j))] < 0) continue;
+      newId[static_cast<size_t>(id(i, j))] = static_cast<int>(points.size());
+      points.emplace_back(i, j, z(i, j));
+    }
+  }
+  for (auto& quad : quads) {
+    for (int& v : quad) v = newId[static_cast<size_t>(v)];
   }
   return fromLists(points, quads);
 }
@@ -115,81 +120,12 @@ inline QuadControlMesh cube() {
                    {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}});
 }
 
-// `levels` Catmull-Clark steps (Catmark, edge-and-corner boundaries, uniform creases); creases
-// and corners carry over to the refined mesh.
+// `levels` Catmull-Clark steps with the core's subdivision (thesis rules); creases and corners
+// carry over to the refined mesh.
 inline QuadControlMesh subdivide(const QuadControlMesh& mesh, int levels) {
-  namespace Far = OpenSubdiv::Far;
-  namespace Sdc = OpenSubdiv::Sdc;
-  const int faceCount = static_cast<int>(mesh.faces.rows());
-  std::vector<int> sizes(static_cast<size_t>(faceCount), 4);
-  std::vector<int> creaseIndices(mesh.creases.data(), mesh.creases.data() + mesh.creases.size());
-  std::vector<float> creaseWeights(static_cast<size_t>(mesh.creases.rows()), Sdc::Crease::SHARPNESS_INFINITE);
-  std::vector<float> cornerWeights(mesh.corners.size(), Sdc::Crease::SHARPNESS_INFINITE);
-  Far::TopologyDescriptor descriptor;
-  descriptor.numVertices = static_cast<int>(mesh.vertices.rows());
-  descriptor.numFaces = faceCount;
-  descriptor.numVertsPerFace = sizes.data();
-  descriptor.vertIndicesPerFace = mesh.faces.data();
-  descriptor.numCreases = static_cast<int>(mesh.creases.rows());
-  descriptor.creaseVertexIndexPairs = creaseIndices.data();
-  descriptor.creaseWeights = creaseWeights.data();
-  descriptor.numCorners = static_cast<int>(mesh.corners.size());
-  descriptor.cornerVertexIndices = mesh.corners.data();
-  descriptor.cornerWeights = cornerWeights.data();
-  Sdc::Options options;
-  options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
-  options.SetCreasingMethod(Sdc::Options::CREASE_UNIFORM);
-  using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
-  std::unique_ptr<Far::TopologyRefiner> refiner(
-      Factory::Create(descriptor, Factory::Options(Sdc::SCHEME_CATMARK, options)));
-  if (!refiner) throw std::runtime_error("OpenSubdiv rejected the test mesh");
-  Far::TopologyRefiner::UniformOptions uniform(levels);
-  uniform.fullTopologyInLastLevel = true;
-  refiner->RefineUniform(uniform);
-
-  struct Point {
-    double x[3];
-    void Clear() { x[0] = x[1] = x[2] = 0; }
-    void AddWithWeight(const Point& p, double w) {
-      for (int d = 0; d < 3; ++d) x[d] += w * p.x[d];
-    }
-  };
-  std::vector<Point> points(static_cast<size_t>(refiner->GetNumVerticesTotal()));
-  for (Eigen::Index v = 0; v < mesh.vertices.rows(); ++v) {
-    for (int d = 0; d < 3; ++d) points[static_cast<size_t>(v)].x[d] = mesh.vertices(v, d);
-  }
-  Far::PrimvarRefinerReal<double> primvars(*refiner);
-  Point* source = points.data();
-  for (int level = 1; level <= levels; ++level) {
-    Point* destination = source + refiner->GetLevel(level - 1).GetNumVertices();
-    primvars.Interpolate(level, source, destination);
-    source = destination;
-  }
-  const Far::TopologyLevel& last = refiner->GetLevel(levels);
-  QuadControlMesh result;
-  result.vertices.resize(last.GetNumVertices(), 3);
-  for (int v = 0; v < last.GetNumVertices(); ++v) {
-    for (int d = 0; d < 3; ++d) result.vertices(v, d) = source[v].x[d];
-    if (last.GetVertexSharpness(v) >= Sdc::Crease::SHARPNESS_INFINITE) result.corners.push_back(v);
-  }
-  result.faces.resize(last.GetNumFaces(), 4);
-  for (int f = 0; f < last.GetNumFaces(); ++f) {
-    const Far::ConstIndexArray fv = last.GetFaceVertices(f);
-    for (int k = 0; k < 4; ++k) result.faces(f, k) = fv[k];
-  }
-  std::vector<std::array<int, 2>> creases;
-  for (int e = 0; e < last.GetNumEdges(); ++e) {
-    if (last.GetEdgeSharpness(e) >= Sdc::Crease::SHARPNESS_INFINITE) {
-      const Far::ConstIndexArray ev = last.GetEdgeVertices(e);
-      creases.push_back({ev[0], ev[1]});
-    }
-  }
-  result.creases.resize(static_cast<Eigen::Index>(creases.size()), 2);
-  for (size_t c = 0; c < creases.size(); ++c) {
-    result.creases(static_cast<Eigen::Index>(c), 0) = creases[c][0];
-    result.creases(static_cast<Eigen::Index>(c), 1) = creases[c][1];
-  }
-  return result;
+  ControlMesh refined = toControlMesh(mesh);
+  for (int level = 0; level < levels; ++level) refined = bvmesh::subdivide(refined).mesh;
+  return toQuadControlMesh(refined);
 }
 
 // The cube refined once with the equator loop (z = 0) made an infinitely sharp crease.

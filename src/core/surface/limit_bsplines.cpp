@@ -177,11 +177,11 @@ std::vector<Vector3d> restrictCurve(const std::vector<Vector3d>& poles, int span
 }
 
 // Mesh face location of chart parameters (s, t) in [0, m] x [0, n].
-FaceLocation chartLocation(const QuadChart& chart, double s, double t) {
+SurfaceLocation chartLocation(const QuadChart& chart, double s, double t) {
   const int i = std::clamp(static_cast<int>(std::floor(s)), 0, chart.uCells - 1);
   const int j = std::clamp(static_cast<int>(std::floor(t)), 0, chart.vCells - 1);
-  const double a = s - i;
-  const double b = t - j;
+  const double a = std::clamp(s - i, 0.0, 1.0);
+  const double b = std::clamp(t - j, 0.0, 1.0);
   const int face = chart.face(i, j);
   switch (chart.rotation(i, j)) {
     case 1:
@@ -252,7 +252,7 @@ std::vector<double> distinctKnots(int spans) {
 
 class Fitter {
  public:
-  Fitter(ChartLayout layout, const LimitEvaluator& limit, const LimitBSplineOptions& options)
+  Fitter(ChartLayout layout, const LimitPointsFunction& limit, const LimitBSplineOptions& options)
       : limit_(limit), options_(options), fits_(options.samplesPerSpan) {
     result_.layout = std::move(layout);
   }
@@ -269,7 +269,7 @@ class Fitter {
   const ChartLayout& layout() const { return result_.layout; }
 
   // Face location of parameter y in [0, #edges] along a segment (seen from its first use).
-  FaceLocation segmentLocation(int segment, double y) const {
+  SurfaceLocation segmentLocation(int segment, double y) const {
     const BorderSegment& seg = layout().segments[static_cast<size_t>(segment)];
     const SegmentUse& use = seg.uses.front();
     const QuadChart& chart = layout().charts[static_cast<size_t>(use.chart)];
@@ -292,7 +292,7 @@ class Fitter {
     }
   }
 
-  FaceLocation lineLocation(int line, double x) const {
+  SurfaceLocation lineLocation(int line, double x) const {
     for (int segment : layout().lines[static_cast<size_t>(line)].segments) {
       const LinePlace& place = places_[static_cast<size_t>(segment)];
       const int length = segmentLength(layout().segments[static_cast<size_t>(segment)]);
@@ -308,7 +308,7 @@ class Fitter {
   // a least-squares fit to limit samples along the line.
   void fitLines() {
     const size_t lineCount = layout().lines.size();
-    std::vector<FaceLocation> locations;
+    std::vector<SurfaceLocation> locations;
     std::vector<size_t> first(lineCount + 1, 0);
     for (size_t l = 0; l < lineCount; ++l) {
       first[l] = locations.size();
@@ -384,7 +384,7 @@ class Fitter {
   void fitCharts() {
     const auto& charts = layout().charts;
     const int perSpan = options_.samplesPerSpan;
-    std::vector<FaceLocation> locations;
+    std::vector<SurfaceLocation> locations;
     std::vector<size_t> first(charts.size(), 0);
     for (size_t c = 0; c < charts.size(); ++c) {
       first[c] = locations.size();
@@ -468,7 +468,7 @@ class Fitter {
   void check() {
     const auto& charts = layout().charts;
     const int perSpan = options_.checkSamplesPerSpan;
-    std::vector<FaceLocation> locations;
+    std::vector<SurfaceLocation> locations;
     std::vector<Vector3d> fitted;
     std::vector<size_t> first(charts.size() + 1, 0);
     for (size_t c = 0; c < charts.size(); ++c) {
@@ -519,7 +519,7 @@ class Fitter {
     if (!points.allFinite()) throw SolverError("the limit evaluator returned non-finite points");
   }
 
-  const LimitEvaluator& limit_;
+  const LimitPointsFunction& limit_;
   LimitBSplineOptions options_;
   FitCache fits_;
   LimitBSplines result_;
@@ -530,7 +530,7 @@ class Fitter {
 
 }  // namespace
 
-LimitBSplines fitLimitBSplines(ChartLayout layout, const LimitEvaluator& limit,
+LimitBSplines fitLimitBSplines(ChartLayout layout, const LimitPointsFunction& limit,
                                const LimitBSplineOptions& options) {
   if (options.samplesPerSpan < 4) {
     throw InvalidInputError("samplesPerSpan " + std::to_string(options.samplesPerSpan) +
@@ -544,11 +544,11 @@ LimitBSplines fitLimitBSplines(ChartLayout layout, const LimitEvaluator& limit,
   return Fitter(std::move(layout), limit, options).run();
 }
 
-LimitBSplines limitSurfaceToBSplines(const QuadControlMesh& mesh, const LimitBSplineOptions& options,
-                                     const SubdivisionLimitOptions& limitOptions) {
+LimitBSplines limitSurfaceToBSplines(const QuadControlMesh& mesh, const LimitBSplineOptions& options) {
   ChartLayout layout = buildChartLayout(mesh);
-  const SubdivisionLimitSurface surface(mesh, limitOptions);
-  return fitLimitBSplines(std::move(layout), surface.evaluator(), options);
+  const ControlMesh controlMesh = toControlMesh(mesh);
+  const LimitEvaluator evaluator(controlMesh, SubdivisionOptions{}, options.isolationLevel);
+  return fitLimitBSplines(std::move(layout), limitPoints(evaluator, controlMesh.vertices()), options);
 }
 
 SewnShape sewBSplineSurfaces(const std::vector<cad::BSplineSurfaceData>& surfaces,

@@ -14,7 +14,7 @@
 #include <vector>
 
 #include "core/cad/bspline_face.h"
-#include "core/surface/limit_evaluator.h"
+#include "core/surface/limit_points.h"
 #include "core/surface/quad_charts.h"
 
 namespace bvmesh::surface {
@@ -30,6 +30,9 @@ struct BSplineCurveData {
 struct LimitBSplineOptions {
   int samplesPerSpan = 4;       // fitting samples per quad and direction (at least 4)
   int checkSamplesPerSpan = 9;  // deviation check: points per quad edge, both ends included (>= 2)
+  // One-shot conversion: OpenSubdiv isolation depth of the limit evaluator around extraordinary
+  // features (Gregory end patches beyond it).
+  int isolationLevel = 8;
 };
 
 struct LimitBSplines {
@@ -41,12 +44,12 @@ struct LimitBSplines {
 };
 
 // Fits the surfaces of a given layout to the limit surface given by `limit`.
-LimitBSplines fitLimitBSplines(ChartLayout layout, const LimitEvaluator& limit,
+LimitBSplines fitLimitBSplines(ChartLayout layout, const LimitPointsFunction& limit,
                                const LimitBSplineOptions& options = {});
 
-// One shot: chart layout, OpenSubdiv limit evaluation and fit.
-LimitBSplines limitSurfaceToBSplines(const QuadControlMesh& mesh, const LimitBSplineOptions& options = {},
-                                     const SubdivisionLimitOptions& limitOptions = {});
+// One shot: chart layout, the shared limit evaluator (default subdivision options: the thesis'
+// rules) and the fit.
+LimitBSplines limitSurfaceToBSplines(const QuadControlMesh& mesh, const LimitBSplineOptions& options = {});
 
 struct SewingOptions {
   double relativeTolerance = 1e-7;  // sewing tolerance as a fraction of the bounding-box diagonal

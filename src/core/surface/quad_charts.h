@@ -9,14 +9,15 @@
 #include <array>
 #include <vector>
 
+#include "core/mesh/control_mesh.h"
+
 namespace bvmesh::surface {
 
-using RowMatrixX3d = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 using RowMatrixX4i = Eigen::Matrix<int, Eigen::Dynamic, 4, Eigen::RowMajor>;
-using RowMatrixX2i = Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor>;
 
-// An all-quad control mesh as plain arrays. Crease edges and corners are infinitely sharp;
-// boundary edges behave like creases (OpenSubdiv VTX_BOUNDARY_EDGE_AND_CORNER).
+// An all-quad control mesh as plain arrays (see limit_points.h for the conversions from and to
+// ControlMesh). Crease edges and corners are infinitely sharp; boundary edges behave like creases
+// (OpenSubdiv VTX_BOUNDARY_EDGE_AND_CORNER).
 struct QuadControlMesh {
   RowMatrixX3d vertices;     // #V x 3 vertex positions
   RowMatrixX4i faces;        // #F x 4 vertex ids, counter-clockwise seen from the front side
