@@ -190,34 +190,54 @@ py::dict resultToDict(const surface::LimitBSplines& result, const surface::SewnS
   return out;
 }
 
+// The conversion and, with `sew`, the sewn shape, without the GIL.
+py::dict convert(const surface::QuadControlMesh& mesh, int samplesPerSpan, int checkSamplesPerSpan,
+                 int isolationLevel, bool sew, double sewingTolerance, bool makeSolid) {
+  surface::LimitBSplineOptions options;
+  options.samplesPerSpan = samplesPerSpan;
+  options.checkSamplesPerSpan = checkSamplesPerSpan;
+  options.isolationLevel = isolationLevel;
+  surface::SewingOptions sewing;
+  sewing.relativeTolerance = sewingTolerance;
+  sewing.makeSolid = makeSolid;
+  surface::LimitBSplines result;
+  surface::SewnShape sewn;
+  std::string brep;
+  {
+    py::gil_scoped_release release;
+    result = surface::limitSurfaceToBSplines(mesh, options);
+    if (sew) {
+      sewn = surface::sewBSplineSurfaces(result.surfaces, sewing);
+      brep = cad::writeBrepString(sewn.shape);
+    }
+  }
+  return resultToDict(result, sew ? &sewn : nullptr, brep);
+}
+
 }  // namespace
 
 void bindSurface(py::module_& module) {
+  // The ControlMesh overload comes first: numpy arrays fail its argument conversion and fall
+  // through to the array overload.
+  module.def(
+      "limit_surface_to_bsplines",
+      [](const ControlMesh& mesh, int samplesPerSpan, int checkSamplesPerSpan, int isolationLevel, bool sew,
+         double sewingTolerance, bool makeSolid) {
+        return convert(surface::toQuadControlMesh(mesh), samplesPerSpan, checkSamplesPerSpan, isolationLevel,
+                       sew, sewingTolerance, makeSolid);
+      },
+      py::arg("control_mesh"), py::arg("samples_per_span") = 4, py::arg("check_samples_per_span") = 9,
+      py::arg("isolation_level") = 8, py::arg("sew") = true, py::arg("sewing_tolerance") = 1e-7,
+      py::arg("make_solid") = true,
+      "Like the array form below, for a bvmesh.ControlMesh that is all quads with infinitely sharp "
+      "creases and corners (e.g. a fitted control mesh).");
   module.def(
       "limit_surface_to_bsplines",
       [](const py::object& vertices, const py::object& faces, const py::object& creases,
          const py::object& corners, int samplesPerSpan, int checkSamplesPerSpan, int isolationLevel, bool sew,
          double sewingTolerance, bool makeSolid) {
-        const surface::QuadControlMesh mesh = meshFromArrays(vertices, faces, creases, corners);
-        surface::LimitBSplineOptions options;
-        options.samplesPerSpan = samplesPerSpan;
-        options.checkSamplesPerSpan = checkSamplesPerSpan;
-        options.isolationLevel = isolationLevel;
-        surface::SewingOptions sewing;
-        sewing.relativeTolerance = sewingTolerance;
-        sewing.makeSolid = makeSolid;
-        surface::LimitBSplines result;
-        surface::SewnShape sewn;
-        std::string brep;
-        {
-          py::gil_scoped_release release;
-          result = surface::limitSurfaceToBSplines(mesh, options);
-          if (sew) {
-            sewn = surface::sewBSplineSurfaces(result.surfaces, sewing);
-            brep = cad::writeBrepString(sewn.shape);
-          }
-        }
-        return resultToDict(result, sew ? &sewn : nullptr, brep);
+        return convert(meshFromArrays(vertices, faces, creases, corners), samplesPerSpan, checkSamplesPerSpan,
+                       isolationLevel, sew, sewingTolerance, makeSolid);
       },
       py::arg("vertices"), py::arg("faces"), py::arg("creases") = py::none(), py::arg("corners") = py::none(),
       py::arg("samples_per_span") = 4, py::arg("check_samples_per_span") = 9, py::arg("isolation_level") = 8,

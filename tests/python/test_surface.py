@@ -122,6 +122,18 @@ class LimitSurfaceToBSplines(unittest.TestCase):
         self.assertEqual(len(shape.Faces), 6)
         self.assertTrue(0.5 < shape.Volume < 8.0)
 
+    def test_control_mesh_input(self):
+        vertices, faces = cube_grid(2)
+        mesh = bvmesh.ControlMesh(vertices, faces.tolist())
+        from_mesh = bvmesh.limit_surface_to_bsplines(mesh, sew=False)
+        from_arrays = bvmesh.limit_surface_to_bsplines(vertices, faces, sew=False)
+        self.assertEqual(len(from_mesh["charts"]), 6)
+        for a, b in zip(from_mesh["charts"], from_arrays["charts"]):
+            np.testing.assert_array_equal(a["poles"], b["poles"])
+        triangles = bvmesh.ControlMesh(np.array([[0.0, 0, 0], [1, 0, 0], [0, 1, 0]]), [[0, 1, 2]])
+        with self.assertRaisesRegex(ValueError, "needs quads"):
+            bvmesh.limit_surface_to_bsplines(triangles)
+
     def test_creases_split_charts(self):
         vertices, faces = grid(4, 3, lambda x, y: 0.1 * x * y)
         creases = np.array([[8, 9], [9, 10], [10, 11]])  # the line x = 2
