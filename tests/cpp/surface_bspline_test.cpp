@@ -384,6 +384,28 @@ TEST(SurfaceBSplines, OpenGridSewsIntoAShellWithFreeEdges) {
   EXPECT_EQ(sewn.freeEdges, 8);  // the L's outline in boundary segments
 }
 
+TEST(SurfaceBSplines, ControlMeshConversionKeepsSharpFeaturesAndRejectsTheRest) {
+  const QuadControlMesh quads = cubeWithCreasedEquator();
+  const QuadControlMesh back = toQuadControlMesh(toControlMesh(quads));
+  EXPECT_EQ(back.faces, quads.faces);
+  EXPECT_EQ(back.creases, quads.creases);
+  EXPECT_EQ(back.vertices, quads.vertices);
+  // Semi-sharp creases are smooth in the limit but not polynomial: no chart border, not supported.
+  RowMatrixX2i crease(1, 2);
+  crease << quads.creases(0, 0), quads.creases(0, 1);
+  const ControlMesh semiSharp(quads.vertices, std::vector<int>(static_cast<size_t>(quads.faces.rows()), 4),
+                              std::vector<int>(quads.faces.data(), quads.faces.data() + quads.faces.size()),
+                              crease, Eigen::VectorXd::Constant(1, 2.0));
+  EXPECT_THROW(toQuadControlMesh(semiSharp), InvalidInputError);
+  const ControlMesh triangle(RowMatrixX3d::Identity(3, 3), {3}, {0, 1, 2});
+  try {
+    toQuadControlMesh(triangle);
+    FAIL() << "no exception";
+  } catch (const InvalidInputError& error) {
+    EXPECT_NE(std::string(error.what()).find("face 0 has 3 vertices"), std::string::npos) << error.what();
+  }
+}
+
 TEST(SurfaceBSplines, RejectsBadOptionsAndEvaluators) {
   const QuadControlMesh mesh = grid(2, 2, bump);
   LimitBSplineOptions options;
