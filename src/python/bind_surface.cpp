@@ -179,6 +179,7 @@ py::dict resultToDict(const surface::LimitBSplines& result, const surface::SewnS
                                        result.layout.faceChart.data());
   out["max_deviation"] = maxDeviation;
   out["max_border_gap"] = result.maxBorderGap;
+  out["max_kink_degrees"] = result.maxKinkDegrees;
   if (sewn != nullptr) {
     out["brep"] = brep;
     out["solid"] = sewn->solid;
@@ -250,7 +251,7 @@ infinitely sharp crease edges; corners: (#K,) int sharp corner vertices. Boundar
 Returns a dict: 'charts' (per chart: 'faces', 'vertices', 'rotations', 'poles' (n_u, n_v, 3),
 'u_knots', 'v_knots', 'u_multiplicities', 'v_multiplicities', 'max_deviation', 'side_segments'),
 'segments' (shared border curves: 'vertices', 'kind', 'uses', 'poles', 'knots', 'multiplicities'),
-'max_deviation', 'max_border_gap', 'junctions', 'nodes', 'face_chart' (#F,), and with sew=True:
+'max_deviation', 'max_border_gap', 'max_kink_degrees', 'junctions', 'nodes', 'face_chart' (#F,), and with sew=True:
 'brep' (the sewn shell or solid as BREP text), 'solid', 'free_edges', 'sewing_tolerance' (absolute:
 the sewing_tolerance argument times the bounding-box diagonal), 'max_edge_tolerance', 'valid'.)doc");
 }

@@ -334,14 +334,19 @@ TEST(SurfaceBSplines, DeviationShrinksUnderSubdivision) {
       (5 + std::cos(2 * pi / 3) + std::cos(pi / 3) * std::sqrt(18 + 2 * std::cos(2 * pi / 3))) / 16;
   const QuadControlMesh base = cube();
   double previous = 0.0;
+  double previousKink = 0.0;
   double rate = 0.0;
   for (int levels = 1; levels <= 4; ++levels) {
     const QuadControlMesh mesh = subdivide(base, levels);
     const LimitBSplines result = limitSurfaceToBSplines(mesh);
     double deviation = 0.0;
     for (double d : result.maxDeviation) deviation = std::max(deviation, d);
-    std::cout << "cube level " << levels << ": " << mesh.faces.rows() << " faces, max deviation "
-              << deviation;
+    std::cout << "cube level " << levels << ": " << mesh.faces.rows() << " faces, max deviation " << deviation
+              << ", max kink " << result.maxKinkDegrees << " degrees";
+    if (levels > 1) {
+      EXPECT_LT(result.maxKinkDegrees, previousKink);
+    }
+    previousKink = result.maxKinkDegrees;
     if (levels > 1) {
       rate = std::log2(previous / deviation);
       std::cout << ", rate " << rate;
@@ -363,6 +368,7 @@ TEST(SurfaceBSplines, TorusAndTubeCharts) {
     ASSERT_EQ(result.surfaces.size(), 1u);
     EXPECT_LT(result.maxDeviation[0], 1e-12 * size);
     EXPECT_LT(maxSharedBorderDistance(result), 1e-12 * size);
+    EXPECT_LT(result.maxKinkDegrees, 1e-6);  // regular: the cut is invisible (C2 across it)
   }
   // A closed crease ring fitted as one clamped curve from its single break node round to it.
   const QuadControlMesh ringed = testing::staggeredCreasedTube();

@@ -7,6 +7,7 @@
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <GProp_GProps.hxx>
+#include <Geom_BSplineSurface.hxx>
 #include <ShapeFix_Solid.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
@@ -14,7 +15,10 @@
 #include <TopoDS_Shell.hxx>
 #include <TopoDS_Solid.hxx>
 #include <TopoDS_Vertex.hxx>
+#include <gp_Pnt.hxx>
+#include <gp_Vec.hxx>
 
+#include <Eigen/Geometry>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
@@ -495,18 +499,38 @@ class Fitter {
       }
     }
     result_.maxBorderGap = 0.0;
+    result_.maxKinkDegrees = 0.0;
+    std::vector<Handle(Geom_BSplineSurface)> occt(charts.size());
+    const double degrees = 180.0 / std::acos(-1.0);
     for (const BorderSegment& segment : layout().segments) {
       if (segment.uses.size() < 2) continue;
       for (double y : checkParameters(segmentLength(segment), perSpan)) {
         Vector3d p[2];
+        Vector3d normal[2];
         for (int k = 0; k < 2; ++k) {
           const SegmentUse& use = segment.uses[static_cast<size_t>(k)];
-          const QuadChart& chart = charts[static_cast<size_t>(use.chart)];
+          const auto c = static_cast<size_t>(use.chart);
+          const QuadChart& chart = charts[c];
           const auto [s, t] = sideParameters(chart, use.side, sidePosition(use, y));
-          p[k] = surfacePoint(result_.surfaces[static_cast<size_t>(use.chart)], clampedKnots(chart.uCells),
-                              clampedKnots(chart.vCells), s, t);
+          p[k] =
+              surfacePoint(result_.surfaces[c], clampedKnots(chart.uCells), clampedKnots(chart.vCells), s, t);
+          if (segment.kind == BorderKind::Crease) continue;
+          if (occt[c].IsNull()) occt[c] = cad::makeBSplineSurface(result_.surfaces[c]);
+          translateOcctErrors("surface normal on a chart border", [&] {
+            gp_Pnt point;
+            gp_Vec du;
+            gp_Vec dv;
+            occt[c]->D1(s, t, point, du, dv);
+            const gp_Vec n = du.Crossed(dv);
+            normal[k] = Vector3d(n.X(), n.Y(), n.Z());
+          });
         }
         result_.maxBorderGap = std::max(result_.maxBorderGap, (p[0] - p[1]).norm());
+        if (segment.kind != BorderKind::Crease && normal[0].norm() > 0.0 && normal[1].norm() > 0.0) {
+          // atan2 of sine and cosine stays accurate for tiny angles, unlike acos.
+          const double angle = std::atan2(normal[0].cross(normal[1]).norm(), normal[0].dot(normal[1]));
+          result_.maxKinkDegrees = std::max(result_.maxKinkDegrees, angle * degrees);
+        }
       }
     }
   }

@@ -41,6 +41,10 @@ struct LimitBSplines {
   std::vector<double> maxDeviation;               // per chart: max |surface - limit| on the check points
   std::vector<BSplineCurveData> segmentCurves;    // per layout segment: from its vertex 0, on [0, #edges]
   double maxBorderGap = 0.0;                      // max distance between neighbours along shared segments
+  // Max angle between the normals of neighbouring surfaces along shared smooth (non-crease)
+  // borders, in degrees: 0 where the limit surface is regular; near extraordinary vertices the
+  // surfaces meet with C0 only (G1 is not enforced), and the kink shrinks under subdivision.
+  double maxKinkDegrees = 0.0;
 };
 
 // Fits the surfaces of a given layout to the limit surface given by `limit`.
