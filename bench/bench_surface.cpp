@@ -122,7 +122,7 @@ Row run(const QuadControlMesh& mesh) {
     }
   }
   bvmesh::RowMatrixX3d evaluated;
-  row.baseline = seconds([&] { points(samples, evaluated); });
+  row.baseline = seconds([&] { points(samples, evaluated, nullptr); });
   LimitBSplines result;
   row.fit = seconds([&] { result = fitLimitBSplines(layout, points); });
   for (double d : result.maxDeviation) row.deviation = std::max(row.deviation, d);

@@ -417,7 +417,8 @@ TEST(SurfaceBSplines, RejectsBadOptionsAndEvaluators) {
   LimitBSplineOptions options;
   options.samplesPerSpan = 3;
   EXPECT_THROW(limitSurfaceToBSplines(mesh, options), InvalidInputError);
-  const LimitPointsFunction broken = [](const std::vector<SurfaceLocation>& locations, RowMatrixX3d& points) {
+  const LimitPointsFunction broken = [](const std::vector<SurfaceLocation>& locations, RowMatrixX3d& points,
+                                        RowMatrixX3d*) {
     points = RowMatrixX3d::Constant(static_cast<Eigen::Index>(locations.size()), 3, std::nan(""));
   };
   EXPECT_THROW(fitLimitBSplines(buildChartLayout(mesh), broken), SolverError);

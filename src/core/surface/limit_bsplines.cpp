@@ -26,6 +26,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <set>
 #include <string>
 
 #include "core/common/errors.h"
@@ -126,6 +127,39 @@ class EndConstrainedFit {
   SparseMatrix interiorT_;
   Eigen::SimplicialLDLT<SparseMatrix> solver_;
 };
+
+// Least squares for the free poles of a curve with basis matrix `basis` (samples x poles), the
+// others fixed at their values in `poles` (#poles x 3); refined once like EndConstrainedFit.
+void solveFreePoles(const SparseMatrix& basis, const std::vector<bool>& fixed, Eigen::MatrixXd& poles,
+                    const Eigen::MatrixXd& samples) {
+  std::vector<int> column(fixed.size(), -1);
+  int freeCount = 0;
+  for (size_t c = 0; c < fixed.size(); ++c) {
+    if (!fixed[c]) column[c] = freeCount++;
+  }
+  if (freeCount == 0) return;
+  std::vector<Eigen::Triplet<double>> entries;
+  Eigen::MatrixXd rhs = samples;
+  for (int c = 0; c < basis.outerSize(); ++c) {
+    for (SparseMatrix::InnerIterator it(basis, c); it; ++it) {
+      if (fixed[static_cast<size_t>(c)]) {
+        rhs.row(it.row()) -= it.value() * poles.row(c);
+      } else {
+        entries.emplace_back(static_cast<int>(it.row()), column[static_cast<size_t>(c)], it.value());
+      }
+    }
+  }
+  SparseMatrix a(basis.rows(), freeCount);
+  a.setFromTriplets(entries.begin(), entries.end());
+  const SparseMatrix at = a.transpose();
+  Eigen::SimplicialLDLT<SparseMatrix> solver(at * a);
+  if (solver.info() != Eigen::Success) throw SolverError("a constrained border-curve fit is singular");
+  Eigen::MatrixXd x = solver.solve(at * rhs);
+  x += solver.solve(at * (rhs - a * x));
+  for (size_t c = 0; c < fixed.size(); ++c) {
+    if (!fixed[c]) poles.row(static_cast<Eigen::Index>(c)) = x.row(column[c]);
+  }
+}
 
 class FitCache {
  public:
@@ -308,6 +342,15 @@ class Fitter {
     throw SolverError("border line parameter outside its segments");
   }
 
+  // First (end 0) or last (end 1) vertex of a border line.
+  int lineEndVertex(size_t line, int end) const {
+    const BorderLine& l = layout().lines[line];
+    const size_t k = end == 0 ? 0 : l.segments.size() - 1;
+    const BorderSegment& segment = layout().segments[static_cast<size_t>(l.segments[k])];
+    const bool atFront = (end == 0) != l.reversed[k];
+    return atFront ? segment.vertices.front() : segment.vertices.back();
+  }
+
   // One clamped cubic per border line: end poles at the limit points of its end nodes, the rest
   // a least-squares fit to limit samples along the line.
   void fitLines() {
@@ -324,23 +367,51 @@ class Fitter {
       }
     }
     RowMatrixX3d points;
-    limit_(locations, points);
+    RowMatrixX3d normals;
+    limit_(locations, points, &normals);
     checkEvaluated(points, locations.size());
+    if (normals.rows() != points.rows()) throw SolverError("the limit evaluator returned no normals");
+    // Nodes on boundaries or creases have a tangent plane per side; the others have one.
+    std::set<int> sharpNodes;
+    for (const BorderSegment& segment : layout().segments) {
+      if (segment.kind == BorderKind::Separatrix) continue;
+      sharpNodes.insert(segment.vertices.front());
+      sharpNodes.insert(segment.vertices.back());
+    }
     linePoles_.assign(lineCount, {});
     for (size_t l = 0; l < lineCount; ++l) {
       const int spans = lineSpans_[l];
       const EndConstrainedFit& fit = fits_.get(spans);
       const auto row = static_cast<Eigen::Index>(first[l]);
-      const Vector3d start = points.row(row).transpose();
-      const Vector3d end = points.row(row + 1).transpose();
-      Eigen::MatrixXd rhs = points.middleRows(row + 2, fit.full().rows());
-      rhs -= Eigen::VectorXd(fit.full().col(0)) * start.transpose();
-      rhs -= Eigen::VectorXd(fit.full().col(spans + 2)) * end.transpose();
-      const Eigen::MatrixXd interior = fit.solve(rhs);
-      auto& poles = linePoles_[l];
-      poles.push_back(start);
-      for (Eigen::Index k = 0; k < interior.rows(); ++k) poles.push_back(interior.row(k).transpose());
-      poles.push_back(end);
+      const Eigen::MatrixXd samples = points.middleRows(row + 2, fit.full().rows());
+      Eigen::MatrixXd poles = Eigen::MatrixXd::Zero(spans + 3, 3);
+      poles.row(0) = points.row(row);
+      poles.row(spans + 2) = points.row(row + 1);
+      Eigen::MatrixXd rhs = samples;
+      rhs -= Eigen::VectorXd(fit.full().col(0)) * poles.row(0);
+      rhs -= Eigen::VectorXd(fit.full().col(spans + 2)) * poles.row(spans + 2);
+      poles.middleRows(1, spans + 1) = fit.solve(rhs);
+      // At a smooth node (an extraordinary vertex, say) every curve leaving it must start in the
+      // limit tangent plane, so that the chart corners there share that plane: project the
+      // pole next to the end onto it and refit the rest. Regular curves already satisfy this.
+      const BorderLine& line = layout().lines[l];
+      if (layout().segments[static_cast<size_t>(line.segments.front())].kind == BorderKind::Separatrix) {
+        std::vector<bool> fixed(static_cast<size_t>(spans + 3), false);
+        fixed.front() = fixed.back() = true;
+        bool constrained = false;
+        for (int end = 0; end < 2; ++end) {
+          const Eigen::Index node = end == 0 ? 0 : spans + 2;
+          const Eigen::Index next = end == 0 ? 1 : spans + 1;
+          const Eigen::RowVector3d normal = normals.row(row + end);
+          if (sharpNodes.count(lineEndVertex(l, end)) != 0 || normal.norm() == 0.0) continue;
+          const Eigen::RowVector3d tangent = poles.row(next) - poles.row(node);
+          poles.row(next) -= tangent.dot(normal) * normal;
+          fixed[static_cast<size_t>(next)] = true;
+          constrained = true;
+        }
+        if (constrained) solveFreePoles(fit.full(), fixed, poles, samples);
+      }
+      for (Eigen::Index k = 0; k < poles.rows(); ++k) linePoles_[l].push_back(poles.row(k).transpose());
     }
     result_.segmentCurves.resize(layout().segments.size());
     for (size_t s = 0; s < layout().segments.size(); ++s) {
@@ -399,7 +470,7 @@ class Fitter {
       }
     }
     RowMatrixX3d points;
-    limit_(locations, points);
+    limit_(locations, points, nullptr);
     checkEvaluated(points, locations.size());
 
     result_.surfaces.resize(charts.size());
@@ -489,7 +560,7 @@ class Fitter {
     }
     first[charts.size()] = locations.size();
     RowMatrixX3d points;
-    limit_(locations, points);
+    limit_(locations, points, nullptr);
     checkEvaluated(points, locations.size());
     result_.maxDeviation.assign(charts.size(), 0.0);
     for (size_t c = 0; c < charts.size(); ++c) {

@@ -13,10 +13,11 @@
 
 namespace bvmesh::surface {
 
-// Fills `points` (resized to #locations x 3) with limit points. On an all-quad mesh the ptex face
-// of a location is the mesh face, (0, 0) at its vertex 0, (1, 0) at vertex 1, (0, 1) at vertex 3.
-using LimitPointsFunction =
-    std::function<void(const std::vector<SurfaceLocation>& locations, RowMatrixX3d& points)>;
+// Fills `points` (resized to #locations x 3) with limit points and, unless `normals` is null,
+// `normals` with unit limit normals (zero where undefined). On an all-quad mesh the ptex face of a
+// location is the mesh face, (0, 0) at its vertex 0, (1, 0) at vertex 1, (0, 1) at vertex 3.
+using LimitPointsFunction = std::function<void(const std::vector<SurfaceLocation>& locations,
+                                               RowMatrixX3d& points, RowMatrixX3d* normals)>;
 
 // The quad mesh as the core's ControlMesh, every crease and corner infinitely sharp.
 ControlMesh toControlMesh(const QuadControlMesh& mesh);
