@@ -137,6 +137,27 @@ class LimitSurfaceToBSplines(unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "needs quads"):
             bvmesh.limit_surface_to_bsplines(triangles)
 
+    def test_subdivided_icosahedron_is_a_solid_of_one_chart_per_quad(self):
+        # One subdivision of the icosahedron: its 12 vertices have valence 5, the 20 triangle
+        # centres valence 3. Every quad has one of each at opposite corners and its four edges
+        # lie on separatrices between them, so each of the 60 quads is a 1 x 1 chart.
+        t = (1 + 5 ** 0.5) / 2
+        vertices = np.array([[-1, t, 0], [1, t, 0], [-1, -t, 0], [1, -t, 0], [0, -1, t], [0, 1, t],
+                             [0, -1, -t], [0, 1, -t], [t, 0, -1], [t, 0, 1], [-t, 0, -1], [-t, 0, 1]])
+        triangles = [[0, 11, 5], [0, 5, 1], [0, 1, 7], [0, 7, 10], [0, 10, 11], [1, 5, 9], [5, 11, 4],
+                     [11, 10, 2], [10, 7, 6], [7, 1, 8], [3, 9, 4], [3, 4, 2], [3, 2, 6], [3, 6, 8],
+                     [3, 8, 9], [4, 9, 5], [2, 4, 11], [6, 2, 10], [8, 6, 7], [9, 8, 1]]
+        mesh = bvmesh.ControlMesh(vertices, triangles).subdivide()
+        result = bvmesh.limit_surface_to_bsplines(mesh)
+        self.assertEqual(len(result["charts"]), 60)
+        self.assertTrue(all(c["u_cells"] == 1 and c["v_cells"] == 1 for c in result["charts"]))
+        self.assertEqual(len(result["junctions"]), 32)
+        self.assertTrue(result["solid"])
+        self.assertTrue(result["valid"])
+        self.assertEqual(result["free_edges"], 0)
+        self.assertLess(result["max_border_gap"], 1e-12)
+        self.assertLess(result["max_deviation"], 0.01 * 2 * np.linalg.norm(vertices[0]))
+
     def test_creases_split_charts(self):
         vertices, faces = grid(4, 3, lambda x, y: 0.1 * x * y)
         creases = np.array([[8, 9], [9, 10], [10, 11]])  # the line x = 2
