@@ -27,6 +27,7 @@ _CORE_NAMES = (
     "Target",
     "ProjectionStatus",
     "SurfaceFitter",
+    "limit_surface_to_bsplines",
 )
 
 

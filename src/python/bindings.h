@@ -10,5 +10,6 @@ void bindCad(pybind11::module_& module);
 void bindMesh(pybind11::module_& module);
 void bindTarget(pybind11::module_& module);
 void bindFit(pybind11::module_& module);
+void bindSurface(pybind11::module_& module);
 
 }  // namespace bvmesh::python

@@ -7,4 +7,5 @@ PYBIND11_MODULE(_core, module) {
   bvmesh::python::bindMesh(module);
   bvmesh::python::bindTarget(module);
   bvmesh::python::bindFit(module);
+  bvmesh::python::bindSurface(module);
 }
