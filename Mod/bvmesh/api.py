@@ -431,7 +431,7 @@ def fitted_mesh(fit):
 
 def make_distance_map(fit, samples_per_face=3, color_max=0.0, name="DistanceMap"):
     """The fit's limit surface as a mesh coloured by distance to the target (blue 0 .. red at
-    color_max, 0: the largest distance)."""
+    color_max and above; 0: the 99th percentile of the distances)."""
     from bvmesh.features import distance_map
 
     def fill(obj):

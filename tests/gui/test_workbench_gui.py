@@ -11,7 +11,7 @@ from PySide import QtCore, QtGui
 OUTPUT_DIR = os.environ.get("BVMESH_TEST_OUTPUT_DIR", "/tmp")
 SCREENSHOT = os.path.join(OUTPUT_DIR, "gui_workbench.png")
 VIEW_IMAGE = os.path.join(OUTPUT_DIR, "gui_workbench_view.png")
-EXPECTED_COMMANDS = ["BVMesh_LoadExample", "BVMesh_ImportCad", "BVMesh_ShapeReport"]
+EXPECTED_COMMANDS = ["BVMesh_LoadExample", "BVMesh_ImportCad", "BVMesh_ShapeReport", "BVMesh_Target"]
 
 
 def log(message):
@@ -41,8 +41,15 @@ def run():
     check(FreeCADGui.activeWorkbench().name() == "BVMeshWorkbench", "BVMesh is the active workbench")
 
     main_window = FreeCADGui.getMainWindow()
-    toolbars = [bar for bar in main_window.findChildren(QtGui.QToolBar) if bar.windowTitle() == "BVMesh"]
-    check(len(toolbars) == 1 and toolbars[0].isVisible(), "the BVMesh toolbar is shown")
+    toolbars = []
+    for _ in range(50):  # the toolbars are shown a moment after activation
+        toolbars = [bar for bar in main_window.findChildren(QtGui.QToolBar)
+                    if bar.windowTitle() == "BVMesh CAD" and bar.isVisible()]
+        if toolbars:
+            break
+        settle(100)
+    check(len(toolbars) == 1 and toolbars[0].isVisible(), "the BVMesh CAD toolbar is shown (toolbars: {})".format(
+        [bar.windowTitle() for bar in main_window.findChildren(QtGui.QToolBar) if bar.isVisible()]))
     actions = [action.objectName() for action in toolbars[0].actions()]
     check(actions == EXPECTED_COMMANDS, "the toolbar holds {} (found {})".format(EXPECTED_COMMANDS, actions))
     menus = [action.text() for action in main_window.menuBar().actions()]

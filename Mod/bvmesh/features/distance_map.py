@@ -50,7 +50,8 @@ class DistanceMapProxy(Proxy):
         add_property(obj, "App::PropertyInteger", "SamplesPerFace", "Distance map",
                      "Tessellation: quads per ptex face and direction", 3)
         add_property(obj, "App::PropertyFloat", "ColorMax", "Distance map",
-                     "Distance shown in red (model units); 0: the largest distance", 0.0)
+                     "Distance shown in red (model units); 0: the 99th percentile of the distances, so "
+                     "that a few outliers do not paint the rest blue", 0.0)
         add_property(obj, "App::PropertyColorList", "VertexColors", "Result",
                      "Colour of each mesh point by its distance", mode=READ_ONLY)
         add_property(obj, "App::PropertyFloatList", "Distances", "Result",
@@ -73,7 +74,7 @@ class DistanceMapProxy(Proxy):
         points = np.array([(p.x, p.y, p.z) for p in mesh.Topology[0]])
         target = fit.Target.Proxy.core_target(fit.Target)
         distances = target.project(points)["distances"]
-        top = obj.ColorMax if obj.ColorMax > 0 else float(distances.max())
+        top = obj.ColorMax if obj.ColorMax > 0 else float(np.percentile(distances, 99.0))
         obj.Mesh = mesh
         obj.Distances = [float(d) for d in distances]
         obj.MaxDistance = float(distances.max())

@@ -66,12 +66,17 @@ def run_in_transaction(title, lines):
     doc = FreeCAD.ActiveDocument
     doc.openTransaction(title)
     try:
-        FreeCADGui.addModule("bvmesh.api")
+        # Not addModule: it records the import only the first time in a session, so a macro
+        # recorded later would lack it. The macro recorder keeps one copy in the macro's header.
+        FreeCADGui.doCommand("import bvmesh.api")
         for line in lines:
             FreeCADGui.doCommand(line)
     except Exception as error:  # any failure of the command must leave the document intact
         doc.abortTransaction()
-        FreeCAD.Console.PrintError("BVMesh: {} failed: {}\n".format(title, error))
+        if surface_fit.FitCancelled.__name__ in str(error):
+            FreeCAD.Console.PrintWarning("BVMesh: {} cancelled; the document is as it was\n".format(title))
+        else:
+            FreeCAD.Console.PrintError("BVMesh: {} failed: {}\n".format(title, error))
         return False
     doc.commitTransaction()
     return True
@@ -140,7 +145,7 @@ class ShapeReport:
 
     def Activated(self):
         obj = _selected_shape_object()
-        FreeCADGui.addModule("bvmesh.api")
+        FreeCADGui.doCommand("import bvmesh.api")
         FreeCADGui.doCommand("bvmesh.api.print_shape_report({})".format(_object_ref(obj)))
 
 
@@ -383,7 +388,7 @@ class ConvergencePlot:
 
         fit = find_object(surface_fit.TYPE)
         path = plots.default_plot_path(fit)
-        FreeCADGui.addModule("bvmesh.api")
+        FreeCADGui.doCommand("import bvmesh.api")
         FreeCADGui.doCommand("bvmesh.api.plot_convergence({}, {!r})".format(_object_ref(fit), path))
         plots.show_image("Convergence of " + fit.Label, path)
 
@@ -421,7 +426,7 @@ class ExportStep:
         path, _ = QtGui.QFileDialog.getSaveFileName(FreeCADGui.getMainWindow(), "Export surface", "",
                                                     "STEP (*.step *.stp)")
         if path:
-            FreeCADGui.addModule("bvmesh.api")
+            FreeCADGui.doCommand("import bvmesh.api")
             FreeCADGui.doCommand("bvmesh.api.export_step({}, {!r})".format(_object_ref(shell), path))
 
 
@@ -454,6 +459,14 @@ GROUPS = (
 )
 
 
+def _add_command(name, command):
+    # FreeCAD writes "import <file name of addCommand's caller>" into macros recorded while the
+    # command runs; calling it from code compiled under the name "bvmesh" makes that line
+    # "import bvmesh", which also works where the macro is replayed.
+    exec(compile("FreeCADGui.addCommand(name, command)", "bvmesh", "exec"),
+         {"FreeCADGui": FreeCADGui, "name": name, "command": command})
+
+
 def register_commands():
     """Registers the commands (when the compiled core loads) and returns [(group, [names])]."""
     if not core_available():
@@ -461,6 +474,6 @@ def register_commands():
     groups = []
     for group, commands in GROUPS:
         for name, command in commands:
-            FreeCADGui.addCommand(name, command)
+            _add_command(name, command)
         groups.append((group, [name for name, _ in commands]))
     return groups

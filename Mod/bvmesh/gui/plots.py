@@ -68,6 +68,7 @@ def save_legend(dmap, path):
     axes = figure.add_axes([0.15, 0.05, 0.25, 0.85])
     ColorbarBase(axes, cmap=_colormap(), norm=Normalize(0.0, dmap.LegendMax), orientation="vertical")
     axes.set_title("distance", fontsize=9)
+    axes.set_ylabel("red: {:.3g} and more".format(dmap.LegendMax), fontsize=8)
     figure.savefig(path)
     return path
 
@@ -100,6 +101,7 @@ def save_distance_map_picture(dmap, path, width=1000, height=700):
     mappable = ScalarMappable(norm=Normalize(0.0, dmap.LegendMax), cmap=_colormap())
     figure.colorbar(mappable, cax=legend)
     legend.set_title("distance", fontsize=9)
+    legend.set_ylabel("red: {:.3g} and more".format(dmap.LegendMax), fontsize=8)
     figure.text(0.01, 0.97, "{}: max {:.4g}, RMS {:.4g}".format(dmap.Label, dmap.MaxDistance, dmap.RmsDistance),
                 fontsize=10, va="top")
     figure.savefig(path)

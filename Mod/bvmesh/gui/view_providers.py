@@ -17,6 +17,8 @@ _KINDS = {
 def attach(obj):
     """Gives `obj` (a BVMesh object) its view provider."""
     ViewProvider(obj.ViewObject, _KINDS[obj.Proxy.Type])
+    if obj.Proxy.Type == distance_map.TYPE:
+        obj.ViewObject.Lighting = "Two side"  # both sides of the surface show their colours
 
 
 def crease_edge_colors(edges, crease_pairs):
@@ -66,10 +68,13 @@ class ViewProvider:
         vobj = obj.ViewObject
         if vobj is None or obj.Shape.isNull():
             return
-        if obj.Proxy.Type == polyhedron.TYPE:
-            mesh = polyhedron.control_mesh(obj)
-        else:
-            mesh = surface_fit.result_mesh(obj)
+        try:
+            if obj.Proxy.Type == polyhedron.TYPE:
+                mesh = polyhedron.control_mesh(obj)
+            else:
+                mesh = surface_fit.result_mesh(obj)
+        except ValueError:  # properties still being restored
+            return
         vobj.LineColorArray = crease_edge_colors(mesh.edges, mesh.creases)
         vobj.LineWidth = 2.0
         vobj.PointSize = 4.0
