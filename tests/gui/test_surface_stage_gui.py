@@ -161,7 +161,6 @@ def cancelled_fit_leaves_document_as_it_was():
 def run():
     import FreeCAD
     import FreeCADGui
-    from bvmesh import api
     from bvmesh.features import polyhedron as polyhedron_feature
     from bvmesh.gui import plots, progress
     from m6_polyhedron import wing_polyhedron
@@ -265,6 +264,8 @@ def run():
     ticker.stop()
     watcher.stop()
     check(len(labels) == 1, "the fit showed its progress dialog")
+    status = main_window().statusBar().currentMessage()
+    check(status.startswith("BVMesh fit: "), "the status bar tells how the fit ended: " + status)
     check(len(ticks) >= 0.5 * seconds / 0.1, "the GUI kept processing events during the {:.1f} s fit ({} timer "
           "ticks)".format(seconds, len(ticks)))
     check(fit.Steps[-1] == "fit" and fit.Level == 3 and fit.StopReason in ("converged", "stagnated", "max_level"),

@@ -67,6 +67,8 @@ def run():
     doc.redo()
     check(len(doc.Objects) == 1, "redo brings it back")
 
+    check_preference_page()
+
     FreeCADGui.SendMsgToActiveView("ViewFit")
     FreeCADGui.activeDocument().activeView().viewIsometric()
     settle(1000)
@@ -79,6 +81,43 @@ def run():
     check(os.path.getsize(SCREENSHOT) > 0, "screenshot saved to " + SCREENSHOT)
     FreeCADGui.activeDocument().activeView().saveImage(VIEW_IMAGE, 800, 600, "White")
     check(os.path.getsize(VIEW_IMAGE) > 0, "3D view saved to " + VIEW_IMAGE)
+
+
+def check_preference_page():
+    """The BVMesh page of FreeCAD's preferences shows and stores BVMesh's parameters."""
+    import FreeCADGui
+
+    from bvmesh import preferences
+
+    group = preferences.group()
+    group.SetFloat("RelativeTolerance", 2.5e-5)
+    seen = {}
+
+    def edit():
+        dialog = QtGui.QApplication.activeModalWidget()
+        if dialog is None:
+            QtCore.QTimer.singleShot(100, edit)
+            return
+        spin = dialog.findChild(QtGui.QDoubleSpinBox, "prefRelativeTolerance")
+        seen["shown"] = None if spin is None else spin.value()
+        if spin is not None:
+            spin.setValue(3e-5)
+            seen["threads"] = dialog.findChild(QtGui.QSpinBox, "prefThreads") is not None
+            seen["color"] = dialog.findChild(QtGui.QPushButton, "prefCreaseColor") is not None
+        for box in dialog.findChildren(QtGui.QDialogButtonBox):
+            if box.button(QtGui.QDialogButtonBox.Ok) is not None:
+                box.button(QtGui.QDialogButtonBox.Ok).click()
+                return
+        dialog.reject()
+
+    QtCore.QTimer.singleShot(300, edit)
+    FreeCADGui.runCommand("Std_DlgPreferences")
+    try:
+        check(seen.get("shown") == 2.5e-5, "the BVMesh preference page shows the stored tolerance ({})".format(seen))
+        check(seen.get("threads") and seen.get("color"), "it offers threads and colours")
+        check(preferences.relative_tolerance() == 3e-5, "OK stored the edited tolerance")
+    finally:
+        group.RemFloat("RelativeTolerance")
 
 
 def main():
