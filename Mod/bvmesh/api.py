@@ -156,8 +156,8 @@ def make_target(doc, source, faces=None, name="Target"):
         obj.Faces = list(faces or [])
 
     obj = _new_object(target.create, doc, name, fill)
-    if source.Document.getObject(source.Name) is not None and hasattr(source, "ViewObject") and source.ViewObject:
-        source.ViewObject.Visibility = False
+    if getattr(source, "ViewObject", None) is not None:
+        source.ViewObject.Visibility = False  # the target shows the fitted faces
     return obj
 
 

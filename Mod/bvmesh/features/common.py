@@ -3,7 +3,6 @@ creation and again in onDocumentRestored, so files written by older versions gai
 properties), and a proxy base that persists nothing of its own."""
 
 # Editor modes of FreeCAD's property editor.
-EDITABLE = 0
 READ_ONLY = 1
 HIDDEN = 2
 

@@ -79,9 +79,6 @@ class ViewProvider:
         vobj.LineWidth = 2.0
         vobj.PointSize = 4.0
 
-    def onChanged(self, vobj, prop):
-        pass
-
     def doubleClicked(self, vobj):
         return self.setEdit(vobj, 0)
 
