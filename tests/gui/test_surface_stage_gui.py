@@ -22,6 +22,7 @@ MACRO = os.path.join(OUTPUT_DIR, MACRO_NAME + ".FCMacro")
 SAVED = os.path.join(OUTPUT_DIR, "gui_m6_surface.FCStd")
 DISTANCE_PICTURE = os.path.join(OUTPUT_DIR, "gui_distance_map.png")
 WINDOW_PICTURE = os.path.join(OUTPUT_DIR, "gui_distance_map_window.png")
+POLYHEDRON_PICTURE = os.path.join(OUTPUT_DIR, "gui_polyhedron.png")
 CONVERGENCE_PICTURE = os.path.join(OUTPUT_DIR, "gui_convergence.png")
 CONVERGENCE_WINDOW_PICTURE = os.path.join(OUTPUT_DIR, "gui_convergence_window.png")
 FIT_FACES = ["Face{}".format(i) for i in range(1, 12) if i != 9]  # all but the root plane
@@ -218,6 +219,13 @@ def run():
     FreeCADGui.Selection.addSelection(poly, "Vertex{}".format(tip_te + 1))
     click_toolbar("BVMesh_MarkFeatures")
     check(list(poly.Corners) == [16], "the picked tip trailing-edge vertex is a corner")
+    target.ViewObject.Transparency = 70
+    view = FreeCADGui.activeDocument().activeView()
+    view.viewIsometric()
+    FreeCADGui.SendMsgToActiveView("ViewFit")
+    settle(300)
+    view.saveImage(POLYHEDRON_PICTURE, 1000, 700, "White")
+    check(os.path.getsize(POLYHEDRON_PICTURE) > 10000, "polyhedron picture saved to " + POLYHEDRON_PICTURE)
 
     FreeCADGui.Selection.clearSelection()
     click_toolbar("BVMesh_SurfaceFit")

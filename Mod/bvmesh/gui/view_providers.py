@@ -76,8 +76,8 @@ class ViewProvider:
         except ValueError:  # properties still being restored
             return
         vobj.LineColorArray = crease_edge_colors(mesh.edges, mesh.creases)
-        vobj.LineWidth = 2.0
-        vobj.PointSize = 4.0
+        vobj.LineWidth = 3.0
+        vobj.PointSize = 5.0
 
     def doubleClicked(self, vobj):
         return self.setEdit(vobj, 0)
