@@ -288,6 +288,7 @@ def run():
     check(dmap is not None and len(dmap.VertexColors) == dmap.Mesh.CountPoints > 1000,
           "the distance map colours each of its {} points".format(dmap.Mesh.CountPoints if dmap else 0))
     check(dmap.ViewObject.Coloring, "the mesh view shows the per-vertex colours")
+    check(dmap in fit.ViewObject.claimChildren(), "the fit claims the distance map as its child")
     check(main_window().findChild(QtGui.QDialog, plots.IMAGE_DIALOG_NAME) is not None, "the legend is shown")
 
     click_toolbar("BVMesh_ConvergencePlot")

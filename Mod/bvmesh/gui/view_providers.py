@@ -31,6 +31,7 @@ def crease_edge_colors(edges, crease_pairs):
 class ViewProvider:
     def __init__(self, vobj, icon):
         self.icon = icon
+        self.Object = vobj.Object
         vobj.Proxy = self
 
     def attach(self, vobj):
