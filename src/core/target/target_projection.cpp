@@ -124,9 +124,10 @@ bool isSingular(const gp_Vec& su, const gp_Vec& sv) {
   return !(su.Crossed(sv).Magnitude() > 1e-10 * scale * scale);
 }
 
-// Minimizes |S(u, v) - q|^2 over the surface's domain: Newton with the exact Hessian when it
-// is positive definite, Gauss-Newton otherwise, Levenberg-Marquardt damping as trust region,
-// bounds handled by fixing a parameter whose descent direction leaves the domain.
+// Minimizes |S(u, v) - q|^2 over the surface's domain: Newton with the exact Hessian and
+// Levenberg-Marquardt damping (raised until the damped Hessian is positive definite and the
+// step descends) as trust region; bounds handled by fixing a parameter whose descent direction
+// leaves the domain.
 NewtonResult newtonOnSurface(const FaceData& face, GeomAdaptor_Surface& surface, const Eigen::Vector3d& q, double u,
                              double v, double convergence) {
   const double uLo = face.uPeriodic ? -Precision::Infinite() : face.uMin;
@@ -151,7 +152,6 @@ NewtonResult newtonOnSurface(const FaceData& face, GeomAdaptor_Surface& surface,
     h(1, 1) += r.dot(toEigen(s.svv));
     h(0, 1) += r.dot(toEigen(s.suv));
     h(1, 0) = h(0, 1);
-    if (!(h(0, 0) > 0 && h.determinant() > 0)) h = jtj;
     // A parameter on its bound whose descent leaves the domain stays fixed.
     const bool fixU = (u <= uLo && g[0] > 0) || (u >= uHi && g[0] < 0);
     const bool fixV = (v <= vLo && g[1] > 0) || (v >= vHi && g[1] < 0);
@@ -162,16 +162,18 @@ NewtonResult newtonOnSurface(const FaceData& face, GeomAdaptor_Surface& surface,
     bool accepted = false;
     bool fullStep = false;
     double moved = 0.0;
-    for (int attempt = 0; attempt < 40 && !accepted; ++attempt) {
+    for (int attempt = 0; attempt < 60 && !accepted; ++attempt) {
       fullStep = lambda == 0.0;
       Eigen::Matrix2d a = h;
       a(0, 0) += lambda * jtj(0, 0) + 1e-300;
       a(1, 1) += lambda * jtj(1, 1) + 1e-300;
+      // Where the Hessian is not positive definite (beyond a focal point), damp until it is.
+      const bool definite = fixU ? a(1, 1) > 0 : fixV ? a(0, 0) > 0 : a(0, 0) > 0 && a.determinant() > 0;
       Eigen::Vector2d step = Eigen::Vector2d::Zero();
       if (fixU) step[1] = -g[1] / a(1, 1);
       else if (fixV) step[0] = -g[0] / a(0, 0);
       else step = a.ldlt().solve(-g);
-      if (!step.allFinite()) {
+      if (!definite || !step.allFinite()) {
         lambda = std::max(1e-6, 10 * lambda);
         continue;
       }
@@ -487,12 +489,32 @@ Foot alongLine(const Target::Data& data, ThreadContext& context, const Eigen::Ve
   return fallback;
 }
 
-// Runs work(context, i) for i in [0, count) on the configured number of threads, each with its
-// own evaluation context. An OCCT failure on one point marks that point failed (work's job);
-// any other exception stops the call and is rethrown.
+// Interleaves the bits of three 21-bit integers: nearby points get nearby keys.
+std::uint64_t mortonKey(const Eigen::Vector3d& unit) {
+  std::uint64_t key = 0;
+  for (int k = 0; k < 3; ++k) {
+    const auto cell = static_cast<std::uint64_t>(clampTo(unit[k], 0.0, 1.0) * 2097151.0);
+    for (int bit = 0; bit < 21; ++bit) key |= ((cell >> bit) & 1u) << (3 * bit + k);
+  }
+  return key;
+}
+
+// Runs work(context, i) for every point i on the configured number of threads, each with its
+// own evaluation context. Points are visited in spatial (Morton) order: consecutive points then
+// fall into the same B-spline spans, whose polynomial form the surface adaptors cache. An OCCT
+// failure on one point marks that point failed (work's job); any other exception stops the
+// call and is rethrown.
 template <class Work>
-void parallelFor(const Target::Data& data, Eigen::Index count, Work&& work) {
+void parallelFor(const Target::Data& data, const Eigen::Ref<const Points>& points, Work&& work) {
   constexpr Eigen::Index kChunk = 64;
+  const Eigen::Index count = points.rows();
+  const Eigen::Vector3d lo(data.report.shape.boundsMin[0], data.report.shape.boundsMin[1], data.report.shape.boundsMin[2]);
+  const Eigen::Vector3d hi(data.report.shape.boundsMax[0], data.report.shape.boundsMax[1], data.report.shape.boundsMax[2]);
+  const Eigen::Vector3d extent = (hi - lo).cwiseMax(1e-300);
+  std::vector<std::pair<std::uint64_t, Eigen::Index>> order(static_cast<std::size_t>(count));
+  for (Eigen::Index i = 0; i < count; ++i)
+    order[static_cast<std::size_t>(i)] = {mortonKey((points.row(i).transpose() - lo).cwiseQuotient(extent)), i};
+  std::sort(order.begin(), order.end());
   const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
   const Eigen::Index wanted = data.options.threads > 0 ? data.options.threads : static_cast<Eigen::Index>(hardware);
   const Eigen::Index threads = std::max<Eigen::Index>(1, std::min(wanted, (count + kChunk - 1) / kChunk));
@@ -503,7 +525,8 @@ void parallelFor(const Target::Data& data, Eigen::Index count, Work&& work) {
     try {
       std::unique_ptr<ThreadContext> context = data.acquireContext();
       for (Eigen::Index begin = next.fetch_add(kChunk); begin < count; begin = next.fetch_add(kChunk))
-        for (Eigen::Index i = begin; i < std::min(count, begin + kChunk); ++i) work(*context, i);
+        for (Eigen::Index k = begin; k < std::min(count, begin + kChunk); ++k)
+          work(*context, order[static_cast<std::size_t>(k)].second);
       data.releaseContext(std::move(context));
     } catch (...) {
       std::lock_guard<std::mutex> lock(errorMutex);
@@ -648,7 +671,7 @@ ProjectionResult Target::project(const Eigen::Ref<const Points>& points, const S
   }
   ProjectionResult result;
   result.resize(count);
-  parallelFor(*data_, count, [&](ThreadContext& context, Eigen::Index i) {
+  parallelFor(*data_, points, [&](ThreadContext& context, Eigen::Index i) {
     const Eigen::Vector3d q = points.row(i).transpose();
     const int hint = hints != nullptr ? hints->faces[i] : -1;
     try {
@@ -686,7 +709,7 @@ ProjectionResult Target::projectToEdges(const Eigen::Ref<const Points>& points, 
   }
   ProjectionResult result;
   result.resize(points.rows());
-  parallelFor(*data_, points.rows(), [&](ThreadContext& context, Eigen::Index i) {
+  parallelFor(*data_, points, [&](ThreadContext& context, Eigen::Index i) {
     const Eigen::Vector3d q = points.row(i).transpose();
     try {
       // Nearest boxes first; a box farther than the best foot cannot hold a nearer point.
@@ -739,7 +762,7 @@ ProjectionResult Target::projectToVertices(const Eigen::Ref<const Points>& point
                               std::to_string(vertexCount()) + " vertices)");
   ProjectionResult result;
   result.resize(points.rows());
-  parallelFor(*data_, points.rows(), [&](ThreadContext& context, Eigen::Index i) {
+  parallelFor(*data_, points, [&](ThreadContext& context, Eigen::Index i) {
     const Eigen::Vector3d q = points.row(i).transpose();
     int best = vertices.front();
     for (int id : vertices)
@@ -770,7 +793,7 @@ ProjectionResult Target::projectAlong(const Eigen::Ref<const Points>& points, co
       throw InvalidInputError("Target::projectAlong: direction " + std::to_string(i) + " is zero or not finite");
   ProjectionResult result;
   result.resize(points.rows());
-  parallelFor(*data_, points.rows(), [&](ThreadContext& context, Eigen::Index i) {
+  parallelFor(*data_, points, [&](ThreadContext& context, Eigen::Index i) {
     const Eigen::Vector3d q = points.row(i).transpose();
     try {
       storeFoot(*data_, context, alongLine(*data_, context, q, directions.row(i).transpose()), i, result);
