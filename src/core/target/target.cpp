@@ -13,6 +13,8 @@
 #include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
+#include <BRepTopAdaptor_FClass2d.hxx>
+#include <Geom2d_Curve.hxx>
 
 #include <algorithm>
 #include <cmath>
@@ -26,6 +28,82 @@ namespace {
 
 int indexOf(const TopTools_IndexedMapOfShape& map, const TopoDS_Shape& shape) {
   return map.FindIndex(shape) - 1;
+}
+
+// Rasterizes a face's trim: cells within one cell of a densely sampled boundary pcurve are
+// Boundary; every other connected region of cells is classified once at one of its cells.
+UvRaster buildRaster(const FaceData& face) {
+  constexpr int kSize = 64;
+  UvRaster raster;
+  if (!(face.u1 > face.u0) || !(face.v1 > face.v0) || !std::isfinite(face.u1 - face.u0) ||
+      !std::isfinite(face.v1 - face.v0))
+    return raster;
+  raster.size = kSize;
+  raster.u0 = face.u0;
+  raster.v0 = face.v0;
+  raster.du = (face.u1 - face.u0) / kSize;
+  raster.dv = (face.v1 - face.v0) / kSize;
+  constexpr std::uint8_t kUnknown = 3;
+  raster.cells.assign(kSize * kSize, kUnknown);
+  auto mark = [&](double u, double v) {
+    const int x = static_cast<int>(std::floor((u - raster.u0) / raster.du));
+    const int y = static_cast<int>(std::floor((v - raster.v0) / raster.dv));
+    for (int j = std::max(0, y - 1); j <= std::min(kSize - 1, y + 1); ++j)
+      for (int i = std::max(0, x - 1); i <= std::min(kSize - 1, x + 1); ++i)
+        raster.cells[static_cast<std::size_t>(j * kSize + i)] = UvRaster::Boundary;
+  };
+  bool anyBoundary = false;
+  for (TopExp_Explorer it(face.face, TopAbs_EDGE); it.More(); it.Next()) {
+    double first = 0, last = 0;
+    const Handle(Geom2d_Curve) pcurve = BRep_Tool::CurveOnSurface(TopoDS::Edge(it.Current()), face.face, first, last);
+    if (pcurve.IsNull()) return UvRaster{};
+    anyBoundary = true;
+    // Samples closer than a quarter cell: the curve between them stays within the marked band.
+    int samples = 64;
+    for (int pass = 0; pass < 6; ++pass) {
+      double longest = 0;
+      gp_Pnt2d previous = pcurve->Value(first);
+      for (int k = 1; k <= samples; ++k) {
+        const gp_Pnt2d p = pcurve->Value(first + (last - first) * k / samples);
+        longest = std::max({longest, std::abs(p.X() - previous.X()) / raster.du, std::abs(p.Y() - previous.Y()) / raster.dv});
+        previous = p;
+      }
+      if (longest <= 0.25) break;
+      samples = static_cast<int>(samples * std::min(64.0, 4 * longest + 1));
+    }
+    for (int k = 0; k <= samples; ++k) {
+      const gp_Pnt2d p = pcurve->Value(first + (last - first) * k / samples);
+      mark(p.X(), p.Y());
+    }
+  }
+  if (!anyBoundary) return UvRaster{};
+  // Flood fill the remaining regions, classifying one cell of each exactly.
+  BRepTopAdaptor_FClass2d classifier(face.face, Precision::PConfusion());
+  std::vector<int> stack;
+  for (int start = 0; start < kSize * kSize; ++start) {
+    if (raster.cells[static_cast<std::size_t>(start)] != kUnknown) continue;
+    const double u = raster.u0 + (start % kSize + 0.5) * raster.du;
+    const double v = raster.v0 + (start / kSize + 0.5) * raster.dv;
+    const TopAbs_State state = classifier.Perform(gp_Pnt2d(u, v));
+    if (state != TopAbs_IN && state != TopAbs_OUT) return UvRaster{};  // unreliable: classify exactly
+    const std::uint8_t value = state == TopAbs_IN ? UvRaster::Inside : UvRaster::Outside;
+    stack.assign(1, start);
+    raster.cells[static_cast<std::size_t>(start)] = value;
+    while (!stack.empty()) {
+      const int cell = stack.back();
+      stack.pop_back();
+      const int x = cell % kSize, y = cell / kSize;
+      for (const auto& [dx, dy] : {std::pair{1, 0}, std::pair{-1, 0}, std::pair{0, 1}, std::pair{0, -1}}) {
+        const int nx = x + dx, ny = y + dy;
+        if (nx < 0 || ny < 0 || nx >= kSize || ny >= kSize) continue;
+        std::uint8_t& next = raster.cells[static_cast<std::size_t>(ny * kSize + nx)];
+        if (next != kUnknown) continue;
+        next = value;
+        stack.push_back(ny * kSize + nx);
+      }
+    }
+  }
+  return raster;
 }
 
 // Extracts faces, edges and vertices with their adjacency.
@@ -76,6 +154,7 @@ void extractTopology(Target::Data& data) {
       FaceEdgeUse use{id, BRep_Tool::CurveOnSurface(edge, f.face, first, last)};
       if (!use.pcurve.IsNull()) f.edges.push_back(use);
     }
+    f.raster = buildRaster(f);
   }
 
   TopTools_IndexedDataMapOfShapeListOfShape vertexFaces;
@@ -257,6 +336,8 @@ Eigen::Vector3d faceNormal(const FaceData& face, GeomAdaptor_Surface& surface, d
 }
 
 TopAbs_State ThreadContext::classify(int face, double u, double v) {
+  const UvRaster::Cell cell = data_.faces[static_cast<std::size_t>(face)].raster.at(u, v);
+  if (cell != UvRaster::Boundary) return cell == UvRaster::Inside ? TopAbs_IN : TopAbs_OUT;
   std::unique_ptr<BRepTopAdaptor_FClass2d>& slot = classifiers_[static_cast<std::size_t>(face)];
   if (!slot) slot = std::make_unique<BRepTopAdaptor_FClass2d>(data_.faces[static_cast<std::size_t>(face)].face,
                                                               Precision::PConfusion());

@@ -14,6 +14,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <cstdint>
 #include <memory>
 #include <mutex>
 #include <vector>
@@ -29,6 +30,22 @@ struct FaceEdgeUse {
   Handle(Geom2d_Curve) pcurve;
 };
 
+// A grid over a face's parameter box whose cells are known to be inside or outside the trim;
+// only cells crossed by the boundary (and points outside the box) need the exact classifier.
+struct UvRaster {
+  enum Cell : std::uint8_t { Outside = 0, Inside = 1, Boundary = 2 };
+  int size = 0;  // size x size cells; 0: no raster, classify every point exactly
+  double u0 = 0, v0 = 0, du = 0, dv = 0;
+  std::vector<std::uint8_t> cells;  // row-major, v outer
+
+  // Cell state at (u, v); Boundary outside the box.
+  Cell at(double u, double v) const {
+    const double x = (u - u0) / du, y = (v - v0) / dv;
+    if (!(x >= 0 && y >= 0 && x < size && y < size)) return Boundary;
+    return static_cast<Cell>(cells[static_cast<std::size_t>(static_cast<int>(y) * size + static_cast<int>(x))]);
+  }
+};
+
 struct FaceData {
   TopoDS_Face face;
   Handle(Geom_Surface) surface;  // with the face's location applied
@@ -39,6 +56,7 @@ struct FaceData {
   bool uPeriodic = false, vPeriodic = false;
   double uPeriod = 0, vPeriod = 0;
   std::vector<FaceEdgeUse> edges;                        // non-degenerate boundary edges
+  UvRaster raster;
 };
 
 struct EdgeData {

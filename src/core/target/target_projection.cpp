@@ -21,6 +21,7 @@
 #include <atomic>
 #include <cmath>
 #include <exception>
+#include <functional>
 #include <mutex>
 #include <thread>
 
@@ -36,6 +37,7 @@ constexpr int kMaxNewtonIterations = 200;
 constexpr double kRoundOff = 1e-13;
 constexpr int kMaxFaceSolvesPerPoint = 16;
 constexpr int kMaxCurveSeeds = 4;
+constexpr int kMaxBlockedSteps = 8;
 constexpr int kMaxLineHits = 16;
 
 // Closest point of triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5);
@@ -117,6 +119,7 @@ struct NewtonResult {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   bool converged = false;
   bool singular = false;  // stopped where the parametrization degenerates (a pole)
+  bool blocked = false;   // stopped at the trim (constrained iteration only)
 };
 
 bool isSingular(const gp_Vec& su, const gp_Vec& sv) {
@@ -128,8 +131,10 @@ bool isSingular(const gp_Vec& su, const gp_Vec& sv) {
 // Levenberg-Marquardt damping (raised until the damped Hessian is positive definite and the
 // step descends) as trust region; bounds handled by fixing a parameter whose descent direction
 // leaves the domain.
+// With `inside` set, trial points outside the face's trim are rejected like steps that do not
+// descend, so the iteration stays in the trimmed face (`blocked` reports a stop at its border).
 NewtonResult newtonOnSurface(const FaceData& face, GeomAdaptor_Surface& surface, const Eigen::Vector3d& q, double u,
-                             double v, double convergence) {
+                             double v, double convergence, const std::function<bool(double, double)>* inside = nullptr) {
   const double uLo = face.uPeriodic ? -Precision::Infinite() : face.uMin;
   const double uHi = face.uPeriodic ? Precision::Infinite() : face.uMax;
   const double vLo = face.vPeriodic ? -Precision::Infinite() : face.vMin;
@@ -141,6 +146,7 @@ NewtonResult newtonOnSurface(const FaceData& face, GeomAdaptor_Surface& surface,
   Eigen::Vector3d r = toEigen(s.p) - q;
   double f = r.squaredNorm();
   double lambda = 0.0;
+  int blockedSteps = 0;
   NewtonResult result;
   for (int iteration = 0; iteration < kMaxNewtonIterations; ++iteration) {
     const Eigen::Vector3d su = toEigen(s.su), sv = toEigen(s.sv);
@@ -180,6 +186,13 @@ NewtonResult newtonOnSurface(const FaceData& face, GeomAdaptor_Surface& surface,
       step = clipStep(face, step);
       const double un = clampTo(u + step[0], uLo, uHi);
       const double vn = clampTo(v + step[1], vLo, vHi);
+      if (inside != nullptr && !(*inside)(un, vn)) {
+        lambda = std::max(1e-6, 10 * lambda);
+        result.blocked = true;
+        // Pressing against the trim again and again: the minimum lies beyond it.
+        if (++blockedSteps > kMaxBlockedSteps) break;
+        continue;
+      }
       SurfaceSample t;
       surface.D2(un, vn, t.p, t.su, t.sv, t.suu, t.svv, t.suv);
       const Eigen::Vector3d rn = toEigen(t.p) - q;
@@ -187,6 +200,7 @@ NewtonResult newtonOnSurface(const FaceData& face, GeomAdaptor_Surface& surface,
       if (fn <= f * (1 + kRoundOff) + 1e-300) {
         moved = (rn - r).norm();
         accepted = true;
+        result.blocked = false;
         u = un;
         v = vn;
         s = t;
@@ -298,9 +312,12 @@ bool leavePole(const FaceData& face, GeomAdaptor_Surface& surface, const Eigen::
   return true;
 }
 
-// Closest point on the face: Newton from (u, v), then the trim test, then the face's boundary.
+// Closest point on the trimmed face: Newton from (u, v), then the trim test; outside the trim a
+// trim-constrained descent, then the face's boundary edges. Returns no foot (distance < 0) when
+// the face cannot beat bestSoFar.
+// bestSoFar: distance of the best foot found on other candidates (< 0: none).
 Foot solveOnFace(const Target::Data& data, ThreadContext& context, int faceId, const Eigen::Vector3d& q, double u,
-                 double v) {
+                 double v, double bestSoFar) {
   const FaceData& face = data.faces[static_cast<std::size_t>(faceId)];
   NewtonResult newton = newtonOnSurface(face, context.surface(faceId), q, u, v, data.convergence);
   for (int escape = 0; escape < 2 && newton.singular; ++escape) {
@@ -320,8 +337,29 @@ Foot solveOnFace(const Target::Data& data, ThreadContext& context, int faceId, c
                                        : ProjectionStatus::OnTrimBoundary;
     return foot;
   }
-  // The minimum over the untrimmed surface lies outside the trim: the closest point of the
-  // trimmed face is on its boundary.
+  // The minimum over the untrimmed surface lies outside the trim. When it is not nearer than
+  // the best foot so far, the trimmed face cannot be either (its boundary is shared with the
+  // faces that gave that foot, or lies farther).
+  const double unconstrained = (newton.point - q).norm();
+  if (bestSoFar >= 0 && unconstrained >= bestSoFar) return foot;
+  // Otherwise descend again from the seed without leaving the trim: an interior minimum of the
+  // trimmed face, or a stop at its border, whose nearest point is then on a boundary edge.
+  const std::function<bool(double, double)> inside = [&](double un, double vn) {
+    return context.classify(faceId, wrapInto(un, face.uPeriodic, face.uPeriod, face.u0),
+                            wrapInto(vn, face.vPeriodic, face.vPeriod, face.v0)) != TopAbs_OUT;
+  };
+  if (inside(u, v)) {
+    const NewtonResult constrained = newtonOnSurface(face, context.surface(faceId), q, u, v, data.convergence, &inside);
+    if (constrained.converged && !constrained.blocked) {
+      foot.point = constrained.point;
+      foot.distance = (constrained.point - q).norm();
+      foot.u = wrapInto(constrained.u, face.uPeriodic, face.uPeriod, face.u0);
+      foot.v = wrapInto(constrained.v, face.vPeriodic, face.vPeriod, face.v0);
+      foot.status = context.classify(faceId, foot.u, foot.v) == TopAbs_IN ? ProjectionStatus::Ok
+                                                                          : ProjectionStatus::OnTrimBoundary;
+      return foot;
+    }
+  }
   for (const FaceEdgeUse& use : face.edges) {
     const Foot onEdge = closestOnEdge(data, use.edge, q);
     if (onEdge.distance < 0 || (foot.distance >= 0 && onEdge.distance >= foot.distance)) continue;
@@ -350,7 +388,7 @@ Foot closestOnSurface(const Target::Data& data, ThreadContext& context, const Ei
   context.candidates.clear();
   double radius = 0;
   if (hintFace >= 0) {
-    best = solveOnFace(data, context, hintFace, q, hintU, hintV);
+    best = solveOnFace(data, context, hintFace, q, hintU, hintV, -1.0);
     context.anchors.push_back({hintFace, best.point});
   }
   if (best.distance >= 0) {
@@ -378,7 +416,7 @@ Foot closestOnSurface(const Target::Data& data, ThreadContext& context, const Ei
     if (nearAnchor(context, face, candidate.point, 1.5 * data.triangleSize[static_cast<std::size_t>(candidate.triangle)]))
       continue;
     if (++solves > kMaxFaceSolvesPerPoint) break;
-    const Foot foot = solveOnFace(data, context, face, q, candidate.u, candidate.v);
+    const Foot foot = solveOnFace(data, context, face, q, candidate.u, candidate.v, best.distance);
     context.anchors.push_back({face, candidate.point});
     if (foot.distance < 0) continue;
     context.anchors.push_back({face, foot.point});
