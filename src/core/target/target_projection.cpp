@@ -328,13 +328,10 @@ Foot solveOnFace(const Target::Data& data, ThreadContext& context, int faceId, c
   foot.face = faceId;
   foot.u = wrapInto(newton.u, face.uPeriodic, face.uPeriod, face.u0);
   foot.v = wrapInto(newton.v, face.vPeriodic, face.vPeriod, face.v0);
-  const TopAbs_State state = context.classify(faceId, foot.u, foot.v);
-  if (state == TopAbs_IN || state == TopAbs_ON) {
+  if (context.inside(faceId, foot.u, foot.v)) {
     foot.point = newton.point;
     foot.distance = (newton.point - q).norm();
-    foot.status = !newton.converged ? ProjectionStatus::Fallback
-                  : state == TopAbs_IN ? ProjectionStatus::Ok
-                                       : ProjectionStatus::OnTrimBoundary;
+    foot.status = newton.converged ? ProjectionStatus::Ok : ProjectionStatus::Fallback;
     return foot;
   }
   // The minimum over the untrimmed surface lies outside the trim. When it is not nearer than
@@ -345,8 +342,8 @@ Foot solveOnFace(const Target::Data& data, ThreadContext& context, int faceId, c
   // Otherwise descend again from the seed without leaving the trim: an interior minimum of the
   // trimmed face, or a stop at its border, whose nearest point is then on a boundary edge.
   const std::function<bool(double, double)> inside = [&](double un, double vn) {
-    return context.classify(faceId, wrapInto(un, face.uPeriodic, face.uPeriod, face.u0),
-                            wrapInto(vn, face.vPeriodic, face.vPeriod, face.v0)) != TopAbs_OUT;
+    return context.inside(faceId, wrapInto(un, face.uPeriodic, face.uPeriod, face.u0),
+                          wrapInto(vn, face.vPeriodic, face.vPeriod, face.v0));
   };
   if (inside(u, v)) {
     const NewtonResult constrained = newtonOnSurface(face, context.surface(faceId), q, u, v, data.convergence, &inside);
@@ -355,8 +352,7 @@ Foot solveOnFace(const Target::Data& data, ThreadContext& context, int faceId, c
       foot.distance = (constrained.point - q).norm();
       foot.u = wrapInto(constrained.u, face.uPeriodic, face.uPeriod, face.u0);
       foot.v = wrapInto(constrained.v, face.vPeriodic, face.vPeriod, face.v0);
-      foot.status = context.classify(faceId, foot.u, foot.v) == TopAbs_IN ? ProjectionStatus::Ok
-                                                                          : ProjectionStatus::OnTrimBoundary;
+      foot.status = ProjectionStatus::Ok;
       return foot;
     }
   }
@@ -420,7 +416,10 @@ Foot closestOnSurface(const Target::Data& data, ThreadContext& context, const Ei
     context.anchors.push_back({face, candidate.point});
     if (foot.distance < 0) continue;
     context.anchors.push_back({face, foot.point});
-    if (best.distance < 0 || foot.distance < best.distance) best = foot;
+    // On a tie (a foot on an edge shared by two faces) prefer the face interior, so that warm
+    // and cold starts agree on the status too.
+    const bool tie = best.distance >= 0 && std::abs(foot.distance - best.distance) <= data.convergence;
+    if (best.distance < 0 || (tie ? foot.status < best.status : foot.distance < best.distance)) best = foot;
   }
   return best;
 }
@@ -508,8 +507,7 @@ Foot alongLine(const Target::Data& data, ThreadContext& context, const Eigen::Ve
     if (!newtonOnLine(face, context.surface(faceId), q, d, data.convergence, u, v, s, point)) continue;
     u = wrapInto(u, face.uPeriodic, face.uPeriod, face.u0);
     v = wrapInto(v, face.vPeriodic, face.vPeriod, face.v0);
-    const TopAbs_State state = context.classify(faceId, u, v);
-    if (state != TopAbs_IN && state != TopAbs_ON) continue;
+    if (!context.inside(faceId, u, v)) continue;
     context.anchors.push_back({faceId, point});
     const double distance = (point - q).norm();
     if (best.distance < 0 || distance < best.distance) {
@@ -518,7 +516,7 @@ Foot alongLine(const Target::Data& data, ThreadContext& context, const Eigen::Ve
       best.face = faceId;
       best.u = u;
       best.v = v;
-      best.status = state == TopAbs_IN ? ProjectionStatus::Ok : ProjectionStatus::OnTrimBoundary;
+      best.status = ProjectionStatus::Ok;
     }
   }
   if (best.distance >= 0) return best;
