@@ -6,7 +6,7 @@
 // bvmesh is timed cold (spatial index) and warm (previous face and (u, v) per point, after the
 // points moved by 0.1% of the model size, as between two fitting passes), on 1 and 2 threads.
 //
-//   bench_projection [points] [baseline points] [file]
+//   bench_projection [points] [baseline points] [relative deflection] [file]
 #include <BRepBuilderAPI_MakeVertex.hxx>
 #include <BRepExtrema_DistShapeShape.hxx>
 #include <BRep_Tool.hxx>
@@ -55,15 +55,17 @@ Points nearSurface(const Target& target, int count, unsigned seed) {
 int main(int argc, char** argv) {
   const int count = argc > 1 ? std::atoi(argv[1]) : 200000;
   const int baselineCount = argc > 2 ? std::atoi(argv[2]) : 200;
-  const std::string file = argc > 3 ? argv[3] : std::string(BVMESH_DATA_DIR) + "/AileM6_with_sharp_TE.stp";
+  const double relativeDeflection = argc > 3 ? std::atof(argv[3]) : bvmesh::target::TargetOptions{}.relativeDeflection;
+  const std::string file = argc > 4 ? argv[4] : std::string(BVMESH_DATA_DIR) + "/AileM6_with_sharp_TE.stp";
   const TopoDS_Shape shape = bvmesh::cad::readShapeFile(file);
 
   Clock::time_point start = Clock::now();
   bvmesh::target::TargetOptions options;
+  options.relativeDeflection = relativeDeflection;
   const Target target(shape, options);
   const double buildSeconds = secondsSince(start);
-  std::printf("file %s: %d faces, %d triangles, target built in %.3f s\n", file.c_str(), target.faceCount(),
-              target.report().triangleCount, buildSeconds);
+  std::printf("file %s: %d faces, %d triangles (relative deflection %g), target built in %.3f s\n", file.c_str(),
+              target.faceCount(), target.report().triangleCount, relativeDeflection, buildSeconds);
 
   const Points points = nearSurface(target, count, 1);
 
