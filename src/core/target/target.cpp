@@ -194,7 +194,10 @@ void tessellate(Target::Data& data) {
     for (int k = 1; k <= sampler.NbPoints(); ++k) {
       e.polyline.push_back(toEigen(sampler.Value(k)));
       e.polyParams.push_back(sampler.Parameter(k));
+      e.box.extend(e.polyline.back());
     }
+    e.box.lo.array() -= data.margin;
+    e.box.hi.array() += data.margin;
   }
 }
 

@@ -73,6 +73,7 @@ struct EdgeData {
   // Polyline within the tessellation deflection of the curve: seeds for Newton.
   std::vector<Eigen::Vector3d> polyline;
   std::vector<double> polyParams;
+  Box3 box;  // of the polyline, grown by the margin: no point of the edge lies outside
 };
 
 // A located point on the target.

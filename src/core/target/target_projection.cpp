@@ -334,13 +334,9 @@ Foot solveOnFace(const Target::Data& data, ThreadContext& context, int faceId, c
     foot.status = newton.converged ? ProjectionStatus::Ok : ProjectionStatus::Fallback;
     return foot;
   }
-  // The minimum over the untrimmed surface lies outside the trim. When it is not nearer than
-  // the best foot so far, the trimmed face cannot be either (its boundary is shared with the
-  // faces that gave that foot, or lies farther).
-  const double unconstrained = (newton.point - q).norm();
-  if (bestSoFar >= 0 && unconstrained >= bestSoFar) return foot;
-  // Otherwise descend again from the seed without leaving the trim: an interior minimum of the
-  // trimmed face, or a stop at its border, whose nearest point is then on a boundary edge.
+  // The minimum over the untrimmed surface lies outside the trim. Descend again from the seed
+  // without leaving the trim: an interior minimum of the trimmed face, or a stop at its border,
+  // whose nearest point is then on a boundary edge.
   const std::function<bool(double, double)> inside = [&](double un, double vn) {
     return context.inside(faceId, wrapInto(un, face.uPeriodic, face.uPeriod, face.u0),
                           wrapInto(vn, face.vPeriodic, face.vPeriod, face.v0));
@@ -357,8 +353,11 @@ Foot solveOnFace(const Target::Data& data, ThreadContext& context, int faceId, c
     }
   }
   for (const FaceEdgeUse& use : face.edges) {
+    // An edge whose box is farther than the best foot (here or elsewhere) cannot hold a nearer one.
+    const double bound = foot.distance >= 0 ? foot.distance : bestSoFar;
+    if (bound >= 0 && data.edges[static_cast<std::size_t>(use.edge)].box.squaredDistance(q) > bound * bound) continue;
     const Foot onEdge = closestOnEdge(data, use.edge, q);
-    if (onEdge.distance < 0 || (foot.distance >= 0 && onEdge.distance >= foot.distance)) continue;
+    if (onEdge.distance < 0 || (bound >= 0 && onEdge.distance >= bound)) continue;
     const gp_Pnt2d uv = use.pcurve->Value(onEdge.t);
     foot.point = onEdge.point;
     foot.distance = onEdge.distance;
