@@ -111,8 +111,8 @@ struct Target::Data {
   std::vector<double> triangleSize;                            // #T longest edge length
   AabbTree tree;
 
-  // Evaluation contexts kept between calls, so that each worker thread reuses the adaptors and
-  // classifiers built by earlier calls.
+  // Evaluation contexts kept between calls, so that each worker thread reuses the surface
+  // adaptors (and their span caches) built by earlier calls.
   std::unique_ptr<ThreadContext> acquireContext() const;
   void releaseContext(std::unique_ptr<ThreadContext> context) const;
   mutable std::mutex poolMutex;

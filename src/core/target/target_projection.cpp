@@ -7,8 +7,9 @@
 //      margin by which the surface may deviate from its tessellation;
 //   2. per candidate (face, (u, v) interpolated from the triangle's nodes): Levenberg-Marquardt
 //      Newton on |S(u, v) - q|^2 with the exact Hessian (D2), inside the surface's domain;
-//   3. trim test with the face's 2D classifier; outside: the closest point of the face's
-//      boundary edges (Newton on each edge curve);
+//   3. trim test in the face's parameter plane; outside the trim, a second descent that may not
+//      leave it, and if that stops at the border, the closest point of the face's boundary
+//      edges (Newton on each edge curve whose box is near enough);
 //   4. keep the nearest; stop when a triangle's distance minus the margin exceeds the best.
 // Candidates near a foot point already found on the same face are skipped (same basin).
 #include <BRep_Tool.hxx>
