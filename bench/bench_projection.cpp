@@ -18,6 +18,8 @@
 
 #include <chrono>
 #include <cstdio>
+#include <ctime>
+#include <tuple>
 #include <cstdlib>
 #include <random>
 #include <string>
@@ -36,6 +38,10 @@ using Clock = std::chrono::steady_clock;
 double secondsSince(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
+
+// CPU time of the whole process (all threads): on a shared machine, wall-clock throughput
+// depends on other load, points per CPU-second much less.
+double cpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
 
 // Points near the surface (tessellation nodes moved by up to 1% of the model size), like the
 // limit samples of a fitting pass.
@@ -99,26 +105,31 @@ int main(int argc, char** argv) {
   std::printf("baselines (%d points): BRepExtrema %.3f ms/point, GeomAPI_ProjectPointOnSurf x %d faces %.3f ms/point\n",
               baselineCount, 1e3 * extremaPerPoint, target.faceCount(), 1e3 * projectPerPoint);
   const Points moved = points + 1e-3 * target.report().diagonal * nearSurface(target, count, 2).rowwise().normalized();
-  std::printf("%-8s %-5s %12s %12s %14s %16s\n", "threads", "start", "points/s", "us/point", "x BRepExtrema",
-              "x ProjectPoint");
+  std::printf("%-8s %-5s %12s %12s %14s %16s %14s\n", "threads", "start", "points/s", "us/point", "x BRepExtrema",
+              "x ProjectPoint", "points/CPU-s");
   for (int threads : {1, 2}) {
     bvmesh::target::TargetOptions threaded = options;
     threaded.threads = threads;
     const Target timed(shape, threaded);
     const ProjectionResult previous = timed.project(points);  // also warms the per-thread caches
     start = Clock::now();
+    double cpu = cpuSeconds();
     const ProjectionResult cold = timed.project(moved);
     const double coldSeconds = secondsSince(start);
+    const double coldCpu = cpuSeconds() - cpu;
     const bvmesh::target::SurfaceHints hints{previous.faces, previous.params};
     start = Clock::now();
+    cpu = cpuSeconds();
     const ProjectionResult warm = timed.project(moved, &hints);
     const double warmSeconds = secondsSince(start);
+    const double warmCpu = cpuSeconds() - cpu;
     double maxDifference = 0;
     for (int i = 0; i < count; ++i) maxDifference = std::max(maxDifference, std::abs(warm.distances[i] - cold.distances[i]));
-    for (const auto& [name, seconds] : {std::pair<const char*, double>{"cold", coldSeconds}, {"warm", warmSeconds}}) {
+    for (const auto& [name, seconds, cpuTime] :
+         {std::tuple<const char*, double, double>{"cold", coldSeconds, coldCpu}, {"warm", warmSeconds, warmCpu}}) {
       const double perPoint = seconds / count;
-      std::printf("%-8d %-5s %12.0f %12.2f %14.0f %16.0f\n", threads, name, 1.0 / perPoint, 1e6 * perPoint,
-                  extremaPerPoint / perPoint, projectPerPoint / perPoint);
+      std::printf("%-8d %-5s %12.0f %12.2f %14.0f %16.0f %14.0f\n", threads, name, 1.0 / perPoint, 1e6 * perPoint,
+                  extremaPerPoint / perPoint, projectPerPoint / perPoint, count / cpuTime);
     }
     std::printf("         max |warm - cold| distance: %.3g (model size %.4g)\n", maxDifference, target.report().diagonal);
   }
