@@ -16,8 +16,18 @@ _CORE_NAMES = (
     "TopologyError",
     "SolverError",
     "CancelledError",
+    "ControlMesh",
+    "LimitEvaluator",
+    "LimitSamples",
+    "SampleElement",
+    "SampleFeature",
+    "SubdivisionOptions",
+    "read_control_mesh",
+    "write_control_mesh",
     "Target",
     "ProjectionStatus",
+    "SurfaceFitter",
+    "limit_surface_to_bsplines",
 )
 
 

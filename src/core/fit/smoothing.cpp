@@ -1,0 +1,54 @@
+#include "core/fit/smoothing.h"
+
+#include <cmath>
+#include <string>
+
+#include "core/common/errors.h"
+
+namespace bvmesh::fit {
+namespace {
+
+void umbrellaStep(const RowMatrixX3& from, RowMatrixX3& to, const std::vector<std::vector<int>>& neighbours,
+                  double factor) {
+  for (Eigen::Index point = 0; point < from.rows(); ++point) {
+    const std::vector<int>& ring = neighbours[static_cast<size_t>(point)];
+    if (ring.empty()) {
+      to.row(point) = from.row(point);
+      continue;
+    }
+    Eigen::RowVector3d average = Eigen::RowVector3d::Zero();
+    for (int neighbour : ring) average += from.row(neighbour);
+    average /= static_cast<double>(ring.size());
+    to.row(point) = from.row(point) + factor * (average - from.row(point));
+  }
+}
+
+}  // namespace
+
+RowMatrixX3 taubinSmooth(const RowMatrixX3& points, const std::vector<std::vector<int>>& neighbours,
+                         const TaubinOptions& options) {
+  if (static_cast<Eigen::Index>(neighbours.size()) != points.rows()) {
+    throw InvalidInputError("got neighbour lists for " + std::to_string(neighbours.size()) + " points, expected " +
+                            std::to_string(points.rows()));
+  }
+  if (!std::isfinite(options.lambda) || !std::isfinite(options.mu) || options.iterations < 0) {
+    throw InvalidInputError("Taubin smoothing needs finite lambda and mu and a non-negative iteration count");
+  }
+  for (size_t point = 0; point < neighbours.size(); ++point) {
+    for (int neighbour : neighbours[point]) {
+      if (neighbour < 0 || neighbour >= points.rows()) {
+        throw InvalidInputError("neighbour " + std::to_string(neighbour) + " of point " + std::to_string(point) +
+                                " is out of range");
+      }
+    }
+  }
+  RowMatrixX3 current = points;
+  RowMatrixX3 next(points.rows(), 3);
+  for (int iteration = 0; iteration < options.iterations; ++iteration) {
+    umbrellaStep(current, next, neighbours, options.lambda);
+    umbrellaStep(next, current, neighbours, options.mu);
+  }
+  return current;
+}
+
+}  // namespace bvmesh::fit

@@ -1,0 +1,27 @@
+// Taubin's nonshrinking smoothing (lambda|mu) of control points on a neighbour graph.
+//
+// The caller decides who smooths towards whom, which makes the smoothing feature-aware: a crease
+// vertex lists only its two crease neighbours (it moves along the crease), a boundary vertex its
+// boundary neighbours, a corner nobody (it stays). Umbrella weights (the plain neighbour average).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <vector>
+
+namespace bvmesh::fit {
+
+struct TaubinOptions {
+  int iterations = 10;   // each iteration is one lambda step and one mu step
+  double lambda = 0.6307;
+  double mu = -0.6732;   // |mu| > lambda: the pair neither shrinks nor grows low frequencies
+};
+
+using RowMatrixX3 = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+
+// points: #P x 3; neighbours: #P lists of vertex ids (an empty list keeps that point).
+// Throws InvalidInputError for mismatched sizes, ids out of range or non-finite factors.
+RowMatrixX3 taubinSmooth(const RowMatrixX3& points, const std::vector<std::vector<int>>& neighbours,
+                         const TaubinOptions& options = {});
+
+}  // namespace bvmesh::fit

@@ -1,0 +1,328 @@
+#include "core/mesh/control_mesh.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numeric>
+#include <string>
+#include <utility>
+
+#include "core/common/errors.h"
+
+namespace bvmesh {
+namespace {
+
+std::string pairText(int a, int b) {
+  return "(" + std::to_string(a) + ", " + std::to_string(b) + ")";
+}
+
+size_t at(int index) { return static_cast<size_t>(index); }
+
+// Union-find over face corners; two corners of one vertex are joined when the faces meet at an
+// edge through that vertex, so a manifold vertex ends with a single set (one fan).
+class CornerSets {
+public:
+  explicit CornerSets(size_t count) : parent_(count) {
+    std::iota(parent_.begin(), parent_.end(), 0);
+  }
+  int find(int corner) {
+    while (parent_[at(corner)] != corner) {
+      parent_[at(corner)] = parent_[at(parent_[at(corner)])];
+      corner = parent_[at(corner)];
+    }
+    return corner;
+  }
+  void join(int a, int b) { parent_[at(find(a))] = find(b); }
+
+private:
+  std::vector<int> parent_;
+};
+
+}  // namespace
+
+ControlMesh::ControlMesh(RowMatrixX3d vertices, std::vector<int> faceSizes,
+                         std::vector<int> faceIndices, RowMatrixX2i creases,
+                         Eigen::VectorXd creaseSharpness, std::vector<int> corners,
+                         Eigen::VectorXd cornerSharpness)
+    : vertices_(std::move(vertices)),
+      faceSizes_(std::move(faceSizes)),
+      faceIndices_(std::move(faceIndices)),
+      creases_(std::move(creases)),
+      creaseSharpness_(std::move(creaseSharpness)),
+      corners_(std::move(corners)),
+      cornerSharpness_(std::move(cornerSharpness)) {
+  for (int v = 0; v < numVertices(); ++v) {
+    if (!vertices_.row(v).allFinite()) {
+      throw InvalidInputError("vertex " + std::to_string(v) + " has a non-finite coordinate");
+    }
+  }
+  if (faceSizes_.empty()) throw InvalidInputError("the control mesh has no faces");
+  faceOffsets_.assign(faceSizes_.size() + 1, 0);
+  for (int f = 0; f < numFaces(); ++f) {
+    if (faceSizes_[at(f)] < 3) {
+      throw InvalidInputError("face " + std::to_string(f) + " has " +
+                              std::to_string(faceSizes_[at(f)]) +
+                              " vertices (a face needs at least 3)");
+    }
+    faceOffsets_[at(f) + 1] = faceOffsets_[at(f)] + faceSizes_[at(f)];
+  }
+  if (at(faceOffsets_.back()) != faceIndices_.size()) {
+    throw InvalidInputError("the face sizes add up to " + std::to_string(faceOffsets_.back()) +
+                            " but " + std::to_string(faceIndices_.size()) +
+                            " face vertex indices were given");
+  }
+  for (int f = 0; f < numFaces(); ++f) {
+    for (int i = 0; i < faceSize(f); ++i) {
+      const int v = faceVertex(f, i);
+      if (v < 0 || v >= numVertices()) {
+        throw InvalidInputError("face " + std::to_string(f) + " refers to vertex " +
+                                std::to_string(v) + ", but the mesh has " +
+                                std::to_string(numVertices()) + " vertices");
+      }
+      for (int j = 0; j < i; ++j) {
+        if (faceVertex(f, j) == v) {
+          throw TopologyError("face " + std::to_string(f) + " repeats vertex " + std::to_string(v));
+        }
+      }
+    }
+  }
+  buildConnectivity();
+  validateGeometry(vertices_);
+  validateCreases();
+  validateCorners();
+}
+
+void ControlMesh::buildConnectivity() {
+  const size_t numCorners = faceIndices_.size();
+  // Bucket every half-edge under its smaller end point; edges are found by scanning a bucket.
+  std::vector<int> bucketOffsets(at(numVertices()) + 1, 0);
+  for (int f = 0; f < numFaces(); ++f) {
+    for (int i = 0; i < faceSize(f); ++i) {
+      const int a = faceVertex(f, i), b = faceVertex(f, (i + 1) % faceSize(f));
+      ++bucketOffsets[at(std::min(a, b)) + 1];
+    }
+  }
+  std::partial_sum(bucketOffsets.begin(), bucketOffsets.end(), bucketOffsets.begin());
+  std::vector<int> bucketFill(bucketOffsets.begin(), bucketOffsets.end() - 1);
+  std::vector<int> bucketEdges(numCorners);
+
+  std::vector<std::array<int, 2>> edges;
+  std::vector<std::array<int, 2>> edgeFaces;
+  std::vector<int> edgeFirstCorner;  // global corner index where the first face starts the edge
+  edges.reserve(numCorners / 2 + 1);
+  edgeFaces.reserve(numCorners / 2 + 1);
+  edgeFirstCorner.reserve(numCorners / 2 + 1);
+  faceEdges_.assign(numCorners, -1);
+  CornerSets fans(numCorners);
+  vertexFirstCorner_ = RowMatrixX2i::Constant(numVertices(), 2, -1);
+
+  for (int f = 0; f < numFaces(); ++f) {
+    const int size = faceSize(f);
+    const int offset = faceOffsets_[at(f)];
+    for (int i = 0; i < size; ++i) {
+      const int a = faceVertex(f, i), b = faceVertex(f, (i + 1) % size);
+      if (vertexFirstCorner_(a, 0) < 0) vertexFirstCorner_.row(a) << f, i;
+      const int lo = std::min(a, b), hi = std::max(a, b);
+      int edge = -1;
+      for (int k = bucketOffsets[at(lo)]; k < bucketFill[at(lo)]; ++k) {
+        const int candidate = bucketEdges[at(k)];
+        if (edges[at(candidate)][0] + edges[at(candidate)][1] - lo == hi) {
+          edge = candidate;
+          break;
+        }
+      }
+      if (edge < 0) {
+        edge = static_cast<int>(edges.size());
+        edges.push_back({a, b});
+        edgeFaces.push_back({f, -1});
+        edgeFirstCorner.push_back(offset + i);
+        bucketEdges[at(bucketFill[at(lo)]++)] = edge;
+      } else {
+        auto& faces = edgeFaces[at(edge)];
+        if (faces[1] >= 0) {
+          throw TopologyError("edge " + std::to_string(edge) + " " + pairText(a, b) +
+                              " is shared by more than two faces (faces " +
+                              std::to_string(faces[0]) + ", " + std::to_string(faces[1]) + " and " +
+                              std::to_string(f) + ")");
+        }
+        if (edges[at(edge)][0] == a) {
+          throw TopologyError("faces " + std::to_string(faces[0]) + " and " + std::to_string(f) +
+                              " are inconsistently oriented: both traverse edge " + pairText(a, b) +
+                              " from vertex " + std::to_string(a) + " to " + std::to_string(b));
+        }
+        faces[1] = f;
+        // First face has a at its corner c and b at c+1; this face has b at i and a at i+1.
+        const int first = edgeFirstCorner[at(edge)];
+        const int firstFace = faces[0];
+        const int firstNext = faceOffsets_[at(firstFace)] +
+                              (first - faceOffsets_[at(firstFace)] + 1) % faceSize(firstFace);
+        fans.join(first, offset + (i + 1) % size);
+        fans.join(firstNext, offset + i);
+      }
+      faceEdges_[at(offset + i)] = edge;
+    }
+  }
+
+  const int numEdgesFound = static_cast<int>(edges.size());
+  edges_.resize(numEdgesFound, 2);
+  edgeFaces_.resize(numEdgesFound, 2);
+  for (int e = 0; e < numEdgesFound; ++e) {
+    edges_.row(e) << edges[at(e)][0], edges[at(e)][1];
+    edgeFaces_.row(e) << edgeFaces[at(e)][0], edgeFaces[at(e)][1];
+  }
+
+  for (int v = 0; v < numVertices(); ++v) {
+    if (vertexFirstCorner_(v, 0) < 0) {
+      throw TopologyError("vertex " + std::to_string(v) + " is not used by any face");
+    }
+  }
+  std::vector<int> vertexFan(at(numVertices()), -1);
+  for (int f = 0; f < numFaces(); ++f) {
+    for (int i = 0; i < faceSize(f); ++i) {
+      const int v = faceVertex(f, i);
+      const int fan = fans.find(faceOffsets_[at(f)] + i);
+      if (vertexFan[at(v)] < 0) {
+        vertexFan[at(v)] = fan;
+      } else if (vertexFan[at(v)] != fan) {
+        throw TopologyError("vertex " + std::to_string(v) +
+                            " is non-manifold: its faces form more than one fan (e.g. faces " +
+                            std::to_string(vertexFirstCorner_(v, 0)) + " and " + std::to_string(f) +
+                            " meet only at this vertex)");
+      }
+    }
+  }
+
+  vertexEdgeOffsets_.assign(at(numVertices()) + 1, 0);
+  for (int e = 0; e < numEdgesFound; ++e) {
+    ++vertexEdgeOffsets_[at(edges_(e, 0)) + 1];
+    ++vertexEdgeOffsets_[at(edges_(e, 1)) + 1];
+  }
+  std::partial_sum(vertexEdgeOffsets_.begin(), vertexEdgeOffsets_.end(),
+                   vertexEdgeOffsets_.begin());
+  std::vector<int> fill(vertexEdgeOffsets_.begin(), vertexEdgeOffsets_.end() - 1);
+  vertexEdges_.resize(at(vertexEdgeOffsets_.back()));
+  for (int e = 0; e < numEdgesFound; ++e) {
+    vertexEdges_[at(fill[at(edges_(e, 0))]++)] = e;
+    vertexEdges_[at(fill[at(edges_(e, 1))]++)] = e;
+  }
+}
+
+void ControlMesh::validateGeometry(const RowMatrixX3d& vertices) const {
+  // Tolerances relative to the size of the mesh, so that units do not matter.
+  const double scale = (vertices.colwise().maxCoeff() - vertices.colwise().minCoeff()).norm();
+  const double lengthTolerance = 1e-12 * scale;
+  for (int f = 0; f < numFaces(); ++f) {
+    const int size = faceSize(f);
+    Eigen::Vector3d areaVector = Eigen::Vector3d::Zero();
+    for (int i = 0; i < size; ++i) {
+      const int a = faceVertex(f, i), b = faceVertex(f, (i + 1) % size);
+      const Eigen::Vector3d pa = vertices.row(a).transpose(), pb = vertices.row(b).transpose();
+      if ((pb - pa).norm() <= lengthTolerance) {
+        throw InvalidInputError("face " + std::to_string(f) + " is degenerate: vertices " +
+                                std::to_string(a) + " and " + std::to_string(b) + " coincide");
+      }
+      areaVector += pa.cross(pb);
+    }
+    if (0.5 * areaVector.norm() <= lengthTolerance * scale) {
+      throw InvalidInputError("face " + std::to_string(f) + " is degenerate: its area is zero");
+    }
+  }
+}
+
+void ControlMesh::validateCreases() {
+  const int count = static_cast<int>(creases_.rows());
+  if (creaseSharpness_.size() == 0) {
+    creaseSharpness_ = Eigen::VectorXd::Constant(count, kInfiniteSharpness);
+  }
+  if (creaseSharpness_.size() != count) {
+    throw InvalidInputError("got " + std::to_string(count) + " creases but " +
+                            std::to_string(creaseSharpness_.size()) + " sharpness values");
+  }
+  edgeSharpness_ = Eigen::VectorXd::Zero(numEdges());
+  creaseEdges_.assign(at(count), -1);
+  for (int c = 0; c < count; ++c) {
+    const int a = creases_(c, 0), b = creases_(c, 1);
+    const std::string name = "crease " + std::to_string(c) + " " + pairText(a, b);
+    if (a < 0 || a >= numVertices() || b < 0 || b >= numVertices()) {
+      throw InvalidInputError(name + " refers to a vertex outside 0.." +
+                              std::to_string(numVertices() - 1));
+    }
+    const double sharpness = creaseSharpness_(c);
+    if (!(sharpness > 0.0)) {
+      throw InvalidInputError(name + " has sharpness " + std::to_string(sharpness) +
+                              " (must be > 0)");
+    }
+    const int edge = findEdge(a, b);
+    if (edge < 0) throw TopologyError(name + " is not an edge of the mesh");
+    if (edgeSharpness_(edge) > 0.0) {
+      throw InvalidInputError(name + " repeats edge " + std::to_string(edge));
+    }
+    edgeSharpness_(edge) = sharpness;
+    creaseEdges_[at(c)] = edge;
+  }
+}
+
+void ControlMesh::validateCorners() {
+  const int count = static_cast<int>(corners_.size());
+  if (cornerSharpness_.size() == 0) {
+    cornerSharpness_ = Eigen::VectorXd::Constant(count, kInfiniteSharpness);
+  }
+  if (cornerSharpness_.size() != count) {
+    throw InvalidInputError("got " + std::to_string(count) + " corners but " +
+                            std::to_string(cornerSharpness_.size()) + " sharpness values");
+  }
+  std::vector<bool> seen(at(numVertices()), false);
+  for (int c = 0; c < count; ++c) {
+    const int v = corners_[at(c)];
+    const std::string name = "corner " + std::to_string(c) + " (vertex " + std::to_string(v) + ")";
+    if (v < 0 || v >= numVertices()) {
+      throw InvalidInputError(name + " is outside 0.." + std::to_string(numVertices() - 1));
+    }
+    if (!(cornerSharpness_(c) > 0.0)) {
+      throw InvalidInputError(name + " has sharpness " + std::to_string(cornerSharpness_(c)) +
+                              " (must be > 0)");
+    }
+    if (seen[at(v)]) throw InvalidInputError(name + " is listed twice");
+    seen[at(v)] = true;
+  }
+}
+
+void ControlMesh::setVertices(const RowMatrixX3d& vertices) {
+  if (vertices.rows() != numVertices()) {
+    throw InvalidInputError("expected " + std::to_string(numVertices()) +
+                            " x 3 vertex positions, got " + std::to_string(vertices.rows()) +
+                            " x 3");
+  }
+  for (int v = 0; v < numVertices(); ++v) {
+    if (!vertices.row(v).allFinite()) {
+      throw InvalidInputError("vertex " + std::to_string(v) + " has a non-finite coordinate");
+    }
+  }
+  validateGeometry(vertices);
+  vertices_ = vertices;
+}
+
+bool ControlMesh::isAllQuads() const {
+  return std::all_of(faceSizes_.begin(), faceSizes_.end(), [](int size) { return size == 4; });
+}
+
+int ControlMesh::findEdge(int v0, int v1) const {
+  if (v0 < 0 || v0 >= numVertices() || v1 < 0 || v1 >= numVertices()) return -1;
+  for (int k = vertexEdgeOffsets_[at(v0)]; k < vertexEdgeOffsets_[at(v0) + 1]; ++k) {
+    const int e = vertexEdges_[at(k)];
+    if (edges_(e, 0) + edges_(e, 1) - v0 == v1) return e;
+  }
+  return -1;
+}
+
+std::vector<int> ControlMesh::boundaryEdges() const {
+  std::vector<int> result;
+  for (int e = 0; e < numEdges(); ++e) {
+    if (isBoundaryEdge(e)) result.push_back(e);
+  }
+  return result;
+}
+
+}  // namespace bvmesh

@@ -1,0 +1,80 @@
+#include "core/fit/smoothing.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+
+#include "core/common/errors.h"
+
+namespace bvmesh::fit {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// A closed polygon: each point's neighbours are the previous and the next one.
+std::vector<std::vector<int>> ringNeighbours(int count) {
+  std::vector<std::vector<int>> neighbours(count);
+  for (int i = 0; i < count; ++i) neighbours[i] = {(i + count - 1) % count, (i + 1) % count};
+  return neighbours;
+}
+
+TEST(TaubinSmoothing, RemovesNoiseWithoutShrinkingACircle) {
+  const int count = 200;
+  std::mt19937 random(3);
+  std::normal_distribution<double> noise(0.0, 0.01);
+  RowMatrixX3 noisy(count, 3);
+  for (int i = 0; i < count; ++i) {
+    const double angle = 2.0 * kPi * i / count;
+    noisy.row(i) << std::cos(angle) + noise(random), std::sin(angle) + noise(random), 0.0;
+  }
+  const RowMatrixX3 smooth = taubinSmooth(noisy, ringNeighbours(count), {});
+  auto radiusSpread = [](const RowMatrixX3& points, double& mean) {
+    const Eigen::VectorXd radii = points.rowwise().norm();
+    mean = radii.mean();
+    return (radii.array() - mean).abs().maxCoeff();
+  };
+  double noisyMean = 0.0;
+  double smoothMean = 0.0;
+  const double noisySpread = radiusSpread(noisy, noisyMean);
+  const double smoothSpread = radiusSpread(smooth, smoothMean);
+  EXPECT_LT(smoothSpread, 0.5 * noisySpread);
+  EXPECT_NEAR(smoothMean, 1.0, 2e-3);  // plain Laplacian smoothing (mu = 0) shrinks it visibly
+
+  TaubinOptions laplacian;
+  laplacian.mu = 0.0;
+  laplacian.iterations = 100;
+  double shrunkMean = 0.0;
+  radiusSpread(taubinSmooth(noisy, ringNeighbours(count), laplacian), shrunkMean);
+  EXPECT_LT(shrunkMean, 0.98);
+}
+
+TEST(TaubinSmoothing, PointsWithoutNeighboursStayAndLinesStayStraight) {
+  // A crease polyline on the x axis whose inner points only see each other: they stay on the line,
+  // and the ends (corners, no neighbours) do not move.
+  RowMatrixX3 points(5, 3);
+  points << 0, 0, 0, 0.7, 0, 0, 2.5, 0, 0, 2.9, 0, 0, 4, 0, 0;
+  const std::vector<std::vector<int>> neighbours = {{}, {0, 2}, {1, 3}, {2, 4}, {}};
+  const RowMatrixX3 smooth = taubinSmooth(points, neighbours, {});
+  EXPECT_EQ(smooth.row(0), points.row(0));
+  EXPECT_EQ(smooth.row(4), points.row(4));
+  EXPECT_LT(smooth.col(1).cwiseAbs().maxCoeff() + smooth.col(2).cwiseAbs().maxCoeff(), 1e-15);
+  // ... and are spaced more evenly than before.
+  auto spacingSpread = [](const RowMatrixX3& p) {
+    Eigen::VectorXd gaps = p.col(0).tail(4) - p.col(0).head(4);
+    return gaps.maxCoeff() - gaps.minCoeff();
+  };
+  EXPECT_LT(spacingSpread(smooth), 0.5 * spacingSpread(points));
+}
+
+TEST(TaubinSmoothing, BadInputIsRejected) {
+  const RowMatrixX3 points = RowMatrixX3::Zero(3, 3);
+  EXPECT_THROW(taubinSmooth(points, ringNeighbours(2)), InvalidInputError);
+  EXPECT_THROW(taubinSmooth(points, {{1}, {5}, {0}}), InvalidInputError);
+  TaubinOptions bad;
+  bad.lambda = std::nan("");
+  EXPECT_THROW(taubinSmooth(points, ringNeighbours(3), bad), InvalidInputError);
+}
+
+}  // namespace
+}  // namespace bvmesh::fit
