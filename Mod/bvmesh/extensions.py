@@ -4,9 +4,9 @@
   Expects bvmesh.polyhedra.place_template(target: bvmesh.Target, name: str, **parameters)
   -> (bvmesh.ControlMesh, features: dict for bvmesh.SurfaceFitter or None), and
   bvmesh.polyhedra.template_names() -> list of str.
-- limit_surface_to_shell(mesh): the limit surface of a control mesh as a sewn B-spline shell.
-  Expects bvmesh._core.limit_surface_to_bsplines(vertices (#V, 3), faces (list of vertex-id
-  lists), creases (k, 2), corners (c,)) -> dict whose "shell" entry is BREP text.
+- limit_surface_to_shell(mesh): the limit surface of a control mesh as a sewn B-spline shell,
+  from bvmesh._core.limit_surface_to_bsplines(control_mesh) -> dict whose "brep" entry is the
+  sewn shell (or solid) as BREP text.
 
 Each has an *_available() -> (bool, reason) so commands can be disabled and say why, instead
 of producing anything in place of the real result."""
@@ -66,5 +66,8 @@ def limit_surface_to_shell(mesh):
     available, reason = shell_available()
     if not available:
         raise RuntimeError(reason)
-    result = load_core().limit_surface_to_bsplines(mesh.vertices, mesh.faces, mesh.creases, mesh.corners)
-    return brep_to_shape(result["shell"])
+    result = load_core().limit_surface_to_bsplines(mesh)
+    if not result["valid"]:
+        raise RuntimeError("the sewn B-spline shell is not a valid shape ({} free edges, max edge tolerance {:.3g})"
+                           .format(result["free_edges"], result["max_edge_tolerance"]))
+    return brep_to_shape(result["brep"])

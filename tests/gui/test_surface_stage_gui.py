@@ -173,7 +173,7 @@ def run():
                  "BVMesh_DistanceMap", "BVMesh_ConvergencePlot", "BVMesh_ExportStep"):
         action = toolbar_action(name)
         check(not action.icon().isNull() and action.toolTip(), "{} has an icon and a tooltip".format(name))
-    for name in ("BVMesh_PolyhedronFromTemplate", "BVMesh_BsplineShell"):
+    for name in ("BVMesh_PolyhedronFromTemplate",):
         check("unavailable" in toolbar_action(name).toolTip(),
               "{} says why it is unavailable: {}".format(name, toolbar_action(name).toolTip()))
 
@@ -295,6 +295,12 @@ def run():
     plot = plots.default_plot_path(fit)
     check(os.path.getsize(plot) > 10000, "the convergence plot was saved as " + plot)
     os.replace(plot, CONVERGENCE_PICTURE)
+    click_toolbar("BVMesh_BsplineShell")
+    shell = doc.getObject("BsplineShell")
+    check(shell is not None and shell.Shape.isValid() and len(shell.Shape.Faces) > 0,
+          "the B-spline shell is a valid shape of {} faces".format(len(shell.Shape.Faces) if shell else 0))
+    check(all(face.Surface.TypeId == "Part::GeomBSplineSurface" for face in shell.Shape.Faces),
+          "made of B-spline faces only")
     FreeCADGui.runCommand("Std_MacroStopRecord")
     settle(500)
     subprocess.run(["/usr/bin/import", "-window", "root", CONVERGENCE_WINDOW_PICTURE], check=True, timeout=60)
