@@ -137,8 +137,8 @@ void bindTarget(py::module_& module) {
             py::gil_scoped_release release;
             return std::make_shared<Target>(shape, makeOptions(relativeDeflection, sharpAngleDeg, relativeTolerance, threads));
           },
-          py::arg("brep"), py::arg("relative_deflection") = 1e-3, py::arg("sharp_angle_deg") = 30.0,
-          py::arg("relative_tolerance") = 1e-6, py::arg("threads") = 0,
+          py::arg("brep"), py::arg("relative_deflection") = TargetOptions{}.relativeDeflection, py::arg("sharp_angle_deg") = TargetOptions{}.sharpAngleDeg,
+          py::arg("relative_tolerance") = TargetOptions{}.relativeTolerance, py::arg("threads") = TargetOptions{}.threads,
           "Target from BREP text (FreeCAD: shape.exportBrepToString()). Tolerances are relative to "
           "the bounding-box diagonal; threads=0 uses every hardware thread.")
       .def_static(
@@ -149,8 +149,8 @@ void bindTarget(py::module_& module) {
             py::gil_scoped_release release;
             return std::make_shared<Target>(shape, makeOptions(relativeDeflection, sharpAngleDeg, relativeTolerance, threads));
           },
-          py::arg("path"), py::arg("relative_deflection") = 1e-3, py::arg("sharp_angle_deg") = 30.0,
-          py::arg("relative_tolerance") = 1e-6, py::arg("threads") = 0,
+          py::arg("path"), py::arg("relative_deflection") = TargetOptions{}.relativeDeflection, py::arg("sharp_angle_deg") = TargetOptions{}.sharpAngleDeg,
+          py::arg("relative_tolerance") = TargetOptions{}.relativeTolerance, py::arg("threads") = TargetOptions{}.threads,
           "Target from a STEP (.step/.stp), IGES (.iges/.igs) or BREP (.brep/.brp) file.")
       .def("report", [](const Target& self) { return reportToDict(self.report()); },
            "Faces, surface types, edges (kind, dihedral angle), sharp / free / non-manifold edges, "
