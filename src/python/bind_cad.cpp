@@ -5,6 +5,7 @@
 #include <pybind11/stl.h>
 
 #include "bindings.h"
+#include "conversions.h"
 #include "core/cad/bspline_face.h"
 #include "core/cad/shape_io.h"
 #include "core/cad/shape_summary.h"
@@ -13,34 +14,6 @@ namespace py = pybind11;
 
 namespace bvmesh::python {
 namespace {
-
-py::dict summaryToDict(const cad::ShapeSummary& summary) {
-  py::list edges;
-  for (const cad::EdgeInfo& edge : summary.edges) {
-    py::dict item;
-    item["kind"] = cad::edgeKindName(edge.kind);
-    item["faces"] = edge.faces;
-    item["max_dihedral_degrees"] = edge.maxDihedralDegrees;
-    item["length"] = edge.length;
-    edges.append(item);
-  }
-  py::dict result;
-  result["solids"] = summary.solidCount;
-  result["shells"] = summary.shellCount;
-  result["faces"] = summary.faceCount();
-  result["vertices"] = summary.vertexCount;
-  result["surface_types"] = summary.faceSurfaceTypes;
-  result["face_areas"] = summary.faceAreas;
-  result["edges"] = edges;
-  result["bounds"] = py::make_tuple(summary.boundsMin, summary.boundsMax);
-  py::dict edgeCounts;
-  for (cad::EdgeKind kind : {cad::EdgeKind::Smooth, cad::EdgeKind::Sharp, cad::EdgeKind::Free,
-                             cad::EdgeKind::Seam, cad::EdgeKind::NonManifold, cad::EdgeKind::Degenerate}) {
-    edgeCounts[cad::edgeKindName(kind)] = summary.countEdges(kind);
-  }
-  result["edge_counts"] = edgeCounts;
-  return result;
-}
 
 cad::ShapeSummaryOptions summaryOptions(double sharpAngleDegrees) {
   cad::ShapeSummaryOptions options;
@@ -78,6 +51,34 @@ cad::BSplineSurfaceData surfaceData(const py::array_t<double, py::array::c_style
 }
 
 }  // namespace
+
+py::dict summaryToDict(const cad::ShapeSummary& summary) {
+  py::list edges;
+  for (const cad::EdgeInfo& edge : summary.edges) {
+    py::dict item;
+    item["kind"] = cad::edgeKindName(edge.kind);
+    item["faces"] = edge.faces;
+    item["max_dihedral_degrees"] = edge.maxDihedralDegrees;
+    item["length"] = edge.length;
+    edges.append(item);
+  }
+  py::dict result;
+  result["solids"] = summary.solidCount;
+  result["shells"] = summary.shellCount;
+  result["faces"] = summary.faceCount();
+  result["vertices"] = summary.vertexCount;
+  result["surface_types"] = summary.faceSurfaceTypes;
+  result["face_areas"] = summary.faceAreas;
+  result["edges"] = edges;
+  result["bounds"] = py::make_tuple(summary.boundsMin, summary.boundsMax);
+  py::dict edgeCounts;
+  for (cad::EdgeKind kind : {cad::EdgeKind::Smooth, cad::EdgeKind::Sharp, cad::EdgeKind::Free,
+                             cad::EdgeKind::Seam, cad::EdgeKind::NonManifold, cad::EdgeKind::Degenerate}) {
+    edgeCounts[cad::edgeKindName(kind)] = summary.countEdges(kind);
+  }
+  result["edge_counts"] = edgeCounts;
+  return result;
+}
 
 void bindCad(py::module_& module) {
   module.def(

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <string>
 
+#include "arrays.h"
 #include "bindings.h"
 #include "core/mesh/control_mesh.h"
 #include "core/mesh/mesh_io.h"
@@ -19,34 +20,6 @@ namespace py = pybind11;
 
 namespace bvmesh::python {
 namespace {
-
-using DoubleArray = py::array_t<double, py::array::c_style | py::array::forcecast>;
-using IntArray = py::array_t<int, py::array::c_style | py::array::forcecast>;
-
-std::string shapeText(const py::array& array) {
-  std::string text = "(";
-  for (py::ssize_t d = 0; d < array.ndim(); ++d) {
-    text += (d ? ", " : "") + std::to_string(array.shape(d));
-  }
-  return text + (array.ndim() == 1 ? ",)" : ")");
-}
-
-RowMatrixX3d points(const py::object& object, const char* name) {
-  const auto array = DoubleArray::ensure(object);
-  if (!array) throw py::value_error(std::string(name) + " must be an (n, 3) array of numbers");
-  if (array.ndim() != 2 || array.shape(1) != 3) {
-    throw py::value_error(std::string(name) + " must have shape (n, 3), got " + shapeText(array));
-  }
-  return Eigen::Map<const RowMatrixX3d>(array.data(), array.shape(0), 3);
-}
-
-std::vector<int> intVector(const py::object& object, const char* name) {
-  const auto array = IntArray::ensure(object);
-  if (!array || array.ndim() != 1) {
-    throw py::value_error(std::string(name) + " must be a 1-D sequence of integers");
-  }
-  return std::vector<int>(array.data(), array.data() + array.size());
-}
 
 Eigen::VectorXd realVector(const py::object& object, const char* name, py::ssize_t size) {
   if (object.is_none()) return Eigen::VectorXd();
@@ -65,11 +38,11 @@ std::pair<std::vector<int>, std::vector<int>> faceLists(const py::object& faces)
     if (pair.size() != 2) {
       throw py::value_error("faces given as a tuple must be (sizes, flat indices)");
     }
-    return {intVector(pair[0], "face sizes"), intVector(pair[1], "face indices")};
+    return {intsOf(pair[0], "face sizes"), intsOf(pair[1], "face indices")};
   }
   for (const py::handle face : faces) {
     const std::vector<int> corners =
-        intVector(py::reinterpret_borrow<py::object>(face), "each face");
+        intsOf(py::reinterpret_borrow<py::object>(face), "each face");
     sizes.push_back(static_cast<int>(corners.size()));
     indices.insert(indices.end(), corners.begin(), corners.end());
   }
@@ -110,12 +83,12 @@ ControlMesh makeControlMesh(const py::object& vertices, const py::object& faces,
     }
   }
   std::vector<int> cornerList =
-      corners.is_none() ? std::vector<int>() : intVector(corners, "corners");
+      corners.is_none() ? std::vector<int>() : intsOf(corners, "corners");
   Eigen::VectorXd creaseValues =
       realVector(sharpnessObject, "crease_sharpness", creasePairs.rows());
   Eigen::VectorXd cornerValues =
       realVector(cornerSharpness, "corner_sharpness", static_cast<py::ssize_t>(cornerList.size()));
-  return ControlMesh(points(vertices, "vertices"), std::move(sizes), std::move(indices),
+  return ControlMesh(rowsOf(vertices, "vertices", 3), std::move(sizes), std::move(indices),
                      std::move(creasePairs), std::move(creaseValues), std::move(cornerList),
                      std::move(cornerValues));
 }
@@ -227,7 +200,7 @@ void bindMesh(py::module_& module) {
            "corners: vertex ids; corner_sharpness: like crease_sharpness.")
       .def_property(
           "vertices", [](const ControlMesh& m) { return m.vertices(); },
-          [](ControlMesh& m, const py::object& v) { m.setVertices(points(v, "vertices")); },
+          [](ControlMesh& m, const py::object& v) { m.setVertices(rowsOf(v, "vertices", 3)); },
           "(#V, 3) positions; assigning keeps the topology")
       .def_property_readonly("faces", &faceList, "list of vertex-id lists")
       .def_property_readonly("face_sizes",
@@ -330,13 +303,13 @@ void bindMesh(py::module_& module) {
       .def(
           "positions_for",
           [](const PyLimitSamples& s, const py::object& p) {
-            return s.samples.positions(points(p, "control points"));
+            return s.samples.positions(rowsOf(p, "control points", 3));
           },
           py::arg("control_points"))
       .def(
           "normals_for",
           [](const PyLimitSamples& s, const py::object& p) {
-            return s.samples.normals(points(p, "control points"));
+            return s.samples.normals(rowsOf(p, "control points", 3));
           },
           py::arg("control_points"))
       .def_property_readonly(
@@ -423,7 +396,7 @@ void bindMesh(py::module_& module) {
           "evaluate",
           [](const LimitEvaluator& ev, const py::object& controlPoints, const py::object& face,
              const py::object& u, const py::object& v) {
-            const RowMatrixX3d p = points(controlPoints, "control points");
+            const RowMatrixX3d p = rowsOf(controlPoints, "control points", 3);
             const std::vector<SurfaceLocation> locations = locationList(face, u, v);
             LimitEvaluation e = [&] {
               py::gil_scoped_release release;

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <string>
 
+#include "arrays.h"
 #include "bindings.h"
 #include "core/cad/shape_io.h"
 #include "core/surface/limit_bsplines.h"
@@ -17,12 +18,6 @@ namespace {
 
 using surface::BorderKind;
 using surface::ChartSide;
-
-std::string shapeText(const py::array& array) {
-  std::string text = "(";
-  for (py::ssize_t k = 0; k < array.ndim(); ++k) text += (k ? ", " : "") + std::to_string(array.shape(k));
-  return text + (array.ndim() == 1 ? ",)" : ")");
-}
 
 // An integer array of shape (rows, columns); `columns` < 0 means one-dimensional.
 py::array_t<int, py::array::c_style | py::array::forcecast> integerArray(const py::object& object,

@@ -7,6 +7,7 @@
 
 #include <string>
 
+#include "arrays.h"
 #include "bindings.h"
 #include "conversions.h"
 #include "core/cad/shape_io.h"
@@ -22,46 +23,11 @@ using target::Points;
 using target::ProjectionResult;
 using target::Target;
 using target::TargetOptions;
-using Array = py::array_t<double, py::array::c_style | py::array::forcecast>;
-
-std::string shapeText(const py::array& array) {
-  std::string text = "(";
-  for (py::ssize_t k = 0; k < array.ndim(); ++k) text += (k > 0 ? ", " : "") + std::to_string(array.shape(k));
-  return text + (array.ndim() == 1 ? ",)" : ")");
-}
-
-// Copies an (n, columns) array; throws InvalidInputError naming the argument otherwise.
-Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> rows(const py::object& object,
-                                                                           const char* name, py::ssize_t columns) {
-  const Array array = Array::ensure(object);
-  if (!array) throw InvalidInputError(std::string(name) + " must be a numeric array of shape (n, " + std::to_string(columns) + ")");
-  if (array.ndim() != 2 || array.shape(1) != columns)
-    throw InvalidInputError(std::string(name) + " must have shape (n, " + std::to_string(columns) + "), got " + shapeText(array));
-  return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
-      array.data(), array.shape(0), columns);
-}
-
 py::dict reportToDict(const target::TargetReport& report) {
-  const cad::ShapeSummary& shape = report.shape;
-  py::list edges;
-  for (const cad::EdgeInfo& edge : shape.edges) {
-    py::dict item;
-    item["kind"] = cad::edgeKindName(edge.kind);
-    item["faces"] = edge.faces;
-    item["max_dihedral_degrees"] = edge.maxDihedralDegrees;
-    item["length"] = edge.length;
-    edges.append(item);
-  }
   py::list gaps;
   for (const target::GapReport& gap : report.gaps)
     gaps.append(py::dict(py::arg("edge") = gap.edge, py::arg("other_edge") = gap.otherEdge, py::arg("width") = gap.width));
-  py::dict dict;
-  dict["faces"] = shape.faceCount();
-  dict["edges"] = edges;
-  dict["vertices"] = shape.vertexCount;
-  dict["surface_types"] = shape.faceSurfaceTypes;
-  dict["face_areas"] = shape.faceAreas;
-  dict["bounds"] = py::make_tuple(shape.boundsMin, shape.boundsMax);
+  py::dict dict = summaryToDict(report.shape);
   dict["diagonal"] = report.diagonal;
   dict["tolerance"] = report.tolerance;
   dict["deflection"] = report.deflection;
@@ -165,7 +131,7 @@ void bindTarget(py::module_& module) {
       .def(
           "project",
           [](const Target& self, const py::object& points, const py::object& hintFaces, const py::object& hintUV) {
-            const Points p = rows(points, "points", 3);
+            const Points p = rowsOf(points, "points", 3);
             if (hintFaces.is_none() != hintUV.is_none())
               throw InvalidInputError("hint_faces and hint_uv must be given together");
             target::SurfaceHints hints;
@@ -174,7 +140,7 @@ void bindTarget(py::module_& module) {
               if (!faces || faces.ndim() != 1 || faces.shape(0) != p.rows())
                 throw InvalidInputError("hint_faces must have shape (" + std::to_string(p.rows()) + ",)");
               hints.faces = Eigen::Map<const Eigen::VectorXi>(faces.data(), faces.shape(0));
-              hints.uv = rows(hintUV, "hint_uv", 2);
+              hints.uv = rowsOf(hintUV, "hint_uv", 2);
               if (hints.uv.rows() != p.rows())
                 throw InvalidInputError("hint_uv must have shape (" + std::to_string(p.rows()) + ", 2)");
             }
@@ -188,7 +154,7 @@ void bindTarget(py::module_& module) {
       .def(
           "project_to_edges",
           [](const Target& self, const py::object& points, const std::vector<int>& edges) {
-            const Points p = rows(points, "points", 3);
+            const Points p = rowsOf(points, "points", 3);
             return projectReleased([&] { return self.projectToEdges(p, edges); });
           },
           py::arg("points"), py::arg("edge_ids"),
@@ -196,14 +162,14 @@ void bindTarget(py::module_& module) {
       .def(
           "project_to_free_boundary",
           [](const Target& self, const py::object& points) {
-            const Points p = rows(points, "points", 3);
+            const Points p = rowsOf(points, "points", 3);
             return projectReleased([&] { return self.projectToFreeBoundary(p); });
           },
           py::arg("points"), (std::string("Closest points on the free boundary edges.") + kResultDoc).c_str())
       .def(
           "project_to_vertex",
           [](const Target& self, const py::object& points, const py::object& vertices) {
-            const Points p = rows(points, "points", 3);
+            const Points p = rowsOf(points, "points", 3);
             const std::vector<int> ids = py::isinstance<py::int_>(vertices)
                                              ? std::vector<int>{vertices.cast<int>()}
                                              : vertices.cast<std::vector<int>>();
@@ -214,8 +180,8 @@ void bindTarget(py::module_& module) {
       .def(
           "project_along",
           [](const Target& self, const py::object& points, const py::object& directions) {
-            const Points p = rows(points, "points", 3);
-            const Points d = rows(directions, "directions", 3);
+            const Points p = rowsOf(points, "points", 3);
+            const Points d = rowsOf(directions, "directions", 3);
             return projectReleased([&] { return self.projectAlong(p, d); });
           },
           py::arg("points"), py::arg("directions"),

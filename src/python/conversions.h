@@ -3,9 +3,14 @@
 
 #include <pybind11/pybind11.h>
 
+#include "core/cad/shape_summary.h"
 #include "core/target/target.h"
 
 namespace bvmesh::python {
+
+// A shape summary as a dict: faces, surface types, areas, bounds, edges with kind and dihedral
+// angle, edge counts per kind.
+pybind11::dict summaryToDict(const cad::ShapeSummary& summary);
 
 // A projection result as a dict of numpy arrays (see Target.project's docstring).
 pybind11::dict projectionToDict(const target::ProjectionResult& result);

@@ -23,13 +23,13 @@ TEST(TaubinSmoothing, RemovesNoiseWithoutShrinkingACircle) {
   const int count = 200;
   std::mt19937 random(3);
   std::normal_distribution<double> noise(0.0, 0.01);
-  RowMatrixX3 noisy(count, 3);
+  RowMatrixX3d noisy(count, 3);
   for (int i = 0; i < count; ++i) {
     const double angle = 2.0 * kPi * i / count;
     noisy.row(i) << std::cos(angle) + noise(random), std::sin(angle) + noise(random), 0.0;
   }
-  const RowMatrixX3 smooth = taubinSmooth(noisy, ringNeighbours(count), {});
-  auto radiusSpread = [](const RowMatrixX3& points, double& mean) {
+  const RowMatrixX3d smooth = taubinSmooth(noisy, ringNeighbours(count), {});
+  auto radiusSpread = [](const RowMatrixX3d& points, double& mean) {
     const Eigen::VectorXd radii = points.rowwise().norm();
     mean = radii.mean();
     return (radii.array() - mean).abs().maxCoeff();
@@ -52,15 +52,15 @@ TEST(TaubinSmoothing, RemovesNoiseWithoutShrinkingACircle) {
 TEST(TaubinSmoothing, PointsWithoutNeighboursStayAndLinesStayStraight) {
   // A crease polyline on the x axis whose inner points only see each other: they stay on the line,
   // and the ends (corners, no neighbours) do not move.
-  RowMatrixX3 points(5, 3);
+  RowMatrixX3d points(5, 3);
   points << 0, 0, 0, 0.7, 0, 0, 2.5, 0, 0, 2.9, 0, 0, 4, 0, 0;
   const std::vector<std::vector<int>> neighbours = {{}, {0, 2}, {1, 3}, {2, 4}, {}};
-  const RowMatrixX3 smooth = taubinSmooth(points, neighbours, {});
+  const RowMatrixX3d smooth = taubinSmooth(points, neighbours, {});
   EXPECT_EQ(smooth.row(0), points.row(0));
   EXPECT_EQ(smooth.row(4), points.row(4));
   EXPECT_LT(smooth.col(1).cwiseAbs().maxCoeff() + smooth.col(2).cwiseAbs().maxCoeff(), 1e-15);
   // ... and are spaced more evenly than before.
-  auto spacingSpread = [](const RowMatrixX3& p) {
+  auto spacingSpread = [](const RowMatrixX3d& p) {
     Eigen::VectorXd gaps = p.col(0).tail(4) - p.col(0).head(4);
     return gaps.maxCoeff() - gaps.minCoeff();
   };
@@ -68,7 +68,7 @@ TEST(TaubinSmoothing, PointsWithoutNeighboursStayAndLinesStayStraight) {
 }
 
 TEST(TaubinSmoothing, BadInputIsRejected) {
-  const RowMatrixX3 points = RowMatrixX3::Zero(3, 3);
+  const RowMatrixX3d points = RowMatrixX3d::Zero(3, 3);
   EXPECT_THROW(taubinSmooth(points, ringNeighbours(2)), InvalidInputError);
   EXPECT_THROW(taubinSmooth(points, {{1}, {5}, {0}}), InvalidInputError);
   TaubinOptions bad;

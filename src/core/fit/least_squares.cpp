@@ -49,7 +49,7 @@ struct FreeColumnSystem {
   Eigen::CholmodSupernodalLLT<SparseColMatrix> cholesky;
   Eigen::LeastSquaresConjugateGradient<SparseColMatrix> cgls;
 
-  FreeColumnSystem(const SparseRowMatrix& operatorA, const Eigen::VectorXd& sqrtWeights,
+  FreeColumnSystem(const RowSparseMatrix& operatorA, const Eigen::VectorXd& sqrtWeights,
                    const std::vector<bool>& held, const LeastSquaresOptions& options) {
     const int pointCount = static_cast<int>(operatorA.cols());
     freeOfPoint.assign(pointCount, -1);
@@ -67,7 +67,7 @@ struct FreeColumnSystem {
     std::vector<Eigen::Triplet<double>> heldEntries;
     freeEntries.reserve(static_cast<size_t>(operatorA.nonZeros()));
     for (int row = 0; row < operatorA.rows(); ++row) {
-      for (SparseRowMatrix::InnerIterator entry(operatorA, row); entry; ++entry) {
+      for (RowSparseMatrix::InnerIterator entry(operatorA, row); entry; ++entry) {
         const int point = static_cast<int>(entry.col());
         const double value = sqrtWeights[row] * entry.value();
         if (freeOfPoint[point] >= 0) {
@@ -135,7 +135,7 @@ struct ControlPointSolver::Impl {
   int pointCount = 0;
 };
 
-ControlPointSolver::ControlPointSolver(const SparseRowMatrix& operatorA, const Eigen::VectorXd& weights,
+ControlPointSolver::ControlPointSolver(const RowSparseMatrix& operatorA, const Eigen::VectorXd& weights,
                                        const ApproximationConstraints& constraints,
                                        const LeastSquaresOptions& options)
     : impl_(std::make_unique<Impl>()) {
@@ -182,7 +182,7 @@ ControlPointSolver& ControlPointSolver::operator=(ControlPointSolver&&) noexcept
 int ControlPointSolver::sampleCount() const { return impl_->sampleCount; }
 int ControlPointSolver::controlPointCount() const { return impl_->pointCount; }
 
-RowMatrixX3 ControlPointSolver::solve(const RowMatrixX3& targets, const RowMatrixX3& current) const {
+RowMatrixX3d ControlPointSolver::solve(const RowMatrixX3d& targets, const RowMatrixX3d& current) const {
   const Impl& s = *impl_;
   if (targets.rows() != s.sampleCount) {
     throw InvalidInputError("got " + std::to_string(targets.rows()) + " target points for " +
@@ -196,11 +196,11 @@ RowMatrixX3 ControlPointSolver::solve(const RowMatrixX3& targets, const RowMatri
   if (!current.allFinite()) throw InvalidInputError("current control points contain NaN or infinite values");
 
   // Work in the constraint frame: row-vector points map as p' = p F^T.
-  const RowMatrixX3 localTargets = targets * s.frame.transpose();
-  RowMatrixX3 local = current * s.frame.transpose();
+  const RowMatrixX3d localTargets = targets * s.frame.transpose();
+  RowMatrixX3d local = current * s.frame.transpose();
   for (int id : s.planeVertices) local(id, 2) = s.planeOffset;
 
-  RowMatrixX3 result = local;
+  RowMatrixX3d result = local;
   for (int axis = 0; axis < 3; ++axis) {
     const FreeColumnSystem& system = (axis == 2 && s.normalSystem) ? *s.normalSystem : *s.tangentSystem;
     Eigen::VectorXd held(static_cast<Eigen::Index>(system.heldPoints.size()));

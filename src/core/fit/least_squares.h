@@ -20,10 +20,10 @@
 #include <optional>
 #include <vector>
 
+#include "core/common/types.h"
+
 namespace bvmesh::fit {
 
-using RowMatrixX3 = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
-using SparseRowMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
 enum class LeastSquaresMethod {
   Cholesky,  // sparse Cholesky of the normal equations, factorized once, reused per right-hand side
@@ -53,7 +53,7 @@ public:
   // operatorA: #S x #P limit-sample operator; weights: #S positive weights (empty = all 1).
   // Throws InvalidInputError for inconsistent sizes, bad weights or constraint indices out of
   // range, SolverError when the samples do not determine the free control points.
-  ControlPointSolver(const SparseRowMatrix& operatorA, const Eigen::VectorXd& weights,
+  ControlPointSolver(const RowSparseMatrix& operatorA, const Eigen::VectorXd& weights,
                      const ApproximationConstraints& constraints, const LeastSquaresOptions& options = {});
   ~ControlPointSolver();
   ControlPointSolver(ControlPointSolver&&) noexcept;
@@ -62,7 +62,7 @@ public:
   // targets: #S x 3 projected samples; current: #P x 3 current control points (values of the
   // constrained points, and the warm start of CGLS). Returns the #P x 3 new control points.
   // Plane vertices are put exactly on the plane.
-  RowMatrixX3 solve(const RowMatrixX3& targets, const RowMatrixX3& current) const;
+  RowMatrixX3d solve(const RowMatrixX3d& targets, const RowMatrixX3d& current) const;
 
   int sampleCount() const;
   int controlPointCount() const;

@@ -8,7 +8,7 @@
 namespace bvmesh::fit {
 namespace {
 
-void umbrellaStep(const RowMatrixX3& from, RowMatrixX3& to, const std::vector<std::vector<int>>& neighbours,
+void umbrellaStep(const RowMatrixX3d& from, RowMatrixX3d& to, const std::vector<std::vector<int>>& neighbours,
                   double factor) {
   for (Eigen::Index point = 0; point < from.rows(); ++point) {
     const std::vector<int>& ring = neighbours[static_cast<size_t>(point)];
@@ -25,7 +25,7 @@ void umbrellaStep(const RowMatrixX3& from, RowMatrixX3& to, const std::vector<st
 
 }  // namespace
 
-RowMatrixX3 taubinSmooth(const RowMatrixX3& points, const std::vector<std::vector<int>>& neighbours,
+RowMatrixX3d taubinSmooth(const RowMatrixX3d& points, const std::vector<std::vector<int>>& neighbours,
                          const TaubinOptions& options) {
   if (static_cast<Eigen::Index>(neighbours.size()) != points.rows()) {
     throw InvalidInputError("got neighbour lists for " + std::to_string(neighbours.size()) + " points, expected " +
@@ -42,8 +42,8 @@ RowMatrixX3 taubinSmooth(const RowMatrixX3& points, const std::vector<std::vecto
       }
     }
   }
-  RowMatrixX3 current = points;
-  RowMatrixX3 next(points.rows(), 3);
+  RowMatrixX3d current = points;
+  RowMatrixX3d next(points.rows(), 3);
   for (int iteration = 0; iteration < options.iterations; ++iteration) {
     umbrellaStep(current, next, neighbours, options.lambda);
     umbrellaStep(next, current, neighbours, options.mu);

@@ -9,6 +9,8 @@
 
 #include <vector>
 
+#include "core/common/types.h"
+
 namespace bvmesh::fit {
 
 struct TaubinOptions {
@@ -17,11 +19,9 @@ struct TaubinOptions {
   double mu = -0.6732;   // |mu| > lambda: the pair neither shrinks nor grows low frequencies
 };
 
-using RowMatrixX3 = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
-
 // points: #P x 3; neighbours: #P lists of vertex ids (an empty list keeps that point).
 // Throws InvalidInputError for mismatched sizes, ids out of range or non-finite factors.
-RowMatrixX3 taubinSmooth(const RowMatrixX3& points, const std::vector<std::vector<int>>& neighbours,
+RowMatrixX3d taubinSmooth(const RowMatrixX3d& points, const std::vector<std::vector<int>>& neighbours,
                          const TaubinOptions& options = {});
 
 }  // namespace bvmesh::fit

@@ -6,13 +6,13 @@
 
 #include <Eigen/Core>
 
+#include "core/common/types.h"
+
 #include <limits>
 #include <vector>
 
 namespace bvmesh {
 
-using RowMatrixX3d = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
-using RowMatrixX2i = Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor>;
 
 // Sharpness of a crease edge or corner vertex that stays sharp at every level.
 inline constexpr double kInfiniteSharpness = std::numeric_limits<double>::infinity();

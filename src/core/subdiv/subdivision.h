@@ -8,8 +8,6 @@
 
 namespace bvmesh {
 
-// Row-major sparse operators: a row is one output point as a combination of control points.
-using RowSparseMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
 // The OpenSubdiv options that change the subdivided mesh or its limit surface. The defaults are
 // the thesis' rules: boundaries are cubic B-spline curves and their corners stay fixed

@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 
 #include "core/cad/shape_summary.h"
+#include "core/common/types.h"
 
 #include <cstdint>
 #include <memory>
@@ -20,8 +21,8 @@
 
 namespace bvmesh::target {
 
-using Points = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
-using Params = Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>;
+using Points = RowMatrixX3d;
+using Params = RowMatrixX2d;
 
 struct TargetOptions {
   // Chordal deflection of the tessellation behind the spatial index, relative to the diagonal.
