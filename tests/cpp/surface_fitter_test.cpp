@@ -19,6 +19,7 @@
 #include <memory>
 
 #include "core/common/errors.h"
+#include "core/subdiv/limit_evaluator.h"
 
 namespace bvmesh::fit {
 namespace {
@@ -223,6 +224,36 @@ TEST(SurfaceFitter, StepsCanBeCalledOneByOneAndUserEditsAreTakenUp) {
   EXPECT_GT((fitter.mesh().vertices() - before).cwiseAbs().maxCoeff(), 1e-3);
   fitter.correctParameters(4);
   EXPECT_LT(fitter.record(false).maxDistance, 1.5 * after);
+}
+
+// The independent check against closed forms on the sphere: limit-to-target is the largest
+// | |p| - 1 | over the evaluation grid; target-to-limit measures the tessellated limit surface,
+// so it may exceed that by the grid's chordal error but not by much.
+TEST(SurfaceFitter, TwoSidedDistanceMatchesTheSphereClosedForm) {
+  SurfaceFitter fitter(sphereTarget(), cube(), {}, studyOptions(3));
+  fitter.run();
+  const int n = 4;
+  const TwoSidedDistance check = fitter.twoSidedDistance(n);
+
+  const LimitEvaluator evaluator(fitter.mesh());
+  std::vector<SurfaceLocation> grid;
+  for (int face = 0; face < evaluator.numPtexFaces(); ++face) {
+    for (int j = 0; j <= n; ++j) {
+      for (int i = 0; i <= n; ++i) grid.push_back({face, static_cast<double>(i) / n, static_cast<double>(j) / n});
+    }
+  }
+  const RowMatrixX3d points = evaluator.evaluate(fitter.mesh().vertices(), grid).positions;
+  const double expected = (points.rowwise().norm().array() - 1.0).abs().maxCoeff();
+  EXPECT_NEAR(check.limitToTarget, expected, 1e-9);
+  EXPECT_GT(check.targetToLimit, 0.0);
+  const double spacing = 2.0 * kPi / (4.0 * 8.0 * n);  // grid spacing on the sphere at level 3
+  EXPECT_LT(check.targetToLimit, expected + spacing * spacing);
+  // Without warm starts (a fresh fitter on the same mesh) the check is the same.
+  FitOptions options = studyOptions(3);
+  SurfaceFitter fresh(sphereTarget(), fitter.mesh(), {}, options);
+  const TwoSidedDistance cold = fresh.twoSidedDistance(n);
+  EXPECT_NEAR(cold.limitToTarget, check.limitToTarget, 1e-12);
+  EXPECT_NEAR(cold.targetToLimit, check.targetToLimit, 1e-12);
 }
 
 TEST(SurfaceFitter, CancelLeavesAConsistentState) {

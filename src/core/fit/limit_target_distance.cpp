@@ -12,7 +12,8 @@
 namespace bvmesh::fit {
 
 TwoSidedDistance measureTwoSidedDistance(const ControlMesh& mesh, const SubdivisionOptions& options,
-                                         const target::Target& target, int samplesPerFace) {
+                                         const target::Target& target, int samplesPerFace,
+                                         const target::SurfaceHints* faceHints) {
   if (samplesPerFace < 1) {
     throw InvalidInputError("the distance check needs at least 1 sample per face, got " + std::to_string(samplesPerFace));
   }
@@ -30,7 +31,20 @@ TwoSidedDistance measureTwoSidedDistance(const ControlMesh& mesh, const Subdivis
   const RowMatrixX3d grid = evaluator.evaluate(mesh.vertices(), locations).positions;
 
   TwoSidedDistance result;
-  const target::ProjectionResult onTarget = target.project(grid);
+  target::SurfaceHints gridHints;
+  if (faceHints != nullptr) {
+    if (faceHints->faces.size() != faces) {
+      throw InvalidInputError("got " + std::to_string(faceHints->faces.size()) + " face hints for " +
+                              std::to_string(faces) + " ptex faces");
+    }
+    gridHints.faces.resize(grid.rows());
+    gridHints.uv.resize(grid.rows(), 2);
+    for (Eigen::Index i = 0; i < grid.rows(); ++i) {
+      gridHints.faces[i] = faceHints->faces[i / perFace];
+      gridHints.uv.row(i) = faceHints->uv.row(i / perFace);
+    }
+  }
+  const target::ProjectionResult onTarget = target.project(grid, faceHints != nullptr ? &gridHints : nullptr);
   for (Eigen::Index i = 0; i < onTarget.distances.size(); ++i) {
     if (onTarget.status[static_cast<size_t>(i)] != target::ProjectionStatus::Failed) {
       result.limitToTarget = std::max(result.limitToTarget, onTarget.distances[i]);

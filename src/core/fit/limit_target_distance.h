@@ -11,7 +11,10 @@ namespace bvmesh::fit {
 // targetToLimit: every node of the target's tessellation to the nearest point of the limit
 //   surface, tessellated by the same grids (so it includes the grid's chordal error, which is
 //   small against the grid spacing squared times the curvature).
+// faceHints (optional, one per ptex face): a nearby location on the target for each face, which
+// warm-starts the projections of that face's grid points.
 TwoSidedDistance measureTwoSidedDistance(const ControlMesh& mesh, const SubdivisionOptions& options,
-                                         const target::Target& target, int samplesPerFace);
+                                         const target::Target& target, int samplesPerFace,
+                                         const target::SurfaceHints* faceHints = nullptr);
 
 }  // namespace bvmesh::fit

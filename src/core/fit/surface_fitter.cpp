@@ -526,7 +526,17 @@ void SurfaceFitter::smooth(const TaubinOptions& options) {
 }
 
 TwoSidedDistance SurfaceFitter::twoSidedDistance(int samplesPerFace) const {
-  return measureTwoSidedDistance(state_->mesh, state_->options.subdivision, *state_->target, samplesPerFace);
+  const State& s = *state_;
+  // On an all-quad mesh ptex face f is face f, whose centre sample comes after the vertex and
+  // edge samples: its last projection warm-starts the face's grid.
+  if (!s.haveHints || !s.mesh.isAllQuads()) {
+    return measureTwoSidedDistance(s.mesh, s.options.subdivision, *s.target, samplesPerFace);
+  }
+  const int firstFaceSample = s.mesh.numVertices() + s.mesh.numEdges();
+  target::SurfaceHints faceHints;
+  faceHints.faces = s.hints.faces.segment(firstFaceSample, s.mesh.numFaces());
+  faceHints.uv = s.hints.uv.middleRows(firstFaceSample, s.mesh.numFaces());
+  return measureTwoSidedDistance(s.mesh, s.options.subdivision, *s.target, samplesPerFace, &faceHints);
 }
 
 const PassRecord& SurfaceFitter::record(bool withCheck) {
