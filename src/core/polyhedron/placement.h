@@ -1,0 +1,46 @@
+// Automatic placement of a template on a target: the generator's topology is built with the
+// template's parameters and laid onto the target (principal axes and extents for bodies; span,
+// trailing-edge curve, sections and chords for wings; the symmetry plane of a half model from a
+// planar free boundary), then its creases, boundaries and corners are mapped onto the target's
+// feature curves and vertices, and the polyhedron is improved (improve.h).
+#pragma once
+
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/fit/surface_fitter.h"
+#include "core/mesh/control_mesh.h"
+#include "core/polyhedron/feature_curves.h"
+#include "core/polyhedron/feature_mapping.h"
+#include "core/polyhedron/improve.h"
+#include "core/polyhedron/template_library.h"
+#include "core/target/target.h"
+
+namespace bvmesh::polyhedron {
+
+struct PlacementOptions {
+  std::map<std::string, std::string> parameters;  // overrides of the template's defaults
+  FeatureCurveOptions curves;
+  FeatureMappingOptions mapping;
+  bool improve = true;
+  ImproveOptions improvement;  // its symmetryPlane is set from the detected one
+};
+
+struct PlacedPolyhedron {
+  std::string templateName;
+  ControlMesh mesh;
+  FeatureMapping mapping;          // mapping.map is the FeatureMap for SurfaceFitter
+  std::vector<FeatureCurve> curves;  // the target's feature curves the mapping refers to
+  std::optional<fit::SymmetryPlane> symmetryPlane;  // for FitOptions::symmetryPlane
+  std::map<std::string, std::string> parameters;    // the values used ("auto" resolved)
+};
+
+// Throws InvalidInputError when the target does not suit the template (e.g. a half wing on a
+// target without a planar free boundary, or without a sharp trailing edge), naming what is
+// missing. Unmapped features do not throw: see PlacedPolyhedron::mapping.
+PlacedPolyhedron placeTemplate(const PolyhedronTemplate& polyhedronTemplate, const target::Target& target,
+                               const PlacementOptions& options = {});
+
+}  // namespace bvmesh::polyhedron
