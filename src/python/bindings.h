@@ -9,5 +9,6 @@ void bindErrors(pybind11::module_& module);
 void bindCad(pybind11::module_& module);
 void bindMesh(pybind11::module_& module);
 void bindTarget(pybind11::module_& module);
+void bindPolyhedron(pybind11::module_& module);
 
 }  // namespace bvmesh::python

@@ -6,4 +6,5 @@ PYBIND11_MODULE(_core, module) {
   bvmesh::python::bindCad(module);
   bvmesh::python::bindMesh(module);
   bvmesh::python::bindTarget(module);
+  bvmesh::python::bindPolyhedron(module);
 }

@@ -176,6 +176,7 @@ FeatureMapping mapFeatures(const ControlMesh& mesh, const target::Target& target
   FeatureMapping result;
   result.maxDistanceLimit = maxDistance;
   result.maxAngleLimitDeg = options.maxAngleDeg;
+  result.relativeChainDistance = options.relativeChainDistance;
   result.cornerDistanceLimit = options.relativeCornerDistance * diagonal;
   result.chains = meshFeatureChains(mesh);
   result.map.edgeCurve.assign(static_cast<size_t>(mesh.numEdges()), -1);
@@ -209,7 +210,13 @@ FeatureMapping mapFeatures(const ControlMesh& mesh, const target::Target& target
       double maxDistance = kInfinity;
       double meanAngleDeg = kInfinity;
     };
+    double chainLength = 0.0;
+    for (size_t i = 0; i < edgeCount; ++i) {
+      chainLength += (x.row(chain.vertices[i]) - x.row(chain.vertices[(i + 1) % chain.vertices.size()])).norm();
+    }
+    const double reach = std::max(maxDistance, options.relativeChainDistance * chainLength);
     ChainMapping mapping;
+    mapping.distanceLimit = reach;
     Candidate best, nearest;
     double bestDistance = kInfinity;
     double nearestDistance = kInfinity;
@@ -237,7 +244,7 @@ FeatureMapping mapFeatures(const ControlMesh& mesh, const target::Target& target
         nearestDistance = worst;
         nearest = {static_cast<int>(k), worst, meanAngle};
       }
-      if (worst <= maxDistance && meanAngle <= options.maxAngleDeg && worst < bestDistance && !hits.empty()) {
+      if (worst <= reach && meanAngle <= options.maxAngleDeg && worst < bestDistance && !hits.empty()) {
         bestDistance = worst;
         bestHits = hits;
         mapping.curve = static_cast<int>(k);
@@ -333,7 +340,7 @@ std::string FeatureMapping::describeUnmapped() const {
       out << "the target has no " << kind << " curves";
     } else {
       out << "the nearest is curve " << m.nearestCurve << " at max distance " << m.maxDistance << " (limit "
-          << maxDistanceLimit << "), mean angle " << m.meanAngleDeg << " deg (limit " << maxAngleLimitDeg << ")";
+          << m.distanceLimit << "), mean angle " << m.meanAngleDeg << " deg (limit " << maxAngleLimitDeg << ")";
     }
     out << "\n";
   }

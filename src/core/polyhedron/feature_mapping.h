@@ -27,8 +27,10 @@ std::vector<MeshFeatureChain> meshFeatureChains(const ControlMesh& mesh);
 
 struct FeatureMappingOptions {
   // A chain maps to a curve when all its samples lie within this distance of it (relative to
-  // the target's bounding-box diagonal) ...
+  // the target's bounding-box diagonal, or to the chain's length if that allows more: control
+  // points of a coarse polyhedron stand off small features by about their edge length) ...
   double relativeMaxDistance = 0.05;
+  double relativeChainDistance = 0.25;
   // ... and its edges run along the curve: mean angle between chain and curve tangents (degrees).
   double maxAngleDeg = 30.0;
   // A corner maps to the nearest CAD vertex within this distance (relative to the diagonal).
@@ -44,6 +46,7 @@ struct ChainMapping {
   int nearestCurve = -1;
   double maxDistance = 0.0;
   double meanAngleDeg = 0.0;
+  double distanceLimit = 0.0;  // the max distance this chain was allowed
 };
 
 struct CornerMapping {
@@ -61,8 +64,10 @@ struct FeatureMapping {
   std::vector<CornerMapping> corners;
   std::vector<int> unmappedChains;      // indices into chains
   std::vector<int> unmappedCorners;     // indices into corners
-  // The absolute limits used (for the report).
+  // The limits used (for the report); a chain's distance limit is the larger of
+  // maxDistanceLimit and relativeChainDistance times its length.
   double maxDistanceLimit = 0.0;
+  double relativeChainDistance = 0.0;
   double maxAngleLimitDeg = 0.0;
   double cornerDistanceLimit = 0.0;
 

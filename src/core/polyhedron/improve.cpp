@@ -149,10 +149,11 @@ void improvePolyhedron(ControlMesh& mesh, const target::Target& target, const fi
       if (std::abs(offset) <= reach) points.row(v) -= offset * n.transpose();
     }
   };
-  for (int pass = 0; pass < options.relaxationPasses; ++pass) {
+  // At least one pass: without relaxation it only projects and snaps.
+  for (int pass = 0; pass < std::max(1, options.relaxationPasses); ++pass) {
     const RowMatrixX3d normals = vertexNormals(mesh, x);
     RowMatrixX3d relaxed = x;
-    for (Eigen::Index v = 0; v < x.rows(); ++v) {
+    for (Eigen::Index v = 0; v < x.rows() && pass < options.relaxationPasses; ++v) {
       const size_t k = static_cast<size_t>(v);
       if (roles.roles[k] == Role::Fixed || roles.neighbours[k].empty()) continue;
       Eigen::RowVector3d average = Eigen::RowVector3d::Zero();

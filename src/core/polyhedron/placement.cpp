@@ -314,8 +314,11 @@ Draft buildRevolution(const TemplateValues& values, const target::Target& target
     const bool ring = (!half && j == 0) || j == ny || k == 0 || k == n;
     const Vec radial = a * e2 + b * e3;
     const int v = draft.add(centres[static_cast<size_t>(i)] + radius * radial);
+    // Rays in the symmetry plane would graze the target's boundary there: cast them from just
+    // inside the body; the improvement snaps the vertices back onto the plane.
+    const Vec lift = half && j == 0 ? Vec(1e-3 * radius * e2) : Vec::Zero();
     if (ring) {
-      rays.add(v, centres[static_cast<size_t>(i)], radial);
+      rays.add(v, centres[static_cast<size_t>(i)] + lift, radial);
       if ((i == 0 && ends[0] == "flat") || (i == axial && ends[1] == "flat")) flatRim.push_back(v);
       // Half models: where the symmetry boundary meets an open or flat end.
       if (half && j == 0 && (k == 0 || k == n) && ((i == 0 && ends[0] != "round") || (i == axial && ends[1] != "round"))) {
@@ -329,9 +332,9 @@ Draft buildRevolution(const TemplateValues& values, const target::Target& target
     if (end == "round") {
       const double rho = std::min(1.0, std::sqrt(a * a + b * b));
       const Vec dome = radius * radial + outward * cap * std::sqrt(1.0 - rho * rho) * e1;
-      rays.add(v, rim, dome);
+      rays.add(v, rim + lift, dome);
     } else {
-      rays.add(v, rim + radius * radial, outward * e1);
+      rays.add(v, rim + radius * radial + lift, outward * e1);
     }
   }
   rays.resolve(target, draft);
@@ -494,7 +497,10 @@ Draft buildWing(const TemplateValues& values, const target::Target& target, cons
     const auto r = [&](int k) { return ring[static_cast<size_t>((k + ringSize) % ringSize)]; };
     const auto cv = [&](int i) { return c[static_cast<size_t>(i)]; };
     std::vector<std::vector<int>> faces;
-    faces.push_back({r(0), r(1), cv(1), r(2 * m - 1)});
+    // At the trailing edge the cap is split into two triangles: one quad would fold there around
+    // the thin trailing-edge wedge with an angle of a few degrees at the corner vertex.
+    faces.push_back({r(0), r(1), cv(1)});
+    faces.push_back({r(0), cv(1), r(2 * m - 1)});
     for (int i = 1; i + 1 < m; ++i) {
       faces.push_back({r(i), r(i + 1), cv(i + 1), cv(i)});
       faces.push_back({cv(i), cv(i + 1), r(2 * m - i - 1), r(2 * m - i)});
@@ -612,7 +618,13 @@ PlacedPolyhedron placeTemplate(const PolyhedronTemplate& polyhedronTemplate, con
   ControlMesh mesh = draft.build(reference);
   FeatureMapping mapping = mapFeatures(mesh, target, curves, options.mapping);
   if (options.improve) {
-    ImproveOptions improvement = options.improvement;
+    ImproveOptions improvement;
+    if (options.improvement) {
+      improvement = *options.improvement;
+    } else {
+      if (polyhedronTemplate.relaxationPasses >= 0) improvement.relaxationPasses = polyhedronTemplate.relaxationPasses;
+      if (polyhedronTemplate.pushOutPasses >= 0) improvement.pushOutPasses = polyhedronTemplate.pushOutPasses;
+    }
     improvement.symmetryPlane = plane;
     improvePolyhedron(mesh, target, mapping.map, improvement);
     mapping = mapFeatures(mesh, target, curves, options.mapping);

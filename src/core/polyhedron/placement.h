@@ -25,7 +25,9 @@ struct PlacementOptions {
   FeatureCurveOptions curves;
   FeatureMappingOptions mapping;
   bool improve = true;
-  ImproveOptions improvement;  // its symmetryPlane is set from the detected one
+  // Improvement options; unset: ImproveOptions' defaults with the template's passes. The
+  // symmetry plane is always the detected one.
+  std::optional<ImproveOptions> improvement;
 };
 
 struct PlacedPolyhedron {

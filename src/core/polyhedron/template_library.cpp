@@ -111,6 +111,12 @@ PolyhedronTemplate parseTemplate(std::istream& in, const std::string& name) {
       }
       if (!known) fail(number, "unknown generator '" + tokens[1] + "' (box, sphere, revolution, wing, nacelle)");
       generatorSeen = true;
+    } else if (keyword == "relaxation" || keyword == "pushout") {
+      int passes = 0;
+      if (tokens.size() != 2 || !parseInteger(tokens[1], passes) || passes < 0 || passes > 100) {
+        fail(number, "expected '" + keyword + " <passes 0..100>'");
+      }
+      (keyword == "relaxation" ? result.relaxationPasses : result.pushOutPasses) = passes;
     } else if (keyword == "integer" || keyword == "choice") {
       TemplateParameter parameter;
       const size_t first = comment.find_first_not_of(" \t");

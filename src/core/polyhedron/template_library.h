@@ -28,6 +28,9 @@ struct PolyhedronTemplate {
   std::string description;
   Generator generator = Generator::Box;
   std::vector<TemplateParameter> parameters;
+  // Improvement passes suited to the generator's placement (-1: ImproveOptions' defaults).
+  int relaxationPasses = -1;
+  int pushOutPasses = -1;
   std::string source;  // file the template was read from (or the stream name)
 
   const TemplateParameter* find(const std::string& parameter) const;
