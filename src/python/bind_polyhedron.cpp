@@ -94,6 +94,7 @@ py::dict mappingDict(const FeatureMapping& mapping) {
     item["edges"] = chain.edges;
     item["closed"] = chain.closed;
     item["curve"] = m.curve;
+    item["curves"] = m.curves;
     item["map_curve"] = m.mapCurve;
     item["cad_edges"] = m.cadEdges;
     item["nearest_curve"] = m.nearestCurve;

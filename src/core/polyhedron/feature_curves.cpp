@@ -25,7 +25,7 @@ EdgeGeometry edgeGeometry(const target::Target& target, int edge) {
   const target::Points polyline = target.edgePolyline(edge);
   const Eigen::Index n = polyline.rows();
   if (n < 2) return g;
-  for (Eigen::Index k = 1; k < n; ++k) g.length += (polyline.row(k) - polyline.row(k - 1)).norm();
+  g.length = target.report().shape.edges[static_cast<size_t>(edge)].length;  // exact, not the polyline's
   g.startTangent = (polyline.row(1) - polyline.row(0)).transpose().normalized();
   g.endTangent = (polyline.row(n - 1) - polyline.row(n - 2)).transpose().normalized();
   return g;

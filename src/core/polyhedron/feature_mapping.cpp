@@ -6,6 +6,8 @@
 #include <cmath>
 #include <deque>
 #include <limits>
+#include <map>
+#include <optional>
 #include <sstream>
 
 #include "core/common/errors.h"
@@ -205,60 +207,89 @@ FeatureMapping mapFeatures(const ControlMesh& mesh, const target::Target& target
       tangents.row(tangents.rows() - 1) = tangents.row(tangents.rows() - 2);
     }
 
-    struct Candidate {
-      int curve = -1;
-      double maxDistance = kInfinity;
-      double meanAngleDeg = kInfinity;
-    };
     double chainLength = 0.0;
     for (size_t i = 0; i < edgeCount; ++i) {
       chainLength += (x.row(chain.vertices[i]) - x.row(chain.vertices[(i + 1) % chain.vertices.size()])).norm();
     }
     const double reach = std::max(maxDistance, options.relativeChainDistance * chainLength);
-    ChainMapping mapping;
-    mapping.distanceLimit = reach;
-    Candidate best, nearest;
-    double bestDistance = kInfinity;
-    double nearestDistance = kInfinity;
-    std::vector<int> bestHits;
-    for (size_t k = 0; k < curves.size(); ++k) {
-      if (curves[k].kind != chain.kind) continue;
-      const target::ProjectionResult feet = target.projectToEdges(samples, curves[k].edges);
+
+    // A candidate: one curve, or the union of several; its samples' worst distance, mean angle,
+    // and per curve the positions of the curve edges the samples project to.
+    struct Candidate {
+      std::vector<int> curves;
+      double maxDistance = kInfinity;
+      double meanAngleDeg = kInfinity;
+      std::map<int, std::vector<int>> hits;
+    };
+    const auto evaluate = [&](const std::vector<int>& candidateCurves) {
+      Candidate candidate;
+      candidate.curves = candidateCurves;
+      std::vector<int> edges;
+      std::map<int, std::pair<int, int>> edgeOwner;  // edge -> (curve, position)
+      for (int k : candidateCurves) {
+        const std::vector<int>& own = curves[static_cast<size_t>(k)].edges;
+        for (size_t pos = 0; pos < own.size(); ++pos) edgeOwner[own[pos]] = {k, static_cast<int>(pos)};
+        edges.insert(edges.end(), own.begin(), own.end());
+      }
+      const target::ProjectionResult feet = target.projectToEdges(samples, edges);
       double worst = 0.0;
       double angleSum = 0.0;
-      std::vector<int> hits;
       for (Eigen::Index i = 0; i < samples.rows(); ++i) {
-        if (feet.status[static_cast<size_t>(i)] == target::ProjectionStatus::Failed) {
-          worst = kInfinity;
-          break;
+        const auto owner = edgeOwner.find(feet.ids[i]);
+        if (feet.status[static_cast<size_t>(i)] == target::ProjectionStatus::Failed || owner == edgeOwner.end()) {
+          return candidate;  // infinitely far
         }
         worst = std::max(worst, feet.distances[i]);
-        const Eigen::Vector3d along = tangentNear(polylines[k], feet.points.row(i).transpose());
+        const Eigen::Vector3d along =
+            tangentNear(polylines[static_cast<size_t>(owner->second.first)], feet.points.row(i).transpose());
         const double cosine = std::min(1.0, std::abs(along.dot(tangents.row(i).transpose())));
         angleSum += std::acos(cosine) * 180.0 / kPi;
-        const auto position = std::find(curves[k].edges.begin(), curves[k].edges.end(), feet.ids[i]);
-        if (position != curves[k].edges.end()) hits.push_back(static_cast<int>(position - curves[k].edges.begin()));
+        candidate.hits[owner->second.first].push_back(owner->second.second);
       }
-      const double meanAngle = angleSum / static_cast<double>(samples.rows());
-      if (worst < nearestDistance) {
-        nearestDistance = worst;
-        nearest = {static_cast<int>(k), worst, meanAngle};
-      }
-      if (worst <= reach && meanAngle <= options.maxAngleDeg && worst < bestDistance && !hits.empty()) {
-        bestDistance = worst;
-        bestHits = hits;
-        mapping.curve = static_cast<int>(k);
-        best = {static_cast<int>(k), worst, meanAngle};
-      }
+      candidate.maxDistance = worst;
+      candidate.meanAngleDeg = angleSum / static_cast<double>(samples.rows());
+      return candidate;
+    };
+    const auto acceptable = [&](const Candidate& candidate) {
+      return candidate.maxDistance <= reach && candidate.meanAngleDeg <= options.maxAngleDeg;
+    };
+
+    ChainMapping mapping;
+    mapping.distanceLimit = reach;
+    std::optional<Candidate> best;
+    Candidate nearest;
+    std::vector<int> sameKind;
+    for (size_t k = 0; k < curves.size(); ++k) {
+      if (curves[k].kind != chain.kind) continue;
+      sameKind.push_back(static_cast<int>(k));
+      const Candidate candidate = evaluate({static_cast<int>(k)});
+      if (candidate.maxDistance < nearest.maxDistance) nearest = candidate;
+      if (acceptable(candidate) && (!best || candidate.maxDistance < best->maxDistance)) best = candidate;
     }
-    // Figures of the mapped curve, or of the nearest candidate for the report.
-    const Candidate& shown = mapping.curve >= 0 ? best : nearest;
-    mapping.nearestCurve = shown.curve;
+    // A chain may run along several curves (e.g. across a kink of the trailing edge).
+    if (!best && sameKind.size() > 1) {
+      const Candidate all = evaluate(sameKind);
+      if (acceptable(all)) best = all;
+    }
+    // Figures of the mapped candidate, or of the nearest one for the report.
+    const Candidate& shown = best ? *best : nearest;
+    mapping.nearestCurve = shown.curves.empty() ? -1 : shown.curves.front();
     mapping.maxDistance = shown.maxDistance;
     mapping.meanAngleDeg = shown.meanAngleDeg;
-    if (mapping.curve >= 0) {
+    if (best) {
       const bool chainIsLoop = chain.closed || chain.vertices.front() == chain.vertices.back();
-      mapping.cadEdges = followedEdges(curves[static_cast<size_t>(mapping.curve)], bestHits, chainIsLoop);
+      size_t most = 0;
+      for (const auto& [k, positions] : best->hits) {
+        const std::vector<int> part = followedEdges(curves[static_cast<size_t>(k)], positions, chainIsLoop);
+        mapping.cadEdges.insert(mapping.cadEdges.end(), part.begin(), part.end());
+        mapping.curves.push_back(k);
+        if (positions.size() > most) {
+          most = positions.size();
+          mapping.curve = k;
+        }
+      }
+    }
+    if (mapping.curve >= 0) {
       std::vector<int> sorted = mapping.cadEdges;
       std::sort(sorted.begin(), sorted.end());
       for (size_t m = 0; m < result.map.curves.size() && mapping.mapCurve < 0; ++m) {

@@ -39,7 +39,8 @@ struct FeatureMappingOptions {
 };
 
 struct ChainMapping {
-  int curve = -1;         // index into the detected curves, or -1 (unmapped)
+  int curve = -1;         // index into the detected curves (the one most followed), or -1 (unmapped)
+  std::vector<int> curves;  // every curve the chain follows (several where it spans a kink or junction)
   int mapCurve = -1;      // index into FeatureMap::curves, or -1
   std::vector<int> cadEdges;  // the part of the curve the chain follows, in curve order
   // Best candidate's figures (also when unmapped; infinite when there was no candidate).
