@@ -280,6 +280,9 @@ FeatureMapping mapFeatures(const ControlMesh& mesh, const target::Target& target
       const bool chainIsLoop = chain.closed || chain.vertices.front() == chain.vertices.back();
       size_t most = 0;
       for (const auto& [k, positions] : best->hits) {
+        // In a union, a curve that catches less than one chain edge's samples is only touched
+        // where it meets the followed ones (e.g. a tiny ridge at a wing tip).
+        if (best->hits.size() > 1 && static_cast<int>(positions.size()) < perEdge) continue;
         const std::vector<int> part = followedEdges(curves[static_cast<size_t>(k)], positions, chainIsLoop);
         mapping.cadEdges.insert(mapping.cadEdges.end(), part.begin(), part.end());
         mapping.curves.push_back(k);
