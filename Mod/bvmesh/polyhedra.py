@@ -108,9 +108,10 @@ def faces_target(shape_or_brep, faces, **target_options):
     return core.Target.from_brep(core.select_faces(brep, [int(f) for f in faces]), **target_options)
 
 
-def plot_polyhedron(mesh, path, target=None, title=None, views=((25, -60), (90, -90), (0, -90))):
+def plot_polyhedron(mesh, path, target=None, title=None, views=((25, -60), (90, -90), (0, -90)), min_aspect=0.2):
     """Writes a PNG of the polyhedron (edges blue, creases red, corners black) over the target's
-    tessellation (grey), offscreen with matplotlib, from the given (elevation, azimuth) views."""
+    tessellation (grey), offscreen with matplotlib, from the given (elevation, azimuth) views.
+    Directions thinner than min_aspect of the largest extent are drawn stretched."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -123,7 +124,10 @@ def plot_polyhedron(mesh, path, target=None, title=None, views=((25, -60), (90, 
     if target is not None:
         nodes = np.asarray(target.mesh_nodes)
         low, high = np.minimum(low, nodes.min(axis=0)), np.maximum(high, nodes.max(axis=0))
-    centre, radius = (low + high) / 2, (high - low).max() / 2
+    # Thin directions (a wing's thickness) are stretched to at least `min_aspect` of the largest
+    # extent, so that sections stay visible.
+    extent = np.maximum(high - low, min_aspect * (high - low).max())
+    centre = (low + high) / 2
     figure = plt.figure(figsize=(6 * len(views), 6))
     for k, (elevation, azimuth) in enumerate(views):
         axes = figure.add_subplot(1, len(views), k + 1, projection="3d")
@@ -138,10 +142,10 @@ def plot_polyhedron(mesh, path, target=None, title=None, views=((25, -60), (90, 
         axes.scatter(*vertices.T, s=3, c="tab:blue")
         if len(corners):
             axes.scatter(*vertices[corners].T, s=25, c="black")
-        for set_limits, c in zip((axes.set_xlim, axes.set_ylim, axes.set_zlim), centre):
-            set_limits(c - radius, c + radius)
+        for set_limits, c, e in zip((axes.set_xlim, axes.set_ylim, axes.set_zlim), centre, extent):
+            set_limits(c - e / 2, c + e / 2)
         axes.view_init(elevation, azimuth)
-        axes.set_box_aspect((1, 1, 1))
+        axes.set_box_aspect(tuple(extent))
     if title:
         figure.suptitle(title)
     figure.tight_layout()
