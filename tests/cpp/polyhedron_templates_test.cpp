@@ -3,6 +3,7 @@
 // mirroring the M6 half wing).
 #include <gtest/gtest.h>
 
+#include <BRepAlgoAPI_Fuse.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
 #include <BRepBuilderAPI_Transform.hxx>
 #include <BRep_Builder.hxx>
@@ -138,6 +139,31 @@ TEST(TemplatePlacement, CylinderRimsCreasedAndMapped) {
       EXPECT_NEAR(std::min(std::abs(p.x()), std::abs(p.x() - 6.0)), 0.0, 1e-6);
     }
   }
+}
+
+TEST(TemplatePlacement, FullCapsuleWithRoundEnds) {
+  // A closed capsule along x: cylinder of radius 1 from x = 0 to 4 with hemispherical ends.
+  const gp_Ax2 axis(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0));
+  TopoDS_Shape capsule = BRepAlgoAPI_Fuse(BRepPrimAPI_MakeCylinder(axis, 1.0, 4.0).Shape(),
+                                          BRepPrimAPI_MakeSphere(gp_Pnt(0, 0, 0), 1.0).Shape()).Shape();
+  capsule = BRepAlgoAPI_Fuse(capsule, BRepPrimAPI_MakeSphere(gp_Pnt(4, 0, 0), 1.0).Shape()).Shape();
+  const target::Target target(capsule);
+  PlacementOptions options;
+  options.improve = false;
+  const PlacedPolyhedron placed = placeTemplate(libraryTemplate("capsule"), target, options);
+  EXPECT_EQ(placed.parameters.at("half"), "no");
+  EXPECT_EQ(placed.parameters.at("nose"), "round");
+  EXPECT_EQ(placed.parameters.at("tail"), "round");
+  EXPECT_EQ(placed.mesh.boundaryEdges().size(), 0u);
+  EXPECT_TRUE(placed.mapping.chains.empty());
+  // Every vertex cast onto the capsule: distance 1 from its axis segment.
+  for (Eigen::Index v = 0; v < placed.mesh.vertices().rows(); ++v) {
+    const Eigen::Vector3d p = placed.mesh.vertices().row(v).transpose();
+    const Eigen::Vector3d onAxis(std::clamp(p.x(), 0.0, 4.0), 0.0, 0.0);
+    EXPECT_NEAR((p - onAxis).norm(), 1.0, 1e-3);
+  }
+  EXPECT_NEAR(placed.mesh.vertices().col(0).minCoeff(), -1.0, 1e-3);
+  EXPECT_NEAR(placed.mesh.vertices().col(0).maxCoeff(), 5.0, 1e-3);
 }
 
 TEST(TemplatePlacement, NacelleAroundATorus) {
