@@ -103,8 +103,13 @@ TEST(PolyhedronFit, HalfWingPlacedAndFittedOnOneraM6) {
 
   fit::FitOptions options;
   options.tolerance = 8e-3;  // 1e-5 of the root chord
-  options.maxLevel = 4;      // keeps the test near 20 s; see docs/templates.md for deeper runs
+  options.maxLevel = 4;      // keeps the test near 30 s; bench_m6_template_fit runs deeper
   options.symmetryPlane = placed.symmetryPlane;
+  // In the thin trailing-edge region at the tip, closest points flip between the upper and the
+  // lower surface and pinch the surface together there; projecting along the limit normals keeps
+  // each side on its side (1.7 mm -> 0.14 mm at level 4).
+  options.projectAlongNormals = true;
+  options.stagnationRatio = 1.0;  // every correction pass of every level (the coarse levels gain most)
   fit::SurfaceFitter fitter(target, placed.mesh, placed.mapping.map, options);
   const fit::FitSummary summary = runAndRecord(fitter, "m6_half_wing");
   writeControlMesh(fitter.mesh(), kOutput + "/m6_half_wing_fitted.cmesh");
@@ -112,8 +117,8 @@ TEST(PolyhedronFit, HalfWingPlacedAndFittedOnOneraM6) {
   const auto [awayFromTip, where] = maxDistanceAwayFrom(fitter, tipTE, 60.0);
   std::printf("M6: max distance %.3e mm overall, %.3e mm farther than 60 mm from the tip trailing edge, at (%.1f, "
               "%.1f, %.1f)\n", overall, awayFromTip, where.x(), where.y(), where.z());
-  EXPECT_LT(overall, 2.0);
-  EXPECT_LT(awayFromTip, 0.3);
+  EXPECT_LT(overall, 0.25);
+  EXPECT_LT(awayFromTip, 0.05);
   EXPECT_EQ(summary.history.back().failedProjections, 0);
   for (int edge : fitter.mesh().boundaryEdges()) {
     for (int end = 0; end < 2; ++end) EXPECT_NEAR(fitter.mesh().vertices()(fitter.mesh().edges()(edge, end), 1), 0.0, 1e-9);

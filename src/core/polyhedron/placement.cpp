@@ -203,7 +203,8 @@ Draft buildSphere(const TemplateValues& values, const target::Target& target) {
 
 // ---- bodies of revolution -------------------------------------------------------------------
 
-// Points on the free boundary curves other than those lying in the symmetry plane.
+// Whether a free-boundary curve (other than one lying in the symmetry plane) lies across the axis
+// at `end` (its axial coordinate from `origin`), within `reach`: that end of the body is open.
 bool boundaryNear(const target::Target& target, const std::vector<FeatureCurve>& curves,
                   const std::optional<fit::SymmetryPlane>& plane, const Vec& origin, const Vec& axis, double end,
                   double reach) {
@@ -356,7 +357,6 @@ struct WingFrame {
   double low = 0.0, high = 0.0;  // span range of the stations (trailing-edge ends)
   double extentLow = 0.0, extentHigh = 0.0;  // span range of the whole target
   std::vector<target::Points> trailingEdges;  // polylines of the sharp spanwise curves
-  std::vector<int> trailingCurves;            // their indices in the curves
 };
 
 // The trailing-edge point at span s: where a trailing-edge polyline crosses the plane.
@@ -404,7 +404,6 @@ WingFrame wingFrame(const target::Target& target, const std::vector<FeatureCurve
     const double from = (line.row(0).transpose() - w.origin).dot(w.span);
     const double to = (line.row(line.rows() - 1).transpose() - w.origin).dot(w.span);
     w.trailingEdges.push_back(line);
-    w.trailingCurves.push_back(static_cast<int>(c));
     if (w.trailingEdges.size() == 1) {
       w.low = std::min(from, to);
       w.high = std::max(from, to);
