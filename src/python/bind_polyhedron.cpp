@@ -105,8 +105,8 @@ py::dict mappingDict(const FeatureMapping& mapping) {
   py::list corners;
   for (const CornerMapping& c : mapping.corners) {
     corners.append(py::dict(py::arg("vertex") = c.vertex, py::arg("cad_vertex") = c.cadVertex,
-                            py::arg("nearest_cad_vertex") = c.nearestCadVertex, py::arg("distance") = c.distance,
-                            py::arg("required") = c.required));
+                            py::arg("nearest_cad_vertex") = c.nearestCadVertex,
+                            py::arg("distance") = c.distance, py::arg("required") = c.required));
   }
   py::dict dict;
   dict["feature_map"] = featureMapDict(mapping.map);
@@ -121,13 +121,15 @@ py::dict mappingDict(const FeatureMapping& mapping) {
 
 py::object planeObject(const std::optional<fit::SymmetryPlane>& plane) {
   if (!plane) return py::none();
-  return py::dict(py::arg("point") = Eigen::Vector3d(plane->point), py::arg("normal") = Eigen::Vector3d(plane->normal));
+  return py::dict(py::arg("point") = Eigen::Vector3d(plane->point),
+                  py::arg("normal") = Eigen::Vector3d(plane->normal));
 }
 
 std::optional<fit::SymmetryPlane> planeFrom(const py::object& object) {
   if (object.is_none()) return std::nullopt;
   const py::dict dict = object.cast<py::dict>();
-  if (!dict.contains("point") || !dict.contains("normal")) throw py::value_error("symmetry_plane needs 'point' and 'normal'");
+  if (!dict.contains("point") || !dict.contains("normal"))
+    throw py::value_error("symmetry_plane needs 'point' and 'normal'");
   fit::SymmetryPlane plane;
   plane.point = dict["point"].cast<Eigen::Vector3d>();
   plane.normal = dict["normal"].cast<Eigen::Vector3d>();
@@ -146,12 +148,14 @@ FeatureCurveOptions curveOptions(double sharpAngleDeg, double continuityAngleDeg
 
 void bindPolyhedron(py::module_& module) {
   module.def(
-      "read_template_library", [](const std::string& folder) {
+      "read_template_library",
+      [](const std::string& folder) {
         py::list list;
         for (const PolyhedronTemplate& t : readTemplateLibrary(folder)) list.append(templateDict(t));
         return list;
       },
-      py::arg("folder"), "Every *.template file of a folder as dicts (name, description, generator, parameters, source).");
+      py::arg("folder"),
+      "Every *.template file of a folder as dicts (name, description, generator, parameters, source).");
 
   module.def(
       "feature_curves",
@@ -164,13 +168,15 @@ void bindPolyhedron(py::module_& module) {
         return curveList(curves);
       },
       py::arg("target"), py::arg("sharp_angle_deg") = 30.0, py::arg("continuity_angle_deg") = 30.0,
-      "The target's sharp and free-boundary curves: dicts with kind ('sharp'/'boundary'), edges (target edge ids in "
+      "The target's sharp and free-boundary curves: dicts with kind ('sharp'/'boundary'), edges (target edge "
+      "ids in "
       "chain order), reversed, start_vertex, end_vertex, length, closed, smooth_loop.");
 
   module.def(
       "map_features",
-      [](const ControlMesh& mesh, const target::Target& target, double sharpAngleDeg, double continuityAngleDeg,
-         double relativeMaxDistance, double maxAngleDeg, double relativeCornerDistance) {
+      [](const ControlMesh& mesh, const target::Target& target, double sharpAngleDeg,
+         double continuityAngleDeg, double relativeMaxDistance, double maxAngleDeg,
+         double relativeCornerDistance) {
         FeatureMappingOptions options;
         options.relativeMaxDistance = relativeMaxDistance;
         options.maxAngleDeg = maxAngleDeg;
@@ -186,16 +192,19 @@ void bindPolyhedron(py::module_& module) {
         dict["curves"] = curveList(curves);
         return dict;
       },
-      py::arg("mesh"), py::arg("target"), py::arg("sharp_angle_deg") = 30.0, py::arg("continuity_angle_deg") = 30.0,
-      py::arg("relative_max_distance") = 0.05, py::arg("max_angle_deg") = 30.0, py::arg("relative_corner_distance") = 0.05,
-      "Maps the mesh's crease chains, boundary chains and corners onto the target's feature curves and vertices. "
-      "Returns a dict: feature_map (curves, edge_curve, vertex_cad_vertex), chains, corners, unmapped_chains, "
+      py::arg("mesh"), py::arg("target"), py::arg("sharp_angle_deg") = 30.0,
+      py::arg("continuity_angle_deg") = 30.0, py::arg("relative_max_distance") = 0.05,
+      py::arg("max_angle_deg") = 30.0, py::arg("relative_corner_distance") = 0.05,
+      "Maps the mesh's crease chains, boundary chains and corners onto the target's feature curves and "
+      "vertices. "
+      "Returns a dict: feature_map (curves, edge_curve, vertex_cad_vertex), chains, corners, "
+      "unmapped_chains, "
       "unmapped_corners, complete, report (text naming what maps to nothing), curves.");
 
   module.def(
       "place_template",
-      [](const std::string& path, const target::Target& target, const std::map<std::string, std::string>& parameters,
-         bool improve) {
+      [](const std::string& path, const target::Target& target,
+         const std::map<std::string, std::string>& parameters, bool improve) {
         const PolyhedronTemplate polyhedronTemplate = readTemplate(path);
         PlacementOptions options;
         options.parameters = parameters;
@@ -213,16 +222,17 @@ void bindPolyhedron(py::module_& module) {
         dict["parameters"] = placed->parameters;
         return dict;
       },
-      py::arg("template_path"), py::arg("target"), py::arg("parameters") = std::map<std::string, std::string>(),
-      py::arg("improve") = true,
-      "Builds the template (a .template file) on the target. Returns a dict: mesh (ControlMesh), feature_map, "
+      py::arg("template_path"), py::arg("target"),
+      py::arg("parameters") = std::map<std::string, std::string>(), py::arg("improve") = true,
+      "Builds the template (a .template file) on the target. Returns a dict: mesh (ControlMesh), "
+      "feature_map, "
       "symmetry_plane (dict point/normal or None), parameters (values used), curves, and the mapping report "
       "(chains, corners, unmapped_chains, unmapped_corners, complete, report).");
 
   module.def(
       "improve_polyhedron",
-      [](const ControlMesh& mesh, const target::Target& target, const py::object& featureMap, int relaxationPasses,
-         double relaxation, int pushOutPasses, const py::object& symmetryPlane) {
+      [](const ControlMesh& mesh, const target::Target& target, const py::object& featureMap,
+         int relaxationPasses, double relaxation, int pushOutPasses, const py::object& symmetryPlane) {
         ImproveOptions options;
         options.relaxationPasses = relaxationPasses;
         options.relaxation = relaxation;
@@ -234,9 +244,11 @@ void bindPolyhedron(py::module_& module) {
         improvePolyhedron(result, target, map, options);
         return result;
       },
-      py::arg("mesh"), py::arg("target"), py::arg("feature_map") = py::none(), py::arg("relaxation_passes") = 3,
-      py::arg("relaxation") = 0.5, py::arg("push_out_passes") = 3, py::arg("symmetry_plane") = py::none(),
-      "A copy of the mesh improved for fitting: tangential relaxation with projection by vertex role, limit push-out, "
+      py::arg("mesh"), py::arg("target"), py::arg("feature_map") = py::none(),
+      py::arg("relaxation_passes") = 3, py::arg("relaxation") = 0.5, py::arg("push_out_passes") = 3,
+      py::arg("symmetry_plane") = py::none(),
+      "A copy of the mesh improved for fitting: tangential relaxation with projection by vertex role, limit "
+      "push-out, "
       "boundary vertices snapped to the symmetry plane (dict point/normal).");
 
   module.def(
@@ -246,7 +258,8 @@ void bindPolyhedron(py::module_& module) {
         return py::make_tuple(cad::writeBrepString(half.shape), half.face, planeObject(half.plane));
       },
       py::arg("brep"),
-      "(brep, face, plane): the shape without its symmetry-plane face (the largest planar face with the whole shape on "
+      "(brep, face, plane): the shape without its symmetry-plane face (the largest planar face with the "
+      "whole shape on "
       "one side), that face's index and the plane (dict point/normal, normal towards the shape).");
 
   module.def(
@@ -254,7 +267,8 @@ void bindPolyhedron(py::module_& module) {
       [](const std::string& brep, const std::vector<int>& faces) {
         return cad::writeBrepString(selectFaces(cad::readBrepString(brep), faces));
       },
-      py::arg("brep"), py::arg("faces"), "BREP text of a compound of the given faces (0-based, FreeCAD's Face<i+1>).");
+      py::arg("brep"), py::arg("faces"),
+      "BREP text of a compound of the given faces (0-based, FreeCAD's Face<i+1>).");
 }
 
 }  // namespace bvmesh::python

@@ -58,7 +58,8 @@ TEST(FeatureCurves, CylinderRimsAreClosedCurves) {
 }
 
 TEST(FeatureCurves, OneraM6TrailingEdgeAndRootLoop) {
-  const HalfModelShape half = removeSymmetryFace(cad::readShapeFile(std::string(BVMESH_TEST_DATA_DIR) + "/AileM6_with_sharp_TE.stp"));
+  const HalfModelShape half =
+      removeSymmetryFace(cad::readShapeFile(std::string(BVMESH_TEST_DATA_DIR) + "/AileM6_with_sharp_TE.stp"));
   const target::Target wing(half.shape);
   const std::vector<FeatureCurve> curves = detectFeatureCurves(wing);
   // Longest sharp curve: the trailing edge, 1242.6 mm, from root (810.49, 0, 0) to tip.
@@ -100,7 +101,8 @@ TEST(MeshFeatureChains, LoopsAndCornersSplitChains) {
   EXPECT_TRUE(chains[0].closed);
   EXPECT_EQ(chains[0].vertices.size(), 4u);
   // A corner on the loop opens it there.
-  const ControlMesh cornered(plain.vertices(), plain.faceSizes(), plain.faceIndices(), top, Eigen::VectorXd(), {6});
+  const ControlMesh cornered(plain.vertices(), plain.faceSizes(), plain.faceIndices(), top, Eigen::VectorXd(),
+                             {6});
   chains = meshFeatureChains(cornered);
   ASSERT_EQ(chains.size(), 1u);
   EXPECT_FALSE(chains[0].closed);
@@ -124,7 +126,8 @@ TEST(FeatureMapping, CreasedCubeMapsOntoABox) {
     const std::array<int, 2> ends = box.edgeVertices(mapping.map.curves[static_cast<size_t>(curve)][0]);
     for (int k = 0; k < 2; ++k) {
       const Eigen::Vector3d p = mesh.vertices().row(mesh.edges()(e, k)).transpose() / 1.02;
-      EXPECT_TRUE((box.vertexPosition(ends[0]) - p).norm() < 1e-9 || (box.vertexPosition(ends[1]) - p).norm() < 1e-9);
+      EXPECT_TRUE((box.vertexPosition(ends[0]) - p).norm() < 1e-9 ||
+                  (box.vertexPosition(ends[1]) - p).norm() < 1e-9);
     }
   }
   for (int v = 0; v < 8; ++v) {

@@ -21,26 +21,29 @@ const std::string kData = BVMESH_TEST_DATA_DIR;
 const std::string kTemplates = std::string(BVMESH_TEST_DATA_DIR) + "/../../resources/templates";
 const std::string kOutput = BVMESH_TEST_OUTPUT_DIR;
 
-PolyhedronTemplate libraryTemplate(const std::string& name) { return readTemplate(kTemplates + "/" + name + ".template"); }
+PolyhedronTemplate libraryTemplate(const std::string& name) {
+  return readTemplate(kTemplates + "/" + name + ".template");
+}
 
 // Runs the fitter, writes its history as a Markdown table and returns the final max distance.
 fit::FitSummary runAndRecord(fit::SurfaceFitter& fitter, const std::string& name) {
   const fit::FitSummary summary = fitter.run();
   std::FILE* out = std::fopen((kOutput + "/" + name + "_fit.md").c_str(), "w");
-  std::fprintf(out, "| level | pass | control points | max distance | RMS | seconds |\n|---|---|---|---|---|---|\n");
+  std::fprintf(
+      out, "| level | pass | control points | max distance | RMS | seconds |\n|---|---|---|---|---|---|\n");
   for (const fit::PassRecord& r : summary.history) {
-    std::fprintf(out, "| %d | %d | %d | %.3e | %.3e | %.1f |\n", r.level, r.correction, r.controlPoints, r.maxDistance,
-                 r.rmsDistance, r.seconds);
-    std::printf("%s level %d pass %d: %d control points, max %.3e, RMS %.3e (%.1f s)\n", name.c_str(), r.level,
-                r.correction, r.controlPoints, r.maxDistance, r.rmsDistance, r.seconds);
+    std::fprintf(out, "| %d | %d | %d | %.3e | %.3e | %.1f |\n", r.level, r.correction, r.controlPoints,
+                 r.maxDistance, r.rmsDistance, r.seconds);
+    std::printf("%s level %d pass %d: %d control points, max %.3e, RMS %.3e (%.1f s)\n", name.c_str(),
+                r.level, r.correction, r.controlPoints, r.maxDistance, r.rmsDistance, r.seconds);
   }
   std::fclose(out);
   return summary;
 }
 
 // Largest sample distance of the fitter's current state at least `away` from `point`, and where.
-std::pair<double, Eigen::Vector3d> maxDistanceAwayFrom(fit::SurfaceFitter& fitter, const Eigen::Vector3d& point,
-                                                       double away) {
+std::pair<double, Eigen::Vector3d> maxDistanceAwayFrom(fit::SurfaceFitter& fitter,
+                                                       const Eigen::Vector3d& point, double away) {
   const RowMatrixX3d positions = fitter.limitPositions();
   const target::ProjectionResult& feet = fitter.project();
   std::pair<double, Eigen::Vector3d> worst{0.0, Eigen::Vector3d::Zero()};
@@ -83,14 +86,17 @@ TEST(PolyhedronFit, HalfWingPlacedAndFittedOnOneraM6) {
   const ChainMapping& te = placed.mapping.chainMappings[static_cast<size_t>(crease)];
   ASSERT_GE(te.curve, 0);
   const FeatureCurve& teCurve = placed.curves[static_cast<size_t>(te.curve)];
-  const Eigen::Vector3d a = target->vertexPosition(teCurve.startVertex), b = target->vertexPosition(teCurve.endVertex);
-  EXPECT_LT(std::min((a - rootTE).norm() + (b - tipTE).norm(), (a - tipTE).norm() + (b - rootTE).norm()), 1e-3);
+  const Eigen::Vector3d a = target->vertexPosition(teCurve.startVertex),
+                        b = target->vertexPosition(teCurve.endVertex);
+  EXPECT_LT(std::min((a - rootTE).norm() + (b - tipTE).norm(), (a - tipTE).norm() + (b - rootTE).norm()),
+            1e-3);
   EXPECT_EQ(te.cadEdges, teCurve.edges);
   // The root boundary maps to the free boundary (the root section loop), all on y = 0.
   const int root = chainOfKind(placed.mapping, FeatureCurveKind::Boundary);
   ASSERT_GE(root, 0);
   EXPECT_GE(placed.mapping.chainMappings[static_cast<size_t>(root)].curve, 0);
-  for (int v : placed.mapping.chains[static_cast<size_t>(root)].vertices) EXPECT_NEAR(placed.mesh.vertices()(v, 1), 0.0, 1e-9);
+  for (int v : placed.mapping.chains[static_cast<size_t>(root)].vertices)
+    EXPECT_NEAR(placed.mesh.vertices()(v, 1), 0.0, 1e-9);
   // Both ends of the trailing-edge crease are corners on the CAD trailing-edge vertices.
   int corners = 0;
   for (const CornerMapping& corner : placed.mapping.corners) {
@@ -115,13 +121,16 @@ TEST(PolyhedronFit, HalfWingPlacedAndFittedOnOneraM6) {
   writeControlMesh(fitter.mesh(), kOutput + "/m6_half_wing_fitted.cmesh");
   const double overall = summary.history.back().maxDistance;
   const auto [awayFromTip, where] = maxDistanceAwayFrom(fitter, tipTE, 60.0);
-  std::printf("M6: max distance %.3e mm overall, %.3e mm farther than 60 mm from the tip trailing edge, at (%.1f, "
-              "%.1f, %.1f)\n", overall, awayFromTip, where.x(), where.y(), where.z());
+  std::printf(
+      "M6: max distance %.3e mm overall, %.3e mm farther than 60 mm from the tip trailing edge, at (%.1f, "
+      "%.1f, %.1f)\n",
+      overall, awayFromTip, where.x(), where.y(), where.z());
   EXPECT_LT(overall, 0.25);
   EXPECT_LT(awayFromTip, 0.05);
   EXPECT_EQ(summary.history.back().failedProjections, 0);
   for (int edge : fitter.mesh().boundaryEdges()) {
-    for (int end = 0; end < 2; ++end) EXPECT_NEAR(fitter.mesh().vertices()(fitter.mesh().edges()(edge, end), 1), 0.0, 1e-9);
+    for (int end = 0; end < 2; ++end)
+      EXPECT_NEAR(fitter.mesh().vertices()(fitter.mesh().edges()(edge, end), 1), 0.0, 1e-9);
   }
 }
 

@@ -6,11 +6,11 @@
 #include <BRepAlgoAPI_Fuse.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
 #include <BRepBuilderAPI_Transform.hxx>
-#include <BRep_Builder.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
 #include <BRepPrimAPI_MakeTorus.hxx>
+#include <BRep_Builder.hxx>
 #include <TopoDS_Compound.hxx>
 #include <gp_Ax2.hxx>
 #include <gp_Trsf.hxx>
@@ -33,7 +33,9 @@ namespace {
 
 const std::string kTemplates = std::string(BVMESH_TEST_DATA_DIR) + "/../../resources/templates";
 
-PolyhedronTemplate libraryTemplate(const std::string& name) { return readTemplate(kTemplates + "/" + name + ".template"); }
+PolyhedronTemplate libraryTemplate(const std::string& name) {
+  return readTemplate(kTemplates + "/" + name + ".template");
+}
 
 std::string parseError(const std::string& text) {
   std::istringstream in(text);
@@ -49,14 +51,18 @@ TEST(TemplateFormat, ErrorsNameFileLineAndProblem) {
   EXPECT_NE(parseError("hello\n").find("t.template line 1: not a BVMesh template"), std::string::npos);
   const std::string header = "bvmesh-template 1\nname x\ngenerator box\n";
   EXPECT_NE(parseError(header + "colour red\n").find("line 4: unknown keyword 'colour'"), std::string::npos);
-  EXPECT_NE(parseError(header + "integer n 0 1 4\n").find("default of 'n': 0 is outside 1..4"), std::string::npos);
+  EXPECT_NE(parseError(header + "integer n 0 1 4\n").find("default of 'n': 0 is outside 1..4"),
+            std::string::npos);
   EXPECT_NE(parseError(header + "choice tip square round flat\n").find("'square' is not one of round, flat"),
             std::string::npos);
-  EXPECT_NE(parseError(header + "integer n 2 1 4\ninteger n 2 1 4\n").find("'n' appears twice"), std::string::npos);
+  EXPECT_NE(parseError(header + "integer n 2 1 4\ninteger n 2 1 4\n").find("'n' appears twice"),
+            std::string::npos);
   EXPECT_NE(parseError("bvmesh-template 1\nname x\n").find("no 'generator'"), std::string::npos);
-  EXPECT_NE(parseError("bvmesh-template 1\nname x\ngenerator blob\n").find("unknown generator 'blob'"), std::string::npos);
+  EXPECT_NE(parseError("bvmesh-template 1\nname x\ngenerator blob\n").find("unknown generator 'blob'"),
+            std::string::npos);
 
-  std::istringstream in(header + "description A box.\ninteger n 2 1 4   # segments\nchoice tip round round flat\n");
+  std::istringstream in(header +
+                        "description A box.\ninteger n 2 1 4   # segments\nchoice tip round round flat\n");
   const PolyhedronTemplate t = parseTemplate(in, "t.template");
   EXPECT_EQ(t.parameters.size(), 2u);
   EXPECT_EQ(t.parameters[0].description, "segments");
@@ -73,7 +79,8 @@ TEST(TemplateLibrary, HoldsTheDocumentedTemplates) {
     names.insert(t.name);
     EXPECT_FALSE(t.description.empty()) << t.name;
   }
-  for (const char* name : {"box", "sphere", "cylinder", "capsule", "fuselage", "half_wing", "wing", "nacelle"}) {
+  for (const char* name :
+       {"box", "sphere", "cylinder", "capsule", "fuselage", "half_wing", "wing", "nacelle"}) {
     EXPECT_TRUE(names.count(name)) << name;
   }
   EXPECT_THROW(readTemplateLibrary(kTemplates + "/missing"), InvalidInputError);
@@ -86,7 +93,8 @@ RowMatrixX3d vertexLimits(const ControlMesh& mesh) {
 
 TEST(TemplatePlacement, BoxOnABox) {
   const target::Target box(BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), gp_Pnt(4, 2, 1)).Shape());
-  const PlacedPolyhedron placed = placeTemplate(libraryTemplate("box"), box, {{{"segments_1", "3"}}, {}, {}, true, {}});
+  const PlacedPolyhedron placed =
+      placeTemplate(libraryTemplate("box"), box, {{{"segments_1", "3"}}, {}, {}, true, {}});
   EXPECT_TRUE(placed.mapping.complete()) << placed.mapping.describeUnmapped();
   EXPECT_EQ(placed.mesh.numFaces(), 2 * (3 * 2 + 3 * 2 + 2 * 2));
   EXPECT_EQ(placed.mapping.map.curves.size(), 12u);
@@ -96,13 +104,16 @@ TEST(TemplatePlacement, BoxOnABox) {
     const double inside = std::min({p.x(), 4 - p.x(), p.y(), 2 - p.y(), p.z(), 1 - p.z()});
     EXPECT_NEAR(inside, 0.0, 1e-6);
   }
-  for (int corner : placed.mesh.corners()) EXPECT_GE(placed.mapping.map.vertexCadVertex[static_cast<size_t>(corner)], 0);
+  for (int corner : placed.mesh.corners())
+    EXPECT_GE(placed.mapping.map.vertexCadVertex[static_cast<size_t>(corner)], 0);
 }
 
 TEST(TemplatePlacement, SphereLimitPointsOnTheSphere) {
   const target::Target sphere(BRepPrimAPI_MakeSphere(gp_Pnt(1, 2, 3), 2.0).Shape());
-  const PlacedPolyhedron placed = placeTemplate(libraryTemplate("sphere"), sphere, {{{"segments", "2"}}, {}, {}, true, {}});
-  const PlacedPolyhedron raw = placeTemplate(libraryTemplate("sphere"), sphere, {{{"segments", "2"}}, {}, {}, false, {}});
+  const PlacedPolyhedron placed =
+      placeTemplate(libraryTemplate("sphere"), sphere, {{{"segments", "2"}}, {}, {}, true, {}});
+  const PlacedPolyhedron raw =
+      placeTemplate(libraryTemplate("sphere"), sphere, {{{"segments", "2"}}, {}, {}, false, {}});
   EXPECT_EQ(placed.mesh.numFaces(), 24);
   // Cast onto the sphere, the limit points lie inside; after push-out the vertices stand
   // outside and their limit points are close to the sphere.
@@ -119,19 +130,22 @@ TEST(TemplatePlacement, SphereLimitPointsOnTheSphere) {
     EXPECT_GT((placed.mesh.vertices().row(v) - Eigen::RowVector3d(1, 2, 3)).norm(), 2.0);
   }
   const double before = worstLimitError(raw.mesh), after = worstLimitError(placed.mesh);
-  std::printf("sphere: vertex limit points off the sphere by %.4f before, %.4f after push-out\n", before, after);
+  std::printf("sphere: vertex limit points off the sphere by %.4f before, %.4f after push-out\n", before,
+              after);
   EXPECT_LT(after, 0.03);
   EXPECT_LT(after, before / 4.0);
 }
 
 TEST(TemplatePlacement, CylinderRimsCreasedAndMapped) {
-  const target::Target cylinder(BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0)), 1.0, 6.0).Shape());
+  const target::Target cylinder(
+      BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0)), 1.0, 6.0).Shape());
   const PlacedPolyhedron placed = placeTemplate(libraryTemplate("cylinder"), cylinder);
   EXPECT_TRUE(placed.mapping.complete()) << placed.mapping.describeUnmapped();
   EXPECT_EQ(placed.parameters.at("half"), "no");
   EXPECT_FALSE(placed.symmetryPlane.has_value());
   EXPECT_EQ(placed.mapping.chains.size(), 2u);  // the two rims
-  for (const ChainMapping& m : placed.mapping.chainMappings) EXPECT_TRUE(placed.curves[static_cast<size_t>(m.curve)].closed);
+  for (const ChainMapping& m : placed.mapping.chainMappings)
+    EXPECT_TRUE(placed.curves[static_cast<size_t>(m.curve)].closed);
   // Rim vertices on the circles x = 0 and x = 6 of radius 1.
   for (const MeshFeatureChain& chain : placed.mapping.chains) {
     for (int v : chain.vertices) {
@@ -145,7 +159,8 @@ TEST(TemplatePlacement, FullCapsuleWithRoundEnds) {
   // A closed capsule along x: cylinder of radius 1 from x = 0 to 4 with hemispherical ends.
   const gp_Ax2 axis(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0));
   TopoDS_Shape capsule = BRepAlgoAPI_Fuse(BRepPrimAPI_MakeCylinder(axis, 1.0, 4.0).Shape(),
-                                          BRepPrimAPI_MakeSphere(gp_Pnt(0, 0, 0), 1.0).Shape()).Shape();
+                                          BRepPrimAPI_MakeSphere(gp_Pnt(0, 0, 0), 1.0).Shape())
+                             .Shape();
   capsule = BRepAlgoAPI_Fuse(capsule, BRepPrimAPI_MakeSphere(gp_Pnt(4, 0, 0), 1.0).Shape()).Shape();
   const target::Target target(capsule);
   PlacementOptions options;
@@ -167,7 +182,8 @@ TEST(TemplatePlacement, FullCapsuleWithRoundEnds) {
 }
 
 TEST(TemplatePlacement, NacelleAroundATorus) {
-  const target::Target torus(BRepPrimAPI_MakeTorus(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), 3.0, 1.0).Shape());
+  const target::Target torus(
+      BRepPrimAPI_MakeTorus(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), 3.0, 1.0).Shape());
   PlacementOptions options;
   options.improve = false;  // the raw placement: vertices cast onto the torus
   const PlacedPolyhedron placed = placeTemplate(libraryTemplate("nacelle"), torus, options);
@@ -183,7 +199,8 @@ TEST(TemplatePlacement, NacelleAroundATorus) {
 TEST(TemplatePlacement, FullWingOnTheMirroredM6) {
   // The M6 half wing and its mirror image in y = 0, sewn at the root: a full wing whose trailing
   // edge has a kink at the root.
-  const HalfModelShape half = removeSymmetryFace(cad::readShapeFile(std::string(BVMESH_TEST_DATA_DIR) + "/AileM6_with_sharp_TE.stp"));
+  const HalfModelShape half =
+      removeSymmetryFace(cad::readShapeFile(std::string(BVMESH_TEST_DATA_DIR) + "/AileM6_with_sharp_TE.stp"));
   gp_Trsf mirror;
   mirror.SetMirror(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, 1, 0)));
   BRepBuilderAPI_Sewing sewing(1e-3);
@@ -219,8 +236,9 @@ TEST(TemplatePlacement, BadTargetsAreExplained) {
   } catch (const InvalidInputError& error) {
     EXPECT_NE(std::string(error.what()).find("sharp trailing edge"), std::string::npos) << error.what();
   }
-  EXPECT_THROW(placeTemplate(libraryTemplate("capsule"), sphere, {{{"circumferential", "10"}}, {}, {}, true, {}}),
-               InvalidInputError);
+  EXPECT_THROW(
+      placeTemplate(libraryTemplate("capsule"), sphere, {{{"circumferential", "10"}}, {}, {}, true, {}}),
+      InvalidInputError);
 }
 
 }  // namespace

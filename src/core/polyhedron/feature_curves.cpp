@@ -44,7 +44,8 @@ const char* featureCurveKindName(FeatureCurveKind kind) {
   return kind == FeatureCurveKind::Sharp ? "sharp" : "boundary";
 }
 
-std::vector<FeatureCurve> detectFeatureCurves(const target::Target& target, const FeatureCurveOptions& options) {
+std::vector<FeatureCurve> detectFeatureCurves(const target::Target& target,
+                                              const FeatureCurveOptions& options) {
   std::vector<FeatureCurveKind> kindOf(static_cast<size_t>(target.edgeCount()), FeatureCurveKind::Sharp);
   std::vector<bool> isFeature(static_cast<size_t>(target.edgeCount()), false);
   std::vector<int> featureEdges = target.sharpEdges(options.sharpAngleDeg);
@@ -144,7 +145,8 @@ target::Points curvePolyline(const target::Target& target, const FeatureCurve& c
   for (size_t i = 0; i < curve.edges.size(); ++i) {
     target::Points polyline = target.edgePolyline(curve.edges[i]);
     if (curve.reversed[i]) polyline = polyline.colwise().reverse().eval();
-    for (Eigen::Index k = points.empty() ? 0 : 1; k < polyline.rows(); ++k) points.push_back(polyline.row(k).transpose());
+    for (Eigen::Index k = points.empty() ? 0 : 1; k < polyline.rows(); ++k)
+      points.push_back(polyline.row(k).transpose());
   }
   target::Points result(static_cast<Eigen::Index>(points.size()), 3);
   for (size_t k = 0; k < points.size(); ++k) result.row(static_cast<Eigen::Index>(k)) = points[k].transpose();

@@ -24,10 +24,10 @@ struct FeatureCurve {
   std::vector<int> edges;  // target edge ids in chain order
   // Per edge: true when the edge runs against the chain (from its second to its first vertex).
   std::vector<bool> reversed;
-  int startVertex = -1;    // target vertex where the chain starts (-1 for a loop of one closed edge)
-  int endVertex = -1;      // target vertex where it ends; equals startVertex for a closed curve
+  int startVertex = -1;  // target vertex where the chain starts (-1 for a loop of one closed edge)
+  int endVertex = -1;    // target vertex where it ends; equals startVertex for a closed curve
   double length = 0.0;
-  bool closed = false;     // the chain returns to its start vertex
+  bool closed = false;  // the chain returns to its start vertex
   // True when a closed curve passes its start vertex with tangent continuity (a smooth loop);
   // false when the start vertex is a corner of the loop.
   bool smoothLoop = false;
@@ -43,7 +43,8 @@ struct FeatureCurveOptions {
 
 // The target's feature curves: sharp curves first, then boundary curves, each group ordered by
 // decreasing length.
-std::vector<FeatureCurve> detectFeatureCurves(const target::Target& target, const FeatureCurveOptions& options = {});
+std::vector<FeatureCurve> detectFeatureCurves(const target::Target& target,
+                                              const FeatureCurveOptions& options = {});
 
 // #K x 3 points along a curve in chain order (the edges' polylines joined, duplicates dropped).
 target::Points curvePolyline(const target::Target& target, const FeatureCurve& curve);

@@ -33,7 +33,8 @@ std::vector<EdgeRole> edgeRoles(const ControlMesh& mesh) {
 }
 
 // Feature edges at each vertex.
-std::vector<std::vector<int>> vertexFeatureEdges(const ControlMesh& mesh, const std::vector<EdgeRole>& roles) {
+std::vector<std::vector<int>> vertexFeatureEdges(const ControlMesh& mesh,
+                                                 const std::vector<EdgeRole>& roles) {
   std::vector<std::vector<int>> result(static_cast<size_t>(mesh.numVertices()));
   for (int e = 0; e < mesh.numEdges(); ++e) {
     if (roles[static_cast<size_t>(e)] == EdgeRole::None) continue;
@@ -67,7 +68,8 @@ Eigen::Vector3d tangentNear(const target::Points& polyline, const Eigen::Vector3
 }
 
 // The curve edges a chain follows, in curve order, from the curve edges its samples project to.
-std::vector<int> followedEdges(const FeatureCurve& curve, const std::vector<int>& hitPositions, bool chainIsLoop) {
+std::vector<int> followedEdges(const FeatureCurve& curve, const std::vector<int>& hitPositions,
+                               bool chainIsLoop) {
   const int n = static_cast<int>(curve.edges.size());
   std::vector<bool> hit(static_cast<size_t>(n), false);
   for (int position : hitPositions) hit[static_cast<size_t>(position)] = true;
@@ -83,7 +85,8 @@ std::vector<int> followedEdges(const FeatureCurve& curve, const std::vector<int>
       int gapStart = 0;
       int gapLength = 0;
       for (int start = 0; start < n; ++start) {
-        if (hit[static_cast<size_t>(start)] || hit[static_cast<size_t>((start + n - 1) % n)] == false) continue;
+        if (hit[static_cast<size_t>(start)] || hit[static_cast<size_t>((start + n - 1) % n)] == false)
+          continue;
         int length = 0;
         while (length < n && !hit[static_cast<size_t>((start + length) % n)]) ++length;
         if (length > gapLength) {
@@ -102,7 +105,8 @@ std::vector<int> followedEdges(const FeatureCurve& curve, const std::vector<int>
 
 std::string chainName(const MeshFeatureChain& chain, int index) {
   std::ostringstream out;
-  out << (chain.kind == FeatureCurveKind::Sharp ? "crease chain " : "boundary chain ") << index << " (vertices ";
+  out << (chain.kind == FeatureCurveKind::Sharp ? "crease chain " : "boundary chain ") << index
+      << " (vertices ";
   const size_t shown = std::min<size_t>(chain.vertices.size(), 6);
   for (size_t i = 0; i < shown; ++i) out << (i ? " " : "") << chain.vertices[i];
   if (shown < chain.vertices.size()) out << " ... " << chain.vertices.back();
@@ -161,7 +165,8 @@ std::vector<MeshFeatureChain> meshFeatureChains(const ControlMesh& mesh) {
       }
     }
     MeshFeatureChain chain;
-    chain.kind = roles[static_cast<size_t>(seed)] == EdgeRole::Crease ? FeatureCurveKind::Sharp : FeatureCurveKind::Boundary;
+    chain.kind = roles[static_cast<size_t>(seed)] == EdgeRole::Crease ? FeatureCurveKind::Sharp
+                                                                      : FeatureCurveKind::Boundary;
     chain.vertices.assign(vertices.begin(), vertices.end());
     chain.edges.assign(edges.begin(), edges.end());
     chain.closed = closed;
@@ -170,8 +175,8 @@ std::vector<MeshFeatureChain> meshFeatureChains(const ControlMesh& mesh) {
   return chains;
 }
 
-FeatureMapping mapFeatures(const ControlMesh& mesh, const target::Target& target, const std::vector<FeatureCurve>& curves,
-                           const FeatureMappingOptions& options) {
+FeatureMapping mapFeatures(const ControlMesh& mesh, const target::Target& target,
+                           const std::vector<FeatureCurve>& curves, const FeatureMappingOptions& options) {
   const double diagonal = target.report().diagonal;
   const double maxDistance = options.relativeMaxDistance * diagonal;
   const int perEdge = std::max(1, options.samplesPerEdge);
@@ -209,7 +214,8 @@ FeatureMapping mapFeatures(const ControlMesh& mesh, const target::Target& target
 
     double chainLength = 0.0;
     for (size_t i = 0; i < edgeCount; ++i) {
-      chainLength += (x.row(chain.vertices[i]) - x.row(chain.vertices[(i + 1) % chain.vertices.size()])).norm();
+      chainLength +=
+          (x.row(chain.vertices[i]) - x.row(chain.vertices[(i + 1) % chain.vertices.size()])).norm();
     }
     const double reach = std::max(maxDistance, options.relativeChainDistance * chainLength);
 
@@ -236,7 +242,8 @@ FeatureMapping mapFeatures(const ControlMesh& mesh, const target::Target& target
       double angleSum = 0.0;
       for (Eigen::Index i = 0; i < samples.rows(); ++i) {
         const auto owner = edgeOwner.find(feet.ids[i]);
-        if (feet.status[static_cast<size_t>(i)] == target::ProjectionStatus::Failed || owner == edgeOwner.end()) {
+        if (feet.status[static_cast<size_t>(i)] == target::ProjectionStatus::Failed ||
+            owner == edgeOwner.end()) {
           return candidate;  // infinitely far
         }
         worst = std::max(worst, feet.distances[i]);
@@ -374,14 +381,16 @@ std::string FeatureMapping::describeUnmapped() const {
       out << "the target has no " << kind << " curves";
     } else {
       out << "the nearest is curve " << m.nearestCurve << " at max distance " << m.maxDistance << " (limit "
-          << m.distanceLimit << "), mean angle " << m.meanAngleDeg << " deg (limit " << maxAngleLimitDeg << ")";
+          << m.distanceLimit << "), mean angle " << m.meanAngleDeg << " deg (limit " << maxAngleLimitDeg
+          << ")";
     }
     out << "\n";
   }
   for (int k : unmappedCorners) {
     const CornerMapping& corner = corners[static_cast<size_t>(k)];
     out << "corner vertex " << corner.vertex << " maps to no CAD vertex: the nearest candidate is vertex "
-        << corner.nearestCadVertex << " at distance " << corner.distance << " (limit " << cornerDistanceLimit << ")\n";
+        << corner.nearestCadVertex << " at distance " << corner.distance << " (limit " << cornerDistanceLimit
+        << ")\n";
   }
   return out.str();
 }

@@ -39,9 +39,9 @@ struct FeatureMappingOptions {
 };
 
 struct ChainMapping {
-  int curve = -1;         // index into the detected curves (the one most followed), or -1 (unmapped)
-  std::vector<int> curves;  // every curve the chain follows (several where it spans a kink or junction)
-  int mapCurve = -1;      // index into FeatureMap::curves, or -1
+  int curve = -1;             // index into the detected curves (the one most followed), or -1 (unmapped)
+  std::vector<int> curves;    // every curve the chain follows (several where it spans a kink or junction)
+  int mapCurve = -1;          // index into FeatureMap::curves, or -1
   std::vector<int> cadEdges;  // the part of the curve the chain follows, in curve order
   // Best candidate's figures (also when unmapped; infinite when there was no candidate).
   int nearestCurve = -1;
@@ -51,20 +51,20 @@ struct ChainMapping {
 };
 
 struct CornerMapping {
-  int vertex = -1;      // control-mesh vertex (explicit corner or a junction of feature chains)
-  int cadVertex = -1;   // mapped target vertex, or -1
+  int vertex = -1;     // control-mesh vertex (explicit corner or a junction of feature chains)
+  int cadVertex = -1;  // mapped target vertex, or -1
   int nearestCadVertex = -1;
   double distance = 0.0;  // to the nearest candidate CAD vertex
   bool required = false;  // explicit corners must map; junctions map when a CAD vertex is near
 };
 
 struct FeatureMapping {
-  fit::FeatureMap map;                  // ready for SurfaceFitter
+  fit::FeatureMap map;  // ready for SurfaceFitter
   std::vector<MeshFeatureChain> chains;
   std::vector<ChainMapping> chainMappings;  // parallel to chains
   std::vector<CornerMapping> corners;
-  std::vector<int> unmappedChains;      // indices into chains
-  std::vector<int> unmappedCorners;     // indices into corners
+  std::vector<int> unmappedChains;   // indices into chains
+  std::vector<int> unmappedCorners;  // indices into corners
   // The limits used (for the report); a chain's distance limit is the larger of
   // maxDistanceLimit and relativeChainDistance times its length.
   double maxDistanceLimit = 0.0;
@@ -79,7 +79,8 @@ struct FeatureMapping {
 
 // Maps the mesh's crease chains, boundary chains and corners onto `curves` (detectFeatureCurves)
 // and the target's vertices. Never throws for features that map to nothing: they are reported.
-FeatureMapping mapFeatures(const ControlMesh& mesh, const target::Target& target, const std::vector<FeatureCurve>& curves,
+FeatureMapping mapFeatures(const ControlMesh& mesh, const target::Target& target,
+                           const std::vector<FeatureCurve>& curves,
                            const FeatureMappingOptions& options = {});
 
 // Throws InvalidInputError with describeUnmapped() when something is unmapped.

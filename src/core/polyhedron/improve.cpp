@@ -14,10 +14,10 @@ namespace {
 enum class Role { Smooth, Chain, Fixed };
 
 struct VertexRoles {
-  std::vector<Role> roles;                     // #V
-  std::vector<std::vector<int>> neighbours;    // #V: vertices the relaxation averages
-  std::vector<std::vector<int>> curveEdges;    // #V: CAD edges a chain vertex follows (empty: any feature)
-  std::vector<bool> onBoundary;                // #V
+  std::vector<Role> roles;                   // #V
+  std::vector<std::vector<int>> neighbours;  // #V: vertices the relaxation averages
+  std::vector<std::vector<int>> curveEdges;  // #V: CAD edges a chain vertex follows (empty: any feature)
+  std::vector<bool> onBoundary;              // #V
 };
 
 VertexRoles classify(const ControlMesh& mesh, const fit::FeatureMap& features) {
@@ -42,7 +42,8 @@ VertexRoles classify(const ControlMesh& mesh, const fit::FeatureMap& features) {
       const int curve = features.edgeCurve.empty() ? -1 : features.edgeCurve[static_cast<size_t>(e)];
       if (curve >= 0) {
         const std::vector<int>& chain = features.curves[static_cast<size_t>(curve)];
-        r.curveEdges[static_cast<size_t>(v)].insert(r.curveEdges[static_cast<size_t>(v)].end(), chain.begin(), chain.end());
+        r.curveEdges[static_cast<size_t>(v)].insert(r.curveEdges[static_cast<size_t>(v)].end(), chain.begin(),
+                                                    chain.end());
       }
     }
   }
@@ -87,8 +88,8 @@ RowMatrixX3d vertexNormals(const ControlMesh& mesh, const RowMatrixX3d& x) {
 }
 
 // Projects points by the role of the vertex they belong to.
-RowMatrixX3d projectByRole(const target::Target& target, const VertexRoles& r, const fit::FeatureMap& features,
-                           const RowMatrixX3d& points) {
+RowMatrixX3d projectByRole(const target::Target& target, const VertexRoles& r,
+                           const fit::FeatureMap& features, const RowMatrixX3d& points) {
   RowMatrixX3d result = points;
   std::map<std::vector<int>, std::vector<int>> curveGroups;
   std::vector<int> smooth, freeBoundary, sharp;
@@ -113,7 +114,9 @@ RowMatrixX3d projectByRole(const target::Target& target, const VertexRoles& r, c
           sharp.push_back(v);
         }
         break;
-      case Role::Smooth: smooth.push_back(v); break;
+      case Role::Smooth:
+        smooth.push_back(v);
+        break;
     }
   }
   const auto apply = [&](const std::vector<int>& ids, auto&& project) {
@@ -122,14 +125,18 @@ RowMatrixX3d projectByRole(const target::Target& target, const VertexRoles& r, c
     for (size_t i = 0; i < ids.size(); ++i) subset.row(static_cast<Eigen::Index>(i)) = points.row(ids[i]);
     const target::ProjectionResult feet = project(subset);
     for (size_t i = 0; i < ids.size(); ++i) {
-      if (feet.status[i] != target::ProjectionStatus::Failed) result.row(ids[i]) = feet.points.row(static_cast<Eigen::Index>(i));
+      if (feet.status[i] != target::ProjectionStatus::Failed)
+        result.row(ids[i]) = feet.points.row(static_cast<Eigen::Index>(i));
     }
   };
   apply(smooth, [&](const target::Points& p) { return target.project(p); });
-  for (const auto& [edges, ids] : curveGroups) apply(ids, [&](const target::Points& p) { return target.projectToEdges(p, edges); });
-  if (!target.freeEdges().empty()) apply(freeBoundary, [&](const target::Points& p) { return target.projectToFreeBoundary(p); });
+  for (const auto& [edges, ids] : curveGroups)
+    apply(ids, [&](const target::Points& p) { return target.projectToEdges(p, edges); });
+  if (!target.freeEdges().empty())
+    apply(freeBoundary, [&](const target::Points& p) { return target.projectToFreeBoundary(p); });
   const std::vector<int> sharpEdges = target.sharpEdges(target.options().sharpAngleDeg);
-  if (!sharpEdges.empty()) apply(sharp, [&](const target::Points& p) { return target.projectToEdges(p, sharpEdges); });
+  if (!sharpEdges.empty())
+    apply(sharp, [&](const target::Points& p) { return target.projectToEdges(p, sharpEdges); });
   return result;
 }
 

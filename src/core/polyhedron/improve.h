@@ -14,9 +14,9 @@
 namespace bvmesh::polyhedron {
 
 struct ImproveOptions {
-  int relaxationPasses = 3;   // relaxation + projection passes
-  double relaxation = 0.5;    // fraction of the way to the neighbours' average per pass
-  int pushOutPasses = 3;      // limit push-out passes (0: none)
+  int relaxationPasses = 3;  // relaxation + projection passes
+  double relaxation = 0.5;   // fraction of the way to the neighbours' average per pass
+  int pushOutPasses = 3;     // limit push-out passes (0: none)
   // Boundary vertices within this distance of the plane (relative to the diagonal) are put on it.
   double relativeSnapDistance = 1e-3;
   std::optional<fit::SymmetryPlane> symmetryPlane;

@@ -43,7 +43,8 @@ struct Draft {
       }
     }
     RowMatrixX3d x(static_cast<Eigen::Index>(vertices.size()), 3);
-    for (size_t v = 0; v < vertices.size(); ++v) x.row(static_cast<Eigen::Index>(v)) = vertices[v].transpose();
+    for (size_t v = 0; v < vertices.size(); ++v)
+      x.row(static_cast<Eigen::Index>(v)) = vertices[v].transpose();
     std::vector<int> sizes, indices;
     for (std::vector<int> face : faces) {
       if (volume < 0.0) std::reverse(face.begin(), face.end());
@@ -51,7 +52,8 @@ struct Draft {
       indices.insert(indices.end(), face.begin(), face.end());
     }
     RowMatrixX2i pairs(static_cast<Eigen::Index>(creases.size()), 2);
-    for (size_t c = 0; c < creases.size(); ++c) pairs.row(static_cast<Eigen::Index>(c)) << creases[c][0], creases[c][1];
+    for (size_t c = 0; c < creases.size(); ++c)
+      pairs.row(static_cast<Eigen::Index>(c)) << creases[c][0], creases[c][1];
     std::sort(corners.begin(), corners.end());
     corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
     return ControlMesh(x, sizes, indices, pairs, Eigen::VectorXd(), corners);
@@ -60,7 +62,8 @@ struct Draft {
 
 // Outermost intersections of the rays origin + s d (s > 0) with the target; the closest point
 // where a ray misses. origins, directions: #P x 3.
-target::Points outerHits(const target::Target& target, const target::Points& origins, const target::Points& directions) {
+target::Points outerHits(const target::Target& target, const target::Points& origins,
+                         const target::Points& directions) {
   const double reach = 2.0 * target.report().diagonal;
   target::Points far = origins;
   target::Points unit = directions;
@@ -82,13 +85,15 @@ struct RayBatch {
   }
   void resolve(const target::Target& target, Draft& draft) const {
     if (vertices.empty()) return;
-    target::Points o(static_cast<Eigen::Index>(origins.size()), 3), d(static_cast<Eigen::Index>(origins.size()), 3);
+    target::Points o(static_cast<Eigen::Index>(origins.size()), 3),
+        d(static_cast<Eigen::Index>(origins.size()), 3);
     for (size_t i = 0; i < origins.size(); ++i) {
       o.row(static_cast<Eigen::Index>(i)) = origins[i].transpose();
       d.row(static_cast<Eigen::Index>(i)) = directions[i].transpose();
     }
     const target::Points hits = outerHits(target, o, d);
-    for (size_t i = 0; i < vertices.size(); ++i) draft.vertices[static_cast<size_t>(vertices[i])] = hits.row(static_cast<Eigen::Index>(i)).transpose();
+    for (size_t i = 0; i < vertices.size(); ++i)
+      draft.vertices[static_cast<size_t>(vertices[i])] = hits.row(static_cast<Eigen::Index>(i)).transpose();
   }
 };
 
@@ -154,7 +159,8 @@ Vec frameMid(const PrincipalFrame& f) { return f.centre + f.axes * (0.5 * (f.low
 
 Draft buildBox(const TemplateValues& values, const target::Target& target) {
   const PrincipalFrame frame = principalFrame(target);
-  const std::array<int, 3> n{values.integer("segments_1"), values.integer("segments_2"), values.integer("segments_3")};
+  const std::array<int, 3> n{values.integer("segments_1"), values.integer("segments_2"),
+                             values.integer("segments_3")};
   const Lattice lattice = latticeSurface(n, {true, true, true, true, true, true});
   Draft draft;
   const auto extreme = [&](const std::array<int, 3>& c, int axis) {
@@ -167,7 +173,8 @@ Draft buildBox(const TemplateValues& values, const target::Target& target) {
       local[a] = frame.low[a] + t * (frame.high[a] - frame.low[a]);
     }
     draft.add(frame.centre + frame.axes * local);
-    if (extreme(c, 0) && extreme(c, 1) && extreme(c, 2)) draft.corners.push_back(static_cast<int>(draft.vertices.size()) - 1);
+    if (extreme(c, 0) && extreme(c, 1) && extreme(c, 2))
+      draft.corners.push_back(static_cast<int>(draft.vertices.size()) - 1);
   }
   draft.faces = lattice.faces;
   for (const auto& [a, b] : latticeEdges(lattice)) {
@@ -206,8 +213,8 @@ Draft buildSphere(const TemplateValues& values, const target::Target& target) {
 // Whether a free-boundary curve (other than one lying in the symmetry plane) lies across the axis
 // at `end` (its axial coordinate from `origin`), within `reach`: that end of the body is open.
 bool boundaryNear(const target::Target& target, const std::vector<FeatureCurve>& curves,
-                  const std::optional<fit::SymmetryPlane>& plane, const Vec& origin, const Vec& axis, double end,
-                  double reach) {
+                  const std::optional<fit::SymmetryPlane>& plane, const Vec& origin, const Vec& axis,
+                  double end, double reach) {
   for (const FeatureCurve& curve : curves) {
     if (curve.kind != FeatureCurveKind::Boundary) continue;
     const target::Points points = curvePolyline(target, curve);
@@ -236,19 +243,22 @@ Vec sectionCentre(const PlaneSection& section, const Vec& fallback) {
   return weight > 0.0 ? Vec(sum / weight) : fallback;
 }
 
-Draft buildRevolution(const TemplateValues& values, const target::Target& target, const std::vector<FeatureCurve>& curves,
-                      std::optional<fit::SymmetryPlane>& plane, std::map<std::string, std::string>& used) {
+Draft buildRevolution(const TemplateValues& values, const target::Target& target,
+                      const std::vector<FeatureCurve>& curves, std::optional<fit::SymmetryPlane>& plane,
+                      std::map<std::string, std::string>& used) {
   const PrincipalFrame frame = principalFrame(target);
   const int axial = values.integer("axial");
   const int circumferential = values.integer("circumferential");
   if (circumferential % 4 != 0) {
-    throw InvalidInputError("template parameter 'circumferential' must be a multiple of 4, got " + std::to_string(circumferential));
+    throw InvalidInputError("template parameter 'circumferential' must be a multiple of 4, got " +
+                            std::to_string(circumferential));
   }
   const std::string& halfChoice = values.choice("half");
   const std::optional<fit::SymmetryPlane> detected = detectSymmetryPlane(target, curves);
   if (halfChoice == "yes" && !detected) {
-    throw InvalidInputError("a half body needs a symmetry plane: the target has no free boundary curve lying in a plane "
-                            "with the whole target on one side");
+    throw InvalidInputError(
+        "a half body needs a symmetry plane: the target has no free boundary curve lying in a plane "
+        "with the whole target on one side");
   }
   const bool half = halfChoice == "yes" || (halfChoice == "auto" && detected);
   used["half"] = half ? "yes" : "no";
@@ -322,7 +332,8 @@ Draft buildRevolution(const TemplateValues& values, const target::Target& target
       rays.add(v, centres[static_cast<size_t>(i)] + lift, radial);
       if ((i == 0 && ends[0] == "flat") || (i == axial && ends[1] == "flat")) flatRim.push_back(v);
       // Half models: where the symmetry boundary meets an open or flat end.
-      if (half && j == 0 && (k == 0 || k == n) && ((i == 0 && ends[0] != "round") || (i == axial && ends[1] != "round"))) {
+      if (half && j == 0 && (k == 0 || k == n) &&
+          ((i == 0 && ends[0] != "round") || (i == axial && ends[1] != "round"))) {
         draft.corners.push_back(v);
       }
       continue;
@@ -352,10 +363,10 @@ Draft buildRevolution(const TemplateValues& values, const target::Target& target
 // ---- wings ----------------------------------------------------------------------------------
 
 struct WingFrame {
-  Vec origin;     // a point at span 0
-  Vec span;       // unit span direction
-  double low = 0.0, high = 0.0;  // span range of the stations (trailing-edge ends)
-  double extentLow = 0.0, extentHigh = 0.0;  // span range of the whole target
+  Vec origin;                                 // a point at span 0
+  Vec span;                                   // unit span direction
+  double low = 0.0, high = 0.0;               // span range of the stations (trailing-edge ends)
+  double extentLow = 0.0, extentHigh = 0.0;   // span range of the whole target
   std::vector<target::Points> trailingEdges;  // polylines of the sharp spanwise curves
 };
 
@@ -380,8 +391,9 @@ WingFrame wingFrame(const target::Target& target, const std::vector<FeatureCurve
   if (half) {
     plane = detectSymmetryPlane(target, curves);
     if (!plane) {
-      throw InvalidInputError("a half wing needs its root on a symmetry plane: the target has no free boundary curve "
-                              "lying in a plane with the whole target on one side (leave out the root face)");
+      throw InvalidInputError(
+          "a half wing needs its root on a symmetry plane: the target has no free boundary curve "
+          "lying in a plane with the whole target on one side (leave out the root face)");
     }
     w.origin = plane->point;
     w.span = plane->normal.normalized();
@@ -414,8 +426,9 @@ WingFrame wingFrame(const target::Target& target, const std::vector<FeatureCurve
     best = std::max(best, std::abs(to - from));
   }
   if (w.trailingEdges.empty() || best < 0.25 * (w.extentHigh - w.extentLow)) {
-    throw InvalidInputError("the wing templates need a sharp trailing edge: no sharp feature curve runs along the span "
-                            "for at least a quarter of it (check the sharp angle)");
+    throw InvalidInputError(
+        "the wing templates need a sharp trailing edge: no sharp feature curve runs along the span "
+        "for at least a quarter of it (check the sharp angle)");
   }
   if (half) w.low = 0.0;
   return w;
@@ -458,8 +471,8 @@ std::vector<Vec> wingRing(const target::Target& target, const WingFrame& w, doub
   return ring;
 }
 
-Draft buildWing(const TemplateValues& values, const target::Target& target, const std::vector<FeatureCurve>& curves,
-                std::optional<fit::SymmetryPlane>& plane) {
+Draft buildWing(const TemplateValues& values, const target::Target& target,
+                const std::vector<FeatureCurve>& curves, std::optional<fit::SymmetryPlane>& plane) {
   const int m = values.integer("chordwise");
   const int stations = values.integer("spanwise");
   const bool half = values.choice("span") == "half";
@@ -477,8 +490,10 @@ Draft buildWing(const TemplateValues& values, const target::Target& target, cons
   for (int j = 0; j < stations; ++j) {
     for (int k = 0; k < ringSize; ++k) {
       const int k1 = (k + 1) % ringSize;
-      draft.faces.push_back({rings[static_cast<size_t>(j)][static_cast<size_t>(k)], rings[static_cast<size_t>(j)][static_cast<size_t>(k1)],
-                             rings[static_cast<size_t>(j + 1)][static_cast<size_t>(k1)], rings[static_cast<size_t>(j + 1)][static_cast<size_t>(k)]});
+      draft.faces.push_back({rings[static_cast<size_t>(j)][static_cast<size_t>(k)],
+                             rings[static_cast<size_t>(j)][static_cast<size_t>(k1)],
+                             rings[static_cast<size_t>(j + 1)][static_cast<size_t>(k1)],
+                             rings[static_cast<size_t>(j + 1)][static_cast<size_t>(k)]});
     }
     draft.creases.push_back({rings[static_cast<size_t>(j)][0], rings[static_cast<size_t>(j + 1)][0]});
   }
@@ -536,7 +551,8 @@ Draft buildNacelle(const TemplateValues& values, const target::Target& target) {
   double bestGap = -1.0;
   for (int a = 0; a < 3; ++a) {
     const double v = frame.variances[a];
-    const double gap = std::min(std::abs(v - frame.variances[(a + 1) % 3]), std::abs(v - frame.variances[(a + 2) % 3]));
+    const double gap =
+        std::min(std::abs(v - frame.variances[(a + 1) % 3]), std::abs(v - frame.variances[(a + 2) % 3]));
     if (gap > bestGap) {
       bestGap = gap;
       axisIndex = a;
@@ -562,8 +578,10 @@ Draft buildNacelle(const TemplateValues& values, const target::Target& target) {
         ++count;
       }
     }
-    if (count == 0) throw InvalidInputError("nacelle placement: the target does not surround its axis (no section at angle " +
-                                            std::to_string(phi * 180.0 / kPi) + " deg)");
+    if (count == 0)
+      throw InvalidInputError(
+          "nacelle placement: the target does not surround its axis (no section at angle " +
+          std::to_string(phi * 180.0 / kPi) + " deg)");
     const Vec profileCentre = sum / count;
     std::vector<int> ring;
     for (int i = 0; i < around; ++i) {
@@ -587,7 +605,8 @@ Draft buildNacelle(const TemplateValues& values, const target::Target& target) {
     const std::vector<int>& b = rings[static_cast<size_t>((k + 1) % circumferential)];
     for (int i = 0; i < around; ++i) {
       const int i1 = (i + 1) % around;
-      draft.faces.push_back({a[static_cast<size_t>(i)], a[static_cast<size_t>(i1)], b[static_cast<size_t>(i1)], b[static_cast<size_t>(i)]});
+      draft.faces.push_back({a[static_cast<size_t>(i)], a[static_cast<size_t>(i1)],
+                             b[static_cast<size_t>(i1)], b[static_cast<size_t>(i)]});
     }
   }
   return draft;
@@ -604,16 +623,27 @@ PlacedPolyhedron placeTemplate(const PolyhedronTemplate& polyhedronTemplate, con
   const PrincipalFrame frame = principalFrame(target);
   Draft draft;
   switch (polyhedronTemplate.generator) {
-    case Generator::Box: draft = buildBox(values, target); break;
-    case Generator::Sphere: draft = buildSphere(values, target); break;
-    case Generator::Revolution: draft = buildRevolution(values, target, curves, plane, used); break;
-    case Generator::Wing: draft = buildWing(values, target, curves, plane); break;
-    case Generator::Nacelle: draft = buildNacelle(values, target); break;
+    case Generator::Box:
+      draft = buildBox(values, target);
+      break;
+    case Generator::Sphere:
+      draft = buildSphere(values, target);
+      break;
+    case Generator::Revolution:
+      draft = buildRevolution(values, target, curves, plane, used);
+      break;
+    case Generator::Wing:
+      draft = buildWing(values, target, curves, plane);
+      break;
+    case Generator::Nacelle:
+      draft = buildNacelle(values, target);
+      break;
   }
   // The signed volume of a closed polyhedron does not depend on the reference point; an open half
   // model is closed by its symmetry plane, so the reference lies in that plane.
   Vec reference = frameMid(frame);
-  if (plane) reference -= (reference - plane->point).dot(plane->normal.normalized()) * plane->normal.normalized();
+  if (plane)
+    reference -= (reference - plane->point).dot(plane->normal.normalized()) * plane->normal.normalized();
   ControlMesh mesh = draft.build(reference);
   FeatureMapping mapping = mapFeatures(mesh, target, curves, options.mapping);
   if (options.improve) {
@@ -621,7 +651,8 @@ PlacedPolyhedron placeTemplate(const PolyhedronTemplate& polyhedronTemplate, con
     if (options.improvement) {
       improvement = *options.improvement;
     } else {
-      if (polyhedronTemplate.relaxationPasses >= 0) improvement.relaxationPasses = polyhedronTemplate.relaxationPasses;
+      if (polyhedronTemplate.relaxationPasses >= 0)
+        improvement.relaxationPasses = polyhedronTemplate.relaxationPasses;
       if (polyhedronTemplate.pushOutPasses >= 0) improvement.pushOutPasses = polyhedronTemplate.pushOutPasses;
     }
     improvement.symmetryPlane = plane;

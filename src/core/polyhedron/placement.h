@@ -33,8 +33,8 @@ struct PlacementOptions {
 struct PlacedPolyhedron {
   std::string templateName;
   ControlMesh mesh;
-  FeatureMapping mapping;          // mapping.map is the FeatureMap for SurfaceFitter
-  std::vector<FeatureCurve> curves;  // the target's feature curves the mapping refers to
+  FeatureMapping mapping;                           // mapping.map is the FeatureMap for SurfaceFitter
+  std::vector<FeatureCurve> curves;                 // the target's feature curves the mapping refers to
   std::optional<fit::SymmetryPlane> symmetryPlane;  // for FitOptions::symmetryPlane
   std::map<std::string, std::string> parameters;    // the values used ("auto" resolved)
 };

@@ -45,7 +45,8 @@ std::pair<Eigen::Matrix3d, Eigen::Vector3d> sortedEigen(const Eigen::Matrix3d& c
 PrincipalFrame principalFrame(const target::Target& target) {
   const target::Points& nodes = target.meshNodes();
   const auto& triangles = target.meshTriangles();
-  if (triangles.rows() == 0) throw InvalidInputError("the target has no tessellated faces to place a template on");
+  if (triangles.rows() == 0)
+    throw InvalidInputError("the target has no tessellated faces to place a template on");
   double area = 0.0;
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
@@ -58,9 +59,11 @@ PrincipalFrame principalFrame(const target::Target& target) {
     const Eigen::Vector3d g = (a + b + c) / 3.0;
     area += w;
     centre += w * g;
-    second += w * (a * a.transpose() + b * b.transpose() + c * c.transpose() + 9.0 * g * g.transpose()) / 12.0;
+    second +=
+        w * (a * a.transpose() + b * b.transpose() + c * c.transpose() + 9.0 * g * g.transpose()) / 12.0;
   }
-  if (!(area > 0.0)) throw InvalidInputError("the target's tessellation has zero area: nothing to place a template on");
+  if (!(area > 0.0))
+    throw InvalidInputError("the target's tessellation has zero area: nothing to place a template on");
   PrincipalFrame frame;
   frame.centre = centre / area;
   const Eigen::Matrix3d covariance = second / area - frame.centre * frame.centre.transpose();
@@ -104,7 +107,8 @@ PlaneSection::PlaneSection(const target::Target& target, const Eigen::Vector3d& 
   }
 }
 
-std::vector<double> PlaneSection::lineHits(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const {
+std::vector<double> PlaneSection::lineHits(const Eigen::Vector3d& origin,
+                                           const Eigen::Vector3d& direction) const {
   std::vector<double> hits;
   const double length2 = direction.squaredNorm();
   if (!(length2 > 0.0) || segments_.empty()) return hits;
@@ -121,7 +125,8 @@ std::vector<double> PlaneSection::lineHits(const Eigen::Vector3d& origin, const 
   return hits;
 }
 
-std::optional<fit::SymmetryPlane> detectSymmetryPlane(const target::Target& target, const std::vector<FeatureCurve>& curves,
+std::optional<fit::SymmetryPlane> detectSymmetryPlane(const target::Target& target,
+                                                      const std::vector<FeatureCurve>& curves,
                                                       double relativeFlatness) {
   const double diagonal = target.report().diagonal;
   const target::Points& nodes = target.meshNodes();
@@ -131,7 +136,8 @@ std::optional<fit::SymmetryPlane> detectSymmetryPlane(const target::Target& targ
     if (points.rows() < 3) continue;
     const Eigen::Vector3d centre = points.colwise().mean().transpose();
     const Eigen::MatrixXd centred = points.rowwise() - centre.transpose();
-    const auto [vectors, values] = sortedEigen(centred.transpose() * centred / static_cast<double>(points.rows()));
+    const auto [vectors, values] =
+        sortedEigen(centred.transpose() * centred / static_cast<double>(points.rows()));
     if (!(values[1] > 1e-6 * values[0])) continue;  // a straight line spans no plane
     Eigen::Vector3d normal = vectors.col(2);
     const Eigen::VectorXd offsets = centred * normal;
@@ -167,7 +173,8 @@ HalfModelShape removeSymmetryFace(const TopoDS_Shape& shape, double relativeFlat
       if (BRep_Tool::Degenerated(edge)) continue;
       const BRepAdaptor_Curve curve(edge);
       for (int k = 1; k < 16; ++k) {
-        const gp_Pnt p = curve.Value(curve.FirstParameter() + k * (curve.LastParameter() - curve.FirstParameter()) / 16.0);
+        const gp_Pnt p =
+            curve.Value(curve.FirstParameter() + k * (curve.LastParameter() - curve.FirstParameter()) / 16.0);
         points.emplace_back(p.X(), p.Y(), p.Z());
       }
     }
@@ -183,7 +190,8 @@ HalfModelShape removeSymmetryFace(const TopoDS_Shape& shape, double relativeFlat
       if (surface.GetType() != GeomAbs_Plane) continue;
       const gp_Pln plane = surface.Plane();
       const Eigen::Vector3d origin(plane.Location().X(), plane.Location().Y(), plane.Location().Z());
-      Eigen::Vector3d normal(plane.Axis().Direction().X(), plane.Axis().Direction().Y(), plane.Axis().Direction().Z());
+      Eigen::Vector3d normal(plane.Axis().Direction().X(), plane.Axis().Direction().Y(),
+                             plane.Axis().Direction().Z());
       double low = 0.0, high = 0.0;
       for (const Eigen::Vector3d& p : points) {
         const double d = (p - origin).dot(normal);
@@ -208,7 +216,8 @@ HalfModelShape removeSymmetryFace(const TopoDS_Shape& shape, double relativeFlat
       }
     }
     if (result.face < 0) {
-      throw InvalidInputError("removeSymmetryFace: no planar face has the whole shape on one side of its plane");
+      throw InvalidInputError(
+          "removeSymmetryFace: no planar face has the whole shape on one side of its plane");
     }
     std::vector<int> others;
     for (int i = 0; i < faces.Extent(); ++i) {

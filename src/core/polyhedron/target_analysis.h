@@ -18,9 +18,9 @@ namespace bvmesh::polyhedron {
 
 // Area-weighted principal axes of the tessellated surface.
 struct PrincipalFrame {
-  Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // area centroid
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();    // area centroid
   Eigen::Matrix3d axes = Eigen::Matrix3d::Identity();  // columns: unit axes, largest extent first
-  Eigen::Vector3d low = Eigen::Vector3d::Zero();   // extents of the nodes along each axis, from centre
+  Eigen::Vector3d low = Eigen::Vector3d::Zero();       // extents of the nodes along each axis, from centre
   Eigen::Vector3d high = Eigen::Vector3d::Zero();
   Eigen::Vector3d variances = Eigen::Vector3d::Zero();  // per axis, decreasing
 };
@@ -30,9 +30,10 @@ PrincipalFrame principalFrame(const target::Target& target);
 
 // The segments where a plane cuts the tessellation.
 class PlaneSection {
-public:
+ public:
   // planePoint / planeNormal: the cutting plane (normal need not be unit).
-  PlaneSection(const target::Target& target, const Eigen::Vector3d& planePoint, const Eigen::Vector3d& planeNormal);
+  PlaneSection(const target::Target& target, const Eigen::Vector3d& planePoint,
+               const Eigen::Vector3d& planeNormal);
   bool empty() const { return segments_.empty(); }
   int size() const { return static_cast<int>(segments_.size()); }
   // Parameters s of the points origin + s * direction where the line (in the plane) crosses the
@@ -41,7 +42,7 @@ public:
   // #2K x 3 segment end points (rows 2k, 2k + 1 form segment k).
   const target::Points& points() const { return points_; }
 
-private:
+ private:
   std::vector<std::pair<Eigen::Vector3d, Eigen::Vector3d>> segments_;
   target::Points points_;
   Eigen::Vector3d normal_;
@@ -50,7 +51,8 @@ private:
 // The symmetry plane of a half model: the plane of the longest free-boundary curve that lies in
 // a plane (within relativeFlatness of the diagonal) with the whole target on one side of it.
 // The normal points to the side the target lies on.
-std::optional<fit::SymmetryPlane> detectSymmetryPlane(const target::Target& target, const std::vector<FeatureCurve>& curves,
+std::optional<fit::SymmetryPlane> detectSymmetryPlane(const target::Target& target,
+                                                      const std::vector<FeatureCurve>& curves,
                                                       double relativeFlatness = 1e-5);
 
 // A shape with its symmetry-plane face removed: the planar face, among those with the whole

@@ -15,8 +15,8 @@ namespace {
 constexpr const char* kMagic = "bvmesh-template";
 
 const std::pair<const char*, Generator> kGenerators[] = {
-    {"box", Generator::Box},         {"sphere", Generator::Sphere}, {"revolution", Generator::Revolution},
-    {"wing", Generator::Wing},       {"nacelle", Generator::Nacelle},
+    {"box", Generator::Box},   {"sphere", Generator::Sphere},   {"revolution", Generator::Revolution},
+    {"wing", Generator::Wing}, {"nacelle", Generator::Nacelle},
 };
 
 bool parseInteger(const std::string& text, int& value) {
@@ -35,11 +35,13 @@ std::string checkValue(const TemplateParameter& parameter, const std::string& va
     int number = 0;
     if (!parseInteger(value, number)) return "'" + value + "' is not an integer";
     if (number < parameter.minimum || number > parameter.maximum) {
-      return value + " is outside " + std::to_string(parameter.minimum) + ".." + std::to_string(parameter.maximum);
+      return value + " is outside " + std::to_string(parameter.minimum) + ".." +
+             std::to_string(parameter.maximum);
     }
     return {};
   }
-  if (std::find(parameter.choices.begin(), parameter.choices.end(), value) != parameter.choices.end()) return {};
+  if (std::find(parameter.choices.begin(), parameter.choices.end(), value) != parameter.choices.end())
+    return {};
   std::string allowed;
   for (const std::string& choice : parameter.choices) allowed += (allowed.empty() ? "" : ", ") + choice;
   return "'" + value + "' is not one of " + allowed;
@@ -92,7 +94,8 @@ PolyhedronTemplate parseTemplate(std::istream& in, const std::string& name) {
       return first == std::string::npos ? std::string() : text.substr(first, last - first + 1);
     };
     if (!headerSeen) {
-      if (tokens.size() != 2 || keyword != kMagic) fail(number, "not a BVMesh template (expected 'bvmesh-template 1')");
+      if (tokens.size() != 2 || keyword != kMagic)
+        fail(number, "not a BVMesh template (expected 'bvmesh-template 1')");
       if (tokens[1] != "1") fail(number, "unsupported template version " + tokens[1]);
       headerSeen = true;
     } else if (keyword == "name") {
@@ -109,7 +112,8 @@ PolyhedronTemplate parseTemplate(std::istream& in, const std::string& name) {
           known = true;
         }
       }
-      if (!known) fail(number, "unknown generator '" + tokens[1] + "' (box, sphere, revolution, wing, nacelle)");
+      if (!known)
+        fail(number, "unknown generator '" + tokens[1] + "' (box, sphere, revolution, wing, nacelle)");
       generatorSeen = true;
     } else if (keyword == "relaxation" || keyword == "pushout") {
       int passes = 0;
@@ -157,18 +161,20 @@ PolyhedronTemplate readTemplate(const std::string& path) {
 std::vector<PolyhedronTemplate> readTemplateLibrary(const std::string& folder) {
   namespace fs = std::filesystem;
   std::error_code error;
-  if (!fs::is_directory(folder, error)) throw InvalidInputError("template folder '" + folder + "' does not exist");
+  if (!fs::is_directory(folder, error))
+    throw InvalidInputError("template folder '" + folder + "' does not exist");
   std::vector<std::string> paths;
   for (const fs::directory_entry& entry : fs::directory_iterator(folder)) {
-    if (entry.is_regular_file() && entry.path().extension() == ".template") paths.push_back(entry.path().string());
+    if (entry.is_regular_file() && entry.path().extension() == ".template")
+      paths.push_back(entry.path().string());
   }
   std::vector<PolyhedronTemplate> result;
   for (const std::string& path : paths) result.push_back(readTemplate(path));
   std::sort(result.begin(), result.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
   for (size_t k = 1; k < result.size(); ++k) {
     if (result[k].name == result[k - 1].name) {
-      throw InvalidInputError("templates '" + result[k - 1].source + "' and '" + result[k].source + "' share the name '" +
-                              result[k].name + "'");
+      throw InvalidInputError("templates '" + result[k - 1].source + "' and '" + result[k].source +
+                              "' share the name '" + result[k].name + "'");
     }
   }
   return result;
@@ -177,16 +183,20 @@ std::vector<PolyhedronTemplate> readTemplateLibrary(const std::string& folder) {
 TemplateValues::TemplateValues(const PolyhedronTemplate& polyhedronTemplate,
                                const std::map<std::string, std::string>& overrides)
     : templateName_(polyhedronTemplate.name) {
-  for (const TemplateParameter& parameter : polyhedronTemplate.parameters) values_[parameter.name] = parameter.value;
+  for (const TemplateParameter& parameter : polyhedronTemplate.parameters)
+    values_[parameter.name] = parameter.value;
   for (const auto& [name, value] : overrides) {
     const TemplateParameter* parameter = polyhedronTemplate.find(name);
     if (!parameter) {
       std::string known;
-      for (const TemplateParameter& p : polyhedronTemplate.parameters) known += (known.empty() ? "" : ", ") + p.name;
-      throw InvalidInputError("template '" + templateName_ + "' has no parameter '" + name + "' (it has " + known + ")");
+      for (const TemplateParameter& p : polyhedronTemplate.parameters)
+        known += (known.empty() ? "" : ", ") + p.name;
+      throw InvalidInputError("template '" + templateName_ + "' has no parameter '" + name + "' (it has " +
+                              known + ")");
     }
     const std::string problem = checkValue(*parameter, value);
-    if (!problem.empty()) throw InvalidInputError("template '" + templateName_ + "', parameter '" + name + "': " + problem);
+    if (!problem.empty())
+      throw InvalidInputError("template '" + templateName_ + "', parameter '" + name + "': " + problem);
     values_[name] = value;
   }
 }
@@ -195,7 +205,8 @@ int TemplateValues::integer(const std::string& name) const {
   const auto found = values_.find(name);
   int value = 0;
   if (found == values_.end() || !parseInteger(found->second, value)) {
-    throw InvalidInputError("template '" + templateName_ + "' lacks the integer parameter '" + name + "' its generator needs");
+    throw InvalidInputError("template '" + templateName_ + "' lacks the integer parameter '" + name +
+                            "' its generator needs");
   }
   return value;
 }
@@ -203,7 +214,8 @@ int TemplateValues::integer(const std::string& name) const {
 const std::string& TemplateValues::choice(const std::string& name) const {
   const auto found = values_.find(name);
   if (found == values_.end()) {
-    throw InvalidInputError("template '" + templateName_ + "' lacks the parameter '" + name + "' its generator needs");
+    throw InvalidInputError("template '" + templateName_ + "' lacks the parameter '" + name +
+                            "' its generator needs");
   }
   return found->second;
 }

@@ -15,9 +15,9 @@ enum class Generator { Box, Sphere, Revolution, Wing, Nacelle };
 
 struct TemplateParameter {
   std::string name;
-  std::string value;                 // default, as text
+  std::string value;  // default, as text
   std::string description;
-  bool isInteger = false;            // integer in [minimum, maximum], else one of choices
+  bool isInteger = false;  // integer in [minimum, maximum], else one of choices
   int minimum = 0;
   int maximum = 0;
   std::vector<std::string> choices;
@@ -39,13 +39,14 @@ struct PolyhedronTemplate {
 // Parameter values of a template: its defaults with `overrides` applied and checked. Throws
 // InvalidInputError naming the template and parameter for an unknown name or a bad value.
 class TemplateValues {
-public:
-  TemplateValues(const PolyhedronTemplate& polyhedronTemplate, const std::map<std::string, std::string>& overrides);
+ public:
+  TemplateValues(const PolyhedronTemplate& polyhedronTemplate,
+                 const std::map<std::string, std::string>& overrides);
   int integer(const std::string& name) const;
   const std::string& choice(const std::string& name) const;
   const std::map<std::string, std::string>& all() const { return values_; }
 
-private:
+ private:
   std::string templateName_;
   std::map<std::string, std::string> values_;
 };
