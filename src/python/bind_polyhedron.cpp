@@ -220,13 +220,22 @@ void bindPolyhedron(py::module_& module) {
         dict["curves"] = curveList(placed->curves);
         dict["symmetry_plane"] = planeObject(placed->symmetryPlane);
         dict["parameters"] = placed->parameters;
+        dict["planform"] = py::none();
+        if (placed->planform) {
+          const WingPlanform& w = *placed->planform;
+          dict["planform"] = py::dict(py::arg("span_direction") = w.spanDirection, py::arg("span") = w.span,
+                                      py::arg("root_chord") = w.rootChord, py::arg("tip_chord") = w.tipChord,
+                                      py::arg("leading_edge_sweep_deg") = w.leadingEdgeSweepDeg,
+                                      py::arg("trailing_edge_sweep_deg") = w.trailingEdgeSweepDeg);
+        }
         return dict;
       },
       py::arg("template_path"), py::arg("target"),
       py::arg("parameters") = std::map<std::string, std::string>(), py::arg("improve") = true,
       "Builds the template (a .template file) on the target. Returns a dict: mesh (ControlMesh), "
       "feature_map, "
-      "symmetry_plane (dict point/normal or None), parameters (values used), curves, and the mapping report "
+      "symmetry_plane (dict point/normal or None), parameters (values used), planform (wings: span, chords, "
+      "sweeps; else None), curves, and the mapping report "
       "(chains, corners, unmapped_chains, unmapped_corners, complete, report).");
 
   module.def(

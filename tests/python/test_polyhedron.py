@@ -72,6 +72,15 @@ class PlacementTest(unittest.TestCase):
         curve = placed["curves"][crease[0]["curve"]]
         self.assertEqual(curve["kind"], "sharp")
         self.assertAlmostEqual(curve["length"], 1242.611, delta=0.01)
+        # Planform against the CAD vertices: root trailing edge (810.49, 0, 0), root leading edge
+        # (0, 0, 0), tip trailing edge (1146.57, 1196.3, 0), tip leading edge (690.66, 1196.3, 0).
+        planform = placed["planform"]
+        self.assertAlmostEqual(planform["span"], 1196.3, delta=0.1)
+        self.assertAlmostEqual(planform["root_chord"], 810.49, delta=0.5)
+        self.assertAlmostEqual(planform["tip_chord"], 1146.57 - 690.66, delta=0.5)
+        self.assertAlmostEqual(planform["leading_edge_sweep_deg"], np.degrees(np.arctan2(690.66, 1196.3)), delta=0.05)
+        self.assertAlmostEqual(planform["trailing_edge_sweep_deg"],
+                               np.degrees(np.arctan2(1146.57 - 810.49, 1196.3)), delta=0.05)
         root = [c for c in placed["chains"] if c["kind"] == "boundary"][0]
         np.testing.assert_allclose(np.asarray(mesh.vertices)[root["vertices"], 1], 0.0, atol=1e-9)
         polyhedra.plot_polyhedron(mesh, os.path.join(output_dir(), "polyhedron_m6_half_wing.png"), self.wing,

@@ -471,8 +471,29 @@ std::vector<Vec> wingRing(const target::Target& target, const WingFrame& w, doub
   return ring;
 }
 
+WingPlanform measurePlanform(const WingFrame& w, const std::vector<Vec>& root, const std::vector<Vec>& tip,
+                             int m) {
+  WingPlanform planform;
+  planform.spanDirection = w.span;
+  const Vec rootChord = root[0] - root[static_cast<size_t>(m)];
+  const Vec tipChord = tip[0] - tip[static_cast<size_t>(m)];
+  planform.rootChord = rootChord.norm();
+  planform.tipChord = tipChord.norm();
+  planform.span = (tip[0] - root[0]).dot(w.span);
+  // Sweep: angle of an edge line from the span direction, towards the root chord.
+  const Vec downstream = (rootChord - rootChord.dot(w.span) * w.span).normalized();
+  const auto sweep = [&](const Vec& from, const Vec& to) {
+    const Vec d = to - from;
+    return std::atan2(d.dot(downstream), d.dot(w.span)) * 180.0 / kPi;
+  };
+  planform.leadingEdgeSweepDeg = sweep(root[static_cast<size_t>(m)], tip[static_cast<size_t>(m)]);
+  planform.trailingEdgeSweepDeg = sweep(root[0], tip[0]);
+  return planform;
+}
+
 Draft buildWing(const TemplateValues& values, const target::Target& target,
-                const std::vector<FeatureCurve>& curves, std::optional<fit::SymmetryPlane>& plane) {
+                const std::vector<FeatureCurve>& curves, std::optional<fit::SymmetryPlane>& plane,
+                std::optional<WingPlanform>& planform) {
   const int m = values.integer("chordwise");
   const int stations = values.integer("spanwise");
   const bool half = values.choice("span") == "half";
@@ -480,10 +501,14 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
   const WingFrame w = wingFrame(target, curves, half, plane);
   Draft draft;
   std::vector<std::vector<int>> rings;
+  std::vector<Vec> first, last;
   for (int j = 0; j <= stations; ++j) {
     const double s = w.low + (w.high - w.low) * j / stations;
     std::vector<int> ids;
-    for (const Vec& p : wingRing(target, w, s, m)) ids.push_back(draft.add(p));
+    const std::vector<Vec> ring = wingRing(target, w, s, m);
+    if (j == 0) first = ring;
+    if (j == stations) last = ring;
+    for (const Vec& p : ring) ids.push_back(draft.add(p));
     rings.push_back(ids);
   }
   const int ringSize = 2 * m;
@@ -530,6 +555,7 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
     }
     draft.corners.push_back(ring[0]);
   };
+  planform = measurePlanform(w, first, last, m);
   cap(rings.back(), 1.0);
   if (half) {
     draft.corners.push_back(rings.front()[0]);
@@ -620,6 +646,7 @@ PlacedPolyhedron placeTemplate(const PolyhedronTemplate& polyhedronTemplate, con
   std::map<std::string, std::string> used = values.all();
   const std::vector<FeatureCurve> curves = detectFeatureCurves(target, options.curves);
   std::optional<fit::SymmetryPlane> plane;
+  std::optional<WingPlanform> planform;
   const PrincipalFrame frame = principalFrame(target);
   Draft draft;
   switch (polyhedronTemplate.generator) {
@@ -633,7 +660,7 @@ PlacedPolyhedron placeTemplate(const PolyhedronTemplate& polyhedronTemplate, con
       draft = buildRevolution(values, target, curves, plane, used);
       break;
     case Generator::Wing:
-      draft = buildWing(values, target, curves, plane);
+      draft = buildWing(values, target, curves, plane, planform);
       break;
     case Generator::Nacelle:
       draft = buildNacelle(values, target);
@@ -659,7 +686,8 @@ PlacedPolyhedron placeTemplate(const PolyhedronTemplate& polyhedronTemplate, con
     improvePolyhedron(mesh, target, mapping.map, improvement);
     mapping = mapFeatures(mesh, target, curves, options.mapping);
   }
-  return PlacedPolyhedron{polyhedronTemplate.name, std::move(mesh), std::move(mapping), curves, plane, used};
+  return PlacedPolyhedron{
+      polyhedronTemplate.name, std::move(mesh), std::move(mapping), curves, plane, used, planform};
 }
 
 }  // namespace bvmesh::polyhedron

@@ -30,6 +30,18 @@ struct PlacementOptions {
   std::optional<ImproveOptions> improvement;
 };
 
+// A wing's planform as the placement measured it on the target (sections at the ends of the
+// trailing edge). Chords run from the leading-edge point (farthest section point from the
+// trailing edge) to the trailing edge; sweeps are measured in the plane of span and root chord.
+struct WingPlanform {
+  Eigen::Vector3d spanDirection = Eigen::Vector3d::Zero();
+  double span = 0.0;       // between the first and the last station
+  double rootChord = 0.0;  // first station (the root of a half wing)
+  double tipChord = 0.0;   // last station
+  double leadingEdgeSweepDeg = 0.0;
+  double trailingEdgeSweepDeg = 0.0;
+};
+
 struct PlacedPolyhedron {
   std::string templateName;
   ControlMesh mesh;
@@ -37,6 +49,7 @@ struct PlacedPolyhedron {
   std::vector<FeatureCurve> curves;                 // the target's feature curves the mapping refers to
   std::optional<fit::SymmetryPlane> symmetryPlane;  // for FitOptions::symmetryPlane
   std::map<std::string, std::string> parameters;    // the values used ("auto" resolved)
+  std::optional<WingPlanform> planform;             // wing templates only
 };
 
 // Throws InvalidInputError when the target does not suit the template (e.g. a half wing on a
