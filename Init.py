@@ -13,3 +13,17 @@ for _entry in list(_sys.path):
         if _package_root not in _sys.path:
             _sys.path.append(_package_root)
         break
+
+# FreeCAD (Debian's 0.20.2) restores a document's Python objects only from modules that are
+# loaded already or live in an installed workbench: load BVMesh's feature modules now, so .FCStd
+# files with BVMesh objects open wherever the package was found.
+try:
+    import bvmesh.features.bspline_shell  # noqa: F401
+    import bvmesh.features.distance_map  # noqa: F401
+    import bvmesh.features.polyhedron  # noqa: F401
+    import bvmesh.features.surface_fit  # noqa: F401
+    import bvmesh.features.target  # noqa: F401
+except ImportError as _error:
+    import FreeCAD as _FreeCAD
+
+    _FreeCAD.Console.PrintError("BVMesh: its document objects cannot be loaded: {}\n".format(_error))

@@ -28,3 +28,18 @@ class BVMeshWorkbench(FreeCADGui.Workbench):
 
 
 FreeCADGui.addWorkbench(BVMeshWorkbench())
+
+
+def _add_preference_page():
+    import os
+
+    import bvmesh.paths
+
+    FreeCADGui.addPreferencePage(os.path.join(bvmesh.paths.RESOURCES_DIR, "ui", "preferences.ui"), "BVMesh")
+
+
+_add_preference_page()
+
+
+# View providers are restored with documents too (see Init.py).
+import bvmesh.gui.view_providers  # noqa: E402,F401

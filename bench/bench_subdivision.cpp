@@ -1,8 +1,11 @@
 // Step 1 and 2 costs against mesh size: control mesh construction (validation), one
 // subdivision step with its operator, the limit sample operators (A and the two tangent
 // operators) and the limit evaluator (patch table), for closed quad tori with one crease loop
-// of 1k, 10k, 100k and 1M faces. Each size runs in a forked child so that its peak memory
-// (VmHWM growth) is its own. Prints the times, the memory and the log-log growth exponents.
+// of 1k, 10k, 100k and 1M faces. Baseline: OpenSubdiv's LimitStencilTableFactory at the same
+// sample locations (adaptive refinement + patch table + limit stencils, positions and first
+// derivatives), the ready-made way to get the same operators. Each size runs in a forked child so
+// that its peak memory (VmHWM growth) is its own. Prints the times, the memory, the ratio of our
+// limit operator build to the baseline and the log-log growth exponents.
 //
 //   build/bench/bench_subdivision [max_faces]      (default 1000000)
 #include <sys/wait.h>
@@ -17,8 +20,12 @@
 #include <string>
 #include <vector>
 
+#include <opensubdiv/far/stencilTable.h>
+#include <opensubdiv/far/stencilTableFactory.h>
+
 #include "core/subdiv/limit_evaluator.h"
 #include "core/subdiv/limit_samples.h"
+#include "core/subdiv/osd_refiner.h"
 #include "core/subdiv/subdivision.h"
 
 namespace {
@@ -27,8 +34,9 @@ using bvmesh::ControlMesh;
 using bvmesh::RowMatrixX2i;
 using bvmesh::RowMatrixX3d;
 
-constexpr int kStages = 4;
-const char* const kStageNames[kStages] = {"construct", "subdivide", "limit ops", "evaluator"};
+constexpr int kStages = 5;
+const char* const kStageNames[kStages] = {"construct", "subdivide", "limit ops", "evaluator",
+                                          "OSD limit"};
 
 struct Figures {
   double seconds[kStages];
@@ -43,7 +51,8 @@ ControlMesh torus(int n, int m) {
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < m; ++j) {
       const double a = 2.0 * M_PI * i / n, b = 2.0 * M_PI * j / m;
-      vertices.row(i * m + j) << (2.0 + std::cos(b)) * std::cos(a), (2.0 + std::cos(b)) * std::sin(a), std::sin(b);
+      vertices.row(i * m + j) << (2.0 + std::cos(b)) * std::cos(a),
+          (2.0 + std::cos(b)) * std::sin(a), std::sin(b);
     }
   }
   std::vector<int> sizes(static_cast<size_t>(n) * static_cast<size_t>(m), 4), indices;
@@ -57,6 +66,31 @@ ControlMesh torus(int n, int m) {
   RowMatrixX2i creases(n, 2);
   for (int i = 0; i < n; ++i) creases.row(i) << i * m, ((i + 1) % n) * m;
   return ControlMesh(vertices, sizes, indices, creases);
+}
+
+// The baseline: OpenSubdiv's limit stencils at the given locations.
+void osdLimitStencils(const ControlMesh& mesh, const std::vector<bvmesh::SurfaceLocation>& at) {
+  namespace Far = OpenSubdiv::Far;
+  const auto refiner = bvmesh::osd::createRefiner(mesh, {});
+  Far::TopologyRefiner::AdaptiveOptions adaptive(6);
+  adaptive.useInfSharpPatch = true;
+  refiner->RefineAdaptive(adaptive);
+  std::vector<double> u, v;
+  for (const auto& location : at) {
+    u.push_back(location.u);
+    v.push_back(location.v);
+  }
+  using Factory = Far::LimitStencilTableFactoryReal<double>;
+  Factory::LocationArrayVec arrays(at.size());
+  for (size_t i = 0; i < at.size(); ++i) {
+    arrays[i].ptexIdx = at[i].face;
+    arrays[i].numLocations = 1;
+    arrays[i].s = &u[i];
+    arrays[i].t = &v[i];
+  }
+  const std::unique_ptr<const Far::LimitStencilTableReal<double>> table(
+      Factory::Create(*refiner, arrays));
+  if (table->GetNumStencils() != static_cast<int>(at.size())) std::abort();
 }
 
 double vmHwmMegabytes() {
@@ -85,8 +119,14 @@ Figures measure(int n, int m) {
   stage(0, [&] { mesh = std::make_unique<ControlMesh>(torus(n, m)); });
   figures.faces = mesh->numFaces();
   stage(1, [&] { bvmesh::subdivide(*mesh); });
-  stage(2, [&] { figures.samples = bvmesh::LimitSamples(*mesh).size(); });
+  std::vector<bvmesh::SurfaceLocation> locations;
+  stage(2, [&] {
+    const bvmesh::LimitSamples samples(*mesh);
+    figures.samples = samples.size();
+    locations = samples.locations();
+  });
   stage(3, [&] { const bvmesh::LimitEvaluator evaluator(*mesh); });
+  stage(4, [&] { osdLimitStencils(*mesh, locations); });
   return figures;
 }
 
@@ -133,11 +173,16 @@ int main(int argc, char** argv) {
       return 1;
     }
     std::printf("%9d %8d", figures.faces, figures.samples);
-    for (int s = 0; s < kStages; ++s) std::printf(" | %12.4f %9.1f", figures.seconds[s], figures.peakMegabytes[s]);
+    for (int s = 0; s < kStages; ++s) {
+      std::printf(" | %12.4f %9.1f", figures.seconds[s], figures.peakMegabytes[s]);
+    }
     std::printf("\n");
     std::fflush(stdout);
     results.push_back(figures);
   }
+  std::printf("limit ops time / OpenSubdiv LimitStencilTableFactory time:");
+  for (const Figures& f : results) std::printf(" %.2f", f.seconds[2] / f.seconds[4]);
+  std::printf("\n");
   if (results.size() < 2) return 0;
   std::vector<double> faces;
   for (const Figures& f : results) faces.push_back(f.faces);
@@ -148,7 +193,8 @@ int main(int argc, char** argv) {
       times.push_back(f.seconds[s]);
       memory.push_back(std::max(f.peakMegabytes[s], 1e-3));
     }
-    std::printf("  %-10s time %.2f  memory %.2f\n", kStageNames[s], slope(faces, times), slope(faces, memory));
+    std::printf("  %-10s time %.2f  memory %.2f\n", kStageNames[s], slope(faces, times),
+                slope(faces, memory));
   }
   return 0;
 }

@@ -19,6 +19,14 @@ add_library(bvmesh_opensubdiv INTERFACE)
 target_include_directories(bvmesh_opensubdiv SYSTEM INTERFACE ${OPENSUBDIV_INCLUDE_DIR})
 target_link_libraries(bvmesh_opensubdiv INTERFACE ${OPENSUBDIV_CPU_LIBRARY})
 
+# CHOLMOD (SuiteSparse): supernodal sparse Cholesky for the least-squares normal equations;
+# Eigen's own simplicial factorization is an order of magnitude slower on fitting-sized meshes.
+find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)
+find_library(CHOLMOD_LIBRARY NAMES cholmod REQUIRED)
+add_library(bvmesh_cholmod INTERFACE)
+target_include_directories(bvmesh_cholmod SYSTEM INTERFACE ${CHOLMOD_INCLUDE_DIR})
+target_link_libraries(bvmesh_cholmod INTERFACE ${CHOLMOD_LIBRARY})
+
 if(BVMESH_BUILD_PYTHON)
   find_package(Python 3.9 REQUIRED COMPONENTS Interpreter Development.Module)
   find_package(pybind11 CONFIG REQUIRED)

@@ -26,6 +26,8 @@ _CORE_NAMES = (
     "write_control_mesh",
     "Target",
     "ProjectionStatus",
+    "SurfaceFitter",
+    "limit_surface_to_bsplines",
 )
 
 

@@ -85,3 +85,418 @@ def print_shape_report(shape_or_object, sharp_angle_degrees=30.0):
     for line in format_shape_report(report):
         FreeCAD.Console.PrintMessage("  {}\n".format(line))
     return report
+
+
+# -- document objects of the surface stage ---------------------------------------------------------
+# Every make_* adds one object, recomputes, and raises (leaving no half-made object) when the
+# recompute fails. The step functions append a step to a SurfaceFit and recompute; on failure
+# the fit is left as it was. The GUI calls exactly these functions through doCommand.
+
+
+def _attach_view_provider(obj):
+    import FreeCAD
+
+    if FreeCAD.GuiUp:
+        from bvmesh.gui import view_providers
+
+        view_providers.attach(obj)
+
+
+def _recompute(obj):
+    """Recomputes obj's document; raises RuntimeError with the object's error if obj failed."""
+    obj.Document.recompute()
+    if obj.isValid():
+        return
+    message = getattr(obj.Proxy, "error", "") or "see the Report view"
+    raise RuntimeError("{} failed: {}".format(obj.Label, message))
+
+
+def _new_object(create, doc, name, fill):
+    obj = create(doc, name)
+    try:
+        fill(obj)
+        _attach_view_provider(obj)
+        _recompute(obj)
+    except Exception:
+        doc.removeObject(obj.Name)
+        raise
+    return obj
+
+
+def format_target_report(report):
+    """Readable lines of bvmesh.Target.report()."""
+    types = {}
+    for name in report["surface_types"]:
+        types[name] = types.get(name, 0) + 1
+    low, high = report["bounds"]
+    lines = [
+        "{} faces ({})".format(report["faces"], ", ".join("{} {}".format(n, t) for t, n in sorted(types.items()))),
+        "{} edges: {} sharp, {} free, {} non-manifold".format(
+            len(report["edges"]), len(report["sharp_edges"]), len(report["free_edges"]),
+            len(report["non_manifold_edges"])),
+        "bounding box ({:.6g}, {:.6g}, {:.6g}) .. ({:.6g}, {:.6g}, {:.6g}), diagonal {:.6g}".format(
+            *low, *high, report["diagonal"]),
+        "tolerance {:.3g}, {} triangles in the projection index".format(report["tolerance"], report["triangles"]),
+    ]
+    if report["gaps"]:
+        widest = max(gap["width"] for gap in report["gaps"])
+        lines.append("{} gaps between faces, widest {:.3g}".format(len(report["gaps"]), widest))
+    if report["untessellated_faces"]:
+        lines.append("faces without tessellation: {}".format(report["untessellated_faces"]))
+    return lines
+
+
+def make_target(doc, source, faces=None, name="Target"):
+    """A BVMesh Target on `source` (an object with a Shape): its faces named in `faces`
+    (["Face1", ...]) or all of them."""
+    from bvmesh.features import target
+
+    def fill(obj):
+        obj.Source = source
+        obj.Faces = list(faces or [])
+
+    obj = _new_object(target.create, doc, name, fill)
+    if getattr(source, "ViewObject", None) is not None:
+        source.ViewObject.Visibility = False  # the target shows the fitted faces
+    return obj
+
+
+def _set_polyhedron_data(obj, vertices, faces, creases, corners):
+    import FreeCAD
+
+    from bvmesh.features.polyhedron import flatten_faces
+
+    sizes, indices = flatten_faces(faces)
+    obj.Vertices = [FreeCAD.Vector(*map(float, v)) for v in vertices]
+    obj.FaceSizes = sizes
+    obj.FaceIndices = indices
+    obj.Creases = [int(i) for pair in creases for i in pair]
+    obj.Corners = [int(i) for i in corners]
+
+
+def make_polyhedron(doc, vertices, faces, creases=(), corners=(), features=None, name="ControlPolyhedron"):
+    """A ControlPolyhedron from vertices [(x, y, z)], faces [[vertex ids, counter-clockwise]],
+    crease vertex pairs and corner vertex ids; `features` optionally maps features to the target
+    ({curves, edge_curve, vertex_cad_vertex} as bvmesh.SurfaceFitter takes it)."""
+    from bvmesh.features import polyhedron
+
+    def fill(obj):
+        _set_polyhedron_data(obj, vertices, faces, creases, corners)
+        if features:
+            obj.FeatureCurves = [" ".join(str(int(e)) for e in curve) for curve in features.get("curves", [])]
+            obj.EdgeCurves = [int(i) for i in features.get("edge_curve", [])]
+            obj.VertexCadVertices = [int(i) for i in features.get("vertex_cad_vertex", [])]
+
+    return _new_object(polyhedron.create, doc, name, fill)
+
+
+def set_polyhedron(polyhedron, vertices, faces, creases=(), corners=()):
+    """Replaces the data of a ControlPolyhedron (and recomputes what depends on it)."""
+    _set_polyhedron_data(polyhedron, vertices, faces, creases, corners)
+    _recompute(polyhedron)
+    return polyhedron
+
+
+def make_polyhedron_from_mesh(doc, mesh_object, name="ControlPolyhedron"):
+    """A ControlPolyhedron with the points and triangles of a Mesh object."""
+    points, triangles = mesh_object.Mesh.Topology
+    return make_polyhedron(doc, [(p.x, p.y, p.z) for p in points], [list(t) for t in triangles], name=name)
+
+
+def polygons_of_shape(shape, relative_tolerance=1e-7):
+    """(vertices, faces) of a shape made of planar polygon faces: vertices merged where they
+    coincide (within relative_tolerance of the size), each face counter-clockwise about its
+    normal. ValueError for a face that is not a planar polygon."""
+    import FreeCAD
+
+    tolerance = relative_tolerance * max(shape.BoundBox.DiagonalLength, 1e-300)
+    vertices, faces = [], []
+
+    def vertex_id(point):
+        for i, known in enumerate(vertices):
+            if (known - point).Length <= tolerance:
+                return i
+        vertices.append(point)
+        return len(vertices) - 1
+
+    for k, face in enumerate(shape.Faces):
+        if face.Surface.TypeId != "Part::GeomPlane" or len(face.Wires) != 1 or any(
+                edge.Curve.TypeId != "Part::GeomLine" for edge in face.Edges):
+            raise ValueError("Face{} is not a planar polygon without holes".format(k + 1))
+        points = [v.Point for v in face.OuterWire.OrderedVertexes]
+        normal = FreeCAD.Vector()
+        for i, p in enumerate(points):
+            normal += p.cross(points[(i + 1) % len(points)])
+        u0, u1, v0, v1 = face.ParameterRange
+        if normal.dot(face.normalAt(0.5 * (u0 + u1), 0.5 * (v0 + v1))) < 0:
+            points.reverse()
+        faces.append([vertex_id(p) for p in points])
+    return [(v.x, v.y, v.z) for v in vertices], faces
+
+
+def make_polyhedron_from_shape(doc, shape_object, name="ControlPolyhedron"):
+    """A ControlPolyhedron from a Part object made of planar polygon faces (e.g. a Draft or
+    Part design of the coarse mesh)."""
+    vertices, faces = polygons_of_shape(shape_object.Shape)
+    return make_polyhedron(doc, vertices, faces, name=name)
+
+
+def make_polyhedron_from_template(doc, target, template, name="ControlPolyhedron", **parameters):
+    """A ControlPolyhedron from template `template` placed on a BVMesh Target, with its feature
+    map (see bvmesh.extensions.place_template)."""
+    from bvmesh import extensions
+
+    mesh, features = extensions.place_template(target.Proxy.core_target(target), template, **parameters)
+    return make_polyhedron(doc, mesh.vertices, mesh.faces, creases=mesh.creases, corners=mesh.corners,
+                           features=features, name=name)
+
+
+def mark_features(polyhedron, creases=(), corners=(), unmark=False):
+    """Marks (or with unmark, clears) crease edges (vertex pairs) and corner vertices."""
+    from bvmesh.features.polyhedron import pairs
+
+    current = {tuple(sorted(p)) for p in pairs(polyhedron.Creases)}
+    chosen = {tuple(sorted(int(i) for i in p)) for p in creases}
+    current = current - chosen if unmark else current | chosen
+    polyhedron.Creases = [i for pair in sorted(current) for i in pair]
+    corner_set = set(polyhedron.Corners)
+    chosen_corners = {int(i) for i in corners}
+    corner_set = corner_set - chosen_corners if unmark else corner_set | chosen_corners
+    polyhedron.Corners = sorted(corner_set)
+    _recompute(polyhedron)
+    return polyhedron
+
+
+def find_creases(polyhedron, target, relative_distance=0.01):
+    """Interior edges of the polyhedron that lie along the target's sharp edges: end points and
+    the points at 1/4, 1/2, 3/4 within relative_distance x edge length of a sharp edge."""
+    import numpy as np
+
+    from bvmesh.features import polyhedron as polyhedron_feature
+
+    core_target = target.Proxy.core_target(target)
+    sharp = list(core_target.sharp_edges(target.SharpAngle))
+    mesh = polyhedron_feature.control_mesh(polyhedron)
+    if not sharp:
+        return []
+    vertices = mesh.vertices
+    found = []
+    for (a, b), (left, right) in zip(mesh.edges, mesh.edge_faces):
+        if left < 0 or right < 0:
+            continue
+        p, q = vertices[a], vertices[b]
+        points = np.array([p + t * (q - p) for t in (0.0, 0.25, 0.5, 0.75, 1.0)])
+        distances = core_target.project_to_edges(points, sharp)["distances"]
+        if distances.max() <= relative_distance * np.linalg.norm(q - p):
+            found.append([int(a), int(b)])
+    return found
+
+
+def detect_creases(polyhedron, target, relative_distance=0.01):
+    """Marks the polyhedron's edges along the target's sharp edges as creases (see
+    find_creases) and returns them."""
+    found = find_creases(polyhedron, target, relative_distance)
+    mark_features(polyhedron, creases=found)
+    return found
+
+
+_FIT_PARAMETERS = {
+    "tolerance": "Tolerance", "relative_tolerance": "RelativeTolerance", "max_level": "MaxLevel",
+    "max_corrections": "MaxCorrections", "stagnation_ratio": "StagnationRatio", "solver": "Solver",
+    "project_along_normals": "ProjectAlongNormals", "check_samples_per_face": "CheckSamplesPerFace",
+    "correction_passes": "CorrectionPasses", "smooth_iterations": "SmoothIterations",
+    "smooth_lambda": "SmoothLambda", "smooth_mu": "SmoothMu",
+}
+
+
+def _set_fit_parameters(fit, parameters):
+    import FreeCAD
+
+    for key, value in parameters.items():
+        if key == "weights":
+            for kind, weight in value.items():
+                if kind not in ("smooth", "crease", "boundary", "corner"):
+                    raise ValueError("unknown weight '{}'; known: smooth, crease, boundary, corner".format(kind))
+                setattr(fit, "Weight" + kind.capitalize(), float(weight))
+        elif key == "symmetry_plane":
+            fit.UseSymmetryPlane = value is not None
+            if value is not None:
+                fit.SymmetryPoint = FreeCAD.Vector(*map(float, value[0]))
+                fit.SymmetryNormal = FreeCAD.Vector(*map(float, value[1]))
+        elif key in _FIT_PARAMETERS:
+            setattr(fit, _FIT_PARAMETERS[key], value)
+        else:
+            raise ValueError("unknown fit parameter '{}'; known: {}".format(
+                key, ", ".join(sorted(list(_FIT_PARAMETERS) + ["weights", "symmetry_plane"]))))
+
+
+def symmetry_plane_guess(target):
+    """((point), (normal)) of the first planar face of the target's source left out of the fit
+    (e.g. the root face of a half wing), or None."""
+    if not target.Faces:
+        return None
+    kept = set(target.Faces)
+    for i, face in enumerate(target.Source.Shape.Faces):
+        if "Face{}".format(i + 1) not in kept and face.Surface.TypeId == "Part::GeomPlane":
+            point, normal = face.Surface.Position, face.Surface.Axis
+            return (point.x, point.y, point.z), (normal.x, normal.y, normal.z)
+    return None
+
+
+def make_surface_fit(doc, target, polyhedron, name="SurfaceFit", **parameters):
+    """A SurfaceFit of `polyhedron` to `target` (no steps yet: the result is the polyhedron
+    measured against the target). Parameters as set_fit_parameters."""
+    from bvmesh.features import surface_fit
+
+    def fill(obj):
+        obj.Target = target
+        obj.Polyhedron = polyhedron
+        _set_fit_parameters(obj, parameters)
+
+    return _new_object(surface_fit.create, doc, name, fill)
+
+
+def set_fit_parameters(fit, **parameters):
+    """Sets fitting parameters: tolerance, relative_tolerance, max_level, max_corrections,
+    stagnation_ratio, solver ('cholesky' | 'cgls'), weights {smooth, crease, boundary, corner},
+    symmetry_plane ((point), (normal)) or None, project_along_normals, check_samples_per_face,
+    correction_passes, smooth_iterations, smooth_lambda, smooth_mu; then recomputes."""
+    _set_fit_parameters(fit, parameters)
+    _recompute(fit)
+    return fit
+
+
+def _add_step(fit, line):
+    from bvmesh.features.surface_fit import parse_step
+
+    parse_step(line)
+    previous = list(fit.Steps)
+    fit.Steps = previous + [line]
+    try:
+        _recompute(fit)
+    except Exception:
+        fit.Steps = previous
+        fit.purgeTouched()
+        raise
+    return fit
+
+
+def subdivide(fit):
+    """Step 1: one Catmull-Clark subdivision of the fit's control mesh."""
+    return _add_step(fit, "subdivide")
+
+
+def project(fit):
+    """Step 3: projects the limit samples onto the target (updates the sample distances)."""
+    return _add_step(fit, "project")
+
+
+def approximate(fit):
+    """Step 4: least-squares control points for the current projections."""
+    return _add_step(fit, "approximate")
+
+
+def correct_parameters(fit, passes=None):
+    """Steps 2-4 again at the same level (CorrectionPasses times unless `passes` is given)."""
+    return _add_step(fit, "correct {}".format(int(fit.CorrectionPasses if passes is None else passes)))
+
+
+def smooth(fit, iterations=None, lambda_=None, mu=None):
+    """Taubin smoothing of the control mesh (the fit's Smooth* parameters unless given)."""
+    return _add_step(fit, "smooth {} {!r} {!r}".format(
+        int(fit.SmoothIterations if iterations is None else iterations),
+        float(fit.SmoothLambda if lambda_ is None else lambda_), float(fit.SmoothMu if mu is None else mu)))
+
+
+def fit_to_tolerance(fit):
+    """Subdivides, projects, approximates and corrects level after level until the tolerance,
+    stagnation or MaxLevel (the fit's parameters)."""
+    return _add_step(fit, "fit")
+
+
+def convergence_table(fit):
+    """One dict per pass: level, correction, control_points, max_distance, rms_distance,
+    limit_to_target and target_to_limit (None when not checked)."""
+    from bvmesh.features.surface_fit import convergence_table as table
+
+    return table(fit)
+
+
+def fitted_mesh(fit):
+    """The fitted control mesh (bvmesh.ControlMesh) of a SurfaceFit."""
+    from bvmesh.features.surface_fit import result_mesh
+
+    return result_mesh(fit)
+
+
+def make_distance_map(fit, samples_per_face=3, color_max=0.0, name="DistanceMap"):
+    """The fit's limit surface as a mesh coloured by distance to the target (blue 0 .. red at
+    color_max and above; 0: the 99th percentile of the distances)."""
+    from bvmesh.features import distance_map
+
+    def fill(obj):
+        obj.Fit = fit
+        obj.SamplesPerFace = int(samples_per_face)
+        obj.ColorMax = float(color_max)
+
+    return _new_object(distance_map.create, fit.Document, name, fill)
+
+
+def make_bspline_shell(fit, name="BsplineShell"):
+    """The fit's limit surface as a shell of B-spline faces (needs the core's conversion)."""
+    from bvmesh.features import bspline_shell
+
+    def fill(obj):
+        obj.Fit = fit
+
+    return _new_object(bspline_shell.create, fit.Document, name, fill)
+
+
+def export_step(obj, path):
+    """Writes the shape of `obj` (e.g. a BsplineShell) to a STEP file."""
+    import os
+
+    if obj.Shape.isNull():
+        raise ValueError("{} has no shape to export".format(obj.Label))
+    obj.Shape.exportStep(os.fspath(path))
+    return path
+
+
+def plot_convergence(fit, path, title=None):
+    """Saves the convergence plot of a SurfaceFit (max and RMS sample distance per pass, log
+    scale, tolerance line, two-sided checks) as a PNG at `path` and returns the path."""
+    import matplotlib
+
+    matplotlib.use("Agg", force=False)
+    from matplotlib.figure import Figure
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    rows = convergence_table(fit)
+    if not rows:
+        raise ValueError("{} has no convergence history yet".format(fit.Label))
+    passes = list(range(len(rows)))
+    figure = Figure(figsize=(7.0, 4.2), dpi=100)
+    FigureCanvasAgg(figure)
+    axes = figure.add_subplot(1, 1, 1)
+    axes.semilogy(passes, [r["max_distance"] for r in rows], "o-", color="tab:red", label="max distance")
+    axes.semilogy(passes, [r["rms_distance"] for r in rows], "s-", color="tab:blue", label="RMS distance")
+    checked = [(i, r["limit_to_target"], r["target_to_limit"]) for i, r in zip(passes, rows)
+               if r["limit_to_target"] is not None]
+    if checked:
+        axes.semilogy([c[0] for c in checked], [max(c[1], c[2]) for c in checked], "D", color="black",
+                      label="two-sided check")
+    if fit.AbsoluteTolerance > 0:
+        axes.axhline(fit.AbsoluteTolerance, color="tab:green", linestyle="--", label="tolerance")
+    for i in range(1, len(rows)):
+        if rows[i]["level"] != rows[i - 1]["level"]:
+            axes.axvline(i - 0.5, color="0.8", linewidth=0.8)
+    axes.set_xticks(passes)
+    axes.set_xticklabels(["{}.{}".format(r["level"], r["correction"]) for r in rows], fontsize=7)
+    axes.set_xlabel("pass (level.correction)")
+    axes.set_ylabel("distance to target (model units)")
+    axes.set_title(title or "Convergence of {}".format(fit.Label))
+    axes.grid(True, which="both", alpha=0.3)
+    axes.legend(fontsize=8)
+    figure.tight_layout()
+    figure.savefig(str(path))
+    return path

@@ -5,6 +5,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
 #include <string>
 
 #include "bindings.h"
@@ -24,7 +25,9 @@ using IntArray = py::array_t<int, py::array::c_style | py::array::forcecast>;
 
 std::string shapeText(const py::array& array) {
   std::string text = "(";
-  for (py::ssize_t d = 0; d < array.ndim(); ++d) text += (d ? ", " : "") + std::to_string(array.shape(d));
+  for (py::ssize_t d = 0; d < array.ndim(); ++d) {
+    text += (d ? ", " : "") + std::to_string(array.shape(d));
+  }
   return text + (array.ndim() == 1 ? ",)" : ")");
 }
 
@@ -39,7 +42,9 @@ RowMatrixX3d points(const py::object& object, const char* name) {
 
 std::vector<int> intVector(const py::object& object, const char* name) {
   const auto array = IntArray::ensure(object);
-  if (!array || array.ndim() != 1) throw py::value_error(std::string(name) + " must be a 1-D sequence of integers");
+  if (!array || array.ndim() != 1) {
+    throw py::value_error(std::string(name) + " must be a 1-D sequence of integers");
+  }
   return std::vector<int>(array.data(), array.data() + array.size());
 }
 
@@ -57,34 +62,62 @@ std::pair<std::vector<int>, std::vector<int>> faceLists(const py::object& faces)
   std::vector<int> sizes, indices;
   if (py::isinstance<py::tuple>(faces)) {
     const auto pair = faces.cast<py::tuple>();
-    if (pair.size() != 2) throw py::value_error("faces given as a tuple must be (sizes, flat indices)");
+    if (pair.size() != 2) {
+      throw py::value_error("faces given as a tuple must be (sizes, flat indices)");
+    }
     return {intVector(pair[0], "face sizes"), intVector(pair[1], "face indices")};
   }
   for (const py::handle face : faces) {
-    const std::vector<int> corners = intVector(py::reinterpret_borrow<py::object>(face), "each face");
+    const std::vector<int> corners =
+        intVector(py::reinterpret_borrow<py::object>(face), "each face");
     sizes.push_back(static_cast<int>(corners.size()));
     indices.insert(indices.end(), corners.begin(), corners.end());
   }
   return {sizes, indices};
 }
 
-ControlMesh makeControlMesh(const py::object& vertices, const py::object& faces, const py::object& creases,
-                            const py::object& creaseSharpness, const py::object& corners,
-                            const py::object& cornerSharpness) {
+ControlMesh makeControlMesh(const py::object& vertices, const py::object& faces,
+                            const py::object& creases, const py::object& creaseSharpness,
+                            const py::object& corners, const py::object& cornerSharpness) {
   auto [sizes, indices] = faceLists(faces);
   RowMatrixX2i creasePairs(0, 2);
+  py::object sharpnessObject = creaseSharpness;
   if (!creases.is_none()) {
-    const auto array = IntArray::ensure(creases);
-    if (!array || (!(array.ndim() == 2 && array.shape(1) == 2) && !(array.ndim() == 1 && array.size() == 0))) {
-      throw py::value_error("creases must have shape (k, 2)" + (array ? ", got " + shapeText(array) : std::string()));
+    // (k, 2) vertex pairs, or (k, 3) rows (v0, v1, sharpness).
+    const auto array = DoubleArray::ensure(creases);
+    const bool empty = array && array.ndim() == 1 && array.size() == 0;
+    if (!array || (!empty && (array.ndim() != 2 || (array.shape(1) != 2 && array.shape(1) != 3)))) {
+      throw py::value_error("creases must have shape (k, 2) or (k, 3)" +
+                            (array ? ", got " + shapeText(array) : std::string()));
     }
-    creasePairs = Eigen::Map<const RowMatrixX2i>(array.data(), array.size() / 2, 2);
+    const py::ssize_t rows = empty ? 0 : array.shape(0), columns = empty ? 2 : array.shape(1);
+    creasePairs.resize(rows, 2);
+    for (py::ssize_t c = 0; c < rows; ++c) {
+      for (py::ssize_t k = 0; k < 2; ++k) {
+        const double id = array.at(c, k);
+        if (id != std::floor(id)) throw py::value_error("crease vertex ids must be integers");
+        creasePairs(c, k) = static_cast<int>(id);
+      }
+    }
+    if (columns == 3) {
+      if (!creaseSharpness.is_none()) {
+        throw py::value_error(
+            "give crease sharpness either as a third column or as crease_sharpness");
+      }
+      py::array_t<double> column(rows);
+      for (py::ssize_t c = 0; c < rows; ++c) column.mutable_at(c) = array.at(c, 2);
+      sharpnessObject = column;
+    }
   }
-  std::vector<int> cornerList = corners.is_none() ? std::vector<int>() : intVector(corners, "corners");
-  Eigen::VectorXd creaseValues = realVector(creaseSharpness, "crease_sharpness", creasePairs.rows());
-  Eigen::VectorXd cornerValues = realVector(cornerSharpness, "corner_sharpness", static_cast<py::ssize_t>(cornerList.size()));
-  return ControlMesh(points(vertices, "vertices"), std::move(sizes), std::move(indices), std::move(creasePairs),
-                     std::move(creaseValues), std::move(cornerList), std::move(cornerValues));
+  std::vector<int> cornerList =
+      corners.is_none() ? std::vector<int>() : intVector(corners, "corners");
+  Eigen::VectorXd creaseValues =
+      realVector(sharpnessObject, "crease_sharpness", creasePairs.rows());
+  Eigen::VectorXd cornerValues =
+      realVector(cornerSharpness, "corner_sharpness", static_cast<py::ssize_t>(cornerList.size()));
+  return ControlMesh(points(vertices, "vertices"), std::move(sizes), std::move(indices),
+                     std::move(creasePairs), std::move(creaseValues), std::move(cornerList),
+                     std::move(cornerValues));
 }
 
 SubdivisionOptions optionsOrDefault(const py::object& options) {
@@ -112,21 +145,26 @@ struct PyLimitSamples {
   RowMatrixX3d controlPoints;
 };
 
-std::vector<SurfaceLocation> locationList(const py::object& face, const py::object& u, const py::object& v) {
+std::vector<SurfaceLocation> locationList(const py::object& face, const py::object& u,
+                                          const py::object& v) {
   const auto faces = IntArray::ensure(face);
   const auto us = DoubleArray::ensure(u);
   const auto vs = DoubleArray::ensure(v);
-  if (!faces || !us || !vs) throw py::value_error("face, u and v must be numbers or arrays of numbers");
+  if (!faces || !us || !vs) {
+    throw py::value_error("face, u and v must be numbers or arrays of numbers");
+  }
   const py::ssize_t count = std::max({faces.size(), us.size(), vs.size()});
-  for (const py::array* array : {static_cast<const py::array*>(&faces), static_cast<const py::array*>(&us),
-                                 static_cast<const py::array*>(&vs)}) {
+  for (const py::array* array :
+       {static_cast<const py::array*>(&faces), static_cast<const py::array*>(&us),
+        static_cast<const py::array*>(&vs)}) {
     if (array->ndim() > 1 || (array->size() != 1 && array->size() != count)) {
       throw py::value_error("face, u and v must be scalars or 1-D arrays of one common length");
     }
   }
   std::vector<SurfaceLocation> locations(static_cast<size_t>(count));
   for (py::ssize_t i = 0; i < count; ++i) {
-    locations[static_cast<size_t>(i)] = {faces.data()[faces.size() == 1 ? 0 : i], us.data()[us.size() == 1 ? 0 : i],
+    locations[static_cast<size_t>(i)] = {faces.data()[faces.size() == 1 ? 0 : i],
+                                         us.data()[us.size() == 1 ? 0 : i],
                                          vs.data()[vs.size() == 1 ? 0 : i]};
   }
   return locations;
@@ -139,7 +177,8 @@ py::tuple evaluationTuple(const LimitEvaluation& e) {
 }  // namespace
 
 void bindMesh(py::module_& module) {
-  py::class_<SubdivisionOptions> options(module, "SubdivisionOptions",
+  py::class_<SubdivisionOptions> options(
+      module, "SubdivisionOptions",
       "OpenSubdiv options that change the result; the defaults are the thesis' rules.");
   py::enum_<SubdivisionOptions::Boundary>(options, "Boundary")
       .value("EDGE_ONLY", SubdivisionOptions::Boundary::EdgeOnly)
@@ -151,7 +190,8 @@ void bindMesh(py::module_& module) {
       .value("CATMULL_CLARK", SubdivisionOptions::TriangleRule::CatmullClark)
       .value("SMOOTH", SubdivisionOptions::TriangleRule::Smooth);
   options
-      .def(py::init([](SubdivisionOptions::Boundary boundary, SubdivisionOptions::CreaseMethod creaseMethod,
+      .def(py::init([](SubdivisionOptions::Boundary boundary,
+                       SubdivisionOptions::CreaseMethod creaseMethod,
                        SubdivisionOptions::TriangleRule triangleRule) {
              return SubdivisionOptions{boundary, creaseMethod, triangleRule};
            }),
@@ -172,55 +212,84 @@ void bindMesh(py::module_& module) {
       .value("BOUNDARY", SampleFeature::Boundary)
       .value("CORNER", SampleFeature::Corner);
 
-  py::class_<ControlMesh>(module, "ControlMesh",
-      "Control polyhedron of a Catmull-Clark surface: vertices (#V, 3), polygon faces, crease edges\n"
+  py::class_<ControlMesh>(
+      module, "ControlMesh",
+      "Control polyhedron of a Catmull-Clark surface: vertices (#V, 3), polygon faces, crease "
+      "edges\n"
       "and corner vertices with sharpness (infinite by default). Validated on construction.")
-      .def(py::init(&makeControlMesh), py::arg("vertices"), py::arg("faces"), py::arg("creases") = py::none(),
-           py::arg("crease_sharpness") = py::none(), py::arg("corners") = py::none(),
-           py::arg("corner_sharpness") = py::none(),
+      .def(py::init(&makeControlMesh), py::arg("vertices"), py::arg("faces"),
+           py::arg("creases") = py::none(), py::arg("crease_sharpness") = py::none(),
+           py::arg("corners") = py::none(), py::arg("corner_sharpness") = py::none(),
            "vertices: (#V, 3); faces: list of vertex-id lists (counter-clockwise), or a tuple\n"
-           "(sizes, flat indices); creases: (k, 2) vertex pairs; crease_sharpness: (k,) or None for\n"
-           "infinitely sharp; corners: vertex ids; corner_sharpness: like crease_sharpness.")
-      .def_property("vertices", [](const ControlMesh& m) { return m.vertices(); },
-                    [](ControlMesh& m, const py::object& v) { m.setVertices(points(v, "vertices")); },
-                    "(#V, 3) positions; assigning keeps the topology")
+           "(sizes, flat indices); creases: (k, 2) vertex pairs or (k, 3) rows (v0, v1, "
+           "sharpness);\n"
+           "crease_sharpness: (k,) or None for infinitely sharp (numpy.inf is infinite too);\n"
+           "corners: vertex ids; corner_sharpness: like crease_sharpness.")
+      .def_property(
+          "vertices", [](const ControlMesh& m) { return m.vertices(); },
+          [](ControlMesh& m, const py::object& v) { m.setVertices(points(v, "vertices")); },
+          "(#V, 3) positions; assigning keeps the topology")
       .def_property_readonly("faces", &faceList, "list of vertex-id lists")
-      .def_property_readonly("face_sizes", [](const ControlMesh& m) { return toArray(m.faceSizes()); })
-      .def_property_readonly("face_indices", [](const ControlMesh& m) { return toArray(m.faceIndices()); })
-      .def_property_readonly("edges", [](const ControlMesh& m) { return m.edges(); },
-                             "(#E, 2) end points, numbered in order of first use by the faces")
-      .def_property_readonly("edge_faces", [](const ControlMesh& m) { return m.edgeFaces(); },
-                             "(#E, 2) faces on either side (-1: boundary)")
+      .def_property_readonly("face_sizes",
+                             [](const ControlMesh& m) { return toArray(m.faceSizes()); })
+      .def_property_readonly("face_indices",
+                             [](const ControlMesh& m) { return toArray(m.faceIndices()); })
+      .def_property_readonly(
+          "edges", [](const ControlMesh& m) { return m.edges(); },
+          "(#E, 2) end points, numbered in order of first use by the faces")
+      .def_property_readonly(
+          "edge_faces", [](const ControlMesh& m) { return m.edgeFaces(); },
+          "(#E, 2) faces on either side (-1: boundary)")
       .def_property_readonly("creases", [](const ControlMesh& m) { return m.creases(); })
-      .def_property_readonly("crease_sharpness", [](const ControlMesh& m) { return m.creaseSharpness(); })
+      .def_property_readonly("crease_sharpness",
+                             [](const ControlMesh& m) { return m.creaseSharpness(); })
       .def_property_readonly("corners", [](const ControlMesh& m) { return toArray(m.corners()); })
-      .def_property_readonly("corner_sharpness", [](const ControlMesh& m) { return m.cornerSharpness(); })
-      .def_property_readonly("boundary_edge_ids", [](const ControlMesh& m) { return toArray(m.boundaryEdges()); })
-      .def_property_readonly("boundary_edges", [](const ControlMesh& m) {
+      .def_property_readonly("corner_sharpness",
+                             [](const ControlMesh& m) { return m.cornerSharpness(); })
+      .def_property_readonly("boundary_edge_ids",
+                             [](const ControlMesh& m) { return toArray(m.boundaryEdges()); })
+      .def_property_readonly(
+          "boundary_edges",
+          [](const ControlMesh& m) {
             const std::vector<int> ids = m.boundaryEdges();
             RowMatrixX2i pairs(static_cast<Eigen::Index>(ids.size()), 2);
-            for (size_t i = 0; i < ids.size(); ++i) pairs.row(static_cast<Eigen::Index>(i)) = m.edges().row(ids[i]);
+            for (size_t i = 0; i < ids.size(); ++i) {
+              pairs.row(static_cast<Eigen::Index>(i)) = m.edges().row(ids[i]);
+            }
             return pairs;
-          }, "(#B, 2) vertex pairs of the edges with one face")
+          },
+          "(#B, 2) vertex pairs of the edges with one face")
       .def_property_readonly("num_vertices", &ControlMesh::numVertices)
       .def_property_readonly("num_faces", &ControlMesh::numFaces)
       .def_property_readonly("num_edges", &ControlMesh::numEdges)
       .def_property_readonly("is_all_quads", &ControlMesh::isAllQuads)
-      .def("subdivide", [](const ControlMesh& m, const py::object& opts, bool returnOperator) -> py::object {
+      .def(
+          "subdivide",
+          [](const ControlMesh& m, const py::object& opts, bool returnOperator) -> py::object {
             const SubdivisionOptions o = optionsOrDefault(opts);
-            SubdivisionResult result = [&] { py::gil_scoped_release release; return subdivide(m, o); }();
+            SubdivisionResult result = [&] {
+              py::gil_scoped_release release;
+              return subdivide(m, o);
+            }();
             if (!returnOperator) return py::cast(std::move(result.mesh));
             return py::make_tuple(std::move(result.mesh), std::move(result.subdivisionOperator));
-          }, py::arg("options") = py::none(), py::arg("return_operator") = false,
+          },
+          py::arg("options") = py::none(), py::arg("return_operator") = false,
           "One Catmull-Clark step. Returns the new ControlMesh, or (mesh, S) with S the\n"
           "(#V', #V) scipy.sparse.csr_matrix such that mesh.vertices == S @ self.vertices.")
-      .def("limit_samples", [](const ControlMesh& m, const py::object& opts) {
+      .def(
+          "limit_samples",
+          [](const ControlMesh& m, const py::object& opts) {
             const SubdivisionOptions o = optionsOrDefault(opts);
             py::gil_scoped_release release;
             return PyLimitSamples{LimitSamples(m, o), m.vertices()};
-          }, py::arg("options") = py::none(), "Limit samples at every vertex, edge midpoint and face centre")
-      .def("evaluate", [](const ControlMesh& m, const py::object& face, const py::object& u, const py::object& v,
-                          const py::object& opts) {
+          },
+          py::arg("options") = py::none(),
+          "Limit samples at every vertex, edge midpoint and face centre")
+      .def(
+          "evaluate",
+          [](const ControlMesh& m, const py::object& face, const py::object& u, const py::object& v,
+             const py::object& opts) {
             const std::vector<SurfaceLocation> locations = locationList(face, u, v);
             const SubdivisionOptions o = optionsOrDefault(opts);
             LimitEvaluation e = [&] {
@@ -228,85 +297,152 @@ void bindMesh(py::module_& module) {
               return LimitEvaluator(m, o).evaluate(m.vertices(), locations);
             }();
             return evaluationTuple(e);
-          }, py::arg("face"), py::arg("u"), py::arg("v"), py::arg("options") = py::none(),
+          },
+          py::arg("face"), py::arg("u"), py::arg("v"), py::arg("options") = py::none(),
           "Limit surface at (ptex face, u, v) (scalars or arrays): (positions, du, dv, normals),\n"
           "each (n, 3). Builds a LimitEvaluator each call; keep one for repeated use.")
-      .def("write", [](const ControlMesh& m, const std::string& path) { writeControlMesh(m, path); },
-           py::arg("path"), "Writes the text format, or OBJ with crease/corner tags for '.obj'")
+      .def(
+          "write", [](const ControlMesh& m, const std::string& path) { writeControlMesh(m, path); },
+          py::arg("path"), "Writes the text format, or OBJ with crease/corner tags for '.obj'")
       .def("__repr__", [](const ControlMesh& m) {
-            return "<bvmesh.ControlMesh " + std::to_string(m.numVertices()) + " vertices, " +
-                   std::to_string(m.numFaces()) + " faces, " + std::to_string(m.creases().rows()) + " creases, " +
-                   std::to_string(m.corners().size()) + " corners>";
-          });
+        return "<bvmesh.ControlMesh " + std::to_string(m.numVertices()) + " vertices, " +
+               std::to_string(m.numFaces()) + " faces, " + std::to_string(m.creases().rows()) +
+               " creases, " + std::to_string(m.corners().size()) + " corners>";
+      });
 
-  py::class_<PyLimitSamples>(module, "LimitSamples",
+  py::class_<PyLimitSamples>(
+      module, "LimitSamples",
       "Limit surface samples at every vertex, edge midpoint and face centre (in that order) with\n"
       "their operators: positions == operator @ control points.")
       .def(py::init([](const ControlMesh& m, const py::object& opts) {
              const SubdivisionOptions o = optionsOrDefault(opts);
              py::gil_scoped_release release;
              return PyLimitSamples{LimitSamples(m, o), m.vertices()};
-           }), py::arg("mesh"), py::arg("options") = py::none())
+           }),
+           py::arg("mesh"), py::arg("options") = py::none())
       .def("__len__", [](const PyLimitSamples& s) { return s.samples.size(); })
-      .def_property_readonly("positions", [](const PyLimitSamples& s) { return s.samples.positions(s.controlPoints); },
-                             "(#S, 3) limit positions for the mesh's vertices")
-      .def_property_readonly("normals", [](const PyLimitSamples& s) { return s.samples.normals(s.controlPoints); },
-                             "(#S, 3) unit limit normals")
-      .def("positions_for", [](const PyLimitSamples& s, const py::object& p) { return s.samples.positions(points(p, "control points")); },
-           py::arg("control_points"))
-      .def("normals_for", [](const PyLimitSamples& s, const py::object& p) { return s.samples.normals(points(p, "control points")); },
-           py::arg("control_points"))
-      .def_property_readonly("operator", [](const PyLimitSamples& s) { return s.samples.positionOperator(); },
-                             "(#S, #V) scipy.sparse.csr_matrix A with positions = A @ control points")
-      .def_property_readonly("tangent_operators", [](const PyLimitSamples& s) {
+      .def_property_readonly(
+          "positions", [](const PyLimitSamples& s) { return s.samples.positions(s.controlPoints); },
+          "(#S, 3) limit positions for the mesh's vertices")
+      .def_property_readonly(
+          "normals", [](const PyLimitSamples& s) { return s.samples.normals(s.controlPoints); },
+          "(#S, 3) unit limit normals")
+      .def(
+          "positions_for",
+          [](const PyLimitSamples& s, const py::object& p) {
+            return s.samples.positions(points(p, "control points"));
+          },
+          py::arg("control_points"))
+      .def(
+          "normals_for",
+          [](const PyLimitSamples& s, const py::object& p) {
+            return s.samples.normals(points(p, "control points"));
+          },
+          py::arg("control_points"))
+      .def_property_readonly(
+          "operator", [](const PyLimitSamples& s) { return s.samples.positionOperator(); },
+          "(#S, #V) scipy.sparse.csr_matrix A with positions = A @ control points")
+      .def_property_readonly(
+          "tangent_operators",
+          [](const PyLimitSamples& s) {
             return py::make_tuple(s.samples.tangentOperatorU(), s.samples.tangentOperatorV());
-          }, "two (#S, #V) csr matrices; normals are the normalized cross product of their images")
-      .def_property_readonly("location_faces", [](const PyLimitSamples& s) {
+          },
+          "two (#S, #V) csr matrices; normals are the normalized cross product of their images")
+      .def_property_readonly(
+          "locations",
+          [](const PyLimitSamples& s) {
+            const auto count = static_cast<py::ssize_t>(s.samples.size());
+            py::array_t<int> faces(count);
+            py::array_t<double> us(count), vs(count);
+            for (py::ssize_t i = 0; i < count; ++i) {
+              const SurfaceLocation& at = s.samples.locations()[static_cast<size_t>(i)];
+              faces.mutable_at(i) = at.face;
+              us.mutable_at(i) = at.u;
+              vs.mutable_at(i) = at.v;
+            }
+            return py::make_tuple(faces, us, vs);
+          },
+          "(faces, u, v): three (#S,) arrays, e.g. mesh.evaluate(*samples.locations)")
+      .def_property_readonly(
+          "location_faces",
+          [](const PyLimitSamples& s) {
             std::vector<int> faces;
             for (const auto& l : s.samples.locations()) faces.push_back(l.face);
             return toArray(faces);
-          }, "(#S,) ptex face of each sample")
-      .def_property_readonly("location_uv", [](const PyLimitSamples& s) {
+          },
+          "(#S,) ptex face of each sample")
+      .def_property_readonly(
+          "location_uv",
+          [](const PyLimitSamples& s) {
             Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> uv(s.samples.size(), 2);
-            for (int i = 0; i < s.samples.size(); ++i) uv.row(i) << s.samples.locations()[static_cast<size_t>(i)].u, s.samples.locations()[static_cast<size_t>(i)].v;
+            for (int i = 0; i < s.samples.size(); ++i) {
+              uv.row(i) << s.samples.locations()[static_cast<size_t>(i)].u,
+                  s.samples.locations()[static_cast<size_t>(i)].v;
+            }
             return uv;
-          }, "(#S, 2) (u, v) in the ptex face")
-      .def_property_readonly("elements", [](const PyLimitSamples& s) {
+          },
+          "(#S, 2) (u, v) in the ptex face")
+      .def_property_readonly(
+          "elements",
+          [](const PyLimitSamples& s) {
             std::vector<std::uint8_t> codes;
-            for (SampleElement e : s.samples.elements()) codes.push_back(static_cast<std::uint8_t>(e));
+            for (SampleElement e : s.samples.elements()) {
+              codes.push_back(static_cast<std::uint8_t>(e));
+            }
             return toArray(codes);
-          }, "(#S,) SampleElement codes: 0 vertex, 1 edge, 2 face")
-      .def_property_readonly("features", [](const PyLimitSamples& s) {
+          },
+          "(#S,) SampleElement codes: 0 vertex, 1 edge, 2 face")
+      .def_property_readonly(
+          "features",
+          [](const PyLimitSamples& s) {
             std::vector<std::uint8_t> codes;
-            for (SampleFeature f : s.samples.features()) codes.push_back(static_cast<std::uint8_t>(f));
+            for (SampleFeature f : s.samples.features()) {
+              codes.push_back(static_cast<std::uint8_t>(f));
+            }
             return toArray(codes);
-          }, "(#S,) SampleFeature codes: 0 smooth, 1 crease, 2 boundary, 3 corner")
-      .def_property_readonly("source_ids", [](const PyLimitSamples& s) { return s.samples.sourceIds(); },
-                             "(#S,) vertex, edge or face id according to elements")
-      .def_property_readonly("source_vertices", [](const PyLimitSamples& s) { return s.samples.sourceVertices(); },
-                             "(#S, 2) (v, -1) for vertices, edge end points, (-1, -1) for faces");
+          },
+          "(#S,) SampleFeature codes: 0 smooth, 1 crease, 2 boundary, 3 corner")
+      .def_property_readonly(
+          "source_ids", [](const PyLimitSamples& s) { return s.samples.sourceIds(); },
+          "(#S,) vertex, edge or face id according to elements")
+      .def_property_readonly(
+          "source_vertices", [](const PyLimitSamples& s) { return s.samples.sourceVertices(); },
+          "(#S, 2) (v, -1) for vertices, edge end points, (-1, -1) for faces");
 
-  py::class_<LimitEvaluator>(module, "LimitEvaluator",
+  py::class_<LimitEvaluator>(
+      module, "LimitEvaluator",
       "Limit surface evaluation at any (ptex face, u, v), built once per topology.")
       .def(py::init([](const ControlMesh& m, const py::object& opts, int isolationLevel) {
              const SubdivisionOptions o = optionsOrDefault(opts);
              py::gil_scoped_release release;
              return LimitEvaluator(m, o, isolationLevel);
-           }), py::arg("mesh"), py::arg("options") = py::none(), py::arg("isolation_level") = 6)
+           }),
+           py::arg("mesh"), py::arg("options") = py::none(), py::arg("isolation_level") = 6)
       .def_property_readonly("num_ptex_faces", &LimitEvaluator::numPtexFaces)
-      .def("evaluate", [](const LimitEvaluator& ev, const py::object& controlPoints, const py::object& face,
-                          const py::object& u, const py::object& v) {
+      .def(
+          "evaluate",
+          [](const LimitEvaluator& ev, const py::object& controlPoints, const py::object& face,
+             const py::object& u, const py::object& v) {
             const RowMatrixX3d p = points(controlPoints, "control points");
             const std::vector<SurfaceLocation> locations = locationList(face, u, v);
-            LimitEvaluation e = [&] { py::gil_scoped_release release; return ev.evaluate(p, locations); }();
+            LimitEvaluation e = [&] {
+              py::gil_scoped_release release;
+              return ev.evaluate(p, locations);
+            }();
             return evaluationTuple(e);
-          }, py::arg("control_points"), py::arg("face"), py::arg("u"), py::arg("v"),
+          },
+          py::arg("control_points"), py::arg("face"), py::arg("u"), py::arg("v"),
           "(positions, du, dv, normals) at the locations for (#V, 3) control points");
 
-  module.def("read_control_mesh", [](const std::string& path) { return readControlMesh(path); }, py::arg("path"),
-             "Reads a control mesh: OBJ (with OpenSubdiv crease/corner tags) for '.obj', else the text format");
-  module.def("write_control_mesh", [](const ControlMesh& m, const std::string& path) { writeControlMesh(m, path); },
-             py::arg("mesh"), py::arg("path"));
+  module.def(
+      "read_control_mesh", [](const std::string& path) { return readControlMesh(path); },
+      py::arg("path"),
+      "Reads a control mesh: OBJ (with OpenSubdiv crease/corner tags) for '.obj', else the text "
+      "format");
+  module.def(
+      "write_control_mesh",
+      [](const ControlMesh& m, const std::string& path) { writeControlMesh(m, path); },
+      py::arg("mesh"), py::arg("path"));
 }
 
 }  // namespace bvmesh::python

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "bindings.h"
+#include "conversions.h"
 #include "core/cad/shape_io.h"
 #include "core/common/errors.h"
 #include "core/target/target.h"
@@ -38,22 +39,6 @@ Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> rows(cons
     throw InvalidInputError(std::string(name) + " must have shape (n, " + std::to_string(columns) + "), got " + shapeText(array));
   return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(
       array.data(), array.shape(0), columns);
-}
-
-py::dict toDict(const ProjectionResult& result) {
-  py::array_t<std::uint8_t> status(static_cast<py::ssize_t>(result.status.size()));
-  auto view = status.mutable_unchecked<1>();
-  for (std::size_t i = 0; i < result.status.size(); ++i)
-    view(static_cast<py::ssize_t>(i)) = static_cast<std::uint8_t>(result.status[i]);
-  py::dict dict;
-  dict["points"] = result.points;
-  dict["distances"] = result.distances;
-  dict["ids"] = result.ids;
-  dict["faces"] = result.faces;
-  dict["params"] = result.params;
-  dict["normals"] = result.normals;
-  dict["status"] = status;
-  return dict;
 }
 
 py::dict reportToDict(const target::TargetReport& report) {
@@ -106,7 +91,7 @@ py::dict projectReleased(Work&& work) {
     py::gil_scoped_release release;
     result = work();
   }
-  return toDict(result);
+  return projectionToDict(result);
 }
 
 constexpr const char* kResultDoc = R"(
@@ -118,6 +103,22 @@ Returns a dict of numpy arrays for the n points:
 
 }  // namespace
 
+py::dict projectionToDict(const ProjectionResult& result) {
+  py::array_t<std::uint8_t> status(static_cast<py::ssize_t>(result.status.size()));
+  auto view = status.mutable_unchecked<1>();
+  for (std::size_t i = 0; i < result.status.size(); ++i)
+    view(static_cast<py::ssize_t>(i)) = static_cast<std::uint8_t>(result.status[i]);
+  py::dict dict;
+  dict["points"] = result.points;
+  dict["distances"] = result.distances;
+  dict["ids"] = result.ids;
+  dict["faces"] = result.faces;
+  dict["params"] = result.params;
+  dict["normals"] = result.normals;
+  dict["status"] = status;
+  return dict;
+}
+
 void bindTarget(py::module_& module) {
   py::enum_<target::ProjectionStatus>(module, "ProjectionStatus", "Per-point outcome of a projection.")
       .value("OK", target::ProjectionStatus::Ok)
@@ -125,7 +126,7 @@ void bindTarget(py::module_& module) {
       .value("FALLBACK", target::ProjectionStatus::Fallback)
       .value("FAILED", target::ProjectionStatus::Failed);
 
-  py::class_<Target>(module, "Target",
+  py::class_<Target, std::shared_ptr<Target>>(module, "Target",
                      "CAD target: trimmed faces, feature edges, vertices and a spatial index; projects "
                      "many points at once (closest point, onto edges / vertices, along directions).")
       .def_static(
@@ -134,10 +135,10 @@ void bindTarget(py::module_& module) {
              int threads) {
             const TopoDS_Shape shape = cad::readBrepString(brep);
             py::gil_scoped_release release;
-            return std::make_unique<Target>(shape, makeOptions(relativeDeflection, sharpAngleDeg, relativeTolerance, threads));
+            return std::make_shared<Target>(shape, makeOptions(relativeDeflection, sharpAngleDeg, relativeTolerance, threads));
           },
-          py::arg("brep"), py::arg("relative_deflection") = 1e-3, py::arg("sharp_angle_deg") = 30.0,
-          py::arg("relative_tolerance") = 1e-6, py::arg("threads") = 0,
+          py::arg("brep"), py::arg("relative_deflection") = TargetOptions{}.relativeDeflection, py::arg("sharp_angle_deg") = TargetOptions{}.sharpAngleDeg,
+          py::arg("relative_tolerance") = TargetOptions{}.relativeTolerance, py::arg("threads") = TargetOptions{}.threads,
           "Target from BREP text (FreeCAD: shape.exportBrepToString()). Tolerances are relative to "
           "the bounding-box diagonal; threads=0 uses every hardware thread.")
       .def_static(
@@ -146,10 +147,10 @@ void bindTarget(py::module_& module) {
              int threads) {
             const TopoDS_Shape shape = cad::readShapeFile(path);
             py::gil_scoped_release release;
-            return std::make_unique<Target>(shape, makeOptions(relativeDeflection, sharpAngleDeg, relativeTolerance, threads));
+            return std::make_shared<Target>(shape, makeOptions(relativeDeflection, sharpAngleDeg, relativeTolerance, threads));
           },
-          py::arg("path"), py::arg("relative_deflection") = 1e-3, py::arg("sharp_angle_deg") = 30.0,
-          py::arg("relative_tolerance") = 1e-6, py::arg("threads") = 0,
+          py::arg("path"), py::arg("relative_deflection") = TargetOptions{}.relativeDeflection, py::arg("sharp_angle_deg") = TargetOptions{}.sharpAngleDeg,
+          py::arg("relative_tolerance") = TargetOptions{}.relativeTolerance, py::arg("threads") = TargetOptions{}.threads,
           "Target from a STEP (.step/.stp), IGES (.iges/.igs) or BREP (.brep/.brp) file.")
       .def("report", [](const Target& self) { return reportToDict(self.report()); },
            "Faces, surface types, edges (kind, dihedral angle), sharp / free / non-manifold edges, "

@@ -9,6 +9,8 @@ void bindErrors(pybind11::module_& module);
 void bindCad(pybind11::module_& module);
 void bindMesh(pybind11::module_& module);
 void bindTarget(pybind11::module_& module);
+void bindFit(pybind11::module_& module);
+void bindSurface(pybind11::module_& module);
 void bindPolyhedron(pybind11::module_& module);
 
 }  // namespace bvmesh::python

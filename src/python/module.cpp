@@ -6,5 +6,7 @@ PYBIND11_MODULE(_core, module) {
   bvmesh::python::bindCad(module);
   bvmesh::python::bindMesh(module);
   bvmesh::python::bindTarget(module);
+  bvmesh::python::bindFit(module);
+  bvmesh::python::bindSurface(module);
   bvmesh::python::bindPolyhedron(module);
 }

@@ -143,7 +143,8 @@ TEST(ControlMesh, RejectsBadCreasesAndCorners) {
   creases << 0, 6;
   expectError<TopologyError>([&] { makeMesh(d, creases); }, "crease 0 (0, 6) is not an edge");
   creases << 0, 9;
-  expectError<InvalidInputError>([&] { makeMesh(d, creases); }, "crease 0 (0, 9) refers to a vertex");
+  expectError<InvalidInputError>([&] { makeMesh(d, creases); },
+                                 "crease 0 (0, 9) refers to a vertex");
   creases << 0, 1;
   expectError<InvalidInputError>([&] { makeMesh(d, creases, Eigen::VectorXd::Zero(1)); },
                                  "must be > 0");
@@ -154,8 +155,11 @@ TEST(ControlMesh, RejectsBadCreasesAndCorners) {
   expectError<InvalidInputError>([&] { makeMesh(d, twice); }, "crease 1 (1, 0) repeats edge");
   expectError<InvalidInputError>([&] { makeMesh(d, RowMatrixX2i(0, 2), {}, {8}); },
                                  "corner 0 (vertex 8) is outside");
-  expectError<InvalidInputError>([&] { makeMesh(d, RowMatrixX2i(0, 2), {}, {3, 3}); },
-                                 "corner 1 (vertex 3) is listed twice");
+  expectError<InvalidInputError>(
+      [&] {
+        makeMesh(d, RowMatrixX2i(0, 2), {}, {3, 3});
+      },
+      "corner 1 (vertex 3) is listed twice");
 }
 
 }  // namespace

@@ -46,9 +46,11 @@ RowMatrixX3 objectiveGradient(const SparseRowMatrix& a, const Eigen::VectorXd& w
 class LeastSquares : public ::testing::TestWithParam<LeastSquaresMethod> {
 protected:
   std::mt19937 random{42};
+  // Exactness checks ask CGLS for a tight tolerance.
   LeastSquaresOptions options() const {
     LeastSquaresOptions result;
     result.method = GetParam();
+    result.cglsTolerance = 1e-13;
     return result;
   }
 };
@@ -117,6 +119,22 @@ TEST_P(LeastSquares, PlanePointsStayOnATiltedPlaneAndAreOptimalWithinIt) {
 
 INSTANTIATE_TEST_SUITE_P(BothSolvers, LeastSquares,
                          ::testing::Values(LeastSquaresMethod::Cholesky, LeastSquaresMethod::Cgls));
+
+// CGLS solves for the correction: with the default tolerance, points far from the origin (a wing
+// in millimetres) close to their solution get an error proportional to the small correction,
+// not to their coordinates.
+TEST(LeastSquaresCgls, ErrorScalesWithTheCorrectionNotTheCoordinates) {
+  std::mt19937 random(5);
+  const SparseRowMatrix a = randomOperator(800, 200, random);
+  RowMatrixX3 truth = randomPoints(200, random);
+  truth.array() += 1000.0;
+  const RowMatrixX3 start = truth + 1e-3 * randomPoints(200, random);
+  LeastSquaresOptions options;
+  options.method = LeastSquaresMethod::Cgls;
+  const ControlPointSolver solver(a, Eigen::VectorXd(), {}, options);
+  const RowMatrixX3 result = solver.solve(a * truth, start);
+  EXPECT_LT((result - truth).cwiseAbs().maxCoeff(), 1e-9);
+}
 
 TEST(LeastSquaresErrors, NameTheProblem) {
   std::mt19937 random(7);

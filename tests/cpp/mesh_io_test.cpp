@@ -32,7 +32,9 @@ void expectSameMesh(const ControlMesh& a, const ControlMesh& b) {
   EXPECT_EQ(a.cornerSharpness(), b.cornerSharpness());
 }
 
-std::string outputPath(const std::string& name) { return std::string(BVMESH_TEST_OUTPUT_DIR) + "/" + name; }
+std::string outputPath(const std::string& name) {
+  return std::string(BVMESH_TEST_OUTPUT_DIR) + "/" + name;
+}
 
 TEST(MeshIo, TextAndObjRoundTrip) {
   const ControlMesh mesh = taggedMesh();
@@ -79,19 +81,27 @@ void expectReadError(const std::string& name, const std::string& content, const 
 TEST(MeshIo, CorruptFilesNameFileAndLine) {
   const std::string header = "bvmesh-control-mesh 1\nvertices 3\n0 0 0\n1 0 0\n0 1 0\n";
   expectReadError("bad_magic.cmesh", "solid cube\n", "line 1: not a BVMesh control mesh file");
-  expectReadError("bad_number.cmesh", "bvmesh-control-mesh 1\nvertices 3\n0 0 0\n1 x 0\n", "line 4: 'x' is not a number");
-  expectReadError("short.cmesh", header + "faces 2\n3 0 1 2\n", "expected face 1 (the file ends early)");
-  expectReadError("face_count.cmesh", header + "faces 1\n4 0 1 2\n", "line 7: face 0 announces 4 vertices but lists 3");
-  expectReadError("trailing.cmesh", header + "faces 1\n3 0 1 2\nhello 1\n", "line 8: unexpected 'hello'");
+  expectReadError("bad_number.cmesh", "bvmesh-control-mesh 1\nvertices 3\n0 0 0\n1 x 0\n",
+                  "line 4: 'x' is not a number");
+  expectReadError("short.cmesh", header + "faces 2\n3 0 1 2\n",
+                  "expected face 1 (the file ends early)");
+  expectReadError("face_count.cmesh", header + "faces 1\n4 0 1 2\n",
+                  "line 7: face 0 announces 4 vertices but lists 3");
+  expectReadError("trailing.cmesh", header + "faces 1\n3 0 1 2\nhello 1\n",
+                  "line 8: unexpected 'hello'");
   expectReadError("index.cmesh", header + "faces 1\n3 0 1 7\n", "face 0 refers to vertex 7");
-  expectReadError("crease.cmesh", header + "faces 1\n3 0 1 2\ncreases 1\n0 1 -2\n", "line 9: sharpness '-2' must be > 0");
+  expectReadError("crease.cmesh", header + "faces 1\n3 0 1 2\ncreases 1\n0 1 -2\n",
+                  "line 9: sharpness '-2' must be > 0");
   expectReadError("bad_vertex.obj", "v 0 0\n", "line 1: a vertex needs 3 coordinates");
-  expectReadError("zero_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "line 4: OBJ vertex indices start at 1");
-  expectReadError("bad_tag.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt crease 2/1/0 0 1\n", "line 5: malformed 'crease' tag");
+  expectReadError("zero_index.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n",
+                  "line 4: OBJ vertex indices start at 1");
+  expectReadError("bad_tag.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt crease 2/1/0 0 1\n",
+                  "line 5: malformed 'crease' tag");
   EXPECT_THROW(readControlMesh(outputPath("does_not_exist.cmesh")), InvalidInputError);
   // Connectivity errors keep their type and gain the file name.
   const std::string path = outputPath("not_an_edge.obj");
-  std::ofstream(path) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\nt crease 2/1/0 0 3 10\n";
+  std::ofstream(path)
+      << "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 1 1 0\nf 1 2 3\nf 2 4 3\nt crease 2/1/0 0 3 10\n";
   EXPECT_THROW(readControlMesh(path), TopologyError);
 }
 

@@ -1,11 +1,13 @@
 #include "core/subdiv/subdivision.h"
 
 #include <gtest/gtest.h>
+#include <opensubdiv/far/error.h>
 
 #include <numeric>
 #include <set>
 
 #include "core/common/errors.h"
+#include "core/subdiv/osd_refiner.h"
 #include "mesh_fixtures.h"
 
 namespace bvmesh {
@@ -36,17 +38,22 @@ RowMatrixX3d thesisRules(const ControlMesh& mesh) {
   const auto sharp = [&](int e) { return mesh.isBoundaryEdge(e) || mesh.edgeSharpness()(e) > 0.0; };
   for (int e = 0; e < ne; ++e) {
     const Eigen::RowVector3d mid = 0.5 * (p.row(mesh.edges()(e, 0)) + p.row(mesh.edges()(e, 1)));
-    result.row(nv + e) = sharp(e) ? mid
-                                  : Eigen::RowVector3d(0.25 * (facePoint[static_cast<size_t>(mesh.edgeFaces()(e, 0))] + 2.0 * mid +
-                                                               facePoint[static_cast<size_t>(mesh.edgeFaces()(e, 1))]));
+    result.row(nv + e) =
+        sharp(e) ? mid
+                 : Eigen::RowVector3d(
+                       0.25 * (facePoint[static_cast<size_t>(mesh.edgeFaces()(e, 0))] + 2.0 * mid +
+                               facePoint[static_cast<size_t>(mesh.edgeFaces()(e, 1))]));
   }
-  std::vector<std::vector<int>> vertexEdges(static_cast<size_t>(nv)), vertexFaces(static_cast<size_t>(nv));
+  std::vector<std::vector<int>> vertexEdges(static_cast<size_t>(nv)),
+      vertexFaces(static_cast<size_t>(nv));
   for (int e = 0; e < ne; ++e) {
     vertexEdges[static_cast<size_t>(mesh.edges()(e, 0))].push_back(e);
     vertexEdges[static_cast<size_t>(mesh.edges()(e, 1))].push_back(e);
   }
   for (int f = 0; f < nf; ++f) {
-    for (int i = 0; i < mesh.faceSize(f); ++i) vertexFaces[static_cast<size_t>(mesh.faceVertex(f, i))].push_back(f);
+    for (int i = 0; i < mesh.faceSize(f); ++i) {
+      vertexFaces[static_cast<size_t>(mesh.faceVertex(f, i))].push_back(f);
+    }
   }
   const std::set<int> corners(mesh.corners().begin(), mesh.corners().end());
   for (int v = 0; v < nv; ++v) {
@@ -61,12 +68,17 @@ RowMatrixX3d thesisRules(const ControlMesh& mesh) {
     if (corners.count(v) || sharpNeighbours.size() > 2 || (boundary && faces.size() == 1)) {
       result.row(v) = p.row(v);
     } else if (sharpNeighbours.size() == 2) {
-      result.row(v) = (p.row(sharpNeighbours[0]) + 6.0 * p.row(v) + p.row(sharpNeighbours[1])) / 8.0;
+      result.row(v) =
+          (p.row(sharpNeighbours[0]) + 6.0 * p.row(v) + p.row(sharpNeighbours[1])) / 8.0;
     } else {
       const double n = static_cast<double>(edges.size());
       Eigen::RowVector3d faceAverage = Eigen::RowVector3d::Zero(), edgeAverage = faceAverage;
-      for (int f : faces) faceAverage += facePoint[static_cast<size_t>(f)] / static_cast<double>(faces.size());
-      for (int e : edges) edgeAverage += 0.5 * (p.row(mesh.edges()(e, 0)) + p.row(mesh.edges()(e, 1))) / n;
+      for (int f : faces) {
+        faceAverage += facePoint[static_cast<size_t>(f)] / static_cast<double>(faces.size());
+      }
+      for (int e : edges) {
+        edgeAverage += 0.5 * (p.row(mesh.edges()(e, 0)) + p.row(mesh.edges()(e, 1))) / n;
+      }
       result.row(v) = (faceAverage + 2.0 * edgeAverage + (n - 3.0) * p.row(v)) / n;
     }
   }
@@ -88,7 +100,8 @@ ControlMesh mixedMesh() {
 }
 
 TEST(Subdivision, CountsAndQuads) {
-  for (const ControlMesh& mesh : {mixedMesh(), makeMesh(testing::prismData(5)), makeMesh(gridData(3, 2))}) {
+  for (const ControlMesh& mesh :
+       {mixedMesh(), makeMesh(testing::prismData(5)), makeMesh(gridData(3, 2))}) {
     const SubdivisionResult result = subdivide(mesh);
     const ControlMesh& child = result.mesh;
     const int sumSizes = static_cast<int>(mesh.faceIndices().size());
@@ -111,15 +124,19 @@ TEST(Subdivision, MatchesThesisRules) {
   const ControlMesh creasedCube = makeMesh(cube, topLoop, Eigen::VectorXd(), {0});
   MeshData grid = gridData(3, 3);
   grid.vertices = perturbed(grid.vertices, 0.2, 11);
-  for (const ControlMesh& mesh : {mixed, creasedCube, makeMesh(grid), makeMesh(testing::prismData(7))}) {
+  for (const ControlMesh& mesh :
+       {mixed, creasedCube, makeMesh(grid), makeMesh(testing::prismData(7))}) {
     const SubdivisionResult result = subdivide(mesh);
     const RowMatrixX3d expected = thesisRules(mesh);
     EXPECT_LT((result.mesh.vertices() - expected).cwiseAbs().maxCoeff(), 1e-12);
     const RowMatrixX3d applied = result.subdivisionOperator * mesh.vertices();
     EXPECT_LT((applied - expected).cwiseAbs().maxCoeff(), 1e-12);
     // Every row is an affine combination.
-    const Eigen::VectorXd rowSums = result.subdivisionOperator * Eigen::VectorXd::Ones(mesh.numVertices());
-    for (Eigen::Index i = 0; i < rowSums.size(); ++i) EXPECT_NEAR(rowSums(i), 1.0, 1e-12) << "row " << i;
+    const Eigen::VectorXd rowSums =
+        result.subdivisionOperator * Eigen::VectorXd::Ones(mesh.numVertices());
+    for (Eigen::Index i = 0; i < rowSums.size(); ++i) {
+      EXPECT_NEAR(rowSums(i), 1.0, 1e-12) << "row " << i;
+    }
   }
 }
 
@@ -169,13 +186,27 @@ TEST(Subdivision, OptionsChangeTheResult) {
   SubdivisionOptions edgeOnly;
   edgeOnly.boundary = SubdivisionOptions::Boundary::EdgeOnly;
   const RowMatrixX3d smoothCorner = subdivide(mesh, edgeOnly).mesh.vertices();
-  EXPECT_LT((smoothCorner.row(0) - (mesh.vertices().row(1) + 6.0 * mesh.vertices().row(0) +
-                                    mesh.vertices().row(3)) / 8.0).norm(), 1e-12);
+  EXPECT_LT((smoothCorner.row(0) -
+             (mesh.vertices().row(1) + 6.0 * mesh.vertices().row(0) + mesh.vertices().row(3)) / 8.0)
+                .norm(),
+            1e-12);
 
   const ControlMesh prism = makeMesh(testing::prismData(3));
   SubdivisionOptions smoothTriangles;
   smoothTriangles.triangleRule = SubdivisionOptions::TriangleRule::Smooth;
-  EXPECT_GT((subdivide(prism).mesh.vertices() - subdivide(prism, smoothTriangles).mesh.vertices()).norm(), 1e-6);
+  EXPECT_GT(
+      (subdivide(prism).mesh.vertices() - subdivide(prism, smoothTriangles).mesh.vertices()).norm(),
+      1e-6);
+}
+
+TEST(Subdivision, OpenSubdivErrorsBecomeTopologyErrors) {
+  osd::installErrorHandler();
+  try {
+    OpenSubdiv::Far::Error(OpenSubdiv::Far::FAR_RUNTIME_ERROR, "face %d is broken", 7);
+    FAIL() << "no exception";
+  } catch (const TopologyError& error) {
+    EXPECT_STREQ(error.what(), "OpenSubdiv: face 7 is broken");
+  }
 }
 
 }  // namespace

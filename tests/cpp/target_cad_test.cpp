@@ -7,12 +7,18 @@
 #include <BRepExtrema_DistShapeShape.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
+#include <Geom_BSplineSurface.hxx>
 #include <Geom_Surface.hxx>
+#include <IGESControl_Writer.hxx>
+#include <TColStd_Array1OfInteger.hxx>
+#include <TColStd_Array1OfReal.hxx>
+#include <TColgp_Array2OfPnt.hxx>
 #include <TopExp.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
 
+#include <cmath>
 #include <random>
 #include <string>
 
@@ -185,6 +191,57 @@ TEST(TargetCad, OneraM6TrailingEdgeSidesStaySeparate) {
   }
   EXPECT_GE(checked[0], 10);
   EXPECT_GE(checked[1], 10);
+}
+
+}  // namespace
+}  // namespace bvmesh::target
+
+namespace bvmesh::target {
+namespace {
+
+// An untrimmed IGES 128 surface (no 144 trimming entity) reads as a face with natural bounds;
+// points off its interior along the normal project back to their base point.
+TEST(TargetCad, UntrimmedIgesSurface) {
+  TColgp_Array2OfPnt poles(1, 6, 1, 5);
+  for (int i = 1; i <= 6; ++i)
+    for (int j = 1; j <= 5; ++j) poles(i, j) = gp_Pnt(20.0 * i, 15.0 * j, 6.0 * std::sin(0.9 * i) * std::cos(0.7 * j));
+  TColStd_Array1OfReal uKnots(1, 4), vKnots(1, 3);
+  TColStd_Array1OfInteger uMults(1, 4), vMults(1, 3);
+  for (int k = 1; k <= 4; ++k) uKnots(k) = k - 1.0;
+  for (int k = 1; k <= 3; ++k) vKnots(k) = k - 1.0;
+  uMults.Init(1);
+  uMults(1) = uMults(4) = 4;
+  vMults.Init(1);
+  vMults(1) = vMults(3) = 4;
+  const Handle(Geom_BSplineSurface) surface = new Geom_BSplineSurface(poles, uKnots, vKnots, uMults, vMults, 3, 3);
+  const std::string path = std::string(BVMESH_TEST_OUTPUT_DIR) + "/target_untrimmed_128.igs";
+  IGESControl_Writer writer;
+  ASSERT_TRUE(writer.AddGeom(surface));
+  writer.ComputeModel();
+  ASSERT_TRUE(writer.Write(path.c_str()));
+
+  const Target target(cad::readShapeFile(path));
+  ASSERT_EQ(target.faceCount(), 1);
+  EXPECT_EQ(target.report().shape.faceSurfaceTypes[0], "BSplineSurface");
+  std::mt19937 generator(31);
+  std::uniform_real_distribution<double> unit(0.05, 0.95), offset(-2.0, 2.0);
+  Points points(500, 3);
+  std::vector<double> expected(500);
+  for (int i = 0; i < 500; ++i) {
+    gp_Pnt p;
+    gp_Vec su, sv;
+    surface->D1(3.0 * unit(generator), 2.0 * unit(generator), p, su, sv);
+    const double h = offset(generator);
+    const gp_Vec n = su.Crossed(sv).Normalized();
+    points.row(i) << p.X() + h * n.X(), p.Y() + h * n.Y(), p.Z() + h * n.Z();
+    expected[static_cast<std::size_t>(i)] = std::abs(h);
+  }
+  const ProjectionResult result = target.project(points);
+  for (int i = 0; i < 500; ++i) {
+    EXPECT_EQ(result.status[static_cast<std::size_t>(i)], ProjectionStatus::Ok) << "point " << i;
+    EXPECT_NEAR(result.distances[i], expected[static_cast<std::size_t>(i)], 1e-9 * target.report().diagonal)
+        << "point " << i;
+  }
 }
 
 }  // namespace

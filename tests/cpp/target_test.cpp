@@ -174,6 +174,28 @@ TEST(Target, EdgesVerticesAndDirections) {
   }
 }
 
+// Two squares side by side with a slit between them: the facing free edges are a gap; the
+// outer free edges are not.
+TEST(Target, ReportsGapsBetweenFaces) {
+  const gp_Pln plane(gp::XOY());
+  TopoDS_Compound plates;
+  BRep_Builder builder;
+  builder.MakeCompound(plates);
+  builder.Add(plates, BRepBuilderAPI_MakeFace(plane, 0, 1, 0, 1).Face());
+  builder.Add(plates, BRepBuilderAPI_MakeFace(plane, 1.001, 2, 0, 1).Face());
+  const Target target(plates);
+  const TargetReport& report = target.report();
+  EXPECT_EQ(report.freeEdges.size(), 8u);
+  ASSERT_EQ(report.gaps.size(), 2u);  // each facing edge reports the other
+  for (const GapReport& gap : report.gaps) EXPECT_NEAR(gap.width, 0.001, 1e-12);
+  // Points over the slit project onto the nearer plate's edge.
+  Points q(1, 3);
+  q << 1.0004, 0.5, 0.1;
+  const ProjectionResult result = target.project(q);
+  EXPECT_EQ(result.status[0], ProjectionStatus::OnTrimBoundary);
+  EXPECT_NEAR(result.distances[0], std::hypot(0.0004, 0.1), 1e-14);
+}
+
 TEST(Target, RejectsBadInput) {
   EXPECT_THROW(Target{TopoDS_Shape{}}, InvalidInputError);
   TopoDS_Compound empty;

@@ -11,7 +11,7 @@ from PySide import QtCore, QtGui
 OUTPUT_DIR = os.environ.get("BVMESH_TEST_OUTPUT_DIR", "/tmp")
 SCREENSHOT = os.path.join(OUTPUT_DIR, "gui_workbench.png")
 VIEW_IMAGE = os.path.join(OUTPUT_DIR, "gui_workbench_view.png")
-EXPECTED_COMMANDS = ["BVMesh_LoadExample", "BVMesh_ImportCad", "BVMesh_ShapeReport"]
+EXPECTED_COMMANDS = ["BVMesh_LoadExample", "BVMesh_ImportCad", "BVMesh_ShapeReport", "BVMesh_Target"]
 
 
 def log(message):
@@ -41,8 +41,15 @@ def run():
     check(FreeCADGui.activeWorkbench().name() == "BVMeshWorkbench", "BVMesh is the active workbench")
 
     main_window = FreeCADGui.getMainWindow()
-    toolbars = [bar for bar in main_window.findChildren(QtGui.QToolBar) if bar.windowTitle() == "BVMesh"]
-    check(len(toolbars) == 1 and toolbars[0].isVisible(), "the BVMesh toolbar is shown")
+    toolbars = []
+    for _ in range(50):  # the toolbars are shown a moment after activation
+        toolbars = [bar for bar in main_window.findChildren(QtGui.QToolBar)
+                    if bar.windowTitle() == "BVMesh CAD" and bar.isVisible()]
+        if toolbars:
+            break
+        settle(100)
+    check(len(toolbars) == 1 and toolbars[0].isVisible(), "the BVMesh CAD toolbar is shown (toolbars: {})".format(
+        [bar.windowTitle() for bar in main_window.findChildren(QtGui.QToolBar) if bar.isVisible()]))
     actions = [action.objectName() for action in toolbars[0].actions()]
     check(actions == EXPECTED_COMMANDS, "the toolbar holds {} (found {})".format(EXPECTED_COMMANDS, actions))
     menus = [action.text() for action in main_window.menuBar().actions()]
@@ -60,6 +67,8 @@ def run():
     doc.redo()
     check(len(doc.Objects) == 1, "redo brings it back")
 
+    check_preference_page()
+
     FreeCADGui.SendMsgToActiveView("ViewFit")
     FreeCADGui.activeDocument().activeView().viewIsometric()
     settle(1000)
@@ -72,6 +81,43 @@ def run():
     check(os.path.getsize(SCREENSHOT) > 0, "screenshot saved to " + SCREENSHOT)
     FreeCADGui.activeDocument().activeView().saveImage(VIEW_IMAGE, 800, 600, "White")
     check(os.path.getsize(VIEW_IMAGE) > 0, "3D view saved to " + VIEW_IMAGE)
+
+
+def check_preference_page():
+    """The BVMesh page of FreeCAD's preferences shows and stores BVMesh's parameters."""
+    import FreeCADGui
+
+    from bvmesh import preferences
+
+    group = preferences.group()
+    group.SetFloat("RelativeTolerance", 2.5e-5)
+    seen = {}
+
+    def edit():
+        dialog = QtGui.QApplication.activeModalWidget()
+        if dialog is None:
+            QtCore.QTimer.singleShot(100, edit)
+            return
+        spin = dialog.findChild(QtGui.QDoubleSpinBox, "prefRelativeTolerance")
+        seen["shown"] = None if spin is None else spin.value()
+        if spin is not None:
+            spin.setValue(3e-5)
+            seen["threads"] = dialog.findChild(QtGui.QSpinBox, "prefThreads") is not None
+            seen["color"] = dialog.findChild(QtGui.QPushButton, "prefCreaseColor") is not None
+        for box in dialog.findChildren(QtGui.QDialogButtonBox):
+            if box.button(QtGui.QDialogButtonBox.Ok) is not None:
+                box.button(QtGui.QDialogButtonBox.Ok).click()
+                return
+        dialog.reject()
+
+    QtCore.QTimer.singleShot(300, edit)
+    FreeCADGui.runCommand("Std_DlgPreferences")
+    try:
+        check(seen.get("shown") == 2.5e-5, "the BVMesh preference page shows the stored tolerance ({})".format(seen))
+        check(seen.get("threads") and seen.get("color"), "it offers threads and colours")
+        check(preferences.relative_tolerance() == 3e-5, "OK stored the edited tolerance")
+    finally:
+        group.RemFloat("RelativeTolerance")
 
 
 def main():

@@ -39,6 +39,9 @@ class ControlMeshTest(unittest.TestCase):
         faces = [[0, 1, 4, 3], [1, 2, 5, 4], [3, 4, 7, 6], [4, 5, 8, 7]]
         mesh = bvmesh.ControlMesh(grid, faces, creases=np.array([[1, 4], [4, 7]]), crease_sharpness=[2.0, 0.5])
         np.testing.assert_array_equal(mesh.crease_sharpness, [2.0, 0.5])
+        rows = bvmesh.ControlMesh(grid, faces, creases=[[1, 4, 2.0], [4, 7, np.inf]])
+        np.testing.assert_array_equal(rows.creases, [[1, 4], [4, 7]])
+        np.testing.assert_array_equal(rows.crease_sharpness, [2.0, np.inf])
         self.assertEqual(len(mesh.boundary_edges), 8)
         self.assertEqual(len(mesh.boundary_edge_ids), 8)
 
@@ -74,7 +77,7 @@ class ControlMeshTest(unittest.TestCase):
             bvmesh.ControlMesh(np.random.default_rng(1).random((6, 3)), fin)
         with self.assertRaisesRegex(ValueError, r"shape \(n, 3\)"):
             bvmesh.ControlMesh(CUBE_VERTICES[:, :2], CUBE_FACES)
-        with self.assertRaisesRegex(ValueError, r"creases must have shape \(k, 2\)"):
+        with self.assertRaisesRegex(ValueError, r"creases must have shape \(k, 2\) or \(k, 3\)"):
             bvmesh.ControlMesh(CUBE_VERTICES, CUBE_FACES, creases=[0, 1, 2])
 
 
@@ -139,6 +142,7 @@ class LimitSamplesTest(unittest.TestCase):
         s = self.samples
         positions, du, dv, normals = self.mesh.evaluate(s.location_faces, s.location_uv[:, 0], s.location_uv[:, 1])
         np.testing.assert_allclose(positions, s.positions, atol=1e-12)
+        np.testing.assert_allclose(self.mesh.evaluate(*s.locations)[0], s.positions, atol=1e-12)
         positions, du, dv, normals = self.mesh.evaluate(3, [0.1, 0.5, 0.9], 0.25)
         self.assertEqual(positions.shape, (3, 3))
         evaluator = bvmesh.LimitEvaluator(self.mesh, isolation_level=8)

@@ -2,7 +2,7 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/IterativeLinearSolvers>
-#include <Eigen/SparseCholesky>
+#include <Eigen/CholmodSupport>
 
 #include <array>
 #include <cmath>
@@ -46,7 +46,7 @@ struct FreeColumnSystem {
   std::vector<int> heldPoints;    // control points whose coordinate is known
   SparseColMatrix weightedFree;   // sqrt(w) A restricted to the free columns
   SparseColMatrix weightedHeld;   // sqrt(w) A restricted to the held columns
-  Eigen::SimplicialLDLT<SparseColMatrix> cholesky;
+  Eigen::CholmodSupernodalLLT<SparseColMatrix> cholesky;
   Eigen::LeastSquaresConjugateGradient<SparseColMatrix> cgls;
 
   FreeColumnSystem(const SparseRowMatrix& operatorA, const Eigen::VectorXd& sqrtWeights,
@@ -114,9 +114,11 @@ struct FreeColumnSystem {
                         const Eigen::VectorXd& guess, LeastSquaresMethod method) const {
     const Eigen::VectorXd rhs = weightedTargets - weightedHeld * heldValues;
     if (method == LeastSquaresMethod::Cholesky) return cholesky.solve(weightedFree.transpose() * rhs);
-    Eigen::VectorXd result = cgls.solveWithGuess(rhs, guess);
+    // CGLS solves for the correction of the current points, so its relative tolerance measures the
+    // error against the size of the correction rather than against the coordinates themselves.
+    const Eigen::VectorXd correction = cgls.solve(rhs - weightedFree * guess);
     if (cgls.info() == Eigen::NumericalIssue) throw SolverError("CGLS failed on the approximation problem");
-    return result;
+    return guess + correction;
   }
 };
 

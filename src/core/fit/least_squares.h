@@ -27,7 +27,7 @@ using SparseRowMatrix = Eigen::SparseMatrix<double, Eigen::RowMajor>;
 
 enum class LeastSquaresMethod {
   Cholesky,  // sparse Cholesky of the normal equations, factorized once, reused per right-hand side
-  Cgls,      // conjugate gradients on the least-squares problem, warm-started from the current points
+  Cgls,      // conjugate gradients on the least-squares problem for the correction of the current points
 };
 
 struct PlaneConstraint {
@@ -42,8 +42,9 @@ struct ApproximationConstraints {
 };
 
 struct LeastSquaresOptions {
-  LeastSquaresMethod method = LeastSquaresMethod::Cholesky;
-  double cglsTolerance = 1e-13;  // relative residual of the normal equations at which CGLS stops
+  LeastSquaresMethod method = LeastSquaresMethod::Cgls;
+  // CGLS stops when the normal-equation residual of the correction has fallen by this factor.
+  double cglsTolerance = 1e-8;
   int cglsMaxIterations = 2000;
 };
 

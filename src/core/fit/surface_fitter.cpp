@@ -127,7 +127,10 @@ struct SurfaceFitter::State {
   bool positionsValid = false;
   target::ProjectionResult projections;
   bool projectionsValid = false;
-  bool haveHints = false;  // `projections` belong to this topology and can warm-start the next
+  // Per-sample surface locations that warm-start the next projection: the last projections of
+  // this topology, or after a subdivision those of the parent samples at (or next to) each sample.
+  target::SurfaceHints hints;
+  bool haveHints = false;
 
   std::vector<PassRecord> history;
   Clock::time_point lastRecord = Clock::now();
@@ -144,6 +147,27 @@ struct SurfaceFitter::State {
     haveHints = false;
     correction = 0;
     dropGeometry();
+  }
+
+  // The vertices of the subdivided mesh are numbered like the parent's samples (old vertices,
+  // edge points, face points), and each lies at its parent sample's limit point: it inherits that
+  // sample's projection as a hint. New edge and face samples take the hint of their first vertex.
+  void inheritHints(const target::SurfaceHints& parent) {
+    ensureSamples();
+    hints.faces.resize(samples->size());
+    hints.uv.resize(samples->size(), 2);
+    for (int i = 0; i < samples->size(); ++i) {
+      const int source = samples->sourceIds()[i];
+      int parentSample = source;
+      switch (samples->elements()[static_cast<size_t>(i)]) {
+        case SampleElement::Vertex: break;
+        case SampleElement::Edge: parentSample = mesh.edges()(source, 0); break;
+        case SampleElement::Face: parentSample = mesh.faceVertex(source, 0); break;
+      }
+      hints.faces[i] = parent.faces[parentSample];
+      hints.uv.row(i) = parent.uv.row(parentSample);
+    }
+    haveHints = true;
   }
 
   // Curve id for a set of CAD edges; unions at feature junctions get ids after the user's curves.
@@ -274,10 +298,10 @@ struct SurfaceFitter::State {
   const target::Target& cad() const { return *target; }
 
   target::ProjectionResult projectGroup(Destination kind, int id, const RowMatrixX3d& points,
-                                        const RowMatrixX3d& normals, const target::SurfaceHints* hints) const {
+                                        const RowMatrixX3d& normals, const target::SurfaceHints* warmStart) const {
     switch (kind) {
       case Destination::Surface:
-        return options.projectAlongNormals ? cad().projectAlong(points, normals) : cad().project(points, hints);
+        return options.projectAlongNormals ? cad().projectAlong(points, normals) : cad().project(points, warmStart);
       case Destination::Curve:
         return cad().projectToEdges(points, destinationCurves[static_cast<size_t>(id)]);
       case Destination::FreeBoundary:
@@ -303,20 +327,21 @@ struct SurfaceFitter::State {
       const auto count = static_cast<Eigen::Index>(members.size());
       RowMatrixX3d points(count, 3);
       RowMatrixX3d directions(options.projectAlongNormals ? count : 0, 3);
-      target::SurfaceHints hints;
-      hints.faces.resize(count);
-      hints.uv.resize(count, 2);
+      target::SurfaceHints groupHints;
+      groupHints.faces.resize(count);
+      groupHints.uv.resize(count, 2);
       for (Eigen::Index k = 0; k < count; ++k) {
         const int i = members[static_cast<size_t>(k)];
         points.row(k) = positions.row(i);
         if (options.projectAlongNormals) directions.row(k) = normals.row(i);
         if (haveHints) {
-          hints.faces[k] = projections.faces[i];
-          hints.uv.row(k) = projections.params.row(i);
+          groupHints.faces[k] = hints.faces[i];
+          groupHints.uv.row(k) = hints.uv.row(i);
         }
       }
       const auto kind = static_cast<Destination>(key.first);
-      const target::ProjectionResult part = projectGroup(kind, key.second, points, directions, haveHints ? &hints : nullptr);
+      const target::ProjectionResult part =
+          projectGroup(kind, key.second, points, directions, haveHints ? &groupHints : nullptr);
       for (Eigen::Index k = 0; k < count; ++k) {
         const int i = members[static_cast<size_t>(k)];
         all.points.row(i) = part.points.row(k);
@@ -330,6 +355,8 @@ struct SurfaceFitter::State {
     }
     projections = std::move(all);
     projectionsValid = true;
+    hints.faces = projections.faces;
+    hints.uv = projections.params;
     haveHints = true;
   }
 
@@ -348,9 +375,9 @@ struct SurfaceFitter::State {
   }
 };
 
-SurfaceFitter::SurfaceFitter(std::shared_ptr<const target::Target> target, ControlMesh mesh, FeatureMap features,
-                             FitOptions options) {
-  if (!target) throw InvalidInputError("the surface fitter needs a target");
+namespace {
+
+void checkOptions(const FitOptions& options) {
   if (options.maxLevel < 0 || options.maxCorrections < 0) {
     throw InvalidInputError("maxLevel and maxCorrections must not be negative");
   }
@@ -358,14 +385,39 @@ SurfaceFitter::SurfaceFitter(std::shared_ptr<const target::Target> target, Contr
       (options.tolerance == 0.0 && options.relativeTolerance == 0.0)) {
     throw InvalidInputError("the fitting tolerance must be positive (absolute or relative)");
   }
-  if (options.symmetryPlane && !(options.symmetryPlane->normal.norm() > 0.0)) {
-    throw InvalidInputError("the symmetry plane needs a non-zero normal");
+  if (!(options.stagnationRatio > 0.0)) throw InvalidInputError("the stagnation ratio must be positive");
+  if (options.checkSamplesPerFace < 0) throw InvalidInputError("checkSamplesPerFace must not be negative");
+  if (options.symmetryPlane &&
+      (!(options.symmetryPlane->normal.norm() > 0.0) || !options.symmetryPlane->point.allFinite())) {
+    throw InvalidInputError("the symmetry plane needs a finite point and a non-zero normal");
   }
+}
+
+double absoluteToleranceOf(const FitOptions& options, const target::Target& target) {
+  return options.tolerance > 0.0 ? options.tolerance : options.relativeTolerance * target.report().diagonal;
+}
+
+}  // namespace
+
+SurfaceFitter::SurfaceFitter(std::shared_ptr<const target::Target> target, ControlMesh mesh, FeatureMap features,
+                             FitOptions options) {
+  if (!target) throw InvalidInputError("the surface fitter needs a target");
+  checkOptions(options);
   checkFeatureMap(features, mesh, *target);
   state_ = std::make_unique<State>(std::move(target), std::move(mesh), std::move(features), std::move(options));
-  state_->tolerance = state_->options.tolerance > 0.0
-                          ? state_->options.tolerance
-                          : state_->options.relativeTolerance * state_->target->report().diagonal;
+  state_->tolerance = absoluteToleranceOf(state_->options, *state_->target);
+}
+
+void SurfaceFitter::setOptions(FitOptions options) {
+  checkOptions(options);
+  State& s = *state_;
+  s.options = std::move(options);
+  s.tolerance = absoluteToleranceOf(s.options, *s.target);
+  // Same topology, so the last projections still warm-start the next ones.
+  s.samples.reset();
+  s.solver.reset();
+  s.destinations.clear();
+  s.dropGeometry();
 }
 
 SurfaceFitter::~SurfaceFitter() = default;
@@ -388,10 +440,13 @@ void SurfaceFitter::subdivide() {
   State& s = *state_;
   SubdivisionResult refined = bvmesh::subdivide(s.mesh, s.options.subdivision);
   FeatureMap features = propagateFeatures(s.features, s.mesh, refined.mesh);
+  const bool parentHints = s.haveHints;
+  const target::SurfaceHints parent = std::move(s.hints);
   s.mesh = std::move(refined.mesh);
   s.features = std::move(features);
   ++s.level;
   s.dropTopology();
+  if (parentHints) s.inheritHints(parent);
 }
 
 const LimitSamples& SurfaceFitter::computeLimitSamples() {

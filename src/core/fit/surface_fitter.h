@@ -106,6 +106,9 @@ public:
   const ControlMesh& mesh() const;
   const FeatureMap& features() const;
   const FitOptions& options() const;
+  // Replaces the options (e.g. a tighter tolerance or more levels before run()); the sample
+  // operators and the factorization are rebuilt on next use.
+  void setOptions(FitOptions options);
   int level() const;
   double absoluteTolerance() const;
   // Moves the control points (same topology), e.g. after a user edit.

@@ -14,7 +14,9 @@
 namespace bvmesh {
 namespace {
 
-std::string pairText(int a, int b) { return "(" + std::to_string(a) + ", " + std::to_string(b) + ")"; }
+std::string pairText(int a, int b) {
+  return "(" + std::to_string(a) + ", " + std::to_string(b) + ")";
+}
 
 size_t at(int index) { return static_cast<size_t>(index); }
 
@@ -22,7 +24,9 @@ size_t at(int index) { return static_cast<size_t>(index); }
 // edge through that vertex, so a manifold vertex ends with a single set (one fan).
 class CornerSets {
 public:
-  explicit CornerSets(size_t count) : parent_(count) { std::iota(parent_.begin(), parent_.end(), 0); }
+  explicit CornerSets(size_t count) : parent_(count) {
+    std::iota(parent_.begin(), parent_.end(), 0);
+  }
   int find(int corner) {
     while (parent_[at(corner)] != corner) {
       parent_[at(corner)] = parent_[at(parent_[at(corner)])];
@@ -140,14 +144,13 @@ void ControlMesh::buildConnectivity() {
         if (faces[1] >= 0) {
           throw TopologyError("edge " + std::to_string(edge) + " " + pairText(a, b) +
                               " is shared by more than two faces (faces " +
-                              std::to_string(faces[0]) + ", " + std::to_string(faces[1]) +
-                              " and " + std::to_string(f) + ")");
+                              std::to_string(faces[0]) + ", " + std::to_string(faces[1]) + " and " +
+                              std::to_string(f) + ")");
         }
         if (edges[at(edge)][0] == a) {
           throw TopologyError("faces " + std::to_string(faces[0]) + " and " + std::to_string(f) +
-                              " are inconsistently oriented: both traverse edge " +
-                              pairText(a, b) + " from vertex " + std::to_string(a) + " to " +
-                              std::to_string(b));
+                              " are inconsistently oriented: both traverse edge " + pairText(a, b) +
+                              " from vertex " + std::to_string(a) + " to " + std::to_string(b));
         }
         faces[1] = f;
         // First face has a at its corner c and b at c+1; this face has b at i and a at i+1.
@@ -185,8 +188,8 @@ void ControlMesh::buildConnectivity() {
       } else if (vertexFan[at(v)] != fan) {
         throw TopologyError("vertex " + std::to_string(v) +
                             " is non-manifold: its faces form more than one fan (e.g. faces " +
-                            std::to_string(vertexFirstCorner_(v, 0)) + " and " +
-                            std::to_string(f) + " meet only at this vertex)");
+                            std::to_string(vertexFirstCorner_(v, 0)) + " and " + std::to_string(f) +
+                            " meet only at this vertex)");
       }
     }
   }
@@ -230,7 +233,9 @@ void ControlMesh::validateGeometry(const RowMatrixX3d& vertices) const {
 
 void ControlMesh::validateCreases() {
   const int count = static_cast<int>(creases_.rows());
-  if (creaseSharpness_.size() == 0) creaseSharpness_ = Eigen::VectorXd::Constant(count, kInfiniteSharpness);
+  if (creaseSharpness_.size() == 0) {
+    creaseSharpness_ = Eigen::VectorXd::Constant(count, kInfiniteSharpness);
+  }
   if (creaseSharpness_.size() != count) {
     throw InvalidInputError("got " + std::to_string(count) + " creases but " +
                             std::to_string(creaseSharpness_.size()) + " sharpness values");
@@ -261,7 +266,9 @@ void ControlMesh::validateCreases() {
 
 void ControlMesh::validateCorners() {
   const int count = static_cast<int>(corners_.size());
-  if (cornerSharpness_.size() == 0) cornerSharpness_ = Eigen::VectorXd::Constant(count, kInfiniteSharpness);
+  if (cornerSharpness_.size() == 0) {
+    cornerSharpness_ = Eigen::VectorXd::Constant(count, kInfiniteSharpness);
+  }
   if (cornerSharpness_.size() != count) {
     throw InvalidInputError("got " + std::to_string(count) + " corners but " +
                             std::to_string(cornerSharpness_.size()) + " sharpness values");
@@ -284,8 +291,9 @@ void ControlMesh::validateCorners() {
 
 void ControlMesh::setVertices(const RowMatrixX3d& vertices) {
   if (vertices.rows() != numVertices()) {
-    throw InvalidInputError("expected " + std::to_string(numVertices()) + " x 3 vertex positions, got " +
-                            std::to_string(vertices.rows()) + " x 3");
+    throw InvalidInputError("expected " + std::to_string(numVertices()) +
+                            " x 3 vertex positions, got " + std::to_string(vertices.rows()) +
+                            " x 3");
   }
   for (int v = 0; v < numVertices(); ++v) {
     if (!vertices.row(v).allFinite()) {

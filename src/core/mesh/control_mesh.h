@@ -30,8 +30,8 @@ public:
   // cornerSharpness:   #K sharpness values > 0, or empty for all infinite
   ControlMesh(RowMatrixX3d vertices, std::vector<int> faceSizes, std::vector<int> faceIndices,
               RowMatrixX2i creases = RowMatrixX2i(0, 2),
-              Eigen::VectorXd creaseSharpness = Eigen::VectorXd(),
-              std::vector<int> corners = {}, Eigen::VectorXd cornerSharpness = Eigen::VectorXd());
+              Eigen::VectorXd creaseSharpness = Eigen::VectorXd(), std::vector<int> corners = {},
+              Eigen::VectorXd cornerSharpness = Eigen::VectorXd());
 
   int numVertices() const { return static_cast<int>(vertices_.rows()); }
   int numFaces() const { return static_cast<int>(faceSizes_.size()); }
@@ -44,7 +44,8 @@ public:
 
   const std::vector<int>& faceSizes() const { return faceSizes_; }
   const std::vector<int>& faceIndices() const { return faceIndices_; }
-  // #F + 1 offsets into faceIndices(): face f is faceIndices()[faceOffsets()[f] .. faceOffsets()[f+1]).
+  // #F + 1 offsets into faceIndices(): face f is faceIndices()[faceOffsets()[f] ..
+  // faceOffsets()[f+1]).
   const std::vector<int>& faceOffsets() const { return faceOffsets_; }
   int faceSize(int face) const { return faceSizes_[static_cast<size_t>(face)]; }
   int faceVertex(int face, int corner) const {

@@ -56,7 +56,9 @@ public:
     char* end = nullptr;
     errno = 0;
     const double value = std::strtod(begin, &end);
-    if (end == begin || *end != '\0' || errno == ERANGE) fail(line.number, "'" + token + "' is not a number");
+    if (end == begin || *end != '\0' || errno == ERANGE) {
+      fail(line.number, "'" + token + "' is not a number");
+    }
     return value;
   }
   int integer(const Line& line, const std::string& token) const {
@@ -64,7 +66,8 @@ public:
     char* end = nullptr;
     errno = 0;
     const long value = std::strtol(begin, &end, 10);
-    if (end == begin || *end != '\0' || errno == ERANGE || value < -2147483647L || value > 2147483647L) {
+    if (end == begin || *end != '\0' || errno == ERANGE || value < -2147483647L ||
+        value > 2147483647L) {
       fail(line.number, "'" + token + "' is not an integer");
     }
     return static_cast<int>(value);
@@ -76,7 +79,8 @@ public:
   }
   void expectCount(const Line& line, size_t count, const std::string& what) const {
     if (line.tokens.size() != count) {
-      fail(line.number, "expected " + what + ", got " + std::to_string(line.tokens.size()) + " values");
+      fail(line.number,
+           "expected " + what + ", got " + std::to_string(line.tokens.size()) + " values");
     }
   }
 
@@ -90,11 +94,13 @@ public:
       pairs.row(static_cast<Eigen::Index>(c)) << creases[c][0], creases[c][1];
     }
     const auto toVector = [](const std::vector<double>& values) {
-      return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(values.data(), static_cast<Eigen::Index>(values.size())));
+      return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(
+          values.data(), static_cast<Eigen::Index>(values.size())));
     };
     try {
-      return ControlMesh(std::move(vertices), std::move(sizes), std::move(indices), std::move(pairs),
-                         toVector(creaseSharpness), std::move(corners), toVector(cornerSharpness));
+      return ControlMesh(std::move(vertices), std::move(sizes), std::move(indices),
+                         std::move(pairs), toVector(creaseSharpness), std::move(corners),
+                         toVector(cornerSharpness));
     } catch (const TopologyError& error) {
       throw TopologyError(name_ + ": " + error.what());
     } catch (const InvalidInputError& error) {
@@ -148,16 +154,21 @@ ControlMesh readControlMeshText(std::istream& in, const std::string& name) {
 
   const Line& header = take("the header '" + std::string(kTextMagic) + " 1'");
   if (header.tokens.size() != 2 || header.tokens[0] != kTextMagic) {
-    parser.fail(header.number, "not a BVMesh control mesh file (expected '" + std::string(kTextMagic) + " 1')");
+    parser.fail(header.number,
+                "not a BVMesh control mesh file (expected '" + std::string(kTextMagic) + " 1')");
   }
-  if (header.tokens[1] != "1") parser.fail(header.number, "unsupported version " + header.tokens[1]);
+  if (header.tokens[1] != "1") {
+    parser.fail(header.number, "unsupported version " + header.tokens[1]);
+  }
 
   const int numVertices = section("vertices");
   RowMatrixX3d vertices(numVertices, 3);
   for (int v = 0; v < numVertices; ++v) {
     const Line& line = take("vertex " + std::to_string(v));
     parser.expectCount(line, 3, "3 coordinates for vertex " + std::to_string(v));
-    for (int k = 0; k < 3; ++k) vertices(v, k) = parser.real(line, line.tokens[static_cast<size_t>(k)]);
+    for (int k = 0; k < 3; ++k) {
+      vertices(v, k) = parser.real(line, line.tokens[static_cast<size_t>(k)]);
+    }
   }
   const int numFaces = section("faces");
   std::vector<int> sizes, indices;
@@ -170,7 +181,9 @@ ControlMesh readControlMeshText(std::istream& in, const std::string& name) {
                                    " vertices but lists " + std::to_string(line.tokens.size() - 1));
     }
     sizes.push_back(size);
-    for (int i = 1; i <= size; ++i) indices.push_back(parser.integer(line, line.tokens[static_cast<size_t>(i)]));
+    for (int i = 1; i <= size; ++i) {
+      indices.push_back(parser.integer(line, line.tokens[static_cast<size_t>(i)]));
+    }
   }
   std::vector<std::array<int, 2>> creases;
   std::vector<double> creaseSharpness;
@@ -178,8 +191,10 @@ ControlMesh readControlMeshText(std::istream& in, const std::string& name) {
     const int count = section("creases");
     for (int c = 0; c < count; ++c) {
       const Line& line = take("crease " + std::to_string(c));
-      parser.expectCount(line, 3, "'<vertex> <vertex> <sharpness>' for crease " + std::to_string(c));
-      creases.push_back({parser.integer(line, line.tokens[0]), parser.integer(line, line.tokens[1])});
+      parser.expectCount(line, 3,
+                         "'<vertex> <vertex> <sharpness>' for crease " + std::to_string(c));
+      creases.push_back(
+          {parser.integer(line, line.tokens[0]), parser.integer(line, line.tokens[1])});
       creaseSharpness.push_back(parser.sharpness(line, line.tokens[2]));
     }
   }
@@ -194,7 +209,9 @@ ControlMesh readControlMeshText(std::istream& in, const std::string& name) {
       cornerSharpness.push_back(parser.sharpness(line, line.tokens[1]));
     }
   }
-  if (next < lines.size()) parser.fail(lines[next].number, "unexpected '" + lines[next].tokens[0] + "'");
+  if (next < lines.size()) {
+    parser.fail(lines[next].number, "unexpected '" + lines[next].tokens[0] + "'");
+  }
   return parser.build(std::move(vertices), std::move(sizes), std::move(indices), creases,
                       creaseSharpness, std::move(corners), cornerSharpness);
 }
@@ -233,13 +250,19 @@ ControlMesh readControlMeshObj(std::istream& in, const std::string& name) {
       // "t <name> <#ints>/<#floats>[/<#strings>] ints... floats..."
       const std::string& counts = line.tokens[2];
       const size_t slash = counts.find('/');
-      if (slash == std::string::npos) parser.fail(line.number, "malformed tag counts '" + counts + "'");
+      if (slash == std::string::npos) {
+        parser.fail(line.number, "malformed tag counts '" + counts + "'");
+      }
       const size_t secondSlash = counts.find('/', slash + 1);
       const int numInts = parser.integer(line, counts.substr(0, slash));
-      const int numFloats = parser.integer(line, counts.substr(slash + 1, secondSlash == std::string::npos ? std::string::npos : secondSlash - slash - 1));
+      const int numFloats =
+          parser.integer(line, counts.substr(slash + 1, secondSlash == std::string::npos
+                                                            ? std::string::npos
+                                                            : secondSlash - slash - 1));
       const bool isCrease = line.tokens[1] == "crease";
       const int perItem = isCrease ? 2 : 1;
-      if (numInts <= 0 || numInts % perItem != 0 || line.tokens.size() < 3 + static_cast<size_t>(numInts + numFloats)) {
+      if (numInts <= 0 || numInts % perItem != 0 ||
+          line.tokens.size() < 3 + static_cast<size_t>(numInts + numFloats)) {
         parser.fail(line.number, "malformed '" + line.tokens[1] + "' tag");
       }
       const int items = numInts / perItem;
@@ -249,9 +272,12 @@ ControlMesh readControlMeshObj(std::istream& in, const std::string& name) {
       }
       for (int item = 0; item < items; ++item) {
         const size_t first = 3 + static_cast<size_t>(item * perItem);
-        const double sharpness = objSharpness(line, line.tokens[3 + static_cast<size_t>(numInts) + static_cast<size_t>(numFloats == 1 ? 0 : item)]);
+        const double sharpness =
+            objSharpness(line, line.tokens[3 + static_cast<size_t>(numInts) +
+                                           static_cast<size_t>(numFloats == 1 ? 0 : item)]);
         if (isCrease) {
-          creases.push_back({parser.integer(line, line.tokens[first]), parser.integer(line, line.tokens[first + 1])});
+          creases.push_back({parser.integer(line, line.tokens[first]),
+                             parser.integer(line, line.tokens[first + 1])});
           creaseSharpness.push_back(sharpness);
         } else {
           corners.push_back(parser.integer(line, line.tokens[first]));
@@ -287,7 +313,8 @@ void writeControlMeshText(const ControlMesh& mesh, std::ostream& out) {
   }
   out << "corners " << mesh.corners().size() << '\n';
   for (size_t c = 0; c < mesh.corners().size(); ++c) {
-    out << mesh.corners()[c] << ' ' << formatReal(mesh.cornerSharpness()(static_cast<Eigen::Index>(c))) << '\n';
+    out << mesh.corners()[c] << ' '
+        << formatReal(mesh.cornerSharpness()(static_cast<Eigen::Index>(c))) << '\n';
   }
 }
 
@@ -320,7 +347,7 @@ ControlMesh readControlMesh(const std::string& path, ControlMeshFormat format) {
   std::ifstream in(path);
   if (!in) throw InvalidInputError("cannot open control mesh file " + path);
   return resolve(format, path) == ControlMeshFormat::Obj ? readControlMeshObj(in, path)
-                                                          : readControlMeshText(in, path);
+                                                         : readControlMeshText(in, path);
 }
 
 void writeControlMesh(const ControlMesh& mesh, const std::string& path, ControlMeshFormat format) {

@@ -18,7 +18,8 @@ enum class ControlMeshFormat {
   Obj,
 };
 
-ControlMesh readControlMesh(const std::string& path, ControlMeshFormat format = ControlMeshFormat::Auto);
+ControlMesh readControlMesh(const std::string& path,
+                            ControlMeshFormat format = ControlMeshFormat::Auto);
 void writeControlMesh(const ControlMesh& mesh, const std::string& path,
                       ControlMeshFormat format = ControlMeshFormat::Auto);
 

@@ -127,7 +127,8 @@ LimitEvaluation LimitEvaluator::evaluate(const RowMatrixX3d& controlPoints,
     result.derivativesV.row(q) = dv;
     const Eigen::RowVector3d n = du.cross(dv);
     const double length = n.norm();
-    result.normals.row(q) = length > 0.0 ? Eigen::RowVector3d(n / length) : Eigen::RowVector3d::Zero();
+    result.normals.row(q) =
+        length > 0.0 ? Eigen::RowVector3d(n / length) : Eigen::RowVector3d::Zero();
   }
   return result;
 }

@@ -1,8 +1,11 @@
 // Evaluation of the Catmull-Clark limit surface at any (ptex face, u, v): position, first
 // derivatives and unit normal. Built once per topology with OpenSubdiv's adaptive refinement and
-// patch table (regular faces are exact bicubic B-spline patches, infinitely sharp creases exact
-// sharp patches, extraordinary regions Gregory end patches after `isolationLevel` levels of
-// isolation), reused for any control point positions.
+// patch table, reused for any control point positions. Regular faces are exact bicubic B-spline
+// patches and infinitely sharp creases exact sharp patches; the faces around extraordinary
+// vertices and darts are refined `isolationLevel` times and the last ring is a Gregory end patch,
+// an approximation whose area shrinks 4x per level. Measured on a 5-gon prism against the exact
+// sample normals: normals differ by up to 6e-4 at isolation 4, 8e-5 at 6, 1.5e-6 at 10 (positions
+// at the sample points agree to 1e-15).
 #pragma once
 
 #include <memory>

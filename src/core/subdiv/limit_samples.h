@@ -6,9 +6,10 @@
 // are computed with OpenSubdiv: one uniform refinement (the subdivision operator S) composed
 // with OpenSubdiv's vertex limit masks on the refined mesh (L), A = L S; the tangent operators
 // likewise. The limit masks are exact for smooth surfaces, extraordinary vertices, boundaries,
-// corners and infinitely sharp creases. Known limitation: at darts (a vertex ending a single
-// crease edge) and around semi-sharp creases OpenSubdiv's masks are approximations (errors of
-// about 1% of the local edge length were seen at darts); LimitEvaluator is exact there.
+// corners and infinitely sharp creases. They are not exact at darts (a vertex ending a single
+// crease edge inside the surface) and around semi-sharp creases; the rows of those samples come
+// from OpenSubdiv's limit stencils on the adaptively refined patch table instead (isolation
+// level 10, Gregory end patches).
 #pragma once
 
 #include <cstdint>
@@ -47,8 +48,9 @@ public:
   // #S x 3 limit positions for #V x 3 control points.
   RowMatrixX3d positions(const RowMatrixX3d& controlPoints) const;
   // #S x 3 unit limit normals for #V x 3 control points (zero where the tangents are parallel).
-  // On a crease the normal is the one OpenSubdiv's crease tangent masks give (one of the two
-  // one-sided normals averaged), so it is not meaningful across the crease.
+  // On a crease the normal is one-sided: OpenSubdiv's crease tangent masks run the first tangent
+  // along the crease and the second into one of the two sides (seen to be the side of the
+  // vertex's first face), so for the normals on both sides evaluate each face with LimitEvaluator.
   RowMatrixX3d normals(const RowMatrixX3d& controlPoints) const;
 
   const std::vector<SampleElement>& elements() const { return elements_; }

@@ -148,17 +148,20 @@ RowSparseMatrix RowBuilder::takeMatrix(const std::vector<int>& rowOrder) {
   std::vector<int> source(rows);
   for (size_t r = 0; r < rows; ++r) source[static_cast<size_t>(rowOrder[r])] = static_cast<int>(r);
   RowSparseMatrix result(static_cast<Eigen::Index>(rows), static_cast<Eigen::Index>(dense_.size()));
-  result.resizeNonZeros(static_cast<Eigen::Index>(columns_.size()));
   int* outer = result.outerIndexPtr();
-  int* inner = result.innerIndexPtr();
-  double* values = result.valuePtr();
   outer[0] = 0;
   for (size_t out = 0; out < rows; ++out) {
+    outer[out + 1] = outer[out] + count_[static_cast<size_t>(source[out])];
+  }
+  // Rows that were built twice (replaced) leave unused entries behind; only the listed ones count.
+  result.resizeNonZeros(outer[rows]);
+  int* inner = result.innerIndexPtr();
+  double* values = result.valuePtr();
+  for (size_t out = 0; out < rows; ++out) {
     const auto r = static_cast<size_t>(source[out]);
-    const auto first = static_cast<size_t>(start_[r]), n = static_cast<size_t>(count_[r]);
-    std::copy_n(columns_.begin() + static_cast<std::ptrdiff_t>(first), n, inner + outer[out]);
-    std::copy_n(weights_.begin() + static_cast<std::ptrdiff_t>(first), n, values + outer[out]);
-    outer[out + 1] = outer[out] + static_cast<int>(n);
+    const auto first = static_cast<std::ptrdiff_t>(start_[r]);
+    std::copy_n(columns_.begin() + first, count_[r], inner + outer[out]);
+    std::copy_n(weights_.begin() + first, count_[r], values + outer[out]);
   }
   *this = RowBuilder(0, 0, 0);
   return result;

@@ -37,7 +37,7 @@ class RowBuilder {
 public:
   // expectedRowSize: entries per row to reserve room for (a hint).
   RowBuilder(int numRows, int numColumns, int expectedRowSize);
-  void begin(int row);  // finishes the previous row
+  void begin(int row);  // finishes the previous row; beginning a finished row again replaces it
   void add(int column, double weight) {
     if (!marked_[static_cast<size_t>(column)]) {
       marked_[static_cast<size_t>(column)] = true;
@@ -81,7 +81,9 @@ class BuilderRow {
 public:
   BuilderRow(RowBuilder* builder, int row) : builder_(builder), row_(row) {}
   void Clear() const { builder_->begin(row_); }
-  void AddWithWeight(const VertexRef& source, double weight) const { builder_->add(source.index, weight); }
+  void AddWithWeight(const VertexRef& source, double weight) const {
+    builder_->add(source.index, weight);
+  }
   void AddWithWeight(const BuilderRow& source, double weight) const {
     builder_->addRow(*source.builder_, source.row_, weight);
   }

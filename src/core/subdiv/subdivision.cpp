@@ -12,7 +12,9 @@ SubdivisionResult subdivide(const ControlMesh& mesh, const SubdivisionOptions& o
   const auto refiner = osd::createRefinedOnce(mesh, options);
   const std::vector<int> order = osd::childVertexOrder(*refiner, mesh);
   std::vector<int> osdIndex(order.size());
-  for (size_t i = 0; i < order.size(); ++i) osdIndex[static_cast<size_t>(order[i])] = static_cast<int>(i);
+  for (size_t i = 0; i < order.size(); ++i) {
+    osdIndex[static_cast<size_t>(order[i])] = static_cast<int>(i);
+  }
 
   RowSparseMatrix op = osd::subdivisionOperator(*refiner, order);
   RowMatrixX3d vertices = op * mesh.vertices();
@@ -40,9 +42,13 @@ SubdivisionResult subdivide(const ControlMesh& mesh, const SubdivisionOptions& o
     const int mid = edgeBase + e;
     for (int end = 0; end < 2; ++end) {
       const int v = mesh.edges()(e, end);
-      const int osdEdge = child.FindEdge(osdIndex[static_cast<size_t>(v)], osdIndex[static_cast<size_t>(mid)]);
+      const int osdEdge =
+          child.FindEdge(osdIndex[static_cast<size_t>(v)], osdIndex[static_cast<size_t>(mid)]);
       const double sharpness = osd::fromOsdSharpness(child.GetEdgeSharpness(osdEdge));
-      if (sharpness > 0.0) creases.push_back({end == 0 ? std::array<int, 2>{v, mid} : std::array<int, 2>{mid, v}, sharpness});
+      if (sharpness > 0.0) {
+        creases.push_back(
+            {end == 0 ? std::array<int, 2>{v, mid} : std::array<int, 2>{mid, v}, sharpness});
+      }
     }
   }
   RowMatrixX2i creasePairs(static_cast<Eigen::Index>(creases.size()), 2);
@@ -55,17 +61,19 @@ SubdivisionResult subdivide(const ControlMesh& mesh, const SubdivisionOptions& o
   std::vector<int> corners;
   std::vector<double> cornerSharpness;
   for (int v : mesh.corners()) {
-    const double sharpness = osd::fromOsdSharpness(child.GetVertexSharpness(osdIndex[static_cast<size_t>(v)]));
+    const double sharpness =
+        osd::fromOsdSharpness(child.GetVertexSharpness(osdIndex[static_cast<size_t>(v)]));
     if (sharpness > 0.0) {
       corners.push_back(v);
       cornerSharpness.push_back(sharpness);
     }
   }
 
-  ControlMesh refined(std::move(vertices), std::move(faceSizes), std::move(faceIndices),
-                      std::move(creasePairs), std::move(creaseSharpness), std::move(corners),
-                      Eigen::Map<const Eigen::VectorXd>(cornerSharpness.data(),
-                                                        static_cast<Eigen::Index>(cornerSharpness.size())));
+  ControlMesh refined(
+      std::move(vertices), std::move(faceSizes), std::move(faceIndices), std::move(creasePairs),
+      std::move(creaseSharpness), std::move(corners),
+      Eigen::Map<const Eigen::VectorXd>(cornerSharpness.data(),
+                                        static_cast<Eigen::Index>(cornerSharpness.size())));
   return {std::move(refined), std::move(op)};
 }
 

@@ -13,6 +13,8 @@
 #include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
+#include <gp_Vec2d.hxx>
+#include <Geom2d_Curve.hxx>
 
 #include <algorithm>
 #include <cmath>
@@ -28,7 +30,38 @@ int indexOf(const TopTools_IndexedMapOfShape& map, const TopoDS_Shape& shape) {
   return map.FindIndex(shape) - 1;
 }
 
-// Extracts faces, edges and vertices with their adjacency.
+// Appends the points of pcurve on (t0, t1] so that every chord stays within deflection of it
+// (midpoint test, recursive halving).
+void samplePcurve(const Geom2d_Curve& pcurve, double t0, const gp_Pnt2d& p0, double t1, const gp_Pnt2d& p1,
+                  double deflection, int depth, std::vector<Eigen::Vector2d>& points) {
+  const double tm = 0.5 * (t0 + t1);
+  const gp_Pnt2d pm = pcurve.Value(tm);
+  const double sag = gp_Vec2d(0.5 * (p0.XY() + p1.XY()), pm.XY()).Magnitude();
+  if (depth < 40 && (depth < 4 || sag > deflection)) {
+    samplePcurve(pcurve, t0, p0, tm, pm, deflection, depth + 1, points);
+    samplePcurve(pcurve, tm, pm, t1, p1, deflection, depth + 1, points);
+    return;
+  }
+  points.emplace_back(p1.X(), p1.Y());
+}
+
+// The face's boundary pcurves as polylines within a 1e-8 fraction of its parameter box.
+std::vector<std::vector<Eigen::Vector2d>> boundaryPolylines(const FaceData& face) {
+  const double deflection = 1e-8 * std::max(face.u1 - face.u0, face.v1 - face.v0);
+  std::vector<std::vector<Eigen::Vector2d>> curves;
+  for (TopExp_Explorer it(face.face, TopAbs_EDGE); it.More(); it.Next()) {
+    double first = 0, last = 0;
+    const Handle(Geom2d_Curve) pcurve = BRep_Tool::CurveOnSurface(TopoDS::Edge(it.Current()), face.face, first, last);
+    if (pcurve.IsNull()) throw TopologyError("Target: an edge of a face has no curve in the face's parameter plane");
+    const gp_Pnt2d start = pcurve->Value(first);
+    std::vector<Eigen::Vector2d> points{{start.X(), start.Y()}};
+    samplePcurve(*pcurve, first, start, last, pcurve->Value(last), deflection, 0, points);
+    curves.push_back(std::move(points));
+  }
+  return curves;
+}
+
+// Extracts faces, edges and vertices with their adjacency.// Extracts faces, edges and vertices with their adjacency.
 void extractTopology(Target::Data& data) {
   TopTools_IndexedMapOfShape faceMap, edgeMap, vertexMap;
   TopExp::MapShapes(data.shape, TopAbs_FACE, faceMap);
@@ -76,6 +109,7 @@ void extractTopology(Target::Data& data) {
       FaceEdgeUse use{id, BRep_Tool::CurveOnSurface(edge, f.face, first, last)};
       if (!use.pcurve.IsNull()) f.edges.push_back(use);
     }
+    f.trim = TrimClassifier(f.u0, f.u1, f.v0, f.v1, boundaryPolylines(f));
   }
 
   TopTools_IndexedDataMapOfShapeListOfShape vertexFaces;
@@ -160,7 +194,10 @@ void tessellate(Target::Data& data) {
     for (int k = 1; k <= sampler.NbPoints(); ++k) {
       e.polyline.push_back(toEigen(sampler.Value(k)));
       e.polyParams.push_back(sampler.Parameter(k));
+      e.box.extend(e.polyline.back());
     }
+    e.box.lo.array() -= data.margin;
+    e.box.hi.array() += data.margin;
   }
 }
 
@@ -256,11 +293,79 @@ Eigen::Vector3d faceNormal(const FaceData& face, GeomAdaptor_Surface& surface, d
   return face.reversed ? Eigen::Vector3d(-n) : n;
 }
 
-TopAbs_State ThreadContext::classify(int face, double u, double v) {
-  std::unique_ptr<BRepTopAdaptor_FClass2d>& slot = classifiers_[static_cast<std::size_t>(face)];
-  if (!slot) slot = std::make_unique<BRepTopAdaptor_FClass2d>(data_.faces[static_cast<std::size_t>(face)].face,
-                                                              Precision::PConfusion());
-  return slot->Perform(gp_Pnt2d(u, v));
+TrimClassifier::TrimClassifier(double u0, double u1, double v0, double v1,
+                               const std::vector<std::vector<Eigen::Vector2d>>& curves)
+    : everywhere_(curves.empty()), u0_(u0), v0_(v0), du_((u1 - u0) / kSize), dv_((v1 - v0) / kSize) {
+  if (everywhere_) return;
+  if (!(du_ > 0) || !(dv_ > 0) || !std::isfinite(du_) || !std::isfinite(dv_))
+    throw TopologyError("Target: a face has a degenerate parameter box");
+  cells_.assign(kSize * kSize, Unknown);
+  rowSegments_.resize(kSize);
+  auto cellOf = [&](double x, double lo, double step) {
+    return std::clamp(static_cast<int>(std::floor((x - lo) / step)), 0, kSize - 1);
+  };
+  for (const std::vector<Eigen::Vector2d>& curve : curves) {
+    for (std::size_t k = 0; k + 1 < curve.size(); ++k) {
+      const Eigen::Vector2d& a = curve[k];
+      const Eigen::Vector2d& b = curve[k + 1];
+      const int id = static_cast<int>(segments_.size());
+      segments_.emplace_back(a.x(), a.y(), b.x(), b.y());
+      for (int row = cellOf(std::min(a.y(), b.y()), v0_, dv_); row <= cellOf(std::max(a.y(), b.y()), v0_, dv_); ++row)
+        rowSegments_[static_cast<std::size_t>(row)].push_back(id);
+      // Mark the cells along the segment (quarter-cell steps) and their neighbours.
+      const int steps = 1 + static_cast<int>(4 * std::max(std::abs(b.x() - a.x()) / du_, std::abs(b.y() - a.y()) / dv_));
+      for (int s = 0; s <= steps; ++s) {
+        const Eigen::Vector2d p = a + (b - a) * (static_cast<double>(s) / steps);
+        const int x = cellOf(p.x(), u0_, du_), y = cellOf(p.y(), v0_, dv_);
+        for (int j = std::max(0, y - 1); j <= std::min(kSize - 1, y + 1); ++j)
+          for (int i = std::max(0, x - 1); i <= std::min(kSize - 1, x + 1); ++i)
+            cells_[static_cast<std::size_t>(j * kSize + i)] = Boundary;
+      }
+    }
+  }
+  // Every other connected region of cells is on one side: test one cell, fill the region.
+  std::vector<int> stack;
+  for (int start = 0; start < kSize * kSize; ++start) {
+    if (cells_[static_cast<std::size_t>(start)] != Unknown) continue;
+    const std::uint8_t value =
+        crossingInside(u0_ + (start % kSize + 0.5) * du_, v0_ + (start / kSize + 0.5) * dv_, start / kSize) ? Inside : Outside;
+    cells_[static_cast<std::size_t>(start)] = value;
+    stack.assign(1, start);
+    while (!stack.empty()) {
+      const int cell = stack.back();
+      stack.pop_back();
+      const int x = cell % kSize, y = cell / kSize;
+      for (const auto& [dx, dy] : {std::pair{1, 0}, std::pair{-1, 0}, std::pair{0, 1}, std::pair{0, -1}}) {
+        const int nx = x + dx, ny = y + dy;
+        if (nx < 0 || ny < 0 || nx >= kSize || ny >= kSize) continue;
+        std::uint8_t& next = cells_[static_cast<std::size_t>(ny * kSize + nx)];
+        if (next != Unknown) continue;
+        next = value;
+        stack.push_back(ny * kSize + nx);
+      }
+    }
+  }
+}
+
+bool TrimClassifier::crossingInside(double u, double v, int row) const {
+  // Crossings of the ray from (u, v) towards +u; half-open in v so that a vertex counts once.
+  bool inside = false;
+  for (int id : rowSegments_[static_cast<std::size_t>(row)]) {
+    const Eigen::Vector4d& s = segments_[static_cast<std::size_t>(id)];
+    if ((s[1] > v) == (s[3] > v)) continue;
+    const double crossing = s[0] + (v - s[1]) * (s[2] - s[0]) / (s[3] - s[1]);
+    if (crossing > u) inside = !inside;
+  }
+  return inside;
+}
+
+bool TrimClassifier::inside(double u, double v) const {
+  if (everywhere_) return true;
+  const double x = (u - u0_) / du_, y = (v - v0_) / dv_;
+  if (!(x >= 0 && y >= 0 && x <= kSize && y <= kSize)) return false;  // the box holds the boundary
+  const int i = std::min(static_cast<int>(x), kSize - 1), j = std::min(static_cast<int>(y), kSize - 1);
+  const std::uint8_t cell = cells_[static_cast<std::size_t>(j * kSize + i)];
+  return cell == Boundary ? crossingInside(u, v, j) : cell == Inside;
 }
 
 std::unique_ptr<ThreadContext> Target::Data::acquireContext() const {

@@ -27,7 +27,7 @@ using Params = Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>;
 struct TargetOptions {
   // Chordal deflection of the tessellation behind the spatial index, relative to the diagonal.
   // Finer means fewer candidate faces per point and more memory; results do not depend on it.
-  double relativeDeflection = 1e-3;
+  double relativeDeflection = 3e-4;
   // Angular deflection of the tessellation (radians).
   double angularDeflection = 0.5;
   // Gaps between faces wider than this (relative to the diagonal) are reported.

@@ -3,17 +3,16 @@
 // with its spatial index, and the per-thread evaluation context.
 #pragma once
 
-#include <BRepTopAdaptor_FClass2d.hxx>
 #include <GeomAdaptor_Surface.hxx>
 #include <Geom2d_Curve.hxx>
 #include <Geom_Curve.hxx>
 #include <Geom_Surface.hxx>
-#include <TopAbs_State.hxx>
 #include <TopoDS_Face.hxx>
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <cstdint>
 #include <memory>
 #include <mutex>
 #include <vector>
@@ -29,6 +28,29 @@ struct FaceEdgeUse {
   Handle(Geom2d_Curve) pcurve;
 };
 
+// Trim test of one face in its parameter plane: the boundary pcurves as a dense polygon (within
+// a 1e-7 fraction of the parameter box), and a grid whose cells away from the polygon are known
+// to be inside or outside. Points in cells the polygon crosses are tested by crossing number
+// against the segments of their grid row. Immutable after construction: shared by all threads.
+class TrimClassifier {
+public:
+  TrimClassifier() = default;
+  // uvBox: u0, u1, v0, v1 of the face; loops: polylines of its boundary pcurves.
+  TrimClassifier(double u0, double u1, double v0, double v1, const std::vector<std::vector<Eigen::Vector2d>>& curves);
+  bool inside(double u, double v) const;
+
+private:
+  enum Cell : std::uint8_t { Outside = 0, Inside = 1, Boundary = 2, Unknown = 3 };
+  bool crossingInside(double u, double v, int row) const;
+
+  static constexpr int kSize = 64;
+  bool everywhere_ = true;  // a face without boundary curves
+  double u0_ = 0, v0_ = 0, du_ = 1, dv_ = 1;
+  std::vector<std::uint8_t> cells_;            // kSize x kSize, v outer
+  std::vector<Eigen::Vector4d> segments_;      // (ua, va, ub, vb)
+  std::vector<std::vector<int>> rowSegments_;  // per grid row: segments overlapping its v range
+};
+
 struct FaceData {
   TopoDS_Face face;
   Handle(Geom_Surface) surface;  // with the face's location applied
@@ -39,6 +61,7 @@ struct FaceData {
   bool uPeriodic = false, vPeriodic = false;
   double uPeriod = 0, vPeriod = 0;
   std::vector<FaceEdgeUse> edges;                        // non-degenerate boundary edges
+  TrimClassifier trim;
 };
 
 struct EdgeData {
@@ -50,6 +73,7 @@ struct EdgeData {
   // Polyline within the tessellation deflection of the curve: seeds for Newton.
   std::vector<Eigen::Vector3d> polyline;
   std::vector<double> polyParams;
+  Box3 box;  // of the polyline, grown by the margin: no point of the edge lies outside
 };
 
 // A located point on the target.
@@ -87,24 +111,23 @@ struct Target::Data {
   std::vector<double> triangleSize;                            // #T longest edge length
   AabbTree tree;
 
-  // Evaluation contexts kept between calls, so that each worker thread reuses the adaptors and
-  // classifiers built by earlier calls.
+  // Evaluation contexts kept between calls, so that each worker thread reuses the surface
+  // adaptors (and their span caches) built by earlier calls.
   std::unique_ptr<ThreadContext> acquireContext() const;
   void releaseContext(std::unique_ptr<ThreadContext> context) const;
   mutable std::mutex poolMutex;
   mutable std::vector<std::unique_ptr<ThreadContext>> pool;
 };
 
-// Per-thread evaluation state: GeomAdaptor_Surface caches B-spline spans and
-// BRepTopAdaptor_FClass2d keeps a face explorer for its exact fallback, so each thread has its
-// own (created on first use). Geom_Curve / Geom2d_Curve evaluation keeps no state.
+// Per-thread evaluation state: GeomAdaptor_Surface caches B-spline spans, so each thread has its
+// own adaptors (created on first use). Geom_Curve / Geom2d_Curve evaluation keeps no state.
 class ThreadContext {
 public:
   explicit ThreadContext(const Target::Data& data)
-      : data_(data), surfaces_(data.faces.size()), classifiers_(data.faces.size()) {}
+      : data_(data), surfaces_(data.faces.size()) {}
   GeomAdaptor_Surface& surface(int face);
-  // IN, ON or OUT of the face's trim.
-  TopAbs_State classify(int face, double u, double v);
+  // Whether (u, v) lies inside the face's trim.
+  bool inside(int face, double u, double v) const { return data_.faces[static_cast<std::size_t>(face)].trim.inside(u, v); }
 
   struct Candidate {
     int triangle;
@@ -122,7 +145,6 @@ public:
 private:
   const Target::Data& data_;
   std::vector<std::unique_ptr<GeomAdaptor_Surface>> surfaces_;
-  std::vector<std::unique_ptr<BRepTopAdaptor_FClass2d>> classifiers_;
 };
 
 // Geometry kernels used by both construction and projection.

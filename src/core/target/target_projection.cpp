@@ -7,8 +7,9 @@
 //      margin by which the surface may deviate from its tessellation;
 //   2. per candidate (face, (u, v) interpolated from the triangle's nodes): Levenberg-Marquardt
 //      Newton on |S(u, v) - q|^2 with the exact Hessian (D2), inside the surface's domain;
-//   3. trim test with the face's 2D classifier; outside: the closest point of the face's
-//      boundary edges (Newton on each edge curve);
+//   3. trim test in the face's parameter plane; outside the trim, a second descent that may not
+//      leave it, and if that stops at the border, the closest point of the face's boundary
+//      edges (Newton on each edge curve whose box is near enough);
 //   4. keep the nearest; stop when a triangle's distance minus the margin exceeds the best.
 // Candidates near a foot point already found on the same face are skipped (same basin).
 #include <BRep_Tool.hxx>
@@ -21,6 +22,7 @@
 #include <atomic>
 #include <cmath>
 #include <exception>
+#include <functional>
 #include <mutex>
 #include <thread>
 
@@ -36,6 +38,7 @@ constexpr int kMaxNewtonIterations = 200;
 constexpr double kRoundOff = 1e-13;
 constexpr int kMaxFaceSolvesPerPoint = 16;
 constexpr int kMaxCurveSeeds = 4;
+constexpr int kMaxBlockedSteps = 8;
 constexpr int kMaxLineHits = 16;
 
 // Closest point of triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5);
@@ -117,6 +120,7 @@ struct NewtonResult {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   bool converged = false;
   bool singular = false;  // stopped where the parametrization degenerates (a pole)
+  bool blocked = false;   // stopped at the trim (constrained iteration only)
 };
 
 bool isSingular(const gp_Vec& su, const gp_Vec& sv) {
@@ -124,11 +128,14 @@ bool isSingular(const gp_Vec& su, const gp_Vec& sv) {
   return !(su.Crossed(sv).Magnitude() > 1e-10 * scale * scale);
 }
 
-// Minimizes |S(u, v) - q|^2 over the surface's domain: Newton with the exact Hessian when it
-// is positive definite, Gauss-Newton otherwise, Levenberg-Marquardt damping as trust region,
-// bounds handled by fixing a parameter whose descent direction leaves the domain.
+// Minimizes |S(u, v) - q|^2 over the surface's domain: Newton with the exact Hessian and
+// Levenberg-Marquardt damping (raised until the damped Hessian is positive definite and the
+// step descends) as trust region; bounds handled by fixing a parameter whose descent direction
+// leaves the domain.
+// With `inside` set, trial points outside the face's trim are rejected like steps that do not
+// descend, so the iteration stays in the trimmed face (`blocked` reports a stop at its border).
 NewtonResult newtonOnSurface(const FaceData& face, GeomAdaptor_Surface& surface, const Eigen::Vector3d& q, double u,
-                             double v, double convergence) {
+                             double v, double convergence, const std::function<bool(double, double)>* inside = nullptr) {
   const double uLo = face.uPeriodic ? -Precision::Infinite() : face.uMin;
   const double uHi = face.uPeriodic ? Precision::Infinite() : face.uMax;
   const double vLo = face.vPeriodic ? -Precision::Infinite() : face.vMin;
@@ -140,6 +147,7 @@ NewtonResult newtonOnSurface(const FaceData& face, GeomAdaptor_Surface& surface,
   Eigen::Vector3d r = toEigen(s.p) - q;
   double f = r.squaredNorm();
   double lambda = 0.0;
+  int blockedSteps = 0;
   NewtonResult result;
   for (int iteration = 0; iteration < kMaxNewtonIterations; ++iteration) {
     const Eigen::Vector3d su = toEigen(s.su), sv = toEigen(s.sv);
@@ -151,7 +159,6 @@ NewtonResult newtonOnSurface(const FaceData& face, GeomAdaptor_Surface& surface,
     h(1, 1) += r.dot(toEigen(s.svv));
     h(0, 1) += r.dot(toEigen(s.suv));
     h(1, 0) = h(0, 1);
-    if (!(h(0, 0) > 0 && h.determinant() > 0)) h = jtj;
     // A parameter on its bound whose descent leaves the domain stays fixed.
     const bool fixU = (u <= uLo && g[0] > 0) || (u >= uHi && g[0] < 0);
     const bool fixV = (v <= vLo && g[1] > 0) || (v >= vHi && g[1] < 0);
@@ -162,22 +169,31 @@ NewtonResult newtonOnSurface(const FaceData& face, GeomAdaptor_Surface& surface,
     bool accepted = false;
     bool fullStep = false;
     double moved = 0.0;
-    for (int attempt = 0; attempt < 40 && !accepted; ++attempt) {
+    for (int attempt = 0; attempt < 60 && !accepted; ++attempt) {
       fullStep = lambda == 0.0;
       Eigen::Matrix2d a = h;
       a(0, 0) += lambda * jtj(0, 0) + 1e-300;
       a(1, 1) += lambda * jtj(1, 1) + 1e-300;
+      // Where the Hessian is not positive definite (beyond a focal point), damp until it is.
+      const bool definite = fixU ? a(1, 1) > 0 : fixV ? a(0, 0) > 0 : a(0, 0) > 0 && a.determinant() > 0;
       Eigen::Vector2d step = Eigen::Vector2d::Zero();
       if (fixU) step[1] = -g[1] / a(1, 1);
       else if (fixV) step[0] = -g[0] / a(0, 0);
       else step = a.ldlt().solve(-g);
-      if (!step.allFinite()) {
+      if (!definite || !step.allFinite()) {
         lambda = std::max(1e-6, 10 * lambda);
         continue;
       }
       step = clipStep(face, step);
       const double un = clampTo(u + step[0], uLo, uHi);
       const double vn = clampTo(v + step[1], vLo, vHi);
+      if (inside != nullptr && !(*inside)(un, vn)) {
+        lambda = std::max(1e-6, 10 * lambda);
+        result.blocked = true;
+        // Pressing against the trim again and again: the minimum lies beyond it.
+        if (++blockedSteps > kMaxBlockedSteps) break;
+        continue;
+      }
       SurfaceSample t;
       surface.D2(un, vn, t.p, t.su, t.sv, t.suu, t.svv, t.suv);
       const Eigen::Vector3d rn = toEigen(t.p) - q;
@@ -185,6 +201,7 @@ NewtonResult newtonOnSurface(const FaceData& face, GeomAdaptor_Surface& surface,
       if (fn <= f * (1 + kRoundOff) + 1e-300) {
         moved = (rn - r).norm();
         accepted = true;
+        result.blocked = false;
         u = un;
         v = vn;
         s = t;
@@ -296,9 +313,12 @@ bool leavePole(const FaceData& face, GeomAdaptor_Surface& surface, const Eigen::
   return true;
 }
 
-// Closest point on the face: Newton from (u, v), then the trim test, then the face's boundary.
+// Closest point on the trimmed face: Newton from (u, v), then the trim test; outside the trim a
+// trim-constrained descent, then the face's boundary edges. Returns no foot (distance < 0) when
+// the face cannot beat bestSoFar.
+// bestSoFar: distance of the best foot found on other candidates (< 0: none).
 Foot solveOnFace(const Target::Data& data, ThreadContext& context, int faceId, const Eigen::Vector3d& q, double u,
-                 double v) {
+                 double v, double bestSoFar) {
   const FaceData& face = data.faces[static_cast<std::size_t>(faceId)];
   NewtonResult newton = newtonOnSurface(face, context.surface(faceId), q, u, v, data.convergence);
   for (int escape = 0; escape < 2 && newton.singular; ++escape) {
@@ -309,20 +329,36 @@ Foot solveOnFace(const Target::Data& data, ThreadContext& context, int faceId, c
   foot.face = faceId;
   foot.u = wrapInto(newton.u, face.uPeriodic, face.uPeriod, face.u0);
   foot.v = wrapInto(newton.v, face.vPeriodic, face.vPeriod, face.v0);
-  const TopAbs_State state = context.classify(faceId, foot.u, foot.v);
-  if (state == TopAbs_IN || state == TopAbs_ON) {
+  if (context.inside(faceId, foot.u, foot.v)) {
     foot.point = newton.point;
     foot.distance = (newton.point - q).norm();
-    foot.status = !newton.converged ? ProjectionStatus::Fallback
-                  : state == TopAbs_IN ? ProjectionStatus::Ok
-                                       : ProjectionStatus::OnTrimBoundary;
+    foot.status = newton.converged ? ProjectionStatus::Ok : ProjectionStatus::Fallback;
     return foot;
   }
-  // The minimum over the untrimmed surface lies outside the trim: the closest point of the
-  // trimmed face is on its boundary.
+  // The minimum over the untrimmed surface lies outside the trim. Descend again from the seed
+  // without leaving the trim: an interior minimum of the trimmed face, or a stop at its border,
+  // whose nearest point is then on a boundary edge.
+  const std::function<bool(double, double)> inside = [&](double un, double vn) {
+    return context.inside(faceId, wrapInto(un, face.uPeriodic, face.uPeriod, face.u0),
+                          wrapInto(vn, face.vPeriodic, face.vPeriod, face.v0));
+  };
+  if (inside(u, v)) {
+    const NewtonResult constrained = newtonOnSurface(face, context.surface(faceId), q, u, v, data.convergence, &inside);
+    if (constrained.converged && !constrained.blocked) {
+      foot.point = constrained.point;
+      foot.distance = (constrained.point - q).norm();
+      foot.u = wrapInto(constrained.u, face.uPeriodic, face.uPeriod, face.u0);
+      foot.v = wrapInto(constrained.v, face.vPeriodic, face.vPeriod, face.v0);
+      foot.status = ProjectionStatus::Ok;
+      return foot;
+    }
+  }
   for (const FaceEdgeUse& use : face.edges) {
+    // An edge whose box is farther than the best foot (here or elsewhere) cannot hold a nearer one.
+    const double bound = foot.distance >= 0 ? foot.distance : bestSoFar;
+    if (bound >= 0 && data.edges[static_cast<std::size_t>(use.edge)].box.squaredDistance(q) > bound * bound) continue;
     const Foot onEdge = closestOnEdge(data, use.edge, q);
-    if (onEdge.distance < 0 || (foot.distance >= 0 && onEdge.distance >= foot.distance)) continue;
+    if (onEdge.distance < 0 || (bound >= 0 && onEdge.distance >= bound)) continue;
     const gp_Pnt2d uv = use.pcurve->Value(onEdge.t);
     foot.point = onEdge.point;
     foot.distance = onEdge.distance;
@@ -348,7 +384,7 @@ Foot closestOnSurface(const Target::Data& data, ThreadContext& context, const Ei
   context.candidates.clear();
   double radius = 0;
   if (hintFace >= 0) {
-    best = solveOnFace(data, context, hintFace, q, hintU, hintV);
+    best = solveOnFace(data, context, hintFace, q, hintU, hintV, -1.0);
     context.anchors.push_back({hintFace, best.point});
   }
   if (best.distance >= 0) {
@@ -376,11 +412,14 @@ Foot closestOnSurface(const Target::Data& data, ThreadContext& context, const Ei
     if (nearAnchor(context, face, candidate.point, 1.5 * data.triangleSize[static_cast<std::size_t>(candidate.triangle)]))
       continue;
     if (++solves > kMaxFaceSolvesPerPoint) break;
-    const Foot foot = solveOnFace(data, context, face, q, candidate.u, candidate.v);
+    const Foot foot = solveOnFace(data, context, face, q, candidate.u, candidate.v, best.distance);
     context.anchors.push_back({face, candidate.point});
     if (foot.distance < 0) continue;
     context.anchors.push_back({face, foot.point});
-    if (best.distance < 0 || foot.distance < best.distance) best = foot;
+    // On a tie (a foot on an edge shared by two faces) prefer the face interior, so that warm
+    // and cold starts agree on the status too.
+    const bool tie = best.distance >= 0 && std::abs(foot.distance - best.distance) <= data.convergence;
+    if (best.distance < 0 || (tie ? foot.status < best.status : foot.distance < best.distance)) best = foot;
   }
   return best;
 }
@@ -468,8 +507,7 @@ Foot alongLine(const Target::Data& data, ThreadContext& context, const Eigen::Ve
     if (!newtonOnLine(face, context.surface(faceId), q, d, data.convergence, u, v, s, point)) continue;
     u = wrapInto(u, face.uPeriodic, face.uPeriod, face.u0);
     v = wrapInto(v, face.vPeriodic, face.vPeriod, face.v0);
-    const TopAbs_State state = context.classify(faceId, u, v);
-    if (state != TopAbs_IN && state != TopAbs_ON) continue;
+    if (!context.inside(faceId, u, v)) continue;
     context.anchors.push_back({faceId, point});
     const double distance = (point - q).norm();
     if (best.distance < 0 || distance < best.distance) {
@@ -478,7 +516,7 @@ Foot alongLine(const Target::Data& data, ThreadContext& context, const Eigen::Ve
       best.face = faceId;
       best.u = u;
       best.v = v;
-      best.status = state == TopAbs_IN ? ProjectionStatus::Ok : ProjectionStatus::OnTrimBoundary;
+      best.status = ProjectionStatus::Ok;
     }
   }
   if (best.distance >= 0) return best;
@@ -487,12 +525,32 @@ Foot alongLine(const Target::Data& data, ThreadContext& context, const Eigen::Ve
   return fallback;
 }
 
-// Runs work(context, i) for i in [0, count) on the configured number of threads, each with its
-// own evaluation context. An OCCT failure on one point marks that point failed (work's job);
-// any other exception stops the call and is rethrown.
+// Interleaves the bits of three 21-bit integers: nearby points get nearby keys.
+std::uint64_t mortonKey(const Eigen::Vector3d& unit) {
+  std::uint64_t key = 0;
+  for (int k = 0; k < 3; ++k) {
+    const auto cell = static_cast<std::uint64_t>(clampTo(unit[k], 0.0, 1.0) * 2097151.0);
+    for (int bit = 0; bit < 21; ++bit) key |= ((cell >> bit) & 1u) << (3 * bit + k);
+  }
+  return key;
+}
+
+// Runs work(context, i) for every point i on the configured number of threads, each with its
+// own evaluation context. Points are visited in spatial (Morton) order: consecutive points then
+// fall into the same B-spline spans, whose polynomial form the surface adaptors cache. An OCCT
+// failure on one point marks that point failed (work's job); any other exception stops the
+// call and is rethrown.
 template <class Work>
-void parallelFor(const Target::Data& data, Eigen::Index count, Work&& work) {
+void parallelFor(const Target::Data& data, const Eigen::Ref<const Points>& points, Work&& work) {
   constexpr Eigen::Index kChunk = 64;
+  const Eigen::Index count = points.rows();
+  const Eigen::Vector3d lo(data.report.shape.boundsMin[0], data.report.shape.boundsMin[1], data.report.shape.boundsMin[2]);
+  const Eigen::Vector3d hi(data.report.shape.boundsMax[0], data.report.shape.boundsMax[1], data.report.shape.boundsMax[2]);
+  const Eigen::Vector3d extent = (hi - lo).cwiseMax(1e-300);
+  std::vector<std::pair<std::uint64_t, Eigen::Index>> order(static_cast<std::size_t>(count));
+  for (Eigen::Index i = 0; i < count; ++i)
+    order[static_cast<std::size_t>(i)] = {mortonKey((points.row(i).transpose() - lo).cwiseQuotient(extent)), i};
+  std::sort(order.begin(), order.end());
   const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
   const Eigen::Index wanted = data.options.threads > 0 ? data.options.threads : static_cast<Eigen::Index>(hardware);
   const Eigen::Index threads = std::max<Eigen::Index>(1, std::min(wanted, (count + kChunk - 1) / kChunk));
@@ -503,7 +561,8 @@ void parallelFor(const Target::Data& data, Eigen::Index count, Work&& work) {
     try {
       std::unique_ptr<ThreadContext> context = data.acquireContext();
       for (Eigen::Index begin = next.fetch_add(kChunk); begin < count; begin = next.fetch_add(kChunk))
-        for (Eigen::Index i = begin; i < std::min(count, begin + kChunk); ++i) work(*context, i);
+        for (Eigen::Index k = begin; k < std::min(count, begin + kChunk); ++k)
+          work(*context, order[static_cast<std::size_t>(k)].second);
       data.releaseContext(std::move(context));
     } catch (...) {
       std::lock_guard<std::mutex> lock(errorMutex);
@@ -648,7 +707,7 @@ ProjectionResult Target::project(const Eigen::Ref<const Points>& points, const S
   }
   ProjectionResult result;
   result.resize(count);
-  parallelFor(*data_, count, [&](ThreadContext& context, Eigen::Index i) {
+  parallelFor(*data_, points, [&](ThreadContext& context, Eigen::Index i) {
     const Eigen::Vector3d q = points.row(i).transpose();
     const int hint = hints != nullptr ? hints->faces[i] : -1;
     try {
@@ -686,7 +745,7 @@ ProjectionResult Target::projectToEdges(const Eigen::Ref<const Points>& points, 
   }
   ProjectionResult result;
   result.resize(points.rows());
-  parallelFor(*data_, points.rows(), [&](ThreadContext& context, Eigen::Index i) {
+  parallelFor(*data_, points, [&](ThreadContext& context, Eigen::Index i) {
     const Eigen::Vector3d q = points.row(i).transpose();
     try {
       // Nearest boxes first; a box farther than the best foot cannot hold a nearer point.
@@ -739,7 +798,7 @@ ProjectionResult Target::projectToVertices(const Eigen::Ref<const Points>& point
                               std::to_string(vertexCount()) + " vertices)");
   ProjectionResult result;
   result.resize(points.rows());
-  parallelFor(*data_, points.rows(), [&](ThreadContext& context, Eigen::Index i) {
+  parallelFor(*data_, points, [&](ThreadContext& context, Eigen::Index i) {
     const Eigen::Vector3d q = points.row(i).transpose();
     int best = vertices.front();
     for (int id : vertices)
@@ -770,7 +829,7 @@ ProjectionResult Target::projectAlong(const Eigen::Ref<const Points>& points, co
       throw InvalidInputError("Target::projectAlong: direction " + std::to_string(i) + " is zero or not finite");
   ProjectionResult result;
   result.resize(points.rows());
-  parallelFor(*data_, points.rows(), [&](ThreadContext& context, Eigen::Index i) {
+  parallelFor(*data_, points, [&](ThreadContext& context, Eigen::Index i) {
     const Eigen::Vector3d q = points.row(i).transpose();
     try {
       storeFoot(*data_, context, alongLine(*data_, context, q, directions.row(i).transpose()), i, result);

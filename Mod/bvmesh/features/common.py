@@ -1,0 +1,62 @@
+"""Helpers shared by the document objects: property set-up that is safe to run twice (at
+creation and again in onDocumentRestored, so files written by older versions gain new
+properties), and a proxy base that persists nothing of its own."""
+
+# Editor modes of FreeCAD's property editor.
+READ_ONLY = 1
+HIDDEN = 2
+
+
+def add_property(obj, type_name, name, group, doc, default=None, mode=None):
+    """Adds property `name` unless it exists; sets `default` only when it was added, so a
+    restored document keeps its values."""
+    if name not in obj.PropertiesList:
+        obj.addProperty(type_name, name, group, doc)
+        if default is not None:
+            setattr(obj, name, default)
+    if mode is not None:
+        obj.setEditorMode(name, mode)
+
+
+class Proxy:
+    """Base of the feature proxies. The document stores only the type name: everything else
+    is a property, and caches are rebuilt after loading."""
+
+    Type = None
+
+    def __init__(self, obj):
+        obj.Proxy = self
+        self.setup(obj)
+
+    def setup(self, obj):
+        raise NotImplementedError
+
+    def onDocumentRestored(self, obj):
+        self.setup(obj)
+
+    def execute(self, obj):
+        # FreeCAD only prints a failed recompute; keep the message for the API to raise.
+        self.error = ""
+        try:
+            self.compute(obj)
+        except Exception as error:
+            self.error = "{}: {}".format(type(error).__name__, error)
+            raise
+
+    def compute(self, obj):
+        raise NotImplementedError
+
+    def __getstate__(self):
+        return self.Type
+
+    def __setstate__(self, state):
+        return None
+
+    # FreeCAD 0.20 looks for these names.
+    dumps = __getstate__
+    loads = __setstate__
+
+
+def is_type(obj, type_name):
+    """True when `obj` is a BVMesh object of the given proxy Type."""
+    return getattr(getattr(obj, "Proxy", None), "Type", None) == type_name

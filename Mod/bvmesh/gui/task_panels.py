@@ -1,0 +1,185 @@
+"""Task panels (FreeCAD's combo-view dialogs) for polyhedron creation and fit parameters. Their
+accept() runs the same API call a command would, through doCommand in one transaction."""
+
+import os
+
+import FreeCAD
+import FreeCADGui
+
+from bvmesh import paths
+from bvmesh.features import polyhedron, surface_fit
+from bvmesh.features.common import is_type
+from bvmesh.gui.commands import _object_ref, run_in_transaction
+
+UI_DIR = os.path.join(paths.RESOURCES_DIR, "ui")
+
+
+def load_form(name):
+    return FreeCADGui.PySideUic.loadUi(os.path.join(UI_DIR, name + ".ui"))
+
+
+def panel_for(obj):
+    if is_type(obj, polyhedron.TYPE):
+        return PolyhedronPanel(obj)
+    if is_type(obj, surface_fit.TYPE):
+        return FitPanel(obj)
+    return None
+
+
+def _numbers(text, kind, what):
+    try:
+        return [kind(word) for word in text.replace(",", " ").split()]
+    except ValueError as error:
+        raise ValueError("{}: {}".format(what, error)) from None
+
+
+def parse_polyhedron(vertices_text, faces_text, creases_text, corners_text):
+    """(vertices, faces, creases, corners) from the panel's texts; ValueError naming the line."""
+    vertices, faces, creases = [], [], []
+    for n, line in enumerate(vertices_text.splitlines()):
+        if line.strip():
+            values = _numbers(line, float, "vertex line {}".format(n + 1))
+            if len(values) != 3:
+                raise ValueError("vertex line {} must hold x y z, got '{}'".format(n + 1, line.strip()))
+            vertices.append(values)
+    for n, line in enumerate(faces_text.splitlines()):
+        if line.strip():
+            faces.append(_numbers(line, int, "face line {}".format(n + 1)))
+    for n, line in enumerate(creases_text.splitlines()):
+        if line.strip():
+            pair = _numbers(line, int, "crease line {}".format(n + 1))
+            if len(pair) != 2:
+                raise ValueError("crease line {} must hold two vertex ids, got '{}'".format(n + 1, line.strip()))
+            creases.append(pair)
+    return vertices, faces, creases, _numbers(corners_text, int, "corners")
+
+
+class PolyhedronPanel:
+    """Creates a polyhedron (obj None) or edits the data of `obj`."""
+
+    def __init__(self, obj):
+        self.obj = obj
+        self.form = load_form("polyhedron")
+        if obj is not None:
+            self.form.textVertices.setPlainText("\n".join("{!r} {!r} {!r}".format(v.x, v.y, v.z) for v in obj.Vertices))
+            faces = polyhedron.unflatten_faces(obj.FaceSizes, obj.FaceIndices)
+            self.form.textFaces.setPlainText("\n".join(" ".join(map(str, f)) for f in faces))
+            self.form.textCreases.setPlainText("\n".join("{} {}".format(*p) for p in polyhedron.pairs(obj.Creases)))
+            self.form.lineCorners.setText(" ".join(map(str, obj.Corners)))
+
+    def getStandardButtons(self):
+        from PySide import QtGui
+
+        return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Cancel)
+
+    def accept(self):
+        try:
+            vertices, faces, creases, corners = parse_polyhedron(
+                self.form.textVertices.toPlainText(), self.form.textFaces.toPlainText(),
+                self.form.textCreases.toPlainText(), self.form.lineCorners.text())
+        except ValueError as error:
+            self.form.labelStatus.setText(str(error))
+            return False
+        if self.obj is None:
+            line = "bvmesh.api.make_polyhedron(App.ActiveDocument, {!r}, {!r}, creases={!r}, corners={!r})".format(
+                vertices, faces, creases, corners)
+        else:
+            line = "bvmesh.api.set_polyhedron({}, {!r}, {!r}, creases={!r}, corners={!r})".format(
+                _object_ref(self.obj), vertices, faces, creases, corners)
+        if not run_in_transaction("BVMesh polyhedron", [line]):
+            self.form.labelStatus.setText("The polyhedron was not accepted: see the Report view.")
+            return False
+        FreeCADGui.Control.closeDialog()
+        return True
+
+    def reject(self):
+        FreeCADGui.Control.closeDialog()
+        return True
+
+
+def _vector_text(v):
+    return "{!r} {!r} {!r}".format(v.x, v.y, v.z)
+
+
+class FitPanel:
+    """Edits the parameters of a SurfaceFit; accept() sets the changed ones."""
+
+    SPINS = (
+        ("spinTolerance", "tolerance", "Tolerance"),
+        ("spinRelativeTolerance", "relative_tolerance", "RelativeTolerance"),
+        ("spinMaxLevel", "max_level", "MaxLevel"),
+        ("spinMaxCorrections", "max_corrections", "MaxCorrections"),
+        ("spinStagnation", "stagnation_ratio", "StagnationRatio"),
+        ("spinCorrectionPasses", "correction_passes", "CorrectionPasses"),
+        ("spinSmoothIterations", "smooth_iterations", "SmoothIterations"),
+        ("spinSmoothLambda", "smooth_lambda", "SmoothLambda"),
+        ("spinSmoothMu", "smooth_mu", "SmoothMu"),
+    )
+    WEIGHTS = ("smooth", "crease", "boundary", "corner")
+
+    def __init__(self, fit):
+        self.fit = fit
+        self.form = load_form("fit")
+        f = self.form
+        for widget, _, prop in self.SPINS:
+            getattr(f, widget).setValue(getattr(fit, prop))
+        f.comboSolver.addItems(surface_fit.SOLVERS)
+        f.comboSolver.setCurrentIndex(surface_fit.SOLVERS.index(fit.Solver))
+        for kind in self.WEIGHTS:
+            getattr(f, "spinWeight" + kind.capitalize()).setValue(getattr(fit, "Weight" + kind.capitalize()))
+        f.checkSymmetry.setChecked(fit.UseSymmetryPlane)
+        f.lineSymmetryPoint.setText(_vector_text(fit.SymmetryPoint))
+        f.lineSymmetryNormal.setText(_vector_text(fit.SymmetryNormal))
+
+    def getStandardButtons(self):
+        from PySide import QtGui
+
+        return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Cancel)
+
+    def changed_parameters(self):
+        """The parameters whose value in the form differs from the object's."""
+        f, fit = self.form, self.fit
+        changed = {}
+        for widget, key, prop in self.SPINS:
+            value = getattr(f, widget).value()
+            if value != getattr(fit, prop):
+                changed[key] = value
+        if f.comboSolver.currentText() != fit.Solver:
+            changed["solver"] = f.comboSolver.currentText()
+        weights = {}
+        for kind in self.WEIGHTS:
+            value = getattr(f, "spinWeight" + kind.capitalize()).value()
+            if value != getattr(fit, "Weight" + kind.capitalize()):
+                weights[kind] = value
+        if weights:
+            changed["weights"] = weights
+        point = tuple(_numbers(f.lineSymmetryPoint.text(), float, "plane point"))
+        normal = tuple(_numbers(f.lineSymmetryNormal.text(), float, "plane normal"))
+        if len(point) != 3 or len(normal) != 3:
+            raise ValueError("the plane point and normal need three numbers each")
+        current = ((fit.SymmetryPoint.x, fit.SymmetryPoint.y, fit.SymmetryPoint.z),
+                   (fit.SymmetryNormal.x, fit.SymmetryNormal.y, fit.SymmetryNormal.z))
+        if not f.checkSymmetry.isChecked():
+            if fit.UseSymmetryPlane:
+                changed["symmetry_plane"] = None
+        elif not fit.UseSymmetryPlane or (point, normal) != current:
+            changed["symmetry_plane"] = (point, normal)
+        return changed
+
+    def accept(self):
+        try:
+            changed = self.changed_parameters()
+        except ValueError as error:
+            FreeCAD.Console.PrintError("BVMesh: {}\n".format(error))
+            return False
+        if changed:
+            arguments = ", ".join("{}={!r}".format(k, v) for k, v in changed.items())
+            if not run_in_transaction("BVMesh fit parameters", ["bvmesh.api.set_fit_parameters({}, {})".format(
+                    _object_ref(self.fit), arguments)]):
+                return False
+        FreeCADGui.Control.closeDialog()
+        return True
+
+    def reject(self):
+        FreeCADGui.Control.closeDialog()
+        return True

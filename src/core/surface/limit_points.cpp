@@ -1,0 +1,89 @@
+#include "core/surface/limit_points.h"
+
+#include <algorithm>
+#include <cmath>
+#include <exception>
+#include <string>
+#include <thread>
+
+#include "core/common/errors.h"
+
+namespace bvmesh::surface {
+
+ControlMesh toControlMesh(const QuadControlMesh& mesh) {
+  const auto faceCount = static_cast<size_t>(mesh.faces.rows());
+  std::vector<int> faceIndices(mesh.faces.data(), mesh.faces.data() + 4 * faceCount);
+  return ControlMesh(mesh.vertices, std::vector<int>(faceCount, 4), std::move(faceIndices), mesh.creases,
+                     Eigen::VectorXd(), mesh.corners);
+}
+
+QuadControlMesh toQuadControlMesh(const ControlMesh& mesh) {
+  QuadControlMesh quads;
+  quads.vertices = mesh.vertices();
+  quads.faces.resize(mesh.numFaces(), 4);
+  for (int f = 0; f < mesh.numFaces(); ++f) {
+    if (mesh.faceSize(f) != 4) {
+      throw InvalidInputError("face " + std::to_string(f) + " has " + std::to_string(mesh.faceSize(f)) +
+                              " vertices; the B-spline conversion needs quads (subdivide once)");
+    }
+    for (int k = 0; k < 4; ++k) quads.faces(f, k) = mesh.faceVertex(f, k);
+  }
+  for (Eigen::Index c = 0; c < mesh.creaseSharpness().size(); ++c) {
+    if (!std::isinf(mesh.creaseSharpness()(c))) {
+      throw InvalidInputError("crease " + std::to_string(c) +
+                              " is semi-sharp; only infinitely sharp creases " + "can be chart borders");
+    }
+  }
+  for (Eigen::Index c = 0; c < mesh.cornerSharpness().size(); ++c) {
+    if (!std::isinf(mesh.cornerSharpness()(c))) {
+      throw InvalidInputError("corner " + std::to_string(c) +
+                              " is semi-sharp; only infinitely sharp corners " + "are supported");
+    }
+  }
+  quads.creases = mesh.creases();
+  quads.corners = mesh.corners();
+  return quads;
+}
+
+LimitPointsFunction limitPoints(const LimitEvaluator& evaluator, const RowMatrixX3d& controlPoints) {
+  return [&evaluator, &controlPoints](const std::vector<SurfaceLocation>& locations, RowMatrixX3d& points,
+                                      RowMatrixX3d* normals) {
+    // Evaluation only reads the evaluator: large batches are split over the hardware threads.
+    const size_t threadCount =
+        locations.size() < 20000 ? 1 : std::max<size_t>(1, std::thread::hardware_concurrency());
+    if (threadCount == 1) {
+      LimitEvaluation evaluation = evaluator.evaluate(controlPoints, locations);
+      points = std::move(evaluation.positions);
+      if (normals != nullptr) *normals = std::move(evaluation.normals);
+      return;
+    }
+    points.resize(static_cast<Eigen::Index>(locations.size()), 3);
+    if (normals != nullptr) normals->resize(static_cast<Eigen::Index>(locations.size()), 3);
+    const size_t chunk = (locations.size() + threadCount - 1) / threadCount;
+    std::vector<std::thread> threads;
+    std::vector<std::exception_ptr> errors(threadCount);
+    for (size_t t = 0; t < threadCount; ++t) {
+      threads.emplace_back([&, t] {
+        try {
+          const size_t begin = std::min(locations.size(), t * chunk);
+          const size_t end = std::min(locations.size(), begin + chunk);
+          const std::vector<SurfaceLocation> part(locations.begin() + static_cast<std::ptrdiff_t>(begin),
+                                                  locations.begin() + static_cast<std::ptrdiff_t>(end));
+          const LimitEvaluation evaluation = evaluator.evaluate(controlPoints, part);
+          const auto rows = static_cast<Eigen::Index>(begin);
+          const auto count = static_cast<Eigen::Index>(end - begin);
+          points.middleRows(rows, count) = evaluation.positions;
+          if (normals != nullptr) normals->middleRows(rows, count) = evaluation.normals;
+        } catch (...) {
+          errors[t] = std::current_exception();
+        }
+      });
+    }
+    for (auto& thread : threads) thread.join();
+    for (const auto& error : errors) {
+      if (error) std::rethrow_exception(error);
+    }
+  };
+}
+
+}  // namespace bvmesh::surface

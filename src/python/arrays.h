@@ -1,0 +1,44 @@
+// numpy <-> Eigen conversions shared by the bindings: every array argument is checked here and a
+// wrong shape or type raises ValueError naming the argument and the shape it got.
+#pragma once
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+namespace bvmesh::python {
+
+using DoubleArray = pybind11::array_t<double, pybind11::array::c_style | pybind11::array::forcecast>;
+using IntArray = pybind11::array_t<int, pybind11::array::c_style | pybind11::array::forcecast>;
+using RowMatrixXd = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// "(3, 4)" or "(5,)".
+inline std::string shapeText(const pybind11::array& array) {
+  std::string text = "(";
+  for (pybind11::ssize_t k = 0; k < array.ndim(); ++k) text += (k > 0 ? ", " : "") + std::to_string(array.shape(k));
+  return text + (array.ndim() == 1 ? ",)" : ")");
+}
+
+// An (n, columns) array of numbers, copied.
+inline RowMatrixXd rowsOf(const pybind11::object& object, const char* name, pybind11::ssize_t columns) {
+  const DoubleArray array = DoubleArray::ensure(object);
+  const std::string expected = "(n, " + std::to_string(columns) + ")";
+  if (!array) throw pybind11::value_error(std::string(name) + " must be a numeric array of shape " + expected);
+  if (array.ndim() != 2 || array.shape(1) != columns) {
+    throw pybind11::value_error(std::string(name) + " must have shape " + expected + ", got " + shapeText(array));
+  }
+  return Eigen::Map<const RowMatrixXd>(array.data(), array.shape(0), columns);
+}
+
+// A 1-D sequence of integers, copied.
+inline std::vector<int> intsOf(const pybind11::object& object, const char* name) {
+  const IntArray array = IntArray::ensure(object);
+  if (!array || array.ndim() != 1) throw pybind11::value_error(std::string(name) + " must be a 1-D sequence of integers");
+  return std::vector<int>(array.data(), array.data() + array.size());
+}
+
+}  // namespace bvmesh::python

@@ -1,0 +1,281 @@
+// bvmesh.SurfaceFitter: the iterative surface fitting. Options are keyword arguments (checked
+// here, unknown names rejected), records and summaries are dicts, arrays are numpy. Long steps
+// run without the GIL; progress and cancel cross back as Python callables.
+#include <pybind11/eigen.h>
+#include <pybind11/stl.h>
+
+#include <atomic>
+#include <string>
+
+#include "arrays.h"
+#include "bindings.h"
+#include "conversions.h"
+#include "core/fit/surface_fitter.h"
+
+namespace py = pybind11;
+
+namespace bvmesh::python {
+namespace {
+
+using fit::FitOptions;
+using fit::SurfaceFitter;
+
+fit::FeatureMap featureMapOf(const py::object& features) {
+  fit::FeatureMap map;
+  if (features.is_none()) return map;
+  if (!py::isinstance<py::dict>(features)) {
+    throw py::value_error("features must be a dict with curves, edge_curve and vertex_cad_vertex, or None");
+  }
+  for (const auto& [key, value] : features.cast<py::dict>()) {
+    const std::string name = py::str(key);
+    const py::object item = py::reinterpret_borrow<py::object>(value);
+    if (name == "curves") {
+      for (const py::handle curve : item) map.curves.push_back(intsOf(py::reinterpret_borrow<py::object>(curve), "each feature curve"));
+    } else if (name == "edge_curve") {
+      map.edgeCurve = intsOf(item, "edge_curve");
+    } else if (name == "vertex_cad_vertex") {
+      map.vertexCadVertex = intsOf(item, "vertex_cad_vertex");
+    } else {
+      throw py::value_error("unknown feature-map key '" + name + "'; known: curves, edge_curve, vertex_cad_vertex");
+    }
+  }
+  return map;
+}
+
+py::dict featureMapToDict(const fit::FeatureMap& map) {
+  py::dict dict;
+  dict["curves"] = map.curves;
+  dict["edge_curve"] = map.edgeCurve;
+  dict["vertex_cad_vertex"] = map.vertexCadVertex;
+  return dict;
+}
+
+Eigen::Vector3d vector3Of(const py::handle& object, const char* name) {
+  const RowMatrixXd row = rowsOf(py::array(py::reinterpret_borrow<py::object>(object)).reshape({1, -1}), name, 3);
+  return row.row(0).transpose();
+}
+
+// Sets the options named in `kwargs` and nothing else.
+void applyOptions(FitOptions& options, const py::dict& kwargs) {
+  for (const auto& [key, value] : kwargs) {
+    const std::string name = py::str(key);
+    if (name == "tolerance") {
+      options.tolerance = value.cast<double>();
+    } else if (name == "relative_tolerance") {
+      options.relativeTolerance = value.cast<double>();
+    } else if (name == "max_level") {
+      options.maxLevel = value.cast<int>();
+    } else if (name == "max_corrections") {
+      options.maxCorrections = value.cast<int>();
+    } else if (name == "stagnation_ratio") {
+      options.stagnationRatio = value.cast<double>();
+    } else if (name == "solver") {
+      const std::string solver = py::str(value);
+      if (solver == "cholesky") {
+        options.solver.method = fit::LeastSquaresMethod::Cholesky;
+      } else if (solver == "cgls") {
+        options.solver.method = fit::LeastSquaresMethod::Cgls;
+      } else {
+        throw py::value_error("solver must be 'cholesky' or 'cgls', got '" + solver + "'");
+      }
+    } else if (name == "cgls_tolerance") {
+      options.solver.cglsTolerance = value.cast<double>();
+    } else if (name == "cgls_max_iterations") {
+      options.solver.cglsMaxIterations = value.cast<int>();
+    } else if (name == "weights") {
+      for (const auto& [kind, weight] : value.cast<py::dict>()) {
+        const std::string k = py::str(kind);
+        double& slot = k == "smooth" ? options.weights.smooth
+                       : k == "crease" ? options.weights.crease
+                       : k == "boundary" ? options.weights.boundary
+                       : k == "corner" ? options.weights.corner
+                       : throw py::value_error("unknown weight '" + k + "'; known: smooth, crease, boundary, corner");
+        slot = weight.cast<double>();
+      }
+    } else if (name == "fixed_vertices") {
+      options.fixedVertices = intsOf(py::reinterpret_borrow<py::object>(value), "fixed_vertices");
+    } else if (name == "symmetry_plane") {
+      if (value.is_none()) {
+        options.symmetryPlane.reset();
+      } else {
+        const py::sequence plane = value.cast<py::sequence>();
+        if (plane.size() != 2) throw py::value_error("symmetry_plane must be (point, normal) or None");
+        options.symmetryPlane = fit::SymmetryPlane{vector3Of(plane[0], "symmetry_plane point"),
+                                                   vector3Of(plane[1], "symmetry_plane normal")};
+      }
+    } else if (name == "relative_plane_tolerance") {
+      options.relativePlaneTolerance = value.cast<double>();
+    } else if (name == "project_along_normals") {
+      options.projectAlongNormals = value.cast<bool>();
+    } else if (name == "check_samples_per_face") {
+      options.checkSamplesPerFace = value.cast<int>();
+    } else if (name == "subdivision") {
+      options.subdivision = value.cast<SubdivisionOptions>();
+    } else {
+      throw py::value_error("unknown fitting option '" + name +
+                            "'; known: tolerance, relative_tolerance, max_level, max_corrections, stagnation_ratio, "
+                            "solver, cgls_tolerance, cgls_max_iterations, weights, fixed_vertices, symmetry_plane, relative_plane_tolerance, "
+                            "project_along_normals, check_samples_per_face, subdivision");
+    }
+  }
+}
+
+py::dict optionsToDict(const FitOptions& options) {
+  py::dict dict;
+  dict["tolerance"] = options.tolerance;
+  dict["relative_tolerance"] = options.relativeTolerance;
+  dict["max_level"] = options.maxLevel;
+  dict["max_corrections"] = options.maxCorrections;
+  dict["stagnation_ratio"] = options.stagnationRatio;
+  dict["solver"] = options.solver.method == fit::LeastSquaresMethod::Cholesky ? "cholesky" : "cgls";
+  dict["cgls_tolerance"] = options.solver.cglsTolerance;
+  dict["cgls_max_iterations"] = options.solver.cglsMaxIterations;
+  dict["weights"] = py::dict(py::arg("smooth") = options.weights.smooth, py::arg("crease") = options.weights.crease,
+                             py::arg("boundary") = options.weights.boundary, py::arg("corner") = options.weights.corner);
+  dict["fixed_vertices"] = options.fixedVertices;
+  if (options.symmetryPlane) {
+    dict["symmetry_plane"] = py::make_tuple(options.symmetryPlane->point, options.symmetryPlane->normal);
+  } else {
+    dict["symmetry_plane"] = py::none();
+  }
+  dict["relative_plane_tolerance"] = options.relativePlaneTolerance;
+  dict["project_along_normals"] = options.projectAlongNormals;
+  dict["check_samples_per_face"] = options.checkSamplesPerFace;
+  dict["subdivision"] = options.subdivision;
+  return dict;
+}
+
+py::dict recordToDict(const fit::PassRecord& record) {
+  py::dict dict;
+  dict["level"] = record.level;
+  dict["correction"] = record.correction;
+  dict["control_points"] = record.controlPoints;
+  dict["samples"] = record.samples;
+  dict["failed_projections"] = record.failedProjections;
+  dict["max_distance"] = record.maxDistance;
+  dict["rms_distance"] = record.rmsDistance;
+  dict["limit_to_target"] = record.check ? py::cast(record.check->limitToTarget) : py::none();
+  dict["target_to_limit"] = record.check ? py::cast(record.check->targetToLimit) : py::none();
+  dict["seconds"] = record.seconds;
+  return dict;
+}
+
+const char* reasonName(fit::StopReason reason) {
+  switch (reason) {
+    case fit::StopReason::Converged: return "converged";
+    case fit::StopReason::Stagnated: return "stagnated";
+    case fit::StopReason::MaxLevel: return "max_level";
+    case fit::StopReason::Cancelled: return "cancelled";
+  }
+  return "max_level";
+}
+
+py::list historyToList(const std::vector<fit::PassRecord>& history) {
+  py::list list;
+  for (const fit::PassRecord& record : history) list.append(recordToDict(record));
+  return list;
+}
+
+// True when `cancel` (None, a callable, or an object with is_set() such as threading.Event) asks to stop.
+bool cancelRequested(const py::object& cancel) {
+  if (cancel.is_none()) return false;
+  if (py::hasattr(cancel, "is_set")) return cancel.attr("is_set")().cast<bool>();
+  return cancel().cast<bool>();
+}
+
+template <class Work>
+auto released(Work&& work) {
+  py::gil_scoped_release release;
+  return work();
+}
+
+}  // namespace
+
+void bindFit(py::module_& module) {
+  py::class_<SurfaceFitter>(module, "SurfaceFitter",
+      "The iterative surface fitting: subdivide, limit samples, projection onto the target,\n"
+      "least-squares approximation, level after level. Every step can be called on its own.")
+      .def(py::init([](std::shared_ptr<target::Target> target, const ControlMesh& mesh, const py::object& features,
+                       const py::kwargs& kwargs) {
+             FitOptions options;
+             applyOptions(options, kwargs);
+             return SurfaceFitter(std::move(target), mesh, featureMapOf(features), std::move(options));
+           }),
+           py::arg("target"), py::arg("mesh"), py::arg("features") = py::none(),
+           "target: bvmesh.Target; mesh: the initial bvmesh.ControlMesh; features: dict with\n"
+           "curves (lists of target edge ids), edge_curve (#E curve index or -1) and\n"
+           "vertex_cad_vertex (#V target vertex or -1), or None. Keyword options: tolerance,\n"
+           "relative_tolerance (of the target's diagonal, default 1e-5), max_level (5),\n"
+           "max_corrections (4), stagnation_ratio (0.9), solver ('cgls' (default) or 'cholesky'),\n"
+           "cgls_tolerance, cgls_max_iterations, weights\n"
+           "(dict smooth/crease/boundary/corner), fixed_vertices, symmetry_plane ((point, normal)),\n"
+           "relative_plane_tolerance, project_along_normals, check_samples_per_face (4), subdivision.")
+      .def_property_readonly("mesh", &SurfaceFitter::mesh, "the current control mesh (a copy)")
+      .def_property_readonly("features", [](const SurfaceFitter& f) { return featureMapToDict(f.features()); })
+      .def_property_readonly("options", [](const SurfaceFitter& f) { return optionsToDict(f.options()); })
+      .def("set_options", [](SurfaceFitter& f, const py::kwargs& kwargs) {
+             FitOptions options = f.options();
+             applyOptions(options, kwargs);
+             f.setOptions(std::move(options));
+           }, "Changes the named options, e.g. set_options(tolerance=1e-3, max_level=6)")
+      .def_property_readonly("level", &SurfaceFitter::level)
+      .def_property_readonly("absolute_tolerance", &SurfaceFitter::absoluteTolerance)
+      .def("set_vertices", [](SurfaceFitter& f, const py::object& vertices) {
+             f.setVertices(rowsOf(vertices, "vertices", 3));
+           }, py::arg("vertices"), "Moves the control points (#V, 3); the topology stays")
+      .def("subdivide", [](SurfaceFitter& f) { released([&] { f.subdivide(); return 0; }); },
+           "Step 1: one Catmull-Clark level; crease and boundary features follow")
+      .def("compute_limit_samples", [](SurfaceFitter& f) {
+             return released([&] { return f.limitPositions(); });
+           }, "Step 2: (#S, 3) limit samples (vertices, edge midpoints, face centres of the mesh)")
+      .def("project", [](SurfaceFitter& f) {
+             return projectionToDict(released([&] { return f.project(); }));
+           }, "Step 3: projections of the limit samples onto the target, by sample kind")
+      .def("approximate", [](SurfaceFitter& f) { released([&] { f.approximate(); return 0; }); },
+           "Step 4: least-squares control points for the last projections")
+      .def("correct_parameters", [](SurfaceFitter& f, int passes) {
+             released([&] { f.correctParameters(passes); return 0; });
+           }, py::arg("passes") = 1, "Steps 2-4 again at the same level")
+      .def("smooth", [](SurfaceFitter& f, int iterations, double lambda, double mu) {
+             fit::TaubinOptions options;
+             options.iterations = iterations;
+             options.lambda = lambda;
+             options.mu = mu;
+             released([&] { f.smooth(options); return 0; });
+           }, py::arg("iterations") = 10, py::arg("lambda_") = 0.6307, py::arg("mu") = -0.6732,
+           "Taubin lambda|mu smoothing, crease-, corner-, boundary- and plane-aware")
+      .def("record", [](SurfaceFitter& f, bool check) {
+             return recordToDict(released([&] { return f.record(check); }));
+           }, py::arg("check") = false,
+           "Measures the current state (and, with check, the two-sided distance) into the history")
+      .def("two_sided_distance", [](const SurfaceFitter& f, int samplesPerFace) {
+             const fit::TwoSidedDistance d = released([&] { return f.twoSidedDistance(samplesPerFace); });
+             return py::dict(py::arg("limit_to_target") = d.limitToTarget, py::arg("target_to_limit") = d.targetToLimit);
+           }, py::arg("samples_per_face") = 4)
+      .def_property_readonly("history", [](const SurfaceFitter& f) { return historyToList(f.history()); })
+      .def("run", [](SurfaceFitter& f, const py::object& progress, const py::object& cancel, const py::kwargs& kwargs) {
+             if (kwargs.size() > 0) {
+               FitOptions options = f.options();
+               applyOptions(options, kwargs);
+               f.setOptions(std::move(options));
+             }
+             std::atomic<bool> stop(cancelRequested(cancel));
+             const fit::ProgressCallback report = [&](const fit::PassRecord& record) {
+               py::gil_scoped_acquire acquire;
+               if (!progress.is_none()) progress(recordToDict(record));
+               if (cancelRequested(cancel)) stop = true;
+             };
+             const fit::FitSummary summary = released([&] { return f.run(report, &stop); });
+             py::dict result;
+             result["reason"] = reasonName(summary.reason);
+             result["tolerance"] = summary.tolerance;
+             result["history"] = historyToList(summary.history);
+             return result;
+           }, py::arg("progress") = py::none(), py::arg("cancel") = py::none(),
+           "Fits to the tolerance: progress(record) is called after every pass; cancel (a callable\n"
+           "returning True, or a threading.Event) stops after the current step. Keyword options\n"
+           "override the fitter's (as set_options). Returns {reason: 'converged' | 'stagnated' |\n"
+           "'max_level' | 'cancelled', tolerance, history: [records]}.");
+}
+
+}  // namespace bvmesh::python

@@ -1,0 +1,78 @@
+"""bvmesh.SurfaceFitter from Python: steps, run with progress and cancel, options, errors."""
+
+import threading
+import unittest
+
+import numpy as np
+
+import FreeCAD  # noqa: F401  -- Part needs it loaded first
+import Part
+
+import bvmesh
+
+A = 1.0 / np.sqrt(3.0)
+CUBE_VERTICES = A * np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
+                              [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], dtype=float)
+CUBE_FACES = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]
+
+
+def sphere_target():
+    return bvmesh.Target.from_brep(Part.makeSphere(1.0).exportBrepToString())
+
+
+class FitterSteps(unittest.TestCase):
+    def setUp(self):
+        self.fitter = bvmesh.SurfaceFitter(sphere_target(), bvmesh.ControlMesh(CUBE_VERTICES, CUBE_FACES),
+                                           max_level=3, check_samples_per_face=2)
+
+    def test_steps_one_by_one(self):
+        self.fitter.subdivide()
+        self.assertEqual(self.fitter.level, 1)
+        samples = self.fitter.compute_limit_samples()
+        mesh = self.fitter.mesh
+        self.assertEqual(samples.shape, (mesh.num_vertices + mesh.num_edges + mesh.num_faces, 3))
+        projected = self.fitter.project()
+        np.testing.assert_allclose(np.linalg.norm(projected["points"], axis=1), 1.0, atol=1e-9)
+        before = self.fitter.record()["max_distance"]
+        self.fitter.approximate()
+        self.fitter.correct_parameters(2)
+        after = self.fitter.record(check=True)
+        self.assertLess(after["max_distance"], 0.5 * before)
+        self.assertIsNotNone(after["limit_to_target"])
+        self.assertEqual([r["correction"] for r in self.fitter.history], [0, 3])
+
+    def test_run_reports_progress_and_converges(self):
+        records = []
+        summary = self.fitter.run(progress=records.append, tolerance=1e-3, max_level=4)
+        self.assertEqual(summary["reason"], "converged")
+        self.assertEqual(len(records), len(summary["history"]) + 1)  # the final two-sided check reports again
+        self.assertLessEqual(summary["history"][-1]["max_distance"], 1e-3)
+        self.assertEqual(self.fitter.options["tolerance"], 1e-3)
+
+    def test_cancel_with_an_event(self):
+        stop = threading.Event()
+        summary = self.fitter.run(progress=lambda record: stop.set(), cancel=stop)
+        self.assertEqual(summary["reason"], "cancelled")
+        self.assertEqual(len(summary["history"]), 1)
+        self.assertEqual(self.fitter.level, 0)
+        # The fitter can go on after a cancel.
+        self.assertEqual(self.fitter.run(tolerance=1e-2)["reason"], "converged")
+
+    def test_bad_arguments_name_the_problem(self):
+        with self.assertRaisesRegex(ValueError, "unknown fitting option 'tolerence'"):
+            self.fitter.set_options(tolerence=1e-3)
+        with self.assertRaisesRegex(ValueError, "solver must be"):
+            self.fitter.set_options(solver="lu")
+        with self.assertRaisesRegex(ValueError, r"vertices must have shape \(n, 3\)"):
+            self.fitter.set_vertices(np.zeros((8, 2)))
+        with self.assertRaisesRegex(ValueError, "unknown feature-map key"):
+            bvmesh.SurfaceFitter(sphere_target(), bvmesh.ControlMesh(CUBE_VERTICES, CUBE_FACES), {"curve": []})
+        with self.assertRaisesRegex(ValueError, "tolerance must be positive"):
+            bvmesh.SurfaceFitter(sphere_target(), bvmesh.ControlMesh(CUBE_VERTICES, CUBE_FACES), tolerance=-1.0)
+        far = bvmesh.ControlMesh(CUBE_VERTICES + 100.0, CUBE_FACES)
+        with self.assertRaisesRegex(bvmesh.InvalidInputError, "far from the target"):
+            bvmesh.SurfaceFitter(sphere_target(), far).run()
+
+
+if __name__ == "__main__":
+    unittest.main()
