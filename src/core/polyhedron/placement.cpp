@@ -61,17 +61,38 @@ struct Draft {
 };
 
 // Outermost intersections of the rays origin + s d (s > 0) with the target; the closest point
-// where a ray misses. origins, directions: #P x 3.
+// where a ray misses. origins, directions: #P x 3. A hit behind the origin (a line through a
+// singular point such as a sphere's pole may report the far side) is cast again slightly tilted.
 target::Points outerHits(const target::Target& target, const target::Points& origins,
                          const target::Points& directions) {
   const double reach = 2.0 * target.report().diagonal;
-  target::Points far = origins;
   target::Points unit = directions;
-  for (Eigen::Index i = 0; i < origins.rows(); ++i) {
-    unit.row(i).normalize();
-    far.row(i) += reach * unit.row(i);
+  for (Eigen::Index i = 0; i < unit.rows(); ++i) unit.row(i).normalize();
+  target::Points hits(origins.rows(), 3);
+  std::vector<Eigen::Index> pending(static_cast<size_t>(origins.rows()));
+  for (Eigen::Index i = 0; i < origins.rows(); ++i) pending[static_cast<size_t>(i)] = i;
+  for (int attempt = 0; attempt < 4 && !pending.empty(); ++attempt) {
+    target::Points far(static_cast<Eigen::Index>(pending.size()), 3), along(far.rows(), 3);
+    for (size_t k = 0; k < pending.size(); ++k) {
+      Vec d = unit.row(pending[k]).transpose();
+      if (attempt > 0) {  // tilt by 0.01 rad per attempt about a different axis across d
+        const Vec across = d.unitOrthogonal();
+        d = (d + 0.01 * attempt * (Eigen::AngleAxisd(attempt * 2.1, d) * across)).normalized();
+      }
+      along.row(static_cast<Eigen::Index>(k)) = d.transpose();
+      far.row(static_cast<Eigen::Index>(k)) = origins.row(pending[k]) + reach * d.transpose();
+    }
+    const target::Points feet = target.projectAlong(far, along).points;
+    std::vector<Eigen::Index> again;
+    for (size_t k = 0; k < pending.size(); ++k) {
+      const Eigen::Index i = pending[k];
+      hits.row(i) = feet.row(static_cast<Eigen::Index>(k));
+      if ((hits.row(i) - origins.row(i)).dot(along.row(static_cast<Eigen::Index>(k))) <= 0.0)
+        again.push_back(i);
+    }
+    pending = std::move(again);
   }
-  return target.projectAlong(far, unit).points;
+  return hits;
 }
 
 // Collects rays and resolves them in one batch.
