@@ -11,5 +11,6 @@ void bindMesh(pybind11::module_& module);
 void bindTarget(pybind11::module_& module);
 void bindFit(pybind11::module_& module);
 void bindSurface(pybind11::module_& module);
+void bindPolyhedron(pybind11::module_& module);
 
 }  // namespace bvmesh::python

@@ -8,4 +8,5 @@ PYBIND11_MODULE(_core, module) {
   bvmesh::python::bindTarget(module);
   bvmesh::python::bindFit(module);
   bvmesh::python::bindSurface(module);
+  bvmesh::python::bindPolyhedron(module);
 }

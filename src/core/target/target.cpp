@@ -439,6 +439,30 @@ Eigen::Vector3d Target::vertexPosition(int vertex) const {
   return data_->vertices[static_cast<std::size_t>(vertex)];
 }
 
+std::array<int, 2> Target::edgeVertices(int edge) const {
+  if (edge < 0 || edge >= edgeCount())
+    throw InvalidInputError("Target: edge " + std::to_string(edge) + " does not exist (" + std::to_string(edgeCount()) +
+                            " edges)");
+  const EdgeData& e = data_->edges[static_cast<std::size_t>(edge)];
+  return {e.vertex0, e.vertex1};
+}
+
+Points Target::edgePolyline(int edge) const {
+  const std::array<int, 2> ends = edgeVertices(edge);
+  const EdgeData& e = data_->edges[static_cast<std::size_t>(edge)];
+  Points points(static_cast<Eigen::Index>(e.polyline.size()), 3);
+  for (std::size_t k = 0; k < e.polyline.size(); ++k) points.row(static_cast<Eigen::Index>(k)) = e.polyline[k].transpose();
+  // The polyline follows the curve's parameter; a reversed edge starts at its second vertex.
+  if (points.rows() > 1 && ends[0] >= 0 && ends[1] >= 0 && ends[0] != ends[1]) {
+    const Eigen::Vector3d start = points.row(0).transpose();
+    if ((start - data_->vertices[static_cast<std::size_t>(ends[1])]).norm() <
+        (start - data_->vertices[static_cast<std::size_t>(ends[0])]).norm()) {
+      points = points.colwise().reverse().eval();
+    }
+  }
+  return points;
+}
+
 const Points& Target::meshNodes() const { return data_->nodes; }
 const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& Target::meshTriangles() const { return data_->triangles; }
 const Eigen::VectorXi& Target::meshTriangleFaces() const { return data_->triangleFaces; }

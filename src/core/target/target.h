@@ -14,6 +14,7 @@
 #include "core/cad/shape_summary.h"
 #include "core/common/types.h"
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -110,6 +111,12 @@ public:
   std::vector<int> sharpEdges(double angleDeg) const;
   std::vector<int> freeEdges() const;
   Eigen::Vector3d vertexPosition(int vertex) const;
+  // The two end vertices of an edge (-1 where OCCT gives none); the edge runs from the first to
+  // the second (closed edges name the same vertex twice).
+  std::array<int, 2> edgeVertices(int edge) const;
+  // #K x 3 points along an edge from its first to its second vertex, within the tessellation
+  // deflection of the curve; empty for degenerate edges.
+  Points edgePolyline(int edge) const;
 
   // Closest points on the trimmed surface. points: #P x 3. hints (optional): previous
   // locations for a warm start; results equal those without hints.

@@ -1,0 +1,245 @@
+// The template format, the library in resources/templates, and placement of each generator on a
+// primitive whose geometry is known exactly (box, sphere, cylinder, torus, a full wing made by
+// mirroring the M6 half wing).
+#include <gtest/gtest.h>
+
+#include <BRepAlgoAPI_Fuse.hxx>
+#include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepBuilderAPI_Transform.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRepPrimAPI_MakeSphere.hxx>
+#include <BRepPrimAPI_MakeTorus.hxx>
+#include <BRep_Builder.hxx>
+#include <TopoDS_Compound.hxx>
+#include <gp_Ax2.hxx>
+#include <gp_Trsf.hxx>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <set>
+#include <sstream>
+#include <string>
+
+#include "core/cad/shape_io.h"
+#include "core/common/errors.h"
+#include "core/polyhedron/placement.h"
+#include "core/polyhedron/target_analysis.h"
+#include "core/subdiv/limit_samples.h"
+
+namespace bvmesh::polyhedron {
+namespace {
+
+const std::string kTemplates = std::string(BVMESH_TEST_DATA_DIR) + "/../../resources/templates";
+
+PolyhedronTemplate libraryTemplate(const std::string& name) {
+  return readTemplate(kTemplates + "/" + name + ".template");
+}
+
+std::string parseError(const std::string& text) {
+  std::istringstream in(text);
+  try {
+    parseTemplate(in, "t.template");
+  } catch (const InvalidInputError& error) {
+    return error.what();
+  }
+  return "";
+}
+
+TEST(TemplateFormat, ErrorsNameFileLineAndProblem) {
+  EXPECT_NE(parseError("hello\n").find("t.template line 1: not a BVMesh template"), std::string::npos);
+  const std::string header = "bvmesh-template 1\nname x\ngenerator box\n";
+  EXPECT_NE(parseError(header + "colour red\n").find("line 4: unknown keyword 'colour'"), std::string::npos);
+  EXPECT_NE(parseError(header + "integer n 0 1 4\n").find("default of 'n': 0 is outside 1..4"),
+            std::string::npos);
+  EXPECT_NE(parseError(header + "choice tip square round flat\n").find("'square' is not one of round, flat"),
+            std::string::npos);
+  EXPECT_NE(parseError(header + "integer n 2 1 4\ninteger n 2 1 4\n").find("'n' appears twice"),
+            std::string::npos);
+  EXPECT_NE(parseError("bvmesh-template 1\nname x\n").find("no 'generator'"), std::string::npos);
+  EXPECT_NE(parseError("bvmesh-template 1\nname x\ngenerator blob\n").find("unknown generator 'blob'"),
+            std::string::npos);
+
+  std::istringstream in(header +
+                        "description A box.\ninteger n 2 1 4   # segments\nchoice tip round round flat\n");
+  const PolyhedronTemplate t = parseTemplate(in, "t.template");
+  EXPECT_EQ(t.parameters.size(), 2u);
+  EXPECT_EQ(t.parameters[0].description, "segments");
+  EXPECT_EQ(TemplateValues(t, {{"n", "3"}}).integer("n"), 3);
+  EXPECT_EQ(TemplateValues(t, {}).choice("tip"), "round");
+  EXPECT_THROW(TemplateValues(t, {{"m", "3"}}), InvalidInputError);
+  EXPECT_THROW(TemplateValues(t, {{"n", "9"}}), InvalidInputError);
+  EXPECT_THROW(TemplateValues(t, {{"tip", "pointed"}}), InvalidInputError);
+}
+
+TEST(TemplateLibrary, HoldsTheDocumentedTemplates) {
+  std::set<std::string> names;
+  for (const PolyhedronTemplate& t : readTemplateLibrary(kTemplates)) {
+    names.insert(t.name);
+    EXPECT_FALSE(t.description.empty()) << t.name;
+  }
+  for (const char* name :
+       {"box", "sphere", "cylinder", "capsule", "fuselage", "half_wing", "wing", "nacelle"}) {
+    EXPECT_TRUE(names.count(name)) << name;
+  }
+  EXPECT_THROW(readTemplateLibrary(kTemplates + "/missing"), InvalidInputError);
+}
+
+// Limit positions of the mesh's vertices.
+RowMatrixX3d vertexLimits(const ControlMesh& mesh) {
+  return LimitSamples(mesh).positions(mesh.vertices()).topRows(mesh.numVertices());
+}
+
+TEST(TemplatePlacement, BoxOnABox) {
+  const target::Target box(BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), gp_Pnt(4, 2, 1)).Shape());
+  const PlacedPolyhedron placed =
+      placeTemplate(libraryTemplate("box"), box, {{{"segments_1", "3"}}, {}, {}, true, {}});
+  EXPECT_TRUE(placed.mapping.complete()) << placed.mapping.describeUnmapped();
+  EXPECT_EQ(placed.mesh.numFaces(), 2 * (3 * 2 + 3 * 2 + 2 * 2));
+  EXPECT_EQ(placed.mapping.map.curves.size(), 12u);
+  // Every vertex on the box surface, corners on the box corners.
+  for (Eigen::Index v = 0; v < placed.mesh.vertices().rows(); ++v) {
+    const Eigen::Vector3d p = placed.mesh.vertices().row(v).transpose();
+    const double inside = std::min({p.x(), 4 - p.x(), p.y(), 2 - p.y(), p.z(), 1 - p.z()});
+    EXPECT_NEAR(inside, 0.0, 1e-6);
+  }
+  for (int corner : placed.mesh.corners())
+    EXPECT_GE(placed.mapping.map.vertexCadVertex[static_cast<size_t>(corner)], 0);
+}
+
+TEST(TemplatePlacement, SphereLimitPointsOnTheSphere) {
+  const target::Target sphere(BRepPrimAPI_MakeSphere(gp_Pnt(1, 2, 3), 2.0).Shape());
+  const PlacedPolyhedron placed =
+      placeTemplate(libraryTemplate("sphere"), sphere, {{{"segments", "2"}}, {}, {}, true, {}});
+  const PlacedPolyhedron raw =
+      placeTemplate(libraryTemplate("sphere"), sphere, {{{"segments", "2"}}, {}, {}, false, {}});
+  EXPECT_EQ(placed.mesh.numFaces(), 24);
+  // Cast onto the sphere, the limit points lie inside; after push-out the vertices stand
+  // outside and their limit points are close to the sphere.
+  const auto worstLimitError = [](const ControlMesh& mesh) {
+    const RowMatrixX3d limits = vertexLimits(mesh);
+    double worst = 0.0;
+    for (Eigen::Index v = 0; v < limits.rows(); ++v) {
+      worst = std::max(worst, std::abs((limits.row(v) - Eigen::RowVector3d(1, 2, 3)).norm() - 2.0));
+    }
+    return worst;
+  };
+  for (Eigen::Index v = 0; v < placed.mesh.vertices().rows(); ++v) {
+    EXPECT_NEAR((raw.mesh.vertices().row(v) - Eigen::RowVector3d(1, 2, 3)).norm(), 2.0, 1e-6);
+    EXPECT_GT((placed.mesh.vertices().row(v) - Eigen::RowVector3d(1, 2, 3)).norm(), 2.0);
+  }
+  const double before = worstLimitError(raw.mesh), after = worstLimitError(placed.mesh);
+  std::printf("sphere: vertex limit points off the sphere by %.4f before, %.4f after push-out\n", before,
+              after);
+  EXPECT_LT(after, 0.03);
+  EXPECT_LT(after, before / 4.0);
+}
+
+TEST(TemplatePlacement, CylinderRimsCreasedAndMapped) {
+  const target::Target cylinder(
+      BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0)), 1.0, 6.0).Shape());
+  const PlacedPolyhedron placed = placeTemplate(libraryTemplate("cylinder"), cylinder);
+  EXPECT_TRUE(placed.mapping.complete()) << placed.mapping.describeUnmapped();
+  EXPECT_EQ(placed.parameters.at("half"), "no");
+  EXPECT_FALSE(placed.symmetryPlane.has_value());
+  EXPECT_EQ(placed.mapping.chains.size(), 2u);  // the two rims
+  for (const ChainMapping& m : placed.mapping.chainMappings)
+    EXPECT_TRUE(placed.curves[static_cast<size_t>(m.curve)].closed);
+  // Rim vertices on the circles x = 0 and x = 6 of radius 1.
+  for (const MeshFeatureChain& chain : placed.mapping.chains) {
+    for (int v : chain.vertices) {
+      const Eigen::Vector3d p = placed.mesh.vertices().row(v).transpose();
+      EXPECT_NEAR(std::min(std::abs(p.x()), std::abs(p.x() - 6.0)), 0.0, 1e-6);
+    }
+  }
+}
+
+TEST(TemplatePlacement, FullCapsuleWithRoundEnds) {
+  // A closed capsule along x: cylinder of radius 1 from x = 0 to 4 with hemispherical ends.
+  const gp_Ax2 axis(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0));
+  TopoDS_Shape capsule = BRepAlgoAPI_Fuse(BRepPrimAPI_MakeCylinder(axis, 1.0, 4.0).Shape(),
+                                          BRepPrimAPI_MakeSphere(gp_Pnt(0, 0, 0), 1.0).Shape())
+                             .Shape();
+  capsule = BRepAlgoAPI_Fuse(capsule, BRepPrimAPI_MakeSphere(gp_Pnt(4, 0, 0), 1.0).Shape()).Shape();
+  const target::Target target(capsule);
+  PlacementOptions options;
+  options.improve = false;
+  const PlacedPolyhedron placed = placeTemplate(libraryTemplate("capsule"), target, options);
+  EXPECT_EQ(placed.parameters.at("half"), "no");
+  EXPECT_EQ(placed.parameters.at("nose"), "round");
+  EXPECT_EQ(placed.parameters.at("tail"), "round");
+  EXPECT_EQ(placed.mesh.boundaryEdges().size(), 0u);
+  EXPECT_TRUE(placed.mapping.chains.empty());
+  // Every vertex cast onto the capsule: distance 1 from its axis segment.
+  for (Eigen::Index v = 0; v < placed.mesh.vertices().rows(); ++v) {
+    const Eigen::Vector3d p = placed.mesh.vertices().row(v).transpose();
+    const Eigen::Vector3d onAxis(std::clamp(p.x(), 0.0, 4.0), 0.0, 0.0);
+    EXPECT_NEAR((p - onAxis).norm(), 1.0, 1e-3);
+  }
+  EXPECT_NEAR(placed.mesh.vertices().col(0).minCoeff(), -1.0, 1e-3);
+  EXPECT_NEAR(placed.mesh.vertices().col(0).maxCoeff(), 5.0, 1e-3);
+}
+
+TEST(TemplatePlacement, NacelleAroundATorus) {
+  const target::Target torus(
+      BRepPrimAPI_MakeTorus(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), 3.0, 1.0).Shape());
+  PlacementOptions options;
+  options.improve = false;  // the raw placement: vertices cast onto the torus
+  const PlacedPolyhedron placed = placeTemplate(libraryTemplate("nacelle"), torus, options);
+  EXPECT_EQ(placed.mesh.numFaces(), 64);
+  EXPECT_EQ(placed.mesh.boundaryEdges().size(), 0u);
+  for (Eigen::Index v = 0; v < placed.mesh.vertices().rows(); ++v) {
+    const Eigen::Vector3d p = placed.mesh.vertices().row(v).transpose();
+    const double tube = std::hypot(std::hypot(p.x(), p.y()) - 3.0, p.z());
+    EXPECT_NEAR(tube, 1.0, 0.02);
+  }
+}
+
+TEST(TemplatePlacement, FullWingOnTheMirroredM6) {
+  // The M6 half wing and its mirror image in y = 0, sewn at the root: a full wing whose trailing
+  // edge has a kink at the root.
+  const HalfModelShape half =
+      removeSymmetryFace(cad::readShapeFile(std::string(BVMESH_TEST_DATA_DIR) + "/AileM6_with_sharp_TE.stp"));
+  gp_Trsf mirror;
+  mirror.SetMirror(gp_Ax2(gp_Pnt(0, 0, 0), gp_Dir(0, 1, 0)));
+  BRepBuilderAPI_Sewing sewing(1e-3);
+  sewing.Add(half.shape);
+  sewing.Add(BRepBuilderAPI_Transform(half.shape, mirror, true).Shape());
+  sewing.Perform();
+  const target::Target wing(sewing.SewedShape());
+  const PlacedPolyhedron placed = placeTemplate(libraryTemplate("wing"), wing);
+  EXPECT_TRUE(placed.mapping.complete()) << placed.mapping.describeUnmapped();
+  EXPECT_FALSE(placed.symmetryPlane.has_value());
+  EXPECT_EQ(placed.mesh.boundaryEdges().size(), 0u);
+  // One crease chain from tip to tip, following both halves of the trailing edge.
+  ASSERT_EQ(placed.mapping.chains.size(), 1u);
+  EXPECT_EQ(placed.mapping.chainMappings[0].curves.size(), 2u);
+  EXPECT_EQ(placed.mesh.corners().size(), 2u);  // the tip trailing edges
+  for (int corner : placed.mesh.corners()) {
+    EXPECT_NEAR(std::abs(placed.mesh.vertices()(corner, 1)), 1196.3, 0.01);
+  }
+}
+
+TEST(TemplatePlacement, BadTargetsAreExplained) {
+  const target::Target sphere(BRepPrimAPI_MakeSphere(1.0).Shape());
+  try {
+    placeTemplate(libraryTemplate("half_wing"), sphere);
+    FAIL() << "a half wing placed on a sphere";
+  } catch (const InvalidInputError& error) {
+    EXPECT_NE(std::string(error.what()).find("symmetry plane"), std::string::npos) << error.what();
+  }
+  const target::Target cylinder(BRepPrimAPI_MakeCylinder(1.0, 6.0).Shape());
+  try {
+    placeTemplate(libraryTemplate("wing"), cylinder);
+    FAIL() << "a wing placed on a cylinder";
+  } catch (const InvalidInputError& error) {
+    EXPECT_NE(std::string(error.what()).find("sharp trailing edge"), std::string::npos) << error.what();
+  }
+  EXPECT_THROW(
+      placeTemplate(libraryTemplate("capsule"), sphere, {{{"circumferential", "10"}}, {}, {}, true, {}}),
+      InvalidInputError);
+}
+
+}  // namespace
+}  // namespace bvmesh::polyhedron

@@ -1,0 +1,141 @@
+"""Initial polyhedra through the headless API (bvmesh.polyhedra): the template library, placement
+on the test geometries with their feature maps, crease mapping, improvement, clear errors, and
+offscreen pictures of the placed templates (test-output/polyhedron_*.png)."""
+
+import os
+import tempfile
+import unittest
+
+import numpy as np
+
+import bvmesh
+from bvmesh import polyhedra
+
+DATA = os.environ.get("BVMESH_TEST_DATA_DIR") or os.path.join(os.path.dirname(__file__), "..", "data")
+
+
+def output_dir():
+    path = os.environ.get("BVMESH_TEST_OUTPUT_DIR") or tempfile.mkdtemp()
+    os.makedirs(path, exist_ok=True)
+    return path
+
+
+def brep(name):
+    return bvmesh.load_core().read_cad_file_as_brep(os.path.join(DATA, name))
+
+
+CUBE = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
+                 [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], dtype=float)
+CUBE_FACES = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]
+
+
+class TemplateLibraryTest(unittest.TestCase):
+    def test_library_lists_templates_with_parameters(self):
+        templates = {t["name"]: t for t in polyhedra.list_templates()}
+        for name in ("box", "sphere", "cylinder", "capsule", "fuselage", "half_wing", "wing", "nacelle"):
+            self.assertIn(name, templates)
+        wing = templates["half_wing"]
+        self.assertEqual(wing["generator"], "wing")
+        chordwise = [p for p in wing["parameters"] if p["name"] == "chordwise"][0]
+        self.assertEqual(chordwise["kind"], "integer")
+        self.assertTrue(chordwise["description"])
+
+    def test_unknown_template_and_bad_parameter_are_value_errors(self):
+        target = bvmesh.Target.from_brep(brep("hemisph-cyl.stp"))
+        with self.assertRaisesRegex(ValueError, "no template named 'teapot'.*capsule"):
+            polyhedra.place_template("teapot", target)
+        with self.assertRaisesRegex(ValueError, "parameter 'circumferential'"):
+            polyhedra.place_template("capsule", target, {"circumferential": 10})
+        with self.assertRaisesRegex(ValueError, "no parameter 'span_count'"):
+            polyhedra.place_template("capsule", target, {"span_count": 3})
+
+
+class PlacementTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.wing, cls.root_face, cls.root_plane = polyhedra.half_model_target(brep("AileM6_with_sharp_TE.stp"))
+        cls.body = polyhedra.faces_target(brep("hemisph-cyl.stp"), [3, 4])
+
+    def test_half_wing_on_the_m6(self):
+        self.assertEqual(self.root_face, 8)
+        placed = polyhedra.place_template("half_wing", self.wing, {"chordwise": 6, "spanwise": 4})
+        mesh = placed["mesh"]
+        self.assertTrue(placed["complete"])
+        feature_map = placed["feature_map"]
+        self.assertEqual(len(feature_map["edge_curve"]), mesh.num_edges)
+        self.assertEqual(len(feature_map["vertex_cad_vertex"]), mesh.num_vertices)
+        plane = placed["symmetry_plane"]
+        self.assertAlmostEqual(abs(plane["normal"][1]), 1.0, places=9)
+        crease = [c for c in placed["chains"] if c["kind"] == "crease"]
+        self.assertEqual(len(crease), 1)
+        # The trailing edge: the longest sharp curve of the wing, 1242.6 mm.
+        curve = placed["curves"][crease[0]["curve"]]
+        self.assertEqual(curve["kind"], "sharp")
+        self.assertAlmostEqual(curve["length"], 1242.611, delta=0.01)
+        # Planform against the CAD vertices: root trailing edge (810.49, 0, 0), root leading edge
+        # (0, 0, 0), tip trailing edge (1146.57, 1196.3, 0), tip leading edge (690.66, 1196.3, 0).
+        planform = placed["planform"]
+        self.assertAlmostEqual(planform["span"], 1196.3, delta=0.1)
+        self.assertAlmostEqual(planform["root_chord"], 810.49, delta=0.5)
+        self.assertAlmostEqual(planform["tip_chord"], 1146.57 - 690.66, delta=0.5)
+        self.assertAlmostEqual(planform["leading_edge_sweep_deg"], np.degrees(np.arctan2(690.66, 1196.3)), delta=0.05)
+        self.assertAlmostEqual(planform["trailing_edge_sweep_deg"],
+                               np.degrees(np.arctan2(1146.57 - 810.49, 1196.3)), delta=0.05)
+        root = [c for c in placed["chains"] if c["kind"] == "boundary"][0]
+        np.testing.assert_allclose(np.asarray(mesh.vertices)[root["vertices"], 1], 0.0, atol=1e-9)
+        polyhedra.plot_polyhedron(mesh, os.path.join(output_dir(), "polyhedron_m6_half_wing.png"), self.wing,
+                                  "half_wing on the ONERA M6 (crease red, corners black)")
+
+    def test_capsule_on_the_hemisphere_cylinder(self):
+        placed = polyhedra.place_template("capsule", self.body)
+        self.assertTrue(placed["complete"], placed["report"])
+        self.assertEqual(placed["parameters"]["half"], "yes")
+        self.assertEqual(placed["parameters"]["tail"], "open")
+        self.assertEqual(len(placed["chains"]), 2)
+        corners = [c["cad_vertex"] for c in placed["corners"]]
+        self.assertEqual(len(set(corners)), 2)
+        polyhedra.plot_polyhedron(placed["mesh"], os.path.join(output_dir(), "polyhedron_capsule.png"), self.body,
+                                  "capsule on the hemisphere-cylinder body (half, open tail)",
+                                  views=((25, -60), (0, 0), (90, -90)))
+
+    def test_feature_curves_and_mapping_of_a_given_polyhedron(self):
+        curves = polyhedra.detect_feature_curves(self.wing)
+        kinds = [c["kind"] for c in curves]
+        self.assertEqual(kinds.count("boundary"), 1)
+        placed = polyhedra.place_template("half_wing", self.wing, improve=False)
+        mapping = polyhedra.map_creases(placed["mesh"], self.wing, strict=True)
+        self.assertEqual(mapping["feature_map"]["curves"], placed["feature_map"]["curves"])
+        improved = polyhedra.improve_polyhedron(placed["mesh"], self.wing, mapping["feature_map"],
+                                                relaxation_passes=0, push_out_passes=1,
+                                                symmetry_plane=placed["symmetry_plane"])
+        self.assertIsInstance(improved, bvmesh.ControlMesh)
+        self.assertEqual(improved.num_vertices, placed["mesh"].num_vertices)
+        moved = np.abs(np.asarray(improved.vertices) - np.asarray(placed["mesh"].vertices)).max()
+        self.assertGreater(moved, 0.0)
+
+
+class BadInputTest(unittest.TestCase):
+    def test_empty_target(self):
+        with self.assertRaisesRegex(ValueError, "no faces"):
+            polyhedra.faces_target(brep("hemisph-cyl.stp"), [])
+
+    def test_non_manifold_mesh(self):
+        vertices = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1], [0, -1, 0]], dtype=float)
+        with self.assertRaisesRegex(bvmesh.TopologyError, "edge"):
+            bvmesh.ControlMesh(vertices, [[0, 1, 2], [1, 0, 3], [0, 1, 4]])
+
+    def test_crease_that_maps_to_nothing(self):
+        sphere_like = polyhedra.faces_target(brep("hemisph-cyl.stp"), [0])  # the far-field quarter sphere
+        creased = bvmesh.ControlMesh(CUBE * 40.0, CUBE_FACES, creases=[[4, 5]])
+        mapping = polyhedra.map_creases(creased, sphere_like)
+        self.assertFalse(mapping["complete"])
+        with self.assertRaises(polyhedra.UnmappedFeatureError) as caught:
+            polyhedra.map_creases(creased, sphere_like, strict=True)
+        self.assertIsInstance(caught.exception, ValueError)
+        self.assertIn("crease chain 0 (vertices 4 5", str(caught.exception))
+        self.assertIn("maps to no CAD sharp curve", str(caught.exception))
+        self.assertEqual(caught.exception.mapping["unmapped_chains"], [0])
+
+
+if __name__ == "__main__":
+    unittest.main()
