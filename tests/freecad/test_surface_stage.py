@@ -17,6 +17,7 @@ from bvmesh import api, extensions, preferences
 from bvmesh.features import polyhedron, surface_fit
 
 DATA = os.environ.get("BVMESH_TEST_DATA_DIR", os.path.join(os.path.dirname(__file__), "..", "data"))
+OUTPUT_DIR = os.environ.get("BVMESH_TEST_OUTPUT_DIR", tempfile.gettempdir())
 A = 1.0 / np.sqrt(3.0)
 CUBE_VERTICES = (A * np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
                                [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]])).tolist()
@@ -243,18 +244,32 @@ class Fitting(DocumentTest):
 
 
 class LaterStages(DocumentTest):
-    def test_missing_stages_say_why_and_add_nothing(self):
-        fit = self.sphere_fit()
-        names = [o.Name for o in self.doc.Objects]
-        available, reason = extensions.shell_available()
-        if not available:
-            with self.assertRaisesRegex(RuntimeError, "limit_surface_to_bsplines"):
-                api.make_bspline_shell(fit)
-        available, reason = extensions.templates_available()
-        if not available:
-            with self.assertRaisesRegex(RuntimeError, "bvmesh.polyhedra"):
-                api.make_polyhedron_from_template(self.doc, fit.Target, "wing")
-        self.assertEqual([o.Name for o in self.doc.Objects], names)
+    def test_bspline_shell_of_a_sphere_fit_is_a_valid_solid_that_exports_to_step(self):
+        fit = self.sphere_fit(max_level=3, tolerance=1e-3)
+        api.fit_to_tolerance(fit)
+        shell = api.make_bspline_shell(fit)
+        self.assertTrue(shell.Shape.isValid())
+        self.assertEqual(len(shell.Shape.Solids), 1)
+        self.assertAlmostEqual(shell.Shape.Volume, 4.0 / 3.0 * np.pi, delta=0.01)
+        path = os.path.join(OUTPUT_DIR, "sphere_fit_shell.step")
+        api.export_step(shell, path)
+        again = Part.read(path)
+        self.assertEqual(len(again.Faces), len(shell.Shape.Faces))
+        self.assertAlmostEqual(again.Volume, shell.Shape.Volume, delta=1e-6)
+
+    def test_half_wing_template_on_the_m6(self):
+        wing = api.import_cad(self.doc, os.path.join(DATA, "AileM6_with_sharp_TE.stp"))
+        target = api.make_target(self.doc, wing, faces=["Face{}".format(i) for i in range(1, 12) if i != 9])
+        poly = api.make_polyhedron_from_template(self.doc, target, "half_wing")
+        self.assertGreater(len(poly.Creases), 0)
+        self.assertTrue(poly.FeatureCurves, "the trailing-edge crease is mapped to a CAD curve")
+        fit = api.make_surface_fit(self.doc, target, poly, symmetry_plane=api.symmetry_plane_guess(target),
+                                   max_level=2, check_samples_per_face=0)
+        api.fit_to_tolerance(fit)
+        self.assertEqual(fit.Level, 2)
+        self.assertLess(fit.HistoryRms[-1], 0.2 * fit.HistoryRms[0])
+        root = [v for v in fit.ControlVertices if abs(v.y) < 1e-6]
+        self.assertGreater(len(root), 4, "the root boundary stays on the symmetry plane y = 0")
 
 
 class Preferences(unittest.TestCase):
