@@ -87,6 +87,17 @@ class PlacementTest(unittest.TestCase):
         polyhedra.plot_polyhedron(mesh, os.path.join(output_dir(), "polyhedron_m6_half_wing.png"), self.wing,
                                   "half_wing on the ONERA M6 (crease red, corners black)")
 
+    def test_placed_half_wing_fits_from_python(self):
+        placed = polyhedra.place("half_wing", self.wing)
+        fitter = bvmesh.SurfaceFitter(self.wing, placed["mesh"], placed["feature_map"],
+                                      symmetry_plane=placed["symmetry_plane"], max_level=2)
+        result = fitter.run()
+        history = result["history"]
+        self.assertLess(history[-1]["max_distance"], 0.5 * history[0]["max_distance"])
+        mesh = fitter.mesh
+        boundary = np.unique(np.asarray(mesh.boundary_edges))
+        np.testing.assert_allclose(np.asarray(mesh.vertices)[boundary, 1], 0.0, atol=1e-9)
+
     def test_capsule_on_the_hemisphere_cylinder(self):
         placed = polyhedra.place("capsule", self.body)
         self.assertTrue(placed["complete"], placed["report"])
