@@ -3,8 +3,9 @@ docs/templates.md), automatic placement of a template on a target, the target's 
 the mapping of a polyhedron's creases, boundaries and corners onto them, and the improvement of a
 polyhedron before fitting. Works in plain /usr/bin/python3 and in FreeCAD; no document objects.
 
-A placed polyhedron is a dict: ``mesh`` (bvmesh.ControlMesh), ``feature_map`` (curves, edge_curve,
-vertex_cad_vertex: what SurfaceFitter takes), ``symmetry_plane`` (dict point/normal or None),
+``place`` returns a dict: ``mesh`` (bvmesh.ControlMesh), ``feature_map`` (curves, edge_curve,
+vertex_cad_vertex: bvmesh.SurfaceFitter's ``features``), ``symmetry_plane`` ((point, normal) or
+None: SurfaceFitter's ``symmetry_plane`` option), ``planform`` (wings),
 ``parameters`` (the values used), ``curves`` (the target's feature curves) and the mapping report
 (``chains``, ``corners``, ``unmapped_chains``, ``unmapped_corners``, ``complete``, ``report``).
 """
@@ -53,7 +54,7 @@ def _check_mapping(mapping, strict, what):
     return mapping
 
 
-def place_template(template, target, parameters=None, improve=True, strict=True, folder=None):
+def place(template, target, parameters=None, improve=True, strict=True, folder=None):
     """Builds `template` (a library name or a .template path) on `target` (bvmesh.Target) and
     returns the placed polyhedron dict (see the module docstring). Parameter values may be given
     as numbers or strings. With strict=True an unmapped crease, boundary or corner raises
@@ -61,6 +62,20 @@ def place_template(template, target, parameters=None, improve=True, strict=True,
     values = {str(k): str(v) for k, v in (parameters or {}).items()}
     placed = load_core().place_template(_template_path(template, folder), target, values, bool(improve))
     return _check_mapping(placed, strict, "template '{}'".format(placed["template"]))
+
+
+def place_template(target, name, **parameters):
+    """(mesh, feature_map) of library template `name` placed on `target`: the workbench's entry
+    (bvmesh.extensions.place_template). Unmapped features raise UnmappedFeatureError; the
+    symmetry plane of a half model is symmetry_plane(target)."""
+    placed = place(name, target, parameters)
+    return placed["mesh"], placed["feature_map"]
+
+
+def symmetry_plane(target):
+    """(point, normal) of the target's symmetry plane (a half model's flat free boundary with the
+    whole target on one side; normal towards the target), or None."""
+    return load_core().symmetry_plane(target)
 
 
 def detect_feature_curves(target, sharp_angle_deg=30.0, continuity_angle_deg=30.0):
@@ -85,7 +100,7 @@ def improve_polyhedron(mesh, target, feature_map=None, relaxation_passes=3, rela
                        push_out_passes=3, symmetry_plane=None):
     """A copy of `mesh` moved onto / around the target: tangential relaxation with projection by
     vertex role (creases onto their curves, corners onto their CAD vertices), limit push-out, and
-    boundary vertices snapped to `symmetry_plane` (dict point/normal)."""
+    boundary vertices snapped to `symmetry_plane` ((point, normal))."""
     return load_core().improve_polyhedron(
         mesh, target, feature_map, int(relaxation_passes), float(relaxation), int(push_out_passes), symmetry_plane
     )
@@ -93,8 +108,8 @@ def improve_polyhedron(mesh, target, feature_map=None, relaxation_passes=3, rela
 
 def half_model_target(shape_or_brep, **target_options):
     """For a half model whose symmetry plane is closed by a planar face (e.g. a wing root face):
-    (Target of the other faces, the removed face's index, the plane dict). Accepts a Part.Shape
-    or BREP text."""
+    (Target of the other faces, the removed face's index, the plane (point, normal)). Accepts a
+    Part.Shape or BREP text."""
     brep = shape_or_brep if isinstance(shape_or_brep, str) else shape_or_brep.exportBrepToString()
     core = load_core()
     rest, face, plane = core.remove_symmetry_face(brep)

@@ -119,20 +119,19 @@ py::dict mappingDict(const FeatureMapping& mapping) {
   return dict;
 }
 
+// Planes cross as (point, normal) tuples, as in bvmesh.SurfaceFitter's symmetry_plane option.
 py::object planeObject(const std::optional<fit::SymmetryPlane>& plane) {
   if (!plane) return py::none();
-  return py::dict(py::arg("point") = Eigen::Vector3d(plane->point),
-                  py::arg("normal") = Eigen::Vector3d(plane->normal));
+  return py::make_tuple(Eigen::Vector3d(plane->point), Eigen::Vector3d(plane->normal));
 }
 
 std::optional<fit::SymmetryPlane> planeFrom(const py::object& object) {
   if (object.is_none()) return std::nullopt;
-  const py::dict dict = object.cast<py::dict>();
-  if (!dict.contains("point") || !dict.contains("normal"))
-    throw py::value_error("symmetry_plane needs 'point' and 'normal'");
+  const py::sequence pair = object.cast<py::sequence>();
+  if (pair.size() != 2) throw py::value_error("symmetry_plane must be (point, normal) or None");
   fit::SymmetryPlane plane;
-  plane.point = dict["point"].cast<Eigen::Vector3d>();
-  plane.normal = dict["normal"].cast<Eigen::Vector3d>();
+  plane.point = pair[0].cast<Eigen::Vector3d>();
+  plane.normal = pair[1].cast<Eigen::Vector3d>();
   if (!(plane.normal.norm() > 0.0)) throw py::value_error("symmetry_plane normal must not be zero");
   return plane;
 }
@@ -234,7 +233,7 @@ void bindPolyhedron(py::module_& module) {
       py::arg("parameters") = std::map<std::string, std::string>(), py::arg("improve") = true,
       "Builds the template (a .template file) on the target. Returns a dict: mesh (ControlMesh), "
       "feature_map, "
-      "symmetry_plane (dict point/normal or None), parameters (values used), planform (wings: span, chords, "
+      "symmetry_plane ((point, normal) or None), parameters (values used), planform (wings: span, chords, "
       "sweeps; else None), curves, and the mapping report "
       "(chains, corners, unmapped_chains, unmapped_corners, complete, report).");
 
@@ -258,7 +257,7 @@ void bindPolyhedron(py::module_& module) {
       py::arg("symmetry_plane") = py::none(),
       "A copy of the mesh improved for fitting: tangential relaxation with projection by vertex role, limit "
       "push-out, "
-      "boundary vertices snapped to the symmetry plane (dict point/normal).");
+      "boundary vertices snapped to the symmetry plane ((point, normal)).");
 
   module.def(
       "remove_symmetry_face",
@@ -269,7 +268,23 @@ void bindPolyhedron(py::module_& module) {
       py::arg("brep"),
       "(brep, face, plane): the shape without its symmetry-plane face (the largest planar face with the "
       "whole shape on "
-      "one side), that face's index and the plane (dict point/normal, normal towards the shape).");
+      "one side), that face's index and the plane ((point, normal), normal towards the shape).");
+
+  module.def(
+      "symmetry_plane",
+      [](const target::Target& target, double sharpAngleDeg, double continuityAngleDeg) {
+        std::optional<fit::SymmetryPlane> plane;
+        {
+          py::gil_scoped_release release;
+          plane = detectSymmetryPlane(
+              target, detectFeatureCurves(target, curveOptions(sharpAngleDeg, continuityAngleDeg)));
+        }
+        return planeObject(plane);
+      },
+      py::arg("target"), py::arg("sharp_angle_deg") = 30.0, py::arg("continuity_angle_deg") = 30.0,
+      "(point, normal) of a half model's symmetry plane (the plane of its longest flat free-boundary curve "
+      "with the "
+      "whole target on one side; normal towards the target), or None.");
 
   module.def(
       "select_faces",

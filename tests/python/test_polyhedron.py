@@ -43,11 +43,11 @@ class TemplateLibraryTest(unittest.TestCase):
     def test_unknown_template_and_bad_parameter_are_value_errors(self):
         target = bvmesh.Target.from_brep(brep("hemisph-cyl.stp"))
         with self.assertRaisesRegex(ValueError, "no template named 'teapot'.*capsule"):
-            polyhedra.place_template("teapot", target)
+            polyhedra.place("teapot", target)
         with self.assertRaisesRegex(ValueError, "parameter 'circumferential'"):
-            polyhedra.place_template("capsule", target, {"circumferential": 10})
+            polyhedra.place("capsule", target, {"circumferential": 10})
         with self.assertRaisesRegex(ValueError, "no parameter 'span_count'"):
-            polyhedra.place_template("capsule", target, {"span_count": 3})
+            polyhedra.place_template(target, "capsule", span_count=3)
 
 
 class PlacementTest(unittest.TestCase):
@@ -58,14 +58,15 @@ class PlacementTest(unittest.TestCase):
 
     def test_half_wing_on_the_m6(self):
         self.assertEqual(self.root_face, 8)
-        placed = polyhedra.place_template("half_wing", self.wing, {"chordwise": 6, "spanwise": 4})
+        placed = polyhedra.place("half_wing", self.wing, {"chordwise": 6, "spanwise": 4})
         mesh = placed["mesh"]
         self.assertTrue(placed["complete"])
         feature_map = placed["feature_map"]
         self.assertEqual(len(feature_map["edge_curve"]), mesh.num_edges)
         self.assertEqual(len(feature_map["vertex_cad_vertex"]), mesh.num_vertices)
-        plane = placed["symmetry_plane"]
-        self.assertAlmostEqual(abs(plane["normal"][1]), 1.0, places=9)
+        point, normal = placed["symmetry_plane"]
+        self.assertAlmostEqual(abs(normal[1]), 1.0, places=9)
+        np.testing.assert_allclose(polyhedra.symmetry_plane(self.wing)[1], normal)
         crease = [c for c in placed["chains"] if c["kind"] == "crease"]
         self.assertEqual(len(crease), 1)
         # The trailing edge: the longest sharp curve of the wing, 1242.6 mm.
@@ -86,8 +87,19 @@ class PlacementTest(unittest.TestCase):
         polyhedra.plot_polyhedron(mesh, os.path.join(output_dir(), "polyhedron_m6_half_wing.png"), self.wing,
                                   "half_wing on the ONERA M6 (crease red, corners black)")
 
+    def test_placed_half_wing_fits_from_python(self):
+        placed = polyhedra.place("half_wing", self.wing)
+        fitter = bvmesh.SurfaceFitter(self.wing, placed["mesh"], placed["feature_map"],
+                                      symmetry_plane=placed["symmetry_plane"], max_level=2)
+        result = fitter.run()
+        history = result["history"]
+        self.assertLess(history[-1]["max_distance"], 0.5 * history[0]["max_distance"])
+        mesh = fitter.mesh
+        boundary = np.unique(np.asarray(mesh.boundary_edges))
+        np.testing.assert_allclose(np.asarray(mesh.vertices)[boundary, 1], 0.0, atol=1e-9)
+
     def test_capsule_on_the_hemisphere_cylinder(self):
-        placed = polyhedra.place_template("capsule", self.body)
+        placed = polyhedra.place("capsule", self.body)
         self.assertTrue(placed["complete"], placed["report"])
         self.assertEqual(placed["parameters"]["half"], "yes")
         self.assertEqual(placed["parameters"]["tail"], "open")
@@ -98,11 +110,18 @@ class PlacementTest(unittest.TestCase):
                                   "capsule on the hemisphere-cylinder body (half, open tail)",
                                   views=((25, -60), (0, 0), (90, -90)))
 
+    def test_workbench_entry_feeds_the_surface_fitter(self):
+        # bvmesh.extensions.place_template's contract: (mesh, features) for bvmesh.SurfaceFitter.
+        mesh, features = polyhedra.place_template(self.body, "capsule", axial=4)
+        self.assertEqual(sorted(features), ["curves", "edge_curve", "vertex_cad_vertex"])
+        fitter = bvmesh.SurfaceFitter(self.body, mesh, features)
+        self.assertEqual(list(fitter.features["edge_curve"]), features["edge_curve"])
+
     def test_feature_curves_and_mapping_of_a_given_polyhedron(self):
         curves = polyhedra.detect_feature_curves(self.wing)
         kinds = [c["kind"] for c in curves]
         self.assertEqual(kinds.count("boundary"), 1)
-        placed = polyhedra.place_template("half_wing", self.wing, improve=False)
+        placed = polyhedra.place("half_wing", self.wing, improve=False)
         mapping = polyhedra.map_creases(placed["mesh"], self.wing, strict=True)
         self.assertEqual(mapping["feature_map"]["curves"], placed["feature_map"]["curves"])
         improved = polyhedra.improve_polyhedron(placed["mesh"], self.wing, mapping["feature_map"],
