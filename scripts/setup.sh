@@ -66,7 +66,7 @@ install_packages
 build
 register_workbench
 case "$command" in
-  example) run_python -m bvmesh example ;;
+  example) run_python -m bvmesh example --output "$ROOT/build/example" ;;
   test) ctest --test-dir "$BUILD_DIR" --output-on-failure --timeout 900 ;;
   gui) exec freecad ;;
 esac

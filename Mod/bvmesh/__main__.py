@@ -2,7 +2,9 @@
 on PYTHONPATH; scripts/setup.sh sets that up).
 
   info FILE       what a STEP / IGES / BREP file holds (faces, surface types, feature edges)
-  example         the main job on the bundled example, the ONERA M6 half wing
+  example         the main job: the ONERA M6 half wing fitted from the half-wing template;
+                  writes the FreeCAD document, the B-spline surface (STEP) and a convergence
+                  report into --output (default: bvmesh-example)
 """
 
 import argparse
@@ -29,7 +31,9 @@ def main(argv=None):
     info.add_argument("file")
     info.add_argument("--sharp-angle", type=float, default=30.0,
                       help="dihedral angle in degrees from which an edge is sharp (default 30)")
-    commands.add_parser("example", help="run the main job on the bundled ONERA M6 wing")
+    example = commands.add_parser("example", help="run the main job on the bundled ONERA M6 wing")
+    example.add_argument("--output", default="bvmesh-example", help="folder for the results")
+    example.add_argument("--max-level", type=int, default=5, help="subdivision levels at most (default 5)")
     args = parser.parse_args(argv)
 
     if FREECAD_LIB not in sys.path:
@@ -40,7 +44,10 @@ def main(argv=None):
         if args.command == "info":
             _info(args.file, args.sharp_angle)
         else:
+            from bvmesh import example as main_job
+
             _info(paths.EXAMPLE_WING, 30.0)
+            main_job.run(args.output, max_level=args.max_level)
     except (InvalidInputError, SolverError, ValueError) as error:
         print("bvmesh: {}".format(error), file=sys.stderr)
         return 1

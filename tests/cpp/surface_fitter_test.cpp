@@ -273,6 +273,16 @@ TEST(SurfaceFitter, CancelLeavesAConsistentState) {
   EXPECT_LT(fitter.record(false).maxDistance, summary.history.back().maxDistance * 1.01);
 }
 
+TEST(SurfaceFitter, RunDoesNotMeasureAStateTwice) {
+  SurfaceFitter fitter(sphereTarget(), cube(), {}, studyOptions(2));
+  fitter.record(false);
+  fitter.run();
+  const std::vector<PassRecord>& history = fitter.history();
+  ASSERT_GT(history.size(), 2u);
+  EXPECT_EQ(history[0].level, 0);
+  EXPECT_EQ(history[1].level, 1);  // not a second record of the initial polyhedron
+}
+
 TEST(SurfaceFitter, ConvergesToATolerance) {
   FitOptions options = studyOptions(6);
   options.tolerance = 1e-4;

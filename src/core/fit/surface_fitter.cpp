@@ -133,11 +133,13 @@ struct SurfaceFitter::State {
   bool haveHints = false;
 
   std::vector<PassRecord> history;
+  bool historyIsCurrent = false;  // the last record measures the current control points
   Clock::time_point lastRecord = Clock::now();
 
   void dropGeometry() {
     positionsValid = false;
     projectionsValid = false;
+    historyIsCurrent = false;
   }
 
   void dropTopology() {
@@ -565,6 +567,7 @@ const PassRecord& SurfaceFitter::record(bool withCheck) {
   record.seconds = std::chrono::duration<double>(now - s.lastRecord).count();
   s.lastRecord = now;
   s.history.push_back(record);
+  s.historyIsCurrent = true;
   return s.history.back();
 }
 
@@ -590,7 +593,8 @@ FitSummary SurfaceFitter::run(const ProgressCallback& progress, const std::atomi
   };
 
   s.lastRecord = Clock::now();
-  double distance = measure(false);
+  // The state as given, unless the last record already measured it.
+  double distance = s.historyIsCurrent ? s.history.back().maxDistance : measure(false);
   const double modelSize = s.target->report().diagonal;
   if (distance > 0.5 * modelSize) {
     throw InvalidInputError("the control polyhedron lies far from the target: its limit surface is up to " +
