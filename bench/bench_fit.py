@@ -1,0 +1,60 @@
+"""The M6 fit end to end, step by step: where the time goes per level and how it grows with the
+number of control points. Same setting as the main job (half-wing template, symmetry plane,
+closest-point projection, CGLS).
+
+    PYTHONPATH=Mod:/usr/lib/freecad-python3/lib /usr/bin/python3 bench/bench_fit.py [max_level]
+"""
+
+import math
+import os
+import sys
+import time
+
+sys.path.append("/usr/lib/freecad-python3/lib")
+import FreeCAD  # noqa: E402,F401  -- Part needs it loaded first
+import Part  # noqa: E402
+
+import bvmesh  # noqa: E402
+from bvmesh import paths, polyhedra  # noqa: E402
+
+
+def timed(work):
+    started = time.perf_counter()
+    result = work()
+    return time.perf_counter() - started, result
+
+
+def main(max_level):
+    wing = Part.read(paths.EXAMPLE_WING)
+    build_seconds, (target, _, plane) = timed(lambda: polyhedra.half_model_target(wing))
+    place_seconds, (mesh, features) = timed(lambda: polyhedra.place_template(target, "half_wing"))
+    fitter = bvmesh.SurfaceFitter(target, mesh, features, symmetry_plane=plane, check_samples_per_face=0)
+    print("target {:.2f} s, template placement {:.2f} s, {} control points".format(
+        build_seconds, place_seconds, mesh.num_vertices))
+    print("| level | control points | samples | subdivide s | samples s | project s | approximate s | "
+          "3 corrections s | level s | max distance |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
+    rows = []
+    total = build_seconds + place_seconds
+    for level in range(1, max_level + 1):
+        t_sub, _ = timed(fitter.subdivide)
+        t_samples, samples = timed(fitter.compute_limit_samples)
+        t_project, _ = timed(fitter.project)
+        t_approx, _ = timed(fitter.approximate)
+        t_correct, _ = timed(lambda: fitter.correct_parameters(3))
+        record = fitter.record()
+        level_seconds = t_sub + t_samples + t_project + t_approx + t_correct
+        total += level_seconds
+        points = fitter.mesh.num_vertices
+        rows.append((points, level_seconds))
+        print("| {} | {} | {} | {:.3f} | {:.3f} | {:.3f} | {:.3f} | {:.3f} | {:.3f} | {:.3e} |".format(
+            level, points, len(samples), t_sub, t_samples, t_project, t_approx, t_correct, level_seconds,
+            record["max_distance"]))
+    (p0, s0), (p1, s1) = rows[-2], rows[-1]
+    print("growth exponent of the level time in the control points (last two levels): {:.2f}".format(
+        math.log(s1 / s0) / math.log(p1 / p0)))
+    print("total {:.2f} s (target 5 s on this 2-core machine)".format(total))
+
+
+if __name__ == "__main__":
+    main(int(sys.argv[1]) if len(sys.argv) > 1 else 4)
