@@ -68,6 +68,7 @@ def run():
     check(len(doc.Objects) == 1, "redo brings it back")
 
     check_preference_page()
+    check_headless_document_gets_view_providers()
 
     FreeCADGui.SendMsgToActiveView("ViewFit")
     FreeCADGui.activeDocument().activeView().viewIsometric()
@@ -81,6 +82,25 @@ def run():
     check(os.path.getsize(SCREENSHOT) > 0, "screenshot saved to " + SCREENSHOT)
     FreeCADGui.activeDocument().activeView().saveImage(VIEW_IMAGE, 800, 600, "White")
     check(os.path.getsize(VIEW_IMAGE) > 0, "3D view saved to " + VIEW_IMAGE)
+
+
+def check_headless_document_gets_view_providers():
+    """A document written without the GUI (as by the main job) opens with BVMesh's view providers."""
+    import FreeCAD
+
+    path = os.path.join(OUTPUT_DIR, "headless_polyhedron.FCStd")
+    code = ("import FreeCAD, bvmesh.api as api; doc = FreeCAD.newDocument('Headless'); "
+            "api.make_polyhedron(doc, [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)], [[0, 1, 2, 3]], "
+            "creases=[[0, 1]]); doc.saveAs({!r})".format(path))
+    done = subprocess.run(["freecadcmd", "-c", code], capture_output=True, text=True, timeout=120)
+    check(done.returncode == 0 and os.path.exists(path), "a document was written headless: " + done.stderr[-300:])
+    doc = FreeCAD.openDocument(path)
+    try:
+        proxy = doc.getObject("ControlPolyhedron").ViewObject.Proxy
+        check(type(proxy).__name__ == "ViewProvider" and proxy.getIcon().endswith(".svg"),
+              "its polyhedron got BVMesh's view provider in the GUI ({})".format(type(proxy).__name__))
+    finally:
+        FreeCAD.closeDocument(doc.Name)
 
 
 def check_preference_page():

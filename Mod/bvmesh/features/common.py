@@ -33,6 +33,18 @@ class Proxy:
 
     def onDocumentRestored(self, obj):
         self.setup(obj)
+        self.attach_view_provider(obj)
+
+    @staticmethod
+    def attach_view_provider(obj):
+        """In the GUI, gives obj BVMesh's view provider unless it has one (a document written
+        headless, e.g. by the main job, has none)."""
+        import FreeCAD
+
+        if FreeCAD.GuiUp and obj.ViewObject is not None and obj.ViewObject.Proxy is None:
+            from bvmesh.gui import view_providers
+
+            view_providers.attach(obj)
 
     def execute(self, obj):
         # FreeCAD only prints a failed recompute; keep the message for the API to raise.
