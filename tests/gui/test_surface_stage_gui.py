@@ -10,9 +10,11 @@ import os
 import subprocess
 import sys
 import time
-import traceback
 
 from PySide import QtCore, QtGui
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from gui_harness import check, log, settle, start  # noqa: E402
 
 OUTPUT_DIR = os.environ.get("BVMESH_TEST_OUTPUT_DIR", "/tmp")
 SOURCE_DIR = os.environ.get("BVMESH_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
@@ -28,21 +30,7 @@ CONVERGENCE_WINDOW_PICTURE = os.path.join(OUTPUT_DIR, "gui_convergence_window.pn
 FIT_FACES = ["Face{}".format(i) for i in range(1, 12) if i != 9]  # all but the root plane
 
 
-def log(message):
-    sys.__stdout__.write(message + "\n")
-    sys.__stdout__.flush()
 
-
-def check(condition, message):
-    if not condition:
-        raise AssertionError(message)
-    log("ok: " + message)
-
-
-def settle(milliseconds=200):
-    loop = QtCore.QEventLoop()
-    QtCore.QTimer.singleShot(milliseconds, loop.quit)
-    loop.exec_()
 
 
 def when_shown(find, act, timeout_ms=20000):
@@ -374,15 +362,4 @@ def reopen_and_recompute(doc):
     check(list(doc.getObject("DistanceMap").Distances) == dmap_distances, "and an identical distance map")
 
 
-def main():
-    code = 1
-    try:
-        run()
-        code = 0
-    except Exception:
-        log(traceback.format_exc())
-    finally:
-        os._exit(code)
-
-
-QtCore.QTimer.singleShot(500, main)
+start(run)

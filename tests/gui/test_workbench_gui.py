@@ -4,9 +4,11 @@
 import os
 import subprocess
 import sys
-import traceback
 
 from PySide import QtCore, QtGui
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from gui_harness import check, log, settle, start  # noqa: E402
 
 OUTPUT_DIR = os.environ.get("BVMESH_TEST_OUTPUT_DIR", "/tmp")
 SCREENSHOT = os.path.join(OUTPUT_DIR, "gui_workbench.png")
@@ -14,21 +16,7 @@ VIEW_IMAGE = os.path.join(OUTPUT_DIR, "gui_workbench_view.png")
 EXPECTED_COMMANDS = ["BVMesh_LoadExample", "BVMesh_ImportCad", "BVMesh_ShapeReport", "BVMesh_Target"]
 
 
-def log(message):
-    sys.__stdout__.write(message + "\n")
-    sys.__stdout__.flush()
 
-
-def check(condition, message):
-    if not condition:
-        raise AssertionError(message)
-    log("ok: " + message)
-
-
-def settle(milliseconds=300):
-    loop = QtCore.QEventLoop()
-    QtCore.QTimer.singleShot(milliseconds, loop.quit)
-    loop.exec_()
 
 
 def run():
@@ -140,15 +128,4 @@ def check_preference_page():
         group.RemFloat("RelativeTolerance")
 
 
-def main():
-    code = 1
-    try:
-        run()
-        code = 0
-    except Exception:
-        log(traceback.format_exc())
-    finally:
-        os._exit(code)
-
-
-QtCore.QTimer.singleShot(500, main)
+start(run)
