@@ -20,36 +20,6 @@ namespace {
 using fit::FitOptions;
 using fit::SurfaceFitter;
 
-fit::FeatureMap featureMapOf(const py::object& features) {
-  fit::FeatureMap map;
-  if (features.is_none()) return map;
-  if (!py::isinstance<py::dict>(features)) {
-    throw py::value_error("features must be a dict with curves, edge_curve and vertex_cad_vertex, or None");
-  }
-  for (const auto& [key, value] : features.cast<py::dict>()) {
-    const std::string name = py::str(key);
-    const py::object item = py::reinterpret_borrow<py::object>(value);
-    if (name == "curves") {
-      for (const py::handle curve : item) map.curves.push_back(intsOf(py::reinterpret_borrow<py::object>(curve), "each feature curve"));
-    } else if (name == "edge_curve") {
-      map.edgeCurve = intsOf(item, "edge_curve");
-    } else if (name == "vertex_cad_vertex") {
-      map.vertexCadVertex = intsOf(item, "vertex_cad_vertex");
-    } else {
-      throw py::value_error("unknown feature-map key '" + name + "'; known: curves, edge_curve, vertex_cad_vertex");
-    }
-  }
-  return map;
-}
-
-py::dict featureMapToDict(const fit::FeatureMap& map) {
-  py::dict dict;
-  dict["curves"] = map.curves;
-  dict["edge_curve"] = map.edgeCurve;
-  dict["vertex_cad_vertex"] = map.vertexCadVertex;
-  return dict;
-}
-
 Eigen::Vector3d vector3Of(const py::handle& object, const char* name) {
   const RowMatrixXd row = rowsOf(py::array(py::reinterpret_borrow<py::object>(object)).reshape({1, -1}), name, 3);
   return row.row(0).transpose();
@@ -190,6 +160,36 @@ auto released(Work&& work) {
 }
 
 }  // namespace
+
+fit::FeatureMap featureMapOf(const py::object& features) {
+  fit::FeatureMap map;
+  if (features.is_none()) return map;
+  if (!py::isinstance<py::dict>(features)) {
+    throw py::value_error("features must be a dict with curves, edge_curve and vertex_cad_vertex, or None");
+  }
+  for (const auto& [key, value] : features.cast<py::dict>()) {
+    const std::string name = py::str(key);
+    const py::object item = py::reinterpret_borrow<py::object>(value);
+    if (name == "curves") {
+      for (const py::handle curve : item) map.curves.push_back(intsOf(py::reinterpret_borrow<py::object>(curve), "each feature curve"));
+    } else if (name == "edge_curve") {
+      map.edgeCurve = intsOf(item, "edge_curve");
+    } else if (name == "vertex_cad_vertex") {
+      map.vertexCadVertex = intsOf(item, "vertex_cad_vertex");
+    } else {
+      throw py::value_error("unknown feature-map key '" + name + "'; known: curves, edge_curve, vertex_cad_vertex");
+    }
+  }
+  return map;
+}
+
+py::dict featureMapToDict(const fit::FeatureMap& map) {
+  py::dict dict;
+  dict["curves"] = map.curves;
+  dict["edge_curve"] = map.edgeCurve;
+  dict["vertex_cad_vertex"] = map.vertexCadVertex;
+  return dict;
+}
 
 void bindFit(py::module_& module) {
   py::class_<SurfaceFitter>(module, "SurfaceFitter",

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "bindings.h"
+#include "conversions.h"
 #include "core/cad/shape_io.h"
 #include "core/common/errors.h"
 #include "core/polyhedron/placement.h"
@@ -62,27 +63,6 @@ py::list curveList(const std::vector<FeatureCurve>& curves) {
   return list;
 }
 
-py::dict featureMapDict(const fit::FeatureMap& map) {
-  py::dict dict;
-  dict["curves"] = map.curves;
-  dict["edge_curve"] = map.edgeCurve;
-  dict["vertex_cad_vertex"] = map.vertexCadVertex;
-  return dict;
-}
-
-fit::FeatureMap featureMapFrom(const py::object& object) {
-  fit::FeatureMap map;
-  if (object.is_none()) return map;
-  const py::dict dict = object.cast<py::dict>();
-  for (const char* key : {"curves", "edge_curve", "vertex_cad_vertex"}) {
-    if (!dict.contains(key)) throw py::value_error(std::string("feature_map needs the key '") + key + "'");
-  }
-  map.curves = dict["curves"].cast<std::vector<std::vector<int>>>();
-  map.edgeCurve = dict["edge_curve"].cast<std::vector<int>>();
-  map.vertexCadVertex = dict["vertex_cad_vertex"].cast<std::vector<int>>();
-  return map;
-}
-
 py::dict mappingDict(const FeatureMapping& mapping) {
   py::list chains;
   for (size_t c = 0; c < mapping.chains.size(); ++c) {
@@ -109,7 +89,7 @@ py::dict mappingDict(const FeatureMapping& mapping) {
                             py::arg("distance") = c.distance, py::arg("required") = c.required));
   }
   py::dict dict;
-  dict["feature_map"] = featureMapDict(mapping.map);
+  dict["feature_map"] = featureMapToDict(mapping.map);
   dict["chains"] = chains;
   dict["corners"] = corners;
   dict["unmapped_chains"] = mapping.unmappedChains;
@@ -246,7 +226,7 @@ void bindPolyhedron(py::module_& module) {
         options.relaxation = relaxation;
         options.pushOutPasses = pushOutPasses;
         options.symmetryPlane = planeFrom(symmetryPlane);
-        const fit::FeatureMap map = featureMapFrom(featureMap);
+        const fit::FeatureMap map = featureMapOf(featureMap);
         ControlMesh result = mesh;
         py::gil_scoped_release release;
         improvePolyhedron(result, target, map, options);
