@@ -5,6 +5,9 @@
 #include <Eigen/CholmodSupport>
 
 #include <array>
+#include <exception>
+#include <mutex>
+#include <thread>
 #include <cmath>
 #include <string>
 
@@ -47,7 +50,7 @@ struct FreeColumnSystem {
   SparseColMatrix weightedFree;   // sqrt(w) A restricted to the free columns
   SparseColMatrix weightedHeld;   // sqrt(w) A restricted to the held columns
   Eigen::CholmodSupernodalLLT<SparseColMatrix> cholesky;
-  Eigen::LeastSquaresConjugateGradient<SparseColMatrix> cgls;
+  LeastSquaresOptions cglsOptions;
 
   FreeColumnSystem(const RowSparseMatrix& operatorA, const Eigen::VectorXd& sqrtWeights,
                    const std::vector<bool>& held, const LeastSquaresOptions& options) {
@@ -91,9 +94,7 @@ struct FreeColumnSystem {
                           "not determine all free control points");
       }
     } else {
-      cgls.setTolerance(options.cglsTolerance);
-      cgls.setMaxIterations(options.cglsMaxIterations);
-      cgls.compute(weightedFree);
+      cglsOptions = options;
     }
   }
 
@@ -116,6 +117,12 @@ struct FreeColumnSystem {
     if (method == LeastSquaresMethod::Cholesky) return cholesky.solve(weightedFree.transpose() * rhs);
     // CGLS solves for the correction of the current points, so its relative tolerance measures the
     // error against the size of the correction rather than against the coordinates themselves.
+    // A solver per call (setting it up costs one pass over the matrix), so that the coordinates
+    // can be solved on separate threads.
+    Eigen::LeastSquaresConjugateGradient<SparseColMatrix> cgls;
+    cgls.setTolerance(cglsOptions.cglsTolerance);
+    cgls.setMaxIterations(cglsOptions.cglsMaxIterations);
+    cgls.compute(weightedFree);
     const Eigen::VectorXd correction = cgls.solve(rhs - weightedFree * guess);
     if (cgls.info() == Eigen::NumericalIssue) throw SolverError("CGLS failed on the approximation problem");
     return guess + correction;
@@ -201,7 +208,7 @@ RowMatrixX3d ControlPointSolver::solve(const RowMatrixX3d& targets, const RowMat
   for (int id : s.planeVertices) local(id, 2) = s.planeOffset;
 
   RowMatrixX3d result = local;
-  for (int axis = 0; axis < 3; ++axis) {
+  auto solveAxis = [&](int axis) {
     const FreeColumnSystem& system = (axis == 2 && s.normalSystem) ? *s.normalSystem : *s.tangentSystem;
     Eigen::VectorXd held(static_cast<Eigen::Index>(system.heldPoints.size()));
     for (size_t k = 0; k < system.heldPoints.size(); ++k) held[static_cast<Eigen::Index>(k)] = local(system.heldPoints[k], axis);
@@ -214,6 +221,27 @@ RowMatrixX3d ControlPointSolver::solve(const RowMatrixX3d& targets, const RowMat
     for (int point = 0; point < s.pointCount; ++point) {
       if (system.freeOfPoint[point] >= 0) result(point, axis) = free[system.freeOfPoint[point]];
     }
+  };
+  if (s.options.method == LeastSquaresMethod::Cgls) {
+    // The three coordinates are independent problems: solve them at once (CHOLMOD's solve shares
+    // its workspace, so the Cholesky path stays on one thread).
+    std::exception_ptr failure;
+    std::mutex failureMutex;
+    std::vector<std::thread> workers;
+    for (int axis = 0; axis < 3; ++axis) {
+      workers.emplace_back([&, axis] {
+        try {
+          solveAxis(axis);
+        } catch (...) {
+          const std::lock_guard<std::mutex> lock(failureMutex);
+          if (!failure) failure = std::current_exception();
+        }
+      });
+    }
+    for (std::thread& worker : workers) worker.join();
+    if (failure) std::rethrow_exception(failure);
+  } else {
+    for (int axis = 0; axis < 3; ++axis) solveAxis(axis);
   }
   if (!result.allFinite()) throw SolverError("the approximation produced non-finite control points");
   return result * s.frame;
