@@ -3,6 +3,7 @@
 import os
 import subprocess
 import sys
+import tempfile
 import unittest
 
 import FreeCAD
@@ -26,7 +27,9 @@ class HeadlessWorkbench(unittest.TestCase):
     def test_command_line_main_job_reports_and_fails_cleanly(self):
         env = dict(os.environ, PYTHONPATH=os.pathsep.join(
             [os.path.join(os.environ["BVMESH_SOURCE_DIR"], "Mod"), "/usr/lib/freecad-python3/lib"]))
-        done = subprocess.run(["/usr/bin/python3", "-m", "bvmesh", "example"], env=env,
+        output = tempfile.mkdtemp(prefix="bvmesh-example-")
+        done = subprocess.run(["/usr/bin/python3", "-m", "bvmesh", "example", "--output", output, "--max-level", "1"],
+                              env=env,
                               capture_output=True, text=True, timeout=300)
         self.assertEqual(done.returncode, 0, done.stderr)
         self.assertIn("11 faces (8 BSplineSurface, 3 Plane)", done.stdout)
