@@ -134,7 +134,7 @@ bool isSingular(const gp_Vec& su, const gp_Vec& sv) {
 // leaves the domain.
 // With `inside` set, trial points outside the face's trim are rejected like steps that do not
 // descend, so the iteration stays in the trimmed face (`blocked` reports a stop at its border).
-NewtonResult newtonOnSurface(const FaceData& face, GeomAdaptor_Surface& surface, const Eigen::Vector3d& q, double u,
+NewtonResult newtonOnSurface(const FaceData& face, FaceSurface& surface, const Eigen::Vector3d& q, double u,
                              double v, double convergence, const std::function<bool(double, double)>* inside = nullptr) {
   const double uLo = face.uPeriodic ? -Precision::Infinite() : face.uMin;
   const double uHi = face.uPeriodic ? Precision::Infinite() : face.uMax;
@@ -279,7 +279,7 @@ CurveResult newtonOnCurve(const EdgeData& edge, const Eigen::Vector3d& q, double
 // At a pole (one parameter undetermined, the other at its bound) Newton cannot tell along
 // which meridian to leave. Picks the meridian of steepest descent from the pole and sets (u, v)
 // a little way along it; false when no meridian descends (the pole is the minimum).
-bool leavePole(const FaceData& face, GeomAdaptor_Surface& surface, const Eigen::Vector3d& q, double& u, double& v) {
+bool leavePole(const FaceData& face, FaceSurface& surface, const Eigen::Vector3d& q, double& u, double& v) {
   gp_Pnt p;
   gp_Vec su, sv;
   surface.D1(u, v, p, su, sv);
@@ -447,7 +447,7 @@ struct LineHit {
 
 // Intersection of the line q + s d with the face near (u, v, s): Newton on S(u, v) - q - s d.
 // Fails (found = false) where the Jacobian (Su, Sv, -d) is singular, as at a sphere's pole.
-LineHit newtonOnLine(const FaceData& face, GeomAdaptor_Surface& surface, const Eigen::Vector3d& q,
+LineHit newtonOnLine(const FaceData& face, FaceSurface& surface, const Eigen::Vector3d& q,
                      const Eigen::Vector3d& d, double convergence, double u, double v, double s) {
   const double uLo = face.uPeriodic ? -Precision::Infinite() : face.uMin;
   const double uHi = face.uPeriodic ? Precision::Infinite() : face.uMax;
@@ -495,7 +495,7 @@ LineHit newtonOnLine(const FaceData& face, GeomAdaptor_Surface& surface, const E
 // signed against a reference normal: a function of the line parameter that changes sign where
 // the line crosses the surface, defined at degenerate points too (the closest-point solve
 // handles poles).
-double signedDistance(const FaceData& face, GeomAdaptor_Surface& surface, const Eigen::Vector3d& x,
+double signedDistance(const FaceData& face, FaceSurface& surface, const Eigen::Vector3d& x,
                       const Eigen::Vector3d& reference, double convergence, double& u, double& v,
                       Eigen::Vector3d& foot) {
   NewtonResult newton = newtonOnSurface(face, surface, x, u, v, convergence);
@@ -514,7 +514,7 @@ double signedDistance(const FaceData& face, GeomAdaptor_Surface& surface, const 
 // Crossing of the line near s0 found as the root of the signed distance along it: bracketed in
 // widening intervals around s0 (up to 16 reach), then regula falsi (Illinois). Slower than
 // Newton on the line but indifferent to the surface's parametrization.
-LineHit bracketOnLine(const FaceData& face, GeomAdaptor_Surface& surface, const Eigen::Vector3d& q,
+LineHit bracketOnLine(const FaceData& face, FaceSurface& surface, const Eigen::Vector3d& q,
                       const Eigen::Vector3d& d, const Eigen::Vector3d& reference, double convergence, double u,
                       double v, double s0, double reach) {
   LineHit hit;
@@ -627,7 +627,7 @@ Foot alongLine(const Target::Data& data, ThreadContext& context, const Eigen::Ve
     if (++solves > kMaxLineHits) break;
     context.anchors.push_back({faceId, candidate.point});
     const FaceData& face = data.faces[static_cast<std::size_t>(faceId)];
-    GeomAdaptor_Surface& surface = context.surface(faceId);
+    FaceSurface& surface = context.surface(faceId);
     const double s = (candidate.point - q).dot(d);
     // The crossing of the surface under this triangle lies within about a triangle of the
     // tessellation's crossing; Newton may converge to another crossing farther away (it is
