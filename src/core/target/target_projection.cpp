@@ -412,6 +412,13 @@ Foot closestOnSurface(const Target::Data& data, ThreadContext& context, const Ei
     radius = std::sqrt(nearestSquared) + data.margin;
   }
   data.tree.withinRadius(q, radius, [&](int t) {
+    // A triangle of the warm-start face with a node within half its size of the warm-started
+    // foot lies within 1.5 sizes of it: the loop below would skip it as the same basin.
+    const double size = data.triangleSize[static_cast<std::size_t>(t)];
+    if (hintFace >= 0 && data.triangleFaces[t] == hintFace &&
+        (data.nodes.row(data.triangles(t, 0)).transpose() - context.anchors.front().point).squaredNorm() <=
+            0.25 * size * size)
+      return;
     const TrianglePoint closest = closestOnMeshTriangle(data, t, q);
     const double distance = (closest.point - q).norm();
     if (distance <= radius) context.candidates.push_back({t, distance, closest.point, closest.u, closest.v});
