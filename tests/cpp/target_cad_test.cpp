@@ -193,6 +193,60 @@ TEST(TargetCad, OneraM6TrailingEdgeSidesStaySeparate) {
   EXPECT_GE(checked[1], 10);
 }
 
+// Surface points moved along their normal by delta come back to themselves when projected
+// along the normal. Offsets of both signs, log-uniform from 1e-5 to 1e-2 of the model size,
+// sampled evenly over every face (the narrow trailing-edge strips and the tiny tip patches
+// too). Only offsets whose closest point is the base point itself at distance |delta| are
+// kept: then no part of the surface is nearer along the line, so the base point is the
+// nearest crossing.
+TEST(TargetCad, OneraM6LinesAlongNormalsReturnToTheirFoot) {
+  const Target target(cad::readShapeFile(kDataDir + "/AileM6_with_sharp_TE.stp"));
+  const double size = target.report().diagonal;
+  std::mt19937 generator(31);
+  std::uniform_real_distribution<double> unit(0, 1);
+  constexpr int kPerFace = 80;
+  std::vector<std::vector<Eigen::Index>> faceTriangles(static_cast<std::size_t>(target.faceCount()));
+  for (Eigen::Index t = 0; t < target.meshTriangles().rows(); ++t)
+    faceTriangles[static_cast<std::size_t>(target.meshTriangleFaces()[t])].push_back(t);
+  Points samples(kPerFace * target.faceCount(), 3);
+  Eigen::VectorXd deltas(samples.rows());
+  for (int f = 0; f < target.faceCount(); ++f) {
+    const std::vector<Eigen::Index>& triangles = faceTriangles[static_cast<std::size_t>(f)];
+    ASSERT_FALSE(triangles.empty()) << "face " << f;
+    for (int k = 0; k < kPerFace; ++k) {
+      const auto nodes = target.meshTriangles().row(triangles[static_cast<std::size_t>(unit(generator) * triangles.size()) % triangles.size()]);
+      double a = unit(generator), b = unit(generator);
+      if (a + b > 1) {
+        a = 1 - a;
+        b = 1 - b;
+      }
+      const Eigen::Index i = f * kPerFace + k;
+      samples.row(i) = (1 - a - b) * target.meshNodes().row(nodes[0]) + a * target.meshNodes().row(nodes[1]) +
+                       b * target.meshNodes().row(nodes[2]);
+      deltas[i] = (k % 2 == 0 ? 1 : -1) * size * std::pow(10.0, -5 + 3 * unit(generator));
+    }
+  }
+  const ProjectionResult feet = target.project(samples);
+  Points offsets(samples.rows(), 3);
+  for (Eigen::Index i = 0; i < samples.rows(); ++i)
+    offsets.row(i) = feet.points.row(i) + deltas[i] * feet.normals.row(i);
+  const ProjectionResult closest = target.project(offsets);
+  const ProjectionResult along = target.projectAlong(offsets, feet.normals);
+  std::vector<int> checked(static_cast<std::size_t>(target.faceCount()), 0);
+  for (Eigen::Index i = 0; i < samples.rows(); ++i) {
+    if (feet.status[static_cast<std::size_t>(i)] != ProjectionStatus::Ok) continue;
+    if (std::abs(closest.distances[i] - std::abs(deltas[i])) > 1e-12 * size ||
+        (closest.points.row(i) - feet.points.row(i)).norm() > 1e-9 * size)
+      continue;
+    ASSERT_EQ(along.status[static_cast<std::size_t>(i)], ProjectionStatus::Ok) << "sample " << i;
+    EXPECT_LE((along.points.row(i) - feet.points.row(i)).norm(), 1e-9 * size)
+        << "sample " << i << " on face " << feet.faces[i] << ", offset " << deltas[i];
+    EXPECT_NEAR(along.distances[i], std::abs(deltas[i]), 1e-9 * size) << "sample " << i;
+    ++checked[static_cast<std::size_t>(feet.faces[i])];
+  }
+  for (int f = 0; f < target.faceCount(); ++f) EXPECT_GE(checked[static_cast<std::size_t>(f)], 10) << "face " << f;
+}
+
 }  // namespace
 }  // namespace bvmesh::target
 

@@ -16,6 +16,8 @@
 #include <gp_Circ.hxx>
 #include <gp_Pln.hxx>
 
+#include <Eigen/Geometry>
+
 #include <cmath>
 #include <random>
 
@@ -172,6 +174,132 @@ TEST(Target, EdgesVerticesAndDirections) {
     EXPECT_NEAR(along.distances[i], std::abs(rho - r), 1e-12 * target.report().diagonal) << "point " << i;
     EXPECT_NEAR(along.points.row(i).head<2>().norm(), r, 1e-12);
   }
+}
+
+// #count random unit directions.
+Points randomDirections(int count, unsigned seed) {
+  std::mt19937 generator(seed);
+  std::normal_distribution<double> normal;
+  Points directions(count, 3);
+  for (int i = 0; i < count; ++i) {
+    const Eigen::Vector3d d(normal(generator), normal(generator), normal(generator));
+    directions.row(i) = d.normalized().transpose();
+  }
+  return directions;
+}
+
+// Expects the nearest crossing at distance `expected` (status Ok), on the line.
+void expectLineHit(const ProjectionResult& result, Eigen::Index i, const Eigen::Vector3d& q, const Eigen::Vector3d& d,
+                   double expected, double tolerance) {
+  ASSERT_EQ(result.status[static_cast<std::size_t>(i)], ProjectionStatus::Ok) << "line " << i;
+  EXPECT_NEAR(result.distances[i], expected, tolerance) << "line " << i;
+  const Eigen::Vector3d foot = result.points.row(i).transpose();
+  EXPECT_LE((foot - q).cross(d.normalized()).norm(), tolerance) << "foot off the line, line " << i;
+}
+
+// Lines through a pole meet the surface where its parametrization degenerates (Su = 0): the
+// near pole must be found from outside and from inside, at any distance.
+TEST(Target, LinesThroughSpherePolesHitTheNearPole) {
+  const Eigen::Vector3d center(1, 2, 3);
+  const double radius = 2;
+  const Target target(BRepPrimAPI_MakeSphere(gp_Pnt(1, 2, 3), radius).Shape());
+  const double tolerance = 1e-12 * target.report().diagonal;
+  const std::vector<double> heights{-1.9, -1.5, -1, -0.5, -1e-3, 1e-3, 0.5, 1, 3, 10, 100};
+  for (const double sign : {1.0, -1.0}) {
+    const Eigen::Vector3d pole = center + sign * radius * Eigen::Vector3d::UnitZ();
+    Points origins(static_cast<Eigen::Index>(heights.size()), 3);
+    Points directions(origins.rows(), 3);
+    for (std::size_t k = 0; k < heights.size(); ++k) {
+      origins.row(static_cast<Eigen::Index>(k)) = (pole + sign * heights[k] * Eigen::Vector3d::UnitZ()).transpose();
+      directions.row(static_cast<Eigen::Index>(k)) << 0, 0, k % 2 == 0 ? 1.0 : -1.0;
+    }
+    const ProjectionResult result = target.projectAlong(origins, directions);
+    for (Eigen::Index i = 0; i < origins.rows(); ++i) {
+      expectLineHit(result, i, origins.row(i).transpose(), directions.row(i).transpose(),
+                    std::abs(heights[static_cast<std::size_t>(i)]), tolerance);
+      EXPECT_LE((result.points.row(i).transpose() - pole).norm(), tolerance) << "height " << heights[static_cast<std::size_t>(i)];
+      EXPECT_GT(result.normals.row(i).dot(sign * Eigen::Vector3d::UnitZ()), 1 - 1e-9);
+    }
+  }
+}
+
+// Random lines from inside and outside a sphere against the roots of |q + s d - c| = R.
+TEST(Target, RandomLinesMatchSphereCrossings) {
+  const Eigen::Vector3d center(1, -2, 0.5);
+  const double radius = 2.5;
+  const Target target(BRepPrimAPI_MakeSphere(gp_Pnt(center.x(), center.y(), center.z()), radius).Shape());
+  const double tolerance = 1e-12 * target.report().diagonal;
+  const Points origins = (randomPoints(3000, -4, 4, 21).rowwise() + center.transpose()).eval();
+  const Points directions = randomDirections(3000, 22);
+  const ProjectionResult result = target.projectAlong(origins, directions);
+  int inside = 0, outside = 0, missing = 0;
+  for (Eigen::Index i = 0; i < origins.rows(); ++i) {
+    const Eigen::Vector3d q = origins.row(i).transpose();
+    const Eigen::Vector3d d = directions.row(i).transpose();
+    const double b = d.dot(q - center);
+    const double discriminant = b * b - ((q - center).squaredNorm() - radius * radius);
+    if (discriminant < 0) {
+      // Lines that miss get the closest point instead.
+      EXPECT_EQ(result.status[static_cast<std::size_t>(i)], ProjectionStatus::Fallback) << "line " << i;
+      ++missing;
+      continue;
+    }
+    // Nearly tangent lines: the two crossings merge and the closed form loses its precision.
+    if (discriminant < 1e-2 * radius * radius) continue;
+    const double root = std::sqrt(discriminant);
+    expectLineHit(result, i, q, d, std::min(std::abs(-b - root), std::abs(-b + root)), tolerance);
+    ((q - center).norm() < radius ? inside : outside) += 1;
+  }
+  EXPECT_GT(inside, 300);
+  EXPECT_GT(outside, 300);
+  EXPECT_GT(missing, 300);
+}
+
+// Random lines against a closed cylinder: the nearest crossing of the lateral face (0 <= z <= h)
+// and the two caps (rho <= r). Lines crossing near a rim are left out (ambiguous face).
+TEST(Target, RandomLinesMatchCylinderCrossings) {
+  const double r = 1.5, h = 4.0;
+  const Target target(BRepPrimAPI_MakeCylinder(r, h).Shape());
+  const double tolerance = 1e-12 * target.report().diagonal;
+  const Points origins = randomPoints(3000, -3, 6, 23);
+  const Points directions = randomDirections(3000, 24);
+  const ProjectionResult result = target.projectAlong(origins, directions);
+  int checked = 0, onCaps = 0;
+  for (Eigen::Index i = 0; i < origins.rows(); ++i) {
+    const Eigen::Vector3d q = origins.row(i).transpose();
+    const Eigen::Vector3d d = directions.row(i).transpose();
+    std::vector<std::pair<double, bool>> crossings;  // (s, on a cap)
+    bool ambiguous = false;
+    const double a2 = d.head<2>().squaredNorm();
+    const double b2 = q.head<2>().dot(d.head<2>());
+    const double discriminant = b2 * b2 - a2 * (q.head<2>().squaredNorm() - r * r);
+    if (a2 > 1e-6 && discriminant > 1e-2 * a2) {
+      for (const double root : {(-b2 - std::sqrt(discriminant)) / a2, (-b2 + std::sqrt(discriminant)) / a2}) {
+        const double z = q.z() + root * d.z();
+        ambiguous = ambiguous || std::abs(z) < 1e-3 || std::abs(z - h) < 1e-3;
+        if (z >= 0 && z <= h) crossings.push_back({root, false});
+      }
+    } else if (a2 > 1e-6 && discriminant > -1e-2 * a2) {
+      ambiguous = true;  // nearly tangent to the lateral face
+    }
+    if (std::abs(d.z()) > 1e-3) {
+      for (const double z : {0.0, h}) {
+        const double s = (z - q.z()) / d.z();
+        const double rho = (q + s * d).head<2>().norm();
+        ambiguous = ambiguous || std::abs(rho - r) < 1e-3;
+        if (rho <= r) crossings.push_back({s, true});
+      }
+    }
+    if (ambiguous || crossings.empty()) continue;
+    const auto nearest = std::min_element(crossings.begin(), crossings.end(), [](const auto& x, const auto& y) {
+      return std::abs(x.first) < std::abs(y.first);
+    });
+    expectLineHit(result, i, q, d, std::abs(nearest->first), tolerance);
+    ++checked;
+    onCaps += nearest->second ? 1 : 0;
+  }
+  EXPECT_GT(checked, 400);
+  EXPECT_GT(onCaps, 80);
 }
 
 // Two squares side by side with a slit between them: the facing free edges are a gap; the

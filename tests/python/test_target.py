@@ -147,5 +147,19 @@ class Projections(unittest.TestCase):
         np.testing.assert_allclose(along["distances"], 0.001 * self.size, rtol=0, atol=1e-9 * self.size)
 
 
+@unittest.skipIf(Part is None, "FreeCAD not available")
+class SpherePoles(unittest.TestCase):
+    def test_lines_through_a_pole_hit_the_near_pole(self):
+        # At the pole the sphere's parametrization degenerates (Su = 0).
+        target = bvmesh.Target.from_brep(Part.makeSphere(2, FreeCAD.Vector(1, 2, 3)).exportBrepToString())
+        heights = np.array([-1.5, -0.2, 0.5, 1.0, 3.0, 10.0])
+        origins = np.column_stack([np.full(len(heights), 1.0), np.full(len(heights), 2.0), 5.0 + heights])
+        for direction in ([0, 0, 1.0], [0, 0, -1.0]):
+            result = target.project_along(origins, np.tile(direction, (len(heights), 1)))
+            np.testing.assert_array_equal(result["status"], 0)
+            np.testing.assert_allclose(result["points"], np.tile([1.0, 2.0, 5.0], (len(heights), 1)), rtol=0, atol=1e-12)
+            np.testing.assert_allclose(result["distances"], np.abs(heights), rtol=0, atol=1e-12)
+
+
 if __name__ == "__main__":
     unittest.main()

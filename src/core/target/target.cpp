@@ -6,6 +6,7 @@
 #include <BRep_Tool.hxx>
 #include <GCPnts_TangentialDeflection.hxx>
 #include <GeomAdaptor_Curve.hxx>
+#include <Geom_BSplineSurface.hxx>
 #include <Poly_Triangulation.hxx>
 #include <Precision.hxx>
 #include <TopExp.hxx>
@@ -99,6 +100,10 @@ void extractTopology(Target::Data& data) {
     f.vPeriodic = f.surface->IsVPeriodic();
     if (f.uPeriodic) f.uPeriod = f.surface->UPeriod();
     if (f.vPeriodic) f.vPeriod = f.surface->VPeriod();
+    if (const Handle(Geom_BSplineSurface) bspline = Handle(Geom_BSplineSurface)::DownCast(f.surface); !bspline.IsNull()) {
+      for (int k = 1; k <= bspline->NbUKnots(); ++k) f.uKnots.push_back(bspline->UKnot(k));
+      for (int k = 1; k <= bspline->NbVKnots(); ++k) f.vKnots.push_back(bspline->VKnot(k));
+    }
     for (TopExp_Explorer it(f.face, TopAbs_EDGE); it.More(); it.Next()) {
       const TopoDS_Edge& edge = TopoDS::Edge(it.Current());
       const int id = indexOf(edgeMap, edge);
@@ -269,13 +274,38 @@ void buildReport(Target::Data& data) {
 Eigen::Vector3d toEigen(const gp_Pnt& p) { return {p.X(), p.Y(), p.Z()}; }
 Eigen::Vector3d toEigen(const gp_Vec& v) { return {v.X(), v.Y(), v.Z()}; }
 
-GeomAdaptor_Surface& ThreadContext::surface(int face) {
-  std::unique_ptr<GeomAdaptor_Surface>& slot = surfaces_[static_cast<std::size_t>(face)];
-  if (!slot) slot = std::make_unique<GeomAdaptor_Surface>(data_.faces[static_cast<std::size_t>(face)].surface);
+GeomAdaptor_Surface& FaceSurface::adaptor(double u, double v) {
+  if (face_.uKnots.empty()) {
+    if (!adaptors_[0]) adaptors_[0] = std::make_unique<GeomAdaptor_Surface>(face_.surface);
+    return *adaptors_[0];
+  }
+  // The span's key: which one the adaptor caches matters only for speed, not for the values.
+  const auto iu = std::upper_bound(face_.uKnots.begin(), face_.uKnots.end(), u) - face_.uKnots.begin();
+  const auto iv = std::upper_bound(face_.vKnots.begin(), face_.vKnots.end(), v) - face_.vKnots.begin();
+  const std::int64_t span = static_cast<std::int64_t>(iu) * static_cast<std::int64_t>(face_.vKnots.size() + 1) + iv;
+  int slot = 0;
+  for (int k = 0; k < kSlots; ++k) {
+    if (spans_[k] == span) {
+      slot = k;
+      break;
+    }
+    if (used_[k] < used_[slot]) slot = k;
+  }
+  if (spans_[slot] != span) {
+    spans_[slot] = span;
+    if (!adaptors_[slot]) adaptors_[slot] = std::make_unique<GeomAdaptor_Surface>(face_.surface);
+  }
+  used_[slot] = ++clock_;
+  return *adaptors_[slot];
+}
+
+FaceSurface& ThreadContext::surface(int face) {
+  std::unique_ptr<FaceSurface>& slot = surfaces_[static_cast<std::size_t>(face)];
+  if (!slot) slot = std::make_unique<FaceSurface>(data_.faces[static_cast<std::size_t>(face)]);
   return *slot;
 }
 
-Eigen::Vector3d faceNormal(const FaceData& face, GeomAdaptor_Surface& surface, double u, double v) {
+Eigen::Vector3d faceNormal(const FaceData& face, FaceSurface& surface, double u, double v) {
   gp_Pnt p;
   gp_Vec su, sv;
   surface.D1(u, v, p, su, sv);

@@ -54,6 +54,9 @@ private:
 struct FaceData {
   TopoDS_Face face;
   Handle(Geom_Surface) surface;  // with the face's location applied
+  // Distinct knots of a B-spline surface (empty for other surfaces): they delimit the spans
+  // whose polynomial form an adaptor caches.
+  std::vector<double> uKnots, vKnots;
   bool reversed = false;         // normals flip: the face is reversed relative to its surface
   double u0 = 0, u1 = 0, v0 = 0, v1 = 0;  // parameter box of the trimmed face
   // Newton stays inside the surface's own domain (infinite for planes, unbounded when periodic).
@@ -119,13 +122,37 @@ struct Target::Data {
   mutable std::vector<std::unique_ptr<ThreadContext>> pool;
 };
 
-// Per-thread evaluation state: GeomAdaptor_Surface caches B-spline spans, so each thread has its
-// own adaptors (created on first use). Geom_Curve / Geom2d_Curve evaluation keeps no state.
+// Evaluation of one face's surface by one thread. GeomAdaptor_Surface converts the B-spline span
+// of (u, v) to polynomial form and keeps that one span; the evaluations for one point (Newton
+// steps, seeds from several triangles) move back and forth between neighbouring spans, and each
+// change rebuilds the cache, which costs more than an evaluation. So a B-spline face has a few
+// adaptors, each keeping the span it last evaluated: evaluations go to the adaptor holding
+// their span, a new span replaces the least recently used one.
+class FaceSurface {
+public:
+  explicit FaceSurface(const FaceData& face) : face_(face) {}
+  void D1(double u, double v, gp_Pnt& p, gp_Vec& su, gp_Vec& sv) { adaptor(u, v).D1(u, v, p, su, sv); }
+  void D2(double u, double v, gp_Pnt& p, gp_Vec& su, gp_Vec& sv, gp_Vec& suu, gp_Vec& svv, gp_Vec& suv) {
+    adaptor(u, v).D2(u, v, p, su, sv, suu, svv, suv);
+  }
+
+private:
+  static constexpr int kSlots = 4;
+  GeomAdaptor_Surface& adaptor(double u, double v);
+  const FaceData& face_;
+  std::unique_ptr<GeomAdaptor_Surface> adaptors_[kSlots];
+  std::int64_t spans_[kSlots] = {-1, -1, -1, -1};
+  std::uint64_t used_[kSlots] = {0, 0, 0, 0};
+  std::uint64_t clock_ = 0;
+};
+
+// Per-thread evaluation state: each thread has its own face surfaces (created on first use).
+// Geom_Curve / Geom2d_Curve evaluation keeps no state.
 class ThreadContext {
 public:
   explicit ThreadContext(const Target::Data& data)
       : data_(data), surfaces_(data.faces.size()) {}
-  GeomAdaptor_Surface& surface(int face);
+  FaceSurface& surface(int face);
   // Whether (u, v) lies inside the face's trim.
   bool inside(int face, double u, double v) const { return data_.faces[static_cast<std::size_t>(face)].trim.inside(u, v); }
 
@@ -144,14 +171,14 @@ public:
 
 private:
   const Target::Data& data_;
-  std::vector<std::unique_ptr<GeomAdaptor_Surface>> surfaces_;
+  std::vector<std::unique_ptr<FaceSurface>> surfaces_;
 };
 
 // Geometry kernels used by both construction and projection.
 Eigen::Vector3d toEigen(const gp_Pnt& p);
 Eigen::Vector3d toEigen(const gp_Vec& v);
 // Unit normal of the face at (u, v) (orientation applied); zero where it is undefined.
-Eigen::Vector3d faceNormal(const FaceData& face, GeomAdaptor_Surface& surface, double u, double v);
+Eigen::Vector3d faceNormal(const FaceData& face, FaceSurface& surface, double u, double v);
 // Closest point on one edge (all local minima of the polyline distance are refined).
 Foot closestOnEdge(const Target::Data& data, int edge, const Eigen::Vector3d& q);
 

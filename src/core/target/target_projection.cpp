@@ -134,7 +134,7 @@ bool isSingular(const gp_Vec& su, const gp_Vec& sv) {
 // leaves the domain.
 // With `inside` set, trial points outside the face's trim are rejected like steps that do not
 // descend, so the iteration stays in the trimmed face (`blocked` reports a stop at its border).
-NewtonResult newtonOnSurface(const FaceData& face, GeomAdaptor_Surface& surface, const Eigen::Vector3d& q, double u,
+NewtonResult newtonOnSurface(const FaceData& face, FaceSurface& surface, const Eigen::Vector3d& q, double u,
                              double v, double convergence, const std::function<bool(double, double)>* inside = nullptr) {
   const double uLo = face.uPeriodic ? -Precision::Infinite() : face.uMin;
   const double uHi = face.uPeriodic ? Precision::Infinite() : face.uMax;
@@ -279,7 +279,7 @@ CurveResult newtonOnCurve(const EdgeData& edge, const Eigen::Vector3d& q, double
 // At a pole (one parameter undetermined, the other at its bound) Newton cannot tell along
 // which meridian to leave. Picks the meridian of steepest descent from the pole and sets (u, v)
 // a little way along it; false when no meridian descends (the pole is the minimum).
-bool leavePole(const FaceData& face, GeomAdaptor_Surface& surface, const Eigen::Vector3d& q, double& u, double& v) {
+bool leavePole(const FaceData& face, FaceSurface& surface, const Eigen::Vector3d& q, double& u, double& v) {
   gp_Pnt p;
   gp_Vec su, sv;
   surface.D1(u, v, p, su, sv);
@@ -313,6 +313,20 @@ bool leavePole(const FaceData& face, GeomAdaptor_Surface& surface, const Eigen::
   return true;
 }
 
+// Whether (u, v) (wrapped into the face's range) lies inside the face's trim. At a degenerate
+// point (a pole, where one parameter is arbitrary and the trim polygon does not close), the
+// test is made a little way towards the face's interior: the point belongs to the face when
+// the face's points next to it do.
+bool insideTrim(ThreadContext& context, const FaceData& face, int faceId, double u, double v) {
+  if (context.inside(faceId, u, v)) return true;
+  gp_Pnt p;
+  gp_Vec su, sv;
+  context.surface(faceId).D1(u, v, p, su, sv);
+  if (!isSingular(su, sv)) return false;
+  const double nudge = 1e-6;
+  return context.inside(faceId, u + nudge * (0.5 * (face.u0 + face.u1) - u), v + nudge * (0.5 * (face.v0 + face.v1) - v));
+}
+
 // Closest point on the trimmed face: Newton from (u, v), then the trim test; outside the trim a
 // trim-constrained descent, then the face's boundary edges. Returns no foot (distance < 0) when
 // the face cannot beat bestSoFar.
@@ -329,7 +343,7 @@ Foot solveOnFace(const Target::Data& data, ThreadContext& context, int faceId, c
   foot.face = faceId;
   foot.u = wrapInto(newton.u, face.uPeriodic, face.uPeriod, face.u0);
   foot.v = wrapInto(newton.v, face.vPeriodic, face.vPeriod, face.v0);
-  if (context.inside(faceId, foot.u, foot.v)) {
+  if (insideTrim(context, face, faceId, foot.u, foot.v)) {
     foot.point = newton.point;
     foot.distance = (newton.point - q).norm();
     foot.status = newton.converged ? ProjectionStatus::Ok : ProjectionStatus::Fallback;
@@ -398,6 +412,13 @@ Foot closestOnSurface(const Target::Data& data, ThreadContext& context, const Ei
     radius = std::sqrt(nearestSquared) + data.margin;
   }
   data.tree.withinRadius(q, radius, [&](int t) {
+    // A triangle of the warm-start face with a node within half its size of the warm-started
+    // foot lies within 1.5 sizes of it: the loop below would skip it as the same basin.
+    const double size = data.triangleSize[static_cast<std::size_t>(t)];
+    if (hintFace >= 0 && data.triangleFaces[t] == hintFace &&
+        (data.nodes.row(data.triangles(t, 0)).transpose() - context.anchors.front().point).squaredNorm() <=
+            0.25 * size * size)
+      return;
     const TrianglePoint closest = closestOnMeshTriangle(data, t, q);
     const double distance = (closest.point - q).norm();
     if (distance <= radius) context.candidates.push_back({t, distance, closest.point, closest.u, closest.v});
@@ -424,9 +445,17 @@ Foot closestOnSurface(const Target::Data& data, ThreadContext& context, const Ei
   return best;
 }
 
+// A crossing of the line q + s d with a face's (untrimmed) surface.
+struct LineHit {
+  double u = 0, v = 0, s = 0;
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  bool found = false;
+};
+
 // Intersection of the line q + s d with the face near (u, v, s): Newton on S(u, v) - q - s d.
-bool newtonOnLine(const FaceData& face, GeomAdaptor_Surface& surface, const Eigen::Vector3d& q,
-                  const Eigen::Vector3d& d, double convergence, double& u, double& v, double& s, Eigen::Vector3d& point) {
+// Fails (found = false) where the Jacobian (Su, Sv, -d) is singular, as at a sphere's pole.
+LineHit newtonOnLine(const FaceData& face, FaceSurface& surface, const Eigen::Vector3d& q,
+                     const Eigen::Vector3d& d, double convergence, double u, double v, double s) {
   const double uLo = face.uPeriodic ? -Precision::Infinite() : face.uMin;
   const double uHi = face.uPeriodic ? Precision::Infinite() : face.uMax;
   const double vLo = face.vPeriodic ? -Precision::Infinite() : face.vMin;
@@ -435,11 +464,12 @@ bool newtonOnLine(const FaceData& face, GeomAdaptor_Surface& surface, const Eige
   gp_Vec su, sv;
   surface.D1(u, v, p, su, sv);
   Eigen::Vector3d residual = toEigen(p) - q - s * d;
+  LineHit hit;
   for (int iteration = 0; iteration < kMaxNewtonIterations; ++iteration) {
     Eigen::Matrix3d jacobian;
     jacobian << toEigen(su), toEigen(sv), -d;
     Eigen::Vector3d step = jacobian.partialPivLu().solve(-residual);
-    if (!step.allFinite()) return false;
+    if (!step.allFinite()) return hit;
     step.head<2>() = clipStep(face, step.head<2>());
     double scale = 1.0;
     bool accepted = false;
@@ -460,8 +490,92 @@ bool newtonOnLine(const FaceData& face, GeomAdaptor_Surface& surface, const Eige
     }
     if (!accepted) break;
   }
-  point = toEigen(p);
-  return residual.norm() <= 1e3 * convergence;
+  hit.found = residual.norm() <= 1e3 * convergence && !isSingular(su, sv);
+  hit.u = u;
+  hit.v = v;
+  hit.s = s;
+  hit.point = toEigen(p);
+  return hit;
+}
+
+// Closest point of the face's surface to x near (u, v) (updated to the foot), and the distance
+// signed against a reference normal: a function of the line parameter that changes sign where
+// the line crosses the surface, defined at degenerate points too (the closest-point solve
+// handles poles).
+double signedDistance(const FaceData& face, FaceSurface& surface, const Eigen::Vector3d& x,
+                      const Eigen::Vector3d& reference, double convergence, double& u, double& v,
+                      Eigen::Vector3d& foot) {
+  NewtonResult newton = newtonOnSurface(face, surface, x, u, v, convergence);
+  for (int escape = 0; escape < 2 && newton.singular; ++escape) {
+    double pu = newton.u, pv = newton.v;
+    if (!leavePole(face, surface, x, pu, pv)) break;
+    newton = newtonOnSurface(face, surface, x, pu, pv, convergence);
+  }
+  u = newton.u;
+  v = newton.v;
+  foot = newton.point;
+  const Eigen::Vector3d r = x - foot;
+  return r.dot(reference) >= 0 ? r.norm() : -r.norm();
+}
+
+// Crossing of the line near s0 found as the root of the signed distance along it: bracketed in
+// widening intervals around s0 (up to 16 reach), then regula falsi (Illinois). Slower than
+// Newton on the line but indifferent to the surface's parametrization.
+LineHit bracketOnLine(const FaceData& face, FaceSurface& surface, const Eigen::Vector3d& q,
+                      const Eigen::Vector3d& d, const Eigen::Vector3d& reference, double convergence, double u,
+                      double v, double s0, double reach) {
+  LineHit hit;
+  struct Sample {
+    double s, g, u, v;
+    Eigen::Vector3d foot;
+  };
+  auto sample = [&](double s, double su, double sv) {
+    Sample x{s, 0.0, su, sv, Eigen::Vector3d::Zero()};
+    x.g = signedDistance(face, surface, q + s * d, reference, convergence, x.u, x.v, x.foot);
+    return x;
+  };
+  const Sample center = sample(s0, u, v);
+  if (std::abs(center.g) <= convergence) {
+    hit = {center.u, center.v, s0, center.foot, true};
+    return hit;
+  }
+  Sample a = center, b = center;
+  bool bracketed = false;
+  for (double width = reach; width <= 16 * reach && !bracketed; width *= 4) {
+    // Both sides cross: the one whose interpolated crossing is nearer s0.
+    const Sample below = sample(s0 - width, center.u, center.v);
+    const Sample above = sample(s0 + width, center.u, center.v);
+    const bool crossBelow = (below.g < 0) != (center.g < 0);
+    const bool crossAbove = (above.g < 0) != (center.g < 0);
+    if (crossBelow && (!crossAbove || std::abs(below.g - center.g) >= std::abs(above.g - center.g))) {
+      a = below;
+      bracketed = true;
+    } else if (crossAbove) {
+      b = above;
+      bracketed = true;
+    }
+  }
+  if (!bracketed) return hit;
+  // Illinois: regula falsi that halves the value kept at an end that stays twice in a row.
+  int side = 0;
+  Sample x = std::abs(a.g) < std::abs(b.g) ? a : b;
+  for (int iteration = 0; iteration < kMaxNewtonIterations && b.s - a.s > convergence; ++iteration) {
+    const double s = clampTo(a.s - a.g * (b.s - a.s) / (b.g - a.g), a.s, b.s);
+    x = sample(s, x.u, x.v);
+    if (std::abs(x.g) <= convergence) break;
+    if ((x.g < 0) == (a.g < 0)) {
+      a = x;
+      if (side < 0) b.g *= 0.5;
+      side = -1;
+    } else {
+      b = x;
+      if (side > 0) a.g *= 0.5;
+      side = 1;
+    }
+  }
+  if (!(std::abs(x.g) <= 1e3 * convergence)) return hit;
+  hit = {x.u, x.v, x.s, x.foot, true};
+  return hit;
 }
 
 Foot alongLine(const Target::Data& data, ThreadContext& context, const Eigen::Vector3d& q, const Eigen::Vector3d& direction) {
@@ -493,31 +607,47 @@ Foot alongLine(const Target::Data& data, ThreadContext& context, const Eigen::Ve
             [](const ThreadContext::Candidate& a, const ThreadContext::Candidate& b) { return a.distance < b.distance; });
   context.anchors.clear();
   Foot best;
-  int solves = 0;
-  for (const ThreadContext::Candidate& candidate : context.candidates) {
-    const int faceId = data.triangleFaces[candidate.triangle];
-    if (nearAnchor(context, faceId, candidate.point, 1.5 * data.triangleSize[static_cast<std::size_t>(candidate.triangle)]))
-      continue;
-    if (++solves > kMaxLineHits) break;
-    context.anchors.push_back({faceId, candidate.point});
+  // A crossing inside the trim that is nearer than the best so far replaces it.
+  auto consider = [&](int faceId, const LineHit& hit) {
+    if (!hit.found) return false;
     const FaceData& face = data.faces[static_cast<std::size_t>(faceId)];
-    double u = candidate.u, v = candidate.v;
-    double s = (candidate.point - q).dot(d);
-    Eigen::Vector3d point;
-    if (!newtonOnLine(face, context.surface(faceId), q, d, data.convergence, u, v, s, point)) continue;
-    u = wrapInto(u, face.uPeriodic, face.uPeriod, face.u0);
-    v = wrapInto(v, face.vPeriodic, face.vPeriod, face.v0);
-    if (!context.inside(faceId, u, v)) continue;
-    context.anchors.push_back({faceId, point});
-    const double distance = (point - q).norm();
+    const double u = wrapInto(hit.u, face.uPeriodic, face.uPeriod, face.u0);
+    const double v = wrapInto(hit.v, face.vPeriodic, face.vPeriod, face.v0);
+    if (!insideTrim(context, face, faceId, u, v)) return false;
+    context.anchors.push_back({faceId, hit.point});
+    const double distance = (hit.point - q).norm();
     if (best.distance < 0 || distance < best.distance) {
-      best.point = point;
+      best.point = hit.point;
       best.distance = distance;
       best.face = faceId;
       best.u = u;
       best.v = v;
       best.status = ProjectionStatus::Ok;
     }
+    return true;
+  };
+  int solves = 0;
+  for (const ThreadContext::Candidate& candidate : context.candidates) {
+    const int faceId = data.triangleFaces[candidate.triangle];
+    const double size = data.triangleSize[static_cast<std::size_t>(candidate.triangle)];
+    if (nearAnchor(context, faceId, candidate.point, 1.5 * size)) continue;
+    if (++solves > kMaxLineHits) break;
+    context.anchors.push_back({faceId, candidate.point});
+    const FaceData& face = data.faces[static_cast<std::size_t>(faceId)];
+    FaceSurface& surface = context.surface(faceId);
+    const double s = (candidate.point - q).dot(d);
+    // The crossing of the surface under this triangle lies within about a triangle of the
+    // tessellation's crossing; Newton may converge to another crossing farther away (it is
+    // kept, but the local one is then searched for too).
+    const double reach = size + data.margin;
+    const LineHit newton = newtonOnLine(face, surface, q, d, data.convergence, candidate.u, candidate.v, s);
+    const bool local = consider(faceId, newton) && std::abs(newton.s - s) <= 4 * reach;
+    if (local) continue;
+    const auto nodes = data.triangles.row(candidate.triangle);
+    const Eigen::Vector3d a = data.nodes.row(nodes[0]).transpose();
+    const Eigen::Vector3d reference =
+        (data.nodes.row(nodes[1]).transpose() - a).cross(data.nodes.row(nodes[2]).transpose() - a);
+    consider(faceId, bracketOnLine(face, surface, q, d, reference, data.convergence, candidate.u, candidate.v, s, reach));
   }
   if (best.distance >= 0) return best;
   Foot fallback = closestOnSurface(data, context, q, -1, 0, 0);
