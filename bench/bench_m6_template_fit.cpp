@@ -1,9 +1,11 @@
 // The half_wing template placed automatically on the ONERA M6 wing (root face removed) and fitted
 // by SurfaceFitter, with chosen template resolution and depth: prints per pass the control points,
-// max / RMS sample distance and time, then the five largest distances and where they are.
+// max / RMS sample distance and time, then the five largest distances, where they are, the CAD
+// face their foot lies on and the cosine between the limit normal and the target normal there.
 //
-//   build/bench/bench_m6_template_fit [chordwise] [spanwise] [max_level] [stagnation] [along]
-//   (defaults 6 4 5 0.9 0; stagnation: FitOptions::stagnationRatio, along 1: projectAlongNormals)
+//   build/bench/bench_m6_template_fit [chordwise] [spanwise] [max_level] [stagnation] [along] [reject]
+//   (defaults 6 4 5 0.9 0 1; stagnation: FitOptions::stagnationRatio, along 1: projectAlongNormals,
+//   reject 0: FitOptions::rejectOpposingFeet off, the plain closest points)
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -25,6 +27,7 @@ int main(int argc, char** argv) {
   const int maxLevel = argc > 3 ? std::atoi(argv[3]) : 5;
   const double stagnation = argc > 4 ? std::atof(argv[4]) : 0.9;
   const bool along = argc > 5 && std::atoi(argv[5]) != 0;
+  const bool reject = argc <= 6 || std::atoi(argv[6]) != 0;
   const auto start = std::chrono::steady_clock::now();
   const polyhedron::HalfModelShape half = polyhedron::removeSymmetryFace(
       cad::readShapeFile(std::string(BVMESH_DATA_DIR) + "/AileM6_with_sharp_TE.stp"));
@@ -44,6 +47,7 @@ int main(int argc, char** argv) {
   options.maxLevel = maxLevel;
   options.stagnationRatio = stagnation;
   options.projectAlongNormals = along;
+  options.rejectOpposingFeet = reject;
   options.symmetryPlane = placed.symmetryPlane;
   fit::SurfaceFitter fitter(target, placed.mesh, placed.mapping.map, options);
   std::printf(
@@ -55,6 +59,7 @@ int main(int argc, char** argv) {
     std::fflush(stdout);
   });
   const RowMatrixX3d positions = fitter.limitPositions();
+  const RowMatrixX3d normals = fitter.computeLimitSamples().normals(fitter.mesh().vertices());
   const target::ProjectionResult& feet = fitter.project();
   std::vector<std::pair<double, Eigen::Index>> worst;
   for (Eigen::Index i = 0; i < positions.rows(); ++i)
@@ -62,8 +67,9 @@ int main(int argc, char** argv) {
   std::partial_sort(worst.begin(), worst.begin() + 5, worst.end(), std::greater<>());
   for (int k = 0; k < 5; ++k) {
     const Eigen::Index i = worst[static_cast<size_t>(k)].second;
-    std::printf("distance %.3e mm at (%.1f, %.1f, %.1f)\n", worst[static_cast<size_t>(k)].first,
-                positions(i, 0), positions(i, 1), positions(i, 2));
+    std::printf("distance %.3e mm at (%.1f, %.1f, %.1f), face %d, normal cosine %.3f\n",
+                worst[static_cast<size_t>(k)].first, positions(i, 0), positions(i, 1), positions(i, 2),
+                feet.faces[i], normals.row(i).dot(feet.normals.row(i)));
   }
   return 0;
 }

@@ -355,11 +355,61 @@ struct SurfaceFitter::State {
         all.status[static_cast<size_t>(i)] = part.status[static_cast<size_t>(k)];
       }
     }
+    if (!options.projectAlongNormals && options.rejectOpposingFeet) reprojectOpposingFeet(all);
     projections = std::move(all);
     projectionsValid = true;
     hints.faces = projections.faces;
     hints.uv = projections.params;
     haveHints = true;
+  }
+
+  // Surface samples whose foot normal opposes their limit normal are cast along the limit normal;
+  // the hit replaces the foot when its normal agrees. The limit normals' orientation relative to
+  // the target's is the one most surface samples agree on (the mesh may be oriented either way).
+  void reprojectOpposingFeet(target::ProjectionResult& all) const {
+    const RowMatrixX3d normals = samples->normals(mesh.vertices());
+    std::vector<int> surface;
+    Eigen::VectorXd dots(samples->size());
+    double agreement = 0.0;
+    for (int i = 0; i < samples->size(); ++i) {
+      if (destinations[static_cast<size_t>(i)].kind != Destination::Surface ||
+          all.status[static_cast<size_t>(i)] == target::ProjectionStatus::Failed) {
+        continue;
+      }
+      surface.push_back(i);
+      dots[i] = normals.row(i).dot(all.normals.row(i));
+      agreement += dots[i] > 0.0 ? 1.0 : (dots[i] < 0.0 ? -1.0 : 0.0);
+    }
+    const double sign = agreement < 0.0 ? -1.0 : 1.0;
+    std::vector<int> opposing;
+    for (int i : surface) {
+      if (sign * dots[i] < 0.0) opposing.push_back(i);
+    }
+    if (opposing.empty()) return;
+    const auto count = static_cast<Eigen::Index>(opposing.size());
+    RowMatrixX3d points(count, 3);
+    RowMatrixX3d directions(count, 3);
+    for (Eigen::Index k = 0; k < count; ++k) {
+      points.row(k) = positions.row(opposing[static_cast<size_t>(k)]);
+      directions.row(k) = normals.row(opposing[static_cast<size_t>(k)]);
+    }
+    const target::ProjectionResult cast = cad().projectAlong(points, directions);
+    for (Eigen::Index k = 0; k < count; ++k) {
+      const auto status = cast.status[static_cast<size_t>(k)];
+      const int i = opposing[static_cast<size_t>(k)];
+      // A far hit along a tilted normal would drag the surface more than the flip does.
+      if (status == target::ProjectionStatus::Fallback || status == target::ProjectionStatus::Failed ||
+          sign * directions.row(k).dot(cast.normals.row(k)) <= 0.0 || cast.distances[k] > 2.0 * all.distances[i]) {
+        continue;
+      }
+      all.points.row(i) = cast.points.row(k);
+      all.distances[i] = cast.distances[k];
+      all.ids[i] = cast.ids[k];
+      all.faces[i] = cast.faces[k];
+      all.params.row(i) = cast.params.row(k);
+      all.normals.row(i) = cast.normals.row(k);
+      all.status[static_cast<size_t>(i)] = status;
+    }
   }
 
   void ensureSamples() {
