@@ -399,7 +399,7 @@ struct SurfaceFitter::State {
       const int i = opposing[static_cast<size_t>(k)];
       // A far hit along a tilted normal would drag the surface more than the flip does.
       if (status == target::ProjectionStatus::Fallback || status == target::ProjectionStatus::Failed ||
-          sign * directions.row(k).dot(cast.normals.row(k)) <= 0.0 || cast.distances[k] > 2.0 * all.distances[i]) {
+          sign * directions.row(k).dot(cast.normals.row(k)) <= 0.0 || cast.distances[k] > 4.0 * all.distances[i]) {
         continue;
       }
       all.points.row(i) = cast.points.row(k);

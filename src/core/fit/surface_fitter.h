@@ -63,7 +63,8 @@ struct FitOptions {
   bool projectAlongNormals = false;  // project along limit normals instead of to the closest point
   // Closest points whose target normal opposes the limit normal (the far side of a thin part,
   // e.g. a trailing-edge wedge) are replaced by the hit along the limit normal when that hit
-  // faces the sample's way; otherwise the two sides of the part pinch together.
+  // faces the sample's way and is at most 4 times as far; otherwise the two sides of the part
+  // pinch together.
   bool rejectOpposingFeet = true;
   int checkSamplesPerFace = 4;       // per direction, for the two-sided distance check; 0: none
   SubdivisionOptions subdivision;
