@@ -77,6 +77,8 @@ void applyOptions(FitOptions& options, const py::dict& kwargs) {
       options.relativePlaneTolerance = value.cast<double>();
     } else if (name == "project_along_normals") {
       options.projectAlongNormals = value.cast<bool>();
+    } else if (name == "reject_opposing_feet") {
+      options.rejectOpposingFeet = value.cast<bool>();
     } else if (name == "check_samples_per_face") {
       options.checkSamplesPerFace = value.cast<int>();
     } else if (name == "subdivision") {
@@ -85,7 +87,7 @@ void applyOptions(FitOptions& options, const py::dict& kwargs) {
       throw py::value_error("unknown fitting option '" + name +
                             "'; known: tolerance, relative_tolerance, max_level, max_corrections, stagnation_ratio, "
                             "solver, cgls_tolerance, cgls_max_iterations, weights, fixed_vertices, symmetry_plane, relative_plane_tolerance, "
-                            "project_along_normals, check_samples_per_face, subdivision");
+                            "project_along_normals, reject_opposing_feet, check_samples_per_face, subdivision");
     }
   }
 }
@@ -110,6 +112,7 @@ py::dict optionsToDict(const FitOptions& options) {
   }
   dict["relative_plane_tolerance"] = options.relativePlaneTolerance;
   dict["project_along_normals"] = options.projectAlongNormals;
+  dict["reject_opposing_feet"] = options.rejectOpposingFeet;
   dict["check_samples_per_face"] = options.checkSamplesPerFace;
   dict["subdivision"] = options.subdivision;
   return dict;
@@ -209,7 +212,8 @@ void bindFit(py::module_& module) {
            "max_corrections (4), stagnation_ratio (0.9), solver ('cgls' (default) or 'cholesky'),\n"
            "cgls_tolerance, cgls_max_iterations, weights\n"
            "(dict smooth/crease/boundary/corner), fixed_vertices, symmetry_plane ((point, normal)),\n"
-           "relative_plane_tolerance, project_along_normals, check_samples_per_face (4), subdivision.")
+           "relative_plane_tolerance, project_along_normals, reject_opposing_feet (True),\n"
+           "check_samples_per_face (4), subdivision.")
       .def_property_readonly("mesh", &SurfaceFitter::mesh, "the current control mesh (a copy)")
       .def_property_readonly("features", [](const SurfaceFitter& f) { return featureMapToDict(f.features()); })
       .def_property_readonly("options", [](const SurfaceFitter& f) { return optionsToDict(f.options()); })

@@ -58,6 +58,14 @@ class FitterSteps(unittest.TestCase):
         # The fitter can go on after a cancel.
         self.assertEqual(self.fitter.run(tolerance=1e-2)["reason"], "converged")
 
+    def test_options_round_trip(self):
+        self.assertTrue(self.fitter.options["reject_opposing_feet"])
+        self.fitter.set_options(reject_opposing_feet=False, solver="cholesky", symmetry_plane=((0, 0, 0), (0, 0, 2)))
+        options = self.fitter.options
+        self.assertFalse(options["reject_opposing_feet"])
+        self.assertEqual(options["solver"], "cholesky")
+        np.testing.assert_allclose(options["symmetry_plane"][1], [0, 0, 2])
+
     def test_bad_arguments_name_the_problem(self):
         with self.assertRaisesRegex(ValueError, "unknown fitting option 'tolerence'"):
             self.fitter.set_options(tolerence=1e-3)
