@@ -153,14 +153,14 @@ class Fitting(DocumentTest):
         api.subdivide(fit)
         before = (list(fit.Steps), vectors(fit.ControlVertices), list(fit.HistoryMax))
 
-        def failing(fitter, options):
+        def failing(fitter):
             raise RuntimeError("solver exploded")
 
         with surface_fit.fit_runner(failing):
             with self.assertRaisesRegex(RuntimeError, "solver exploded"):
                 api.fit_to_tolerance(fit)
         self.assertEqual((list(fit.Steps), vectors(fit.ControlVertices), list(fit.HistoryMax)), before)
-        with surface_fit.fit_runner(lambda fitter, options: fitter.run(cancel=lambda: True, **options)):
+        with surface_fit.fit_runner(lambda fitter: fitter.run(cancel=lambda: True)):
             with self.assertRaisesRegex(RuntimeError, "cancelled"):
                 api.fit_to_tolerance(fit)
         self.assertEqual((list(fit.Steps), vectors(fit.ControlVertices), list(fit.HistoryMax)), before)

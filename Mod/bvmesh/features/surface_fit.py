@@ -19,9 +19,10 @@ SOLVERS = ["cholesky", "cgls"]
 STEP_NAMES = ("subdivide", "project", "approximate", "correct", "smooth", "fit")
 
 
-def default_run(fitter, options):
-    """Runs the fitter to the tolerance without progress display (scripts, freecadcmd)."""
-    return fitter.run(**options)
+def default_run(fitter):
+    """Runs the fitter (built with the fit's options) to the tolerance without progress display
+    (scripts, freecadcmd)."""
+    return fitter.run()
 
 
 _runner = default_run
@@ -29,7 +30,7 @@ _runner = default_run
 
 @contextlib.contextmanager
 def fit_runner(runner):
-    """Makes `runner(fitter, options) -> summary` run the `fit` steps while the block runs (the
+    """Makes `runner(fitter) -> summary` run the `fit` steps while the block runs (the
     GUI shows progress and offers Cancel this way; the macro line stays the plain API call)."""
     global _runner
     previous, _runner = _runner, runner
@@ -171,7 +172,7 @@ class SurfaceFitProxy(Proxy):
     def _apply(self, obj, fitter, line, summary):
         name, args = parse_step(line)
         if name == "fit":
-            result = _runner(fitter, self.options(obj))
+            result = _runner(fitter)
             if result["reason"] == "cancelled":
                 raise FitCancelled("the fit was cancelled")
             summary["reason"] = result["reason"]

@@ -20,7 +20,7 @@ class GuiFitRunner:
 
     poll_seconds = 0.05
 
-    def __call__(self, fitter, options):
+    def __call__(self, fitter):
         from PySide import QtCore, QtGui
 
         records = queue.Queue()
@@ -29,12 +29,12 @@ class GuiFitRunner:
 
         def work():
             try:
-                outcome["summary"] = fitter.run(progress=records.put, cancel=stop, **options)
+                outcome["summary"] = fitter.run(progress=records.put, cancel=stop)
             except BaseException as error:  # re-raised in the GUI thread
                 outcome["error"] = error
 
         main_window = FreeCADGui.getMainWindow()
-        dialog = QtGui.QProgressDialog("Starting the fit ...", "Cancel", 0, max(1, int(options["max_level"])),
+        dialog = QtGui.QProgressDialog("Starting the fit ...", "Cancel", 0, max(1, int(fitter.options["max_level"])),
                                        main_window)
         dialog.setObjectName(DIALOG_NAME)
         dialog.setWindowTitle("BVMesh: fit to tolerance")
