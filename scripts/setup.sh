@@ -12,7 +12,8 @@ BUILD_DIR=${BVMESH_BUILD_DIR:-$ROOT/build}
 PACKAGES=(
   build-essential cmake ninja-build
   freecad libocct-modeling-algorithms-dev libocct-modeling-data-dev libocct-foundation-dev
-  libocct-data-exchange-dev libeigen3-dev libosd-dev libtbb-dev libsuitesparse-dev pybind11-dev libgtest-dev
+  libocct-data-exchange-dev libeigen3-dev libosd-dev libtbb-dev libsuitesparse-dev pybind11-dev python3-dev
+  libgtest-dev
   python3-numpy python3-scipy python3-matplotlib xvfb xauth imagemagick
 )
 
