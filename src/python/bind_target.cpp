@@ -60,6 +60,12 @@ py::dict projectReleased(Work&& work) {
   return projectionToDict(result);
 }
 
+// Building the index takes a while: without the GIL.
+std::shared_ptr<Target> buildTarget(const TopoDS_Shape& shape, const TargetOptions& options) {
+  py::gil_scoped_release release;
+  return std::make_shared<Target>(shape, options);
+}
+
 constexpr const char* kResultDoc = R"(
 Returns a dict of numpy arrays for the n points:
   points (n, 3) foot points; distances (n,); ids (n,) face / edge / vertex ids (-1: failed);
@@ -99,9 +105,8 @@ void bindTarget(py::module_& module) {
           "from_brep",
           [](const std::string& brep, double relativeDeflection, double sharpAngleDeg, double relativeTolerance,
              int threads) {
-            const TopoDS_Shape shape = cad::readBrepString(brep);
-            py::gil_scoped_release release;
-            return std::make_shared<Target>(shape, makeOptions(relativeDeflection, sharpAngleDeg, relativeTolerance, threads));
+            return buildTarget(cad::readBrepString(brep),
+                               makeOptions(relativeDeflection, sharpAngleDeg, relativeTolerance, threads));
           },
           py::arg("brep"), py::arg("relative_deflection") = TargetOptions{}.relativeDeflection, py::arg("sharp_angle_deg") = TargetOptions{}.sharpAngleDeg,
           py::arg("relative_tolerance") = TargetOptions{}.relativeTolerance, py::arg("threads") = TargetOptions{}.threads,
@@ -111,9 +116,8 @@ void bindTarget(py::module_& module) {
           "from_file",
           [](const std::string& path, double relativeDeflection, double sharpAngleDeg, double relativeTolerance,
              int threads) {
-            const TopoDS_Shape shape = cad::readShapeFile(path);
-            py::gil_scoped_release release;
-            return std::make_shared<Target>(shape, makeOptions(relativeDeflection, sharpAngleDeg, relativeTolerance, threads));
+            return buildTarget(cad::readShapeFile(path),
+                               makeOptions(relativeDeflection, sharpAngleDeg, relativeTolerance, threads));
           },
           py::arg("path"), py::arg("relative_deflection") = TargetOptions{}.relativeDeflection, py::arg("sharp_angle_deg") = TargetOptions{}.sharpAngleDeg,
           py::arg("relative_tolerance") = TargetOptions{}.relativeTolerance, py::arg("threads") = TargetOptions{}.threads,

@@ -54,7 +54,15 @@ def parse_polyhedron(vertices_text, faces_text, creases_text, corners_text):
     return vertices, faces, creases, _numbers(corners_text, int, "corners")
 
 
-class PolyhedronPanel:
+class _Panel:
+    """What every BVMesh task panel does on Cancel: close, leaving the document as it was."""
+
+    def reject(self):
+        FreeCADGui.Control.closeDialog()
+        return True
+
+
+class PolyhedronPanel(_Panel):
     """Creates a polyhedron (obj None) or edits the data of `obj`."""
 
     def __init__(self, obj):
@@ -92,16 +100,12 @@ class PolyhedronPanel:
         FreeCADGui.Control.closeDialog()
         return True
 
-    def reject(self):
-        FreeCADGui.Control.closeDialog()
-        return True
-
 
 def _vector_text(v):
     return "{!r} {!r} {!r}".format(v.x, v.y, v.z)
 
 
-class FitPanel:
+class FitPanel(_Panel):
     """Edits the parameters of a SurfaceFit; accept() sets the changed ones."""
 
     SPINS = (
@@ -177,9 +181,5 @@ class FitPanel:
             if not run_in_transaction("BVMesh fit parameters", ["bvmesh.api.set_fit_parameters({}, {})".format(
                     _object_ref(self.fit), arguments)]):
                 return False
-        FreeCADGui.Control.closeDialog()
-        return True
-
-    def reject(self):
         FreeCADGui.Control.closeDialog()
         return True
