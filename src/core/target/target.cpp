@@ -293,7 +293,15 @@ GeomAdaptor_Surface& FaceSurface::adaptor(double u, double v) {
   }
   if (spans_[slot] != span) {
     spans_[slot] = span;
-    if (!adaptors_[slot]) adaptors_[slot] = std::make_unique<GeomAdaptor_Surface>(face_.surface);
+    // GeomAdaptor_Surface evaluates a B-spline exactly on its first or last parameter by the
+    // uncached de Boor path (one-sided derivatives at trimming knots), several times slower;
+    // feet on the domain's border (Newton clamps there) are common. Bounds wider than the
+    // domain keep every evaluation on the span cache, whose end values are the same polynomial.
+    if (!adaptors_[slot]) {
+      const double du = face_.uMax - face_.uMin, dv = face_.vMax - face_.vMin;
+      adaptors_[slot] = std::make_unique<GeomAdaptor_Surface>(face_.surface, face_.uMin - du, face_.uMax + du,
+                                                              face_.vMin - dv, face_.vMax + dv);
+    }
   }
   used_[slot] = ++clock_;
   return *adaptors_[slot];

@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <mutex>
@@ -125,24 +126,26 @@ struct Target::Data {
 // Evaluation of one face's surface by one thread. GeomAdaptor_Surface converts the B-spline span
 // of (u, v) to polynomial form and keeps that one span; the evaluations for one point (Newton
 // steps, seeds from several triangles) move back and forth between neighbouring spans, and each
-// change rebuilds the cache, which costs more than an evaluation. So a B-spline face has a few
-// adaptors, each keeping the span it last evaluated: evaluations go to the adaptor holding
-// their span, a new span replaces the least recently used one.
+// change rebuilds the cache, which costs more than an evaluation. So a B-spline face has up to
+// kSlots adaptors, each keeping the span it last evaluated: evaluations go to the adaptor holding
+// their span, a new span replaces the least recently used one. 16 slots hold every span a
+// thread visits for many points in a row (the M6's faces have 2 to 32 spans; 4 slots rebuilt
+// about one cache per point).
 class FaceSurface {
 public:
-  explicit FaceSurface(const FaceData& face) : face_(face) {}
+  explicit FaceSurface(const FaceData& face) : face_(face) { spans_.fill(-1); }
   void D1(double u, double v, gp_Pnt& p, gp_Vec& su, gp_Vec& sv) { adaptor(u, v).D1(u, v, p, su, sv); }
   void D2(double u, double v, gp_Pnt& p, gp_Vec& su, gp_Vec& sv, gp_Vec& suu, gp_Vec& svv, gp_Vec& suv) {
     adaptor(u, v).D2(u, v, p, su, sv, suu, svv, suv);
   }
 
 private:
-  static constexpr int kSlots = 4;
+  static constexpr int kSlots = 16;
   GeomAdaptor_Surface& adaptor(double u, double v);
   const FaceData& face_;
-  std::unique_ptr<GeomAdaptor_Surface> adaptors_[kSlots];
-  std::int64_t spans_[kSlots] = {-1, -1, -1, -1};
-  std::uint64_t used_[kSlots] = {0, 0, 0, 0};
+  std::array<std::unique_ptr<GeomAdaptor_Surface>, kSlots> adaptors_;
+  std::array<std::int64_t, kSlots> spans_;
+  std::array<std::uint64_t, kSlots> used_{};
   std::uint64_t clock_ = 0;
 };
 
