@@ -313,22 +313,25 @@ FaceSurface& ThreadContext::surface(int face) {
   return *slot;
 }
 
+Eigen::Vector3d unitNormal(const FaceData& face, const gp_Vec& su, const gp_Vec& sv, double relativeTolerance) {
+  const Eigen::Vector3d n = toEigen(su).cross(toEigen(sv));
+  const double length = n.norm();
+  if (!(length > relativeTolerance * (su.Magnitude() + sv.Magnitude()) + 1e-300) || !std::isfinite(length))
+    return Eigen::Vector3d::Zero();
+  return face.reversed ? Eigen::Vector3d(-n / length) : Eigen::Vector3d(n / length);
+}
+
 Eigen::Vector3d faceNormal(const FaceData& face, FaceSurface& surface, double u, double v) {
   gp_Pnt p;
   gp_Vec su, sv;
   surface.D1(u, v, p, su, sv);
-  Eigen::Vector3d n = toEigen(su).cross(toEigen(sv));
+  const Eigen::Vector3d n = unitNormal(face, su, sv, 1e-12);
+  if (!n.isZero()) return n;
   // At a pole (sphere apex) one derivative vanishes: step towards the face's interior.
-  if (n.norm() <= 1e-12 * (toEigen(su).norm() + toEigen(sv).norm()) + 1e-300) {
-    const double uc = 0.5 * (face.u0 + face.u1);
-    const double vc = 0.5 * (face.v0 + face.v1);
-    surface.D1(u + 1e-6 * (uc - u), v + 1e-6 * (vc - v), p, su, sv);
-    n = toEigen(su).cross(toEigen(sv));
-  }
-  const double length = n.norm();
-  if (!(length > 0) || !std::isfinite(length)) return Eigen::Vector3d::Zero();
-  n /= length;
-  return face.reversed ? Eigen::Vector3d(-n) : n;
+  const double uc = 0.5 * (face.u0 + face.u1);
+  const double vc = 0.5 * (face.v0 + face.v1);
+  surface.D1(u + 1e-6 * (uc - u), v + 1e-6 * (vc - v), p, su, sv);
+  return unitNormal(face, su, sv, 0.0);
 }
 
 TrimClassifier::TrimClassifier(double u0, double u1, double v0, double v1,

@@ -88,6 +88,7 @@ struct Foot {
   double u = 0, v = 0;
   int edge = -1;           // edge and curve parameter when the foot lies on an edge
   double t = 0;
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // the face's unit normal if known, else 0
   ProjectionStatus status = ProjectionStatus::Failed;
 };
 
@@ -182,6 +183,9 @@ Eigen::Vector3d toEigen(const gp_Pnt& p);
 Eigen::Vector3d toEigen(const gp_Vec& v);
 // Unit normal of the face at (u, v) (orientation applied); zero where it is undefined.
 Eigen::Vector3d faceNormal(const FaceData& face, FaceSurface& surface, double u, double v);
+// Unit normal from the derivatives at a point (orientation applied); zero where |Su x Sv| is
+// at most relativeTolerance (|Su| + |Sv|) (a pole: faceNormal then looks next to it).
+Eigen::Vector3d unitNormal(const FaceData& face, const gp_Vec& su, const gp_Vec& sv, double relativeTolerance);
 // Closest point on one edge (all local minima of the polyline distance are refined).
 Foot closestOnEdge(const Target::Data& data, int edge, const Eigen::Vector3d& q);
 

@@ -121,6 +121,7 @@ struct NewtonResult {
   bool converged = false;
   bool singular = false;  // stopped where the parametrization degenerates (a pole)
   bool blocked = false;   // stopped at the trim (constrained iteration only)
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // unit normal at the point; 0 at a pole
 };
 
 bool isSingular(const gp_Vec& su, const gp_Vec& sv) {
@@ -168,6 +169,7 @@ NewtonResult newtonOnSurface(const FaceData& face, FaceSurface& surface, const E
     }
     bool accepted = false;
     bool fullStep = false;
+    bool settled = false;
     double moved = 0.0;
     for (int attempt = 0; attempt < 60 && !accepted; ++attempt) {
       fullStep = lambda == 0.0;
@@ -175,11 +177,12 @@ NewtonResult newtonOnSurface(const FaceData& face, FaceSurface& surface, const E
       a(0, 0) += lambda * jtj(0, 0) + 1e-300;
       a(1, 1) += lambda * jtj(1, 1) + 1e-300;
       // Where the Hessian is not positive definite (beyond a focal point), damp until it is.
-      const bool definite = fixU ? a(1, 1) > 0 : fixV ? a(0, 0) > 0 : a(0, 0) > 0 && a.determinant() > 0;
+      const double determinant = a.determinant();
+      const bool definite = fixU ? a(1, 1) > 0 : fixV ? a(0, 0) > 0 : a(0, 0) > 0 && determinant > 0;
       Eigen::Vector2d step = Eigen::Vector2d::Zero();
       if (fixU) step[1] = -g[1] / a(1, 1);
       else if (fixV) step[0] = -g[0] / a(0, 0);
-      else step = a.ldlt().solve(-g);
+      else step = Eigen::Vector2d(a(0, 1) * g[1] - a(1, 1) * g[0], a(1, 0) * g[0] - a(0, 0) * g[1]) / determinant;
       if (!definite || !step.allFinite()) {
         lambda = std::max(1e-6, 10 * lambda);
         continue;
@@ -187,6 +190,13 @@ NewtonResult newtonOnSurface(const FaceData& face, FaceSurface& surface, const E
       step = clipStep(face, step);
       const double un = clampTo(u + step[0], uLo, uHi);
       const double vn = clampTo(v + step[1], vLo, vHi);
+      // An undamped step that moves the point by less than the tolerance (to first order; the
+      // step is far too small for the second) would end the iteration after one more
+      // evaluation that only confirms it: the point has converged.
+      if (fullStep && inside == nullptr && (su * (un - u) + sv * (vn - v)).norm() <= convergence) {
+        settled = true;
+        break;
+      }
       if (inside != nullptr && !(*inside)(un, vn)) {
         lambda = std::max(1e-6, 10 * lambda);
         result.blocked = true;
@@ -198,7 +208,10 @@ NewtonResult newtonOnSurface(const FaceData& face, FaceSurface& surface, const E
       surface.D2(un, vn, t.p, t.su, t.sv, t.suu, t.svv, t.suv);
       const Eigen::Vector3d rn = toEigen(t.p) - q;
       const double fn = rn.squaredNorm();
-      if (fn <= f * (1 + kRoundOff) + 1e-300) {
+      // Near the surface, the rounding of S itself (~1e-16 of the coordinates) changes |S - q|^2
+      // by more than its relative round-off, and would reject the last, tiny Newton steps: a
+      // step may also raise the distance by a tenth of the tolerance.
+      if (fn <= f * (1 + kRoundOff) + 1e-300 || std::sqrt(fn) <= std::sqrt(f) + 0.1 * convergence) {
         moved = (rn - r).norm();
         accepted = true;
         result.blocked = false;
@@ -212,14 +225,15 @@ NewtonResult newtonOnSurface(const FaceData& face, FaceSurface& surface, const E
         lambda = std::max(1e-6, 10 * lambda);
       }
     }
-    // Converged: a step moved the point by less than the tolerance and was either undamped or
-    // taken where the gradient vanishes; or no step descends any more.
+    // Converged: a step moved (or an undamped step would move) the point by less than the
+    // tolerance and was either undamped or taken where the gradient vanishes; or no step
+    // descends any more.
     // Stationary: the gradient along the free parameters vanishes (relative to |S_u|, |S_v|).
     const double gu = fixU ? 0.0 : g[0] * g[0] / std::max(jtj(0, 0), 1e-300);
     const double gv = fixV ? 0.0 : g[1] * g[1] / std::max(jtj(1, 1), 1e-300);
     const bool stationary = std::sqrt(gu + gv) <= 1e3 * convergence;
-    if (!accepted || (moved <= convergence && (fullStep || stationary))) {
-      result.converged = accepted || stationary;
+    if (settled || !accepted || (moved <= convergence && (fullStep || stationary))) {
+      result.converged = settled || accepted || stationary;
       break;
     }
   }
@@ -227,6 +241,7 @@ NewtonResult newtonOnSurface(const FaceData& face, FaceSurface& surface, const E
   result.v = v;
   result.point = toEigen(s.p);
   result.singular = isSingular(s.su, s.sv);
+  result.normal = unitNormal(face, s.su, s.sv, 1e-12);
   return result;
 }
 
@@ -346,6 +361,7 @@ Foot solveOnFace(const Target::Data& data, ThreadContext& context, int faceId, c
   if (insideTrim(context, face, faceId, foot.u, foot.v)) {
     foot.point = newton.point;
     foot.distance = (newton.point - q).norm();
+    foot.normal = newton.normal;
     foot.status = newton.converged ? ProjectionStatus::Ok : ProjectionStatus::Fallback;
     return foot;
   }
@@ -363,6 +379,7 @@ Foot solveOnFace(const Target::Data& data, ThreadContext& context, int faceId, c
       foot.distance = (constrained.point - q).norm();
       foot.u = wrapInto(constrained.u, face.uPeriodic, face.uPeriod, face.u0);
       foot.v = wrapInto(constrained.v, face.vPeriodic, face.vPeriod, face.v0);
+      foot.normal = constrained.normal;
       foot.status = ProjectionStatus::Ok;
       return foot;
     }
@@ -763,7 +780,10 @@ void storeFoot(const Target::Data& data, ThreadContext& context, const Foot& foo
   result.params(i, 0) = foot.u;
   result.params(i, 1) = foot.v;
   result.normals.row(i) =
-      faceNormal(data.faces[static_cast<std::size_t>(foot.face)], context.surface(foot.face), foot.u, foot.v).transpose();
+      (foot.normal.isZero()
+           ? faceNormal(data.faces[static_cast<std::size_t>(foot.face)], context.surface(foot.face), foot.u, foot.v)
+           : foot.normal)
+          .transpose();
   result.status[static_cast<std::size_t>(i)] = foot.status;
 }
 
