@@ -234,7 +234,7 @@ void findGaps(const Target::Data& data, TargetReport& report) {
       double best = std::numeric_limits<double>::infinity();
       int bestEdge = -1;
       for (int other : others) {
-        const Foot foot = closestOnEdge(data, other, q);
+        const Foot foot = closestOnEdge(data, other, q, best);
         if (foot.distance >= 0 && foot.distance < best) {
           best = foot.distance;
           bestEdge = other;

@@ -186,7 +186,8 @@ Eigen::Vector3d faceNormal(const FaceData& face, FaceSurface& surface, double u,
 // Unit normal from the derivatives at a point (orientation applied); zero where |Su x Sv| is
 // at most relativeTolerance (|Su| + |Sv|) (a pole: faceNormal then looks next to it).
 Eigen::Vector3d unitNormal(const FaceData& face, const gp_Vec& su, const gp_Vec& sv, double relativeTolerance);
-// Closest point on one edge (all local minima of the polyline distance are refined).
-Foot closestOnEdge(const Target::Data& data, int edge, const Eigen::Vector3d& q);
+// Closest point on one edge (the nearest local minima of the polyline distance are refined).
+// bound: a distance the foot must beat (< 0: none); no foot when no part of the edge can.
+Foot closestOnEdge(const Target::Data& data, int edge, const Eigen::Vector3d& q, double bound);
 
 }  // namespace bvmesh::target

@@ -388,7 +388,7 @@ Foot solveOnFace(const Target::Data& data, ThreadContext& context, int faceId, c
     // An edge whose box is farther than the best foot (here or elsewhere) cannot hold a nearer one.
     const double bound = foot.distance >= 0 ? foot.distance : bestSoFar;
     if (bound >= 0 && data.edges[static_cast<std::size_t>(use.edge)].box.squaredDistance(q) > bound * bound) continue;
-    const Foot onEdge = closestOnEdge(data, use.edge, q);
+    const Foot onEdge = closestOnEdge(data, use.edge, q, bound);
     if (onEdge.distance < 0 || (bound >= 0 && onEdge.distance >= bound)) continue;
     const gp_Pnt2d uv = use.pcurve->Value(onEdge.t);
     foot.point = onEdge.point;
@@ -789,49 +789,61 @@ void storeFoot(const Target::Data& data, ThreadContext& context, const Foot& foo
 
 }  // namespace
 
-Foot closestOnEdge(const Target::Data& data, int edgeId, const Eigen::Vector3d& q) {
+Foot closestOnEdge(const Target::Data& data, int edgeId, const Eigen::Vector3d& q, double bound) {
   const EdgeData& edge = data.edges[static_cast<std::size_t>(edgeId)];
   Foot best;
   if (edge.degenerate || edge.polyline.size() < 2) return best;
   // Seeds: local minima of the distance to the polyline's segments within the margin of the
-  // nearest; Newton on the curve from each.
+  // nearest (the curve lies within the margin of its polyline), the kMaxCurveSeeds nearest of
+  // them; Newton on the curve from each. One pass, no storage: keeping the nearest local minima
+  // and dropping those beyond the margin at the end selects the same seeds.
   const std::size_t segments = edge.polyline.size() - 1;
-  double seedDistance[kMaxCurveSeeds];
-  double seedParam[kMaxCurveSeeds];
-  int seeds = 0;
-  double nearest = std::numeric_limits<double>::infinity();
-  double previous = std::numeric_limits<double>::infinity();
-  std::vector<double> distances(segments);
-  std::vector<double> params(segments);
-  for (std::size_t k = 0; k < segments; ++k) {
-    const Eigen::Vector3d a = edge.polyline[k];
+  auto segmentDistance = [&](std::size_t k, double& param) {
+    const Eigen::Vector3d& a = edge.polyline[k];
     const Eigen::Vector3d ab = edge.polyline[k + 1] - a;
     const double length2 = ab.squaredNorm();
     const double w = length2 > 0 ? clampTo((q - a).dot(ab) / length2, 0, 1) : 0;
-    distances[k] = (a + w * ab - q).norm();
-    params[k] = edge.polyParams[k] + w * (edge.polyParams[k + 1] - edge.polyParams[k]);
-    nearest = std::min(nearest, distances[k]);
-  }
+    param = edge.polyParams[k] + w * (edge.polyParams[k + 1] - edge.polyParams[k]);
+    return (a + w * ab - q).norm();
+  };
+  double seedDistance[kMaxCurveSeeds];
+  double seedParam[kMaxCurveSeeds];
+  int seeds = 0;
+  double previous = std::numeric_limits<double>::infinity();
+  double param = 0;
+  double distance = segmentDistance(0, param);
+  double nearest = distance;
   for (std::size_t k = 0; k < segments; ++k) {
-    const double next = k + 1 < segments ? distances[k + 1] : std::numeric_limits<double>::infinity();
-    const bool localMinimum = distances[k] <= previous && distances[k] <= next;
-    previous = distances[k];
-    if (!localMinimum || distances[k] > nearest + data.margin) continue;
-    // Keep the kMaxCurveSeeds nearest local minima.
-    int slot = seeds < kMaxCurveSeeds ? seeds++ : -1;
-    if (slot < 0) {
-      slot = static_cast<int>(std::max_element(seedDistance, seedDistance + seeds) - seedDistance);
-      if (seedDistance[slot] <= distances[k]) continue;
+    double nextParam = 0;
+    const double next = k + 1 < segments ? segmentDistance(k + 1, nextParam) : std::numeric_limits<double>::infinity();
+    nearest = std::min(nearest, next);
+    if (distance <= previous && distance <= next) {
+      int slot = seeds;
+      if (seeds < kMaxCurveSeeds) {
+        ++seeds;
+      } else {
+        slot = static_cast<int>(std::max_element(seedDistance, seedDistance + seeds) - seedDistance);
+        if (seedDistance[slot] <= distance) slot = -1;
+      }
+      if (slot >= 0) {
+        seedDistance[slot] = distance;
+        seedParam[slot] = param;
+      }
     }
-    seedDistance[slot] = distances[k];
-    seedParam[slot] = params[k];
+    previous = distance;
+    distance = next;
+    param = nextParam;
   }
+  // A seed farther than the margin beyond the nearest seed or the bound cannot hold a foot
+  // nearer than either.
+  const double limit = std::min(nearest, bound >= 0 ? bound : std::numeric_limits<double>::infinity()) + data.margin;
   for (int s = 0; s < seeds; ++s) {
+    if (seedDistance[s] > limit) continue;
     const CurveResult result = newtonOnCurve(edge, q, seedParam[s], data.convergence);
-    const double distance = (result.point - q).norm();
-    if (best.distance < 0 || distance < best.distance) {
+    const double footDistance = (result.point - q).norm();
+    if (best.distance < 0 || footDistance < best.distance) {
       best.point = result.point;
-      best.distance = distance;
+      best.distance = footDistance;
       best.edge = edgeId;
       best.t = result.t;
       best.status = ProjectionStatus::Ok;
@@ -905,7 +917,7 @@ ProjectionResult Target::projectToEdges(const Eigen::Ref<const Points>& points, 
       Foot best;
       for (const auto& [boxSquared, b] : order) {
         if (best.distance >= 0 && boxSquared > best.distance * best.distance) break;
-        const Foot foot = closestOnEdge(*data_, boxEdge[b], q);
+        const Foot foot = closestOnEdge(*data_, boxEdge[b], q, best.distance);
         if (foot.distance >= 0 && (best.distance < 0 || foot.distance < best.distance)) best = foot;
       }
       if (best.distance >= 0) {
