@@ -6,7 +6,9 @@
 #include <BRepClass_FaceClassifier.hxx>
 #include <BRepExtrema_DistShapeShape.hxx>
 #include <BRep_Builder.hxx>
+#include <BRepTools.hxx>
 #include <BRep_Tool.hxx>
+#include <Geom2d_Curve.hxx>
 #include <Geom_BSplineSurface.hxx>
 #include <Geom_Surface.hxx>
 #include <IGESControl_Writer.hxx>
@@ -14,6 +16,7 @@
 #include <TColStd_Array1OfReal.hxx>
 #include <TColgp_Array2OfPnt.hxx>
 #include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
@@ -24,6 +27,7 @@
 
 #include "core/cad/shape_io.h"
 #include "core/target/target.h"
+#include "core/target/target_data.h"
 
 namespace bvmesh::target {
 namespace {
@@ -111,6 +115,48 @@ TEST_P(TargetCad, WarmStartsEqualColdStarts) {
     EXPECT_NEAR(warm.distances[i], cold.distances[i], 1e-12 * size) << "point " << i;
     EXPECT_LE((warm.points.row(i) - cold.points.row(i)).norm(), 1e-9 * size) << "point " << i;
     EXPECT_EQ(warm.status[static_cast<std::size_t>(i)], cold.status[static_cast<std::size_t>(i)]) << "point " << i;
+  }
+}
+
+// The trim classifier (grid of known cells, rays to the nearest one) against OCCT's classifier
+// on the exact pcurves, for random (u, v) in and around every face's parameter box. The
+// polygon here samples each pcurve uniformly (deviation ~1e-8 of the box); points within 1e-6
+// of the boundary (BRepClass: ON) are skipped.
+TEST_P(TargetCad, TrimClassifierAgreesWithBRepClass) {
+  const TopoDS_Shape shape = cad::readShapeFile(kDataDir + "/" + GetParam());
+  TopTools_IndexedMapOfShape faces;
+  TopExp::MapShapes(shape, TopAbs_FACE, faces);
+  std::mt19937 generator(21);
+  std::uniform_real_distribution<double> unit(-0.05, 1.05);
+  for (int f = 1; f <= faces.Extent(); ++f) {
+    const TopoDS_Face& face = TopoDS::Face(faces(f));
+    double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
+    BRepTools::UVBounds(face, u0, u1, v0, v1);
+    std::vector<std::vector<Eigen::Vector2d>> curves;
+    for (TopExp_Explorer it(face, TopAbs_EDGE); it.More(); it.Next()) {
+      double first = 0, last = 0;
+      const Handle(Geom2d_Curve) pcurve = BRep_Tool::CurveOnSurface(TopoDS::Edge(it.Current()), face, first, last);
+      ASSERT_FALSE(pcurve.IsNull());
+      constexpr int kSamples = 4000;
+      std::vector<Eigen::Vector2d> polyline;
+      for (int k = 0; k <= kSamples; ++k) {
+        const gp_Pnt2d p = pcurve->Value(first + (last - first) * k / kSamples);
+        polyline.emplace_back(p.X(), p.Y());
+      }
+      curves.push_back(std::move(polyline));
+    }
+    const TrimClassifier classifier(u0, u1, v0, v1, curves);
+    const double tolerance = 1e-6 * std::max(u1 - u0, v1 - v0);
+    int compared = 0;
+    for (int k = 0; k < 2000; ++k) {
+      const double u = u0 + unit(generator) * (u1 - u0);
+      const double v = v0 + unit(generator) * (v1 - v0);
+      const TopAbs_State state = BRepClass_FaceClassifier(face, gp_Pnt2d(u, v), tolerance).State();
+      if (state == TopAbs_ON) continue;
+      ++compared;
+      EXPECT_EQ(classifier.inside(u, v), state == TopAbs_IN) << "face " << f - 1 << " (u, v) = (" << u << ", " << v << ")";
+    }
+    EXPECT_GT(compared, 1900) << "face " << f - 1;
   }
 }
 

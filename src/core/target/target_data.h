@@ -30,9 +30,11 @@ struct FaceEdgeUse {
 };
 
 // Trim test of one face in its parameter plane: the boundary pcurves as a dense polygon (within
-// a 1e-7 fraction of the parameter box), and a grid whose cells away from the polygon are known
-// to be inside or outside. Points in cells the polygon crosses are tested by crossing number
-// against the segments of their grid row. Immutable after construction: shared by all threads.
+// a 1e-8 fraction of the parameter box), and a grid whose cells away from the polygon are known
+// to be inside or outside. A point in a cell the polygon crosses is classified by the crossings
+// of a ray along u or v (whichever reaches a known cell first, or the box's end: outside) up to
+// that cell: only the few segments listed in the cells in between are tested. Immutable after
+// construction: shared by all threads.
 class TrimClassifier {
 public:
   TrimClassifier() = default;
@@ -42,14 +44,21 @@ public:
 
 private:
   enum Cell : std::uint8_t { Outside = 0, Inside = 1, Boundary = 2, Unknown = 3 };
-  bool crossingInside(double u, double v, int row) const;
+  // Cell index of coordinate x along the grid's axis 0 (u) or 1 (v), clamped to the grid.
+  int index(double x, int axis) const;
+  // Whether an odd number of segments cross the ray from p along +axis (direction +1) or -axis
+  // (-1) within `steps` cells from p's own.
+  bool oddCrossings(const Eigen::Vector2d& p, int axis, int direction, int steps) const;
 
   static constexpr int kSize = 64;
   bool everywhere_ = true;  // a face without boundary curves
-  double u0_ = 0, v0_ = 0, du_ = 1, dv_ = 1;
-  std::vector<std::uint8_t> cells_;            // kSize x kSize, v outer
-  std::vector<Eigen::Vector4d> segments_;      // (ua, va, ub, vb)
-  std::vector<std::vector<int>> rowSegments_;  // per grid row: segments overlapping its v range
+  Eigen::Vector2d origin_ = Eigen::Vector2d::Zero();
+  Eigen::Vector2d step_ = Eigen::Vector2d::Ones();  // cell size along u and v
+  std::vector<std::uint8_t> cells_;        // kSize x kSize, v outer
+  std::vector<Eigen::Vector4d> segments_;  // (ua, va, ub, vb)
+  // Segments whose bounding box overlaps each cell: cellSegments_[cellStart_[c] .. cellStart_[c + 1]).
+  std::vector<int> cellStart_;
+  std::vector<int> cellSegments_;
 };
 
 struct FaceData {
