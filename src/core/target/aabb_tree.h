@@ -66,11 +66,14 @@ public:
 
   bool empty() const { return nodes_.empty(); }
 
-  // Nearest primitive to p. distance(id, p) returns the squared distance to primitive id.
-  // Returns -1 for an empty tree; bestSquared receives the squared distance.
+  // Nearest primitive to p. distance(id, p) returns the squared distance to primitive id; it is
+  // called for every primitive whose box lies within the nearest distance found so far plus
+  // `slack` (with slack > 0 the caller sees every primitive within slack of the nearest one,
+  // in one traversal). Returns -1 for an empty tree; bestSquared receives the squared distance.
   template <class SquaredDistance>
-  int nearest(const Eigen::Vector3d& p, SquaredDistance&& distance, double& bestSquared) const {
+  int nearest(const Eigen::Vector3d& p, SquaredDistance&& distance, double& bestSquared, double slack = 0.0) const {
     bestSquared = std::numeric_limits<double>::infinity();
+    double reachSquared = bestSquared;  // (sqrt(bestSquared) + slack)^2
     int best = -1;
     if (nodes_.empty()) return best;
     int stack[128];
@@ -78,14 +81,16 @@ public:
     stack[top++] = 0;
     while (top > 0) {
       const Node& node = nodes_[static_cast<std::size_t>(stack[--top])];
-      if (node.box.squaredDistance(p) >= bestSquared) continue;
+      if (node.box.squaredDistance(p) > reachSquared) continue;
       if (node.count > 0) {
         for (int i = node.first; i < node.first + node.count; ++i) {
           const int id = order_[static_cast<std::size_t>(i)];
+          if (boxes_[static_cast<std::size_t>(id)].squaredDistance(p) > reachSquared) continue;
           const double d = distance(id, p);
           if (d < bestSquared) {
             bestSquared = d;
             best = id;
+            reachSquared = (std::sqrt(d) + slack) * (std::sqrt(d) + slack);
           }
         }
       } else {

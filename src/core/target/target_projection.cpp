@@ -418,28 +418,36 @@ Foot closestOnSurface(const Target::Data& data, ThreadContext& context, const Ei
     best = solveOnFace(data, context, hintFace, q, hintU, hintV, -1.0);
     context.anchors.push_back({hintFace, best.point});
   }
+  auto addCandidate = [&](int t) {
+    const TrianglePoint closest = closestOnMeshTriangle(data, t, q);
+    const double distance = (closest.point - q).norm();
+    context.candidates.push_back({t, distance, closest.point, closest.u, closest.v});
+    return distance;
+  };
   if (best.distance >= 0) {
     radius = best.distance + data.margin;
+    data.tree.withinRadius(q, radius, [&](int t) {
+      // A triangle of the warm-start face with a node within half its size of the warm-started
+      // foot lies within 1.5 sizes of it: the loop below would skip it as the same basin.
+      const double size = data.triangleSize[static_cast<std::size_t>(t)];
+      if (data.triangleFaces[t] == hintFace &&
+          (data.nodes.row(data.triangles(t, 0)).transpose() - context.anchors.front().point).squaredNorm() <=
+              0.25 * size * size)
+        return;
+      addCandidate(t);
+    });
   } else {
+    // The triangles within the margin of the nearest one, found in the same traversal.
     double nearestSquared = 0;
     const int nearest = data.tree.nearest(
-        q, [&](int t, const Eigen::Vector3d& p) { return (closestOnMeshTriangle(data, t, p).point - p).squaredNorm(); },
-        nearestSquared);
+        q, [&](int t, const Eigen::Vector3d&) { const double d = addCandidate(t); return d * d; }, nearestSquared,
+        data.margin);
     if (nearest < 0) return best;
     radius = std::sqrt(nearestSquared) + data.margin;
   }
-  data.tree.withinRadius(q, radius, [&](int t) {
-    // A triangle of the warm-start face with a node within half its size of the warm-started
-    // foot lies within 1.5 sizes of it: the loop below would skip it as the same basin.
-    const double size = data.triangleSize[static_cast<std::size_t>(t)];
-    if (hintFace >= 0 && data.triangleFaces[t] == hintFace &&
-        (data.nodes.row(data.triangles(t, 0)).transpose() - context.anchors.front().point).squaredNorm() <=
-            0.25 * size * size)
-      return;
-    const TrianglePoint closest = closestOnMeshTriangle(data, t, q);
-    const double distance = (closest.point - q).norm();
-    if (distance <= radius) context.candidates.push_back({t, distance, closest.point, closest.u, closest.v});
-  });
+  context.candidates.erase(std::remove_if(context.candidates.begin(), context.candidates.end(),
+                                          [&](const ThreadContext::Candidate& c) { return c.distance > radius; }),
+                           context.candidates.end());
   std::sort(context.candidates.begin(), context.candidates.end(),
             [](const ThreadContext::Candidate& a, const ThreadContext::Candidate& b) { return a.distance < b.distance; });
   int solves = 0;
