@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <utility>
 #include <vector>
 
 namespace bvmesh::target {
@@ -76,12 +77,14 @@ public:
     double reachSquared = bestSquared;  // (sqrt(bestSquared) + slack)^2
     int best = -1;
     if (nodes_.empty()) return best;
-    int stack[128];
+    // Nodes to visit with their box distances (computed once, when the parent is visited).
+    std::pair<int, double> stack[128];
     int top = 0;
-    stack[top++] = 0;
+    stack[top++] = {0, nodes_[0].box.squaredDistance(p)};
     while (top > 0) {
-      const Node& node = nodes_[static_cast<std::size_t>(stack[--top])];
-      if (node.box.squaredDistance(p) > reachSquared) continue;
+      const auto [index, boxSquared] = stack[--top];
+      if (boxSquared > reachSquared) continue;
+      const Node& node = nodes_[static_cast<std::size_t>(index)];
       if (node.count > 0) {
         for (int i = node.first; i < node.first + node.count; ++i) {
           const int id = order_[static_cast<std::size_t>(i)];
@@ -100,11 +103,11 @@ public:
         const double da = nodes_[static_cast<std::size_t>(a)].box.squaredDistance(p);
         const double db = nodes_[static_cast<std::size_t>(b)].box.squaredDistance(p);
         if (da < db) {
-          stack[top++] = b;
-          stack[top++] = a;
+          stack[top++] = {b, db};
+          stack[top++] = {a, da};
         } else {
-          stack[top++] = a;
-          stack[top++] = b;
+          stack[top++] = {a, da};
+          stack[top++] = {b, db};
         }
       }
     }
