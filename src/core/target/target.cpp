@@ -209,6 +209,7 @@ void tessellate(Target::Data& data) {
 // Free edges that nearly meet a free edge of another face.
 void findGaps(const Target::Data& data, TargetReport& report) {
   const double search = data.options.relativeGapSearch * data.diagonal;
+  ThreadContext context(data);
   std::vector<Box3> boxes(data.edges.size());
   for (int id : report.freeEdges)
     for (const Eigen::Vector3d& p : data.edges[static_cast<std::size_t>(id)].polyline)
@@ -234,7 +235,7 @@ void findGaps(const Target::Data& data, TargetReport& report) {
       double best = std::numeric_limits<double>::infinity();
       int bestEdge = -1;
       for (int other : others) {
-        const Foot foot = closestOnEdge(data, other, q, best);
+        const Foot foot = closestOnEdge(data, context, other, q, best);
         if (foot.distance >= 0 && foot.distance < best) {
           best = foot.distance;
           bestEdge = other;
@@ -310,6 +311,18 @@ GeomAdaptor_Surface& FaceSurface::adaptor(double u, double v) {
 FaceSurface& ThreadContext::surface(int face) {
   std::unique_ptr<FaceSurface>& slot = surfaces_[static_cast<std::size_t>(face)];
   if (!slot) slot = std::make_unique<FaceSurface>(data_.faces[static_cast<std::size_t>(face)]);
+  return *slot;
+}
+
+GeomAdaptor_Curve& ThreadContext::curve(int edge) {
+  std::unique_ptr<GeomAdaptor_Curve>& slot = curves_[static_cast<std::size_t>(edge)];
+  if (!slot) {
+    // Bounds wider than the edge's range, as for surfaces: the adaptor evaluates a B-spline on
+    // its first or last parameter by the uncached path.
+    const EdgeData& e = data_.edges[static_cast<std::size_t>(edge)];
+    const double range = e.last - e.first;
+    slot = std::make_unique<GeomAdaptor_Curve>(e.curve, e.first - range, e.last + range);
+  }
   return *slot;
 }
 

@@ -3,6 +3,7 @@
 // with its spatial index, and the per-thread evaluation context.
 #pragma once
 
+#include <GeomAdaptor_Curve.hxx>
 #include <GeomAdaptor_Surface.hxx>
 #include <Geom2d_Curve.hxx>
 #include <Geom_Curve.hxx>
@@ -159,13 +160,16 @@ private:
   std::uint64_t clock_ = 0;
 };
 
-// Per-thread evaluation state: each thread has its own face surfaces (created on first use).
-// Geom_Curve / Geom2d_Curve evaluation keeps no state.
+// Per-thread evaluation state: each thread has its own face surfaces and edge curve adaptors
+// (created on first use; a curve adaptor caches the polynomial form of the B-spline span it last
+// evaluated, which Geom_BSplineCurve does not).
 class ThreadContext {
 public:
   explicit ThreadContext(const Target::Data& data)
-      : data_(data), surfaces_(data.faces.size()) {}
+      : data_(data), surfaces_(data.faces.size()), curves_(data.edges.size()) {}
   FaceSurface& surface(int face);
+  // The 3D curve of a non-degenerate edge.
+  GeomAdaptor_Curve& curve(int edge);
   // Whether (u, v) lies inside the face's trim.
   bool inside(int face, double u, double v) const { return data_.faces[static_cast<std::size_t>(face)].trim.inside(u, v); }
 
@@ -185,6 +189,7 @@ public:
 private:
   const Target::Data& data_;
   std::vector<std::unique_ptr<FaceSurface>> surfaces_;
+  std::vector<std::unique_ptr<GeomAdaptor_Curve>> curves_;
 };
 
 // Geometry kernels used by both construction and projection.
@@ -197,6 +202,6 @@ Eigen::Vector3d faceNormal(const FaceData& face, FaceSurface& surface, double u,
 Eigen::Vector3d unitNormal(const FaceData& face, const gp_Vec& su, const gp_Vec& sv, double relativeTolerance);
 // Closest point on one edge (the nearest local minima of the polyline distance are refined).
 // bound: a distance the foot must beat (< 0: none); no foot when no part of the edge can.
-Foot closestOnEdge(const Target::Data& data, int edge, const Eigen::Vector3d& q, double bound);
+Foot closestOnEdge(const Target::Data& data, ThreadContext& context, int edge, const Eigen::Vector3d& q, double bound);
 
 }  // namespace bvmesh::target

@@ -252,11 +252,12 @@ struct CurveResult {
 
 // Minimizes |C(t) - q|^2 on [first, last]: Newton with the exact second derivative, Gauss-Newton
 // where it is not positive, halving steps that do not descend.
-CurveResult newtonOnCurve(const EdgeData& edge, const Eigen::Vector3d& q, double t, double convergence) {
+CurveResult newtonOnCurve(const EdgeData& edge, GeomAdaptor_Curve& curve, const Eigen::Vector3d& q, double t,
+                          double convergence) {
   t = clampTo(t, edge.first, edge.last);
   gp_Pnt p;
   gp_Vec d1, d2;
-  edge.curve->D2(t, p, d1, d2);
+  curve.D2(t, p, d1, d2);
   Eigen::Vector3d r = toEigen(p) - q;
   double f = r.squaredNorm();
   for (int iteration = 0; iteration < kMaxNewtonIterations; ++iteration) {
@@ -272,7 +273,7 @@ CurveResult newtonOnCurve(const EdgeData& edge, const Eigen::Vector3d& q, double
       const double tn = clampTo(t + step, edge.first, edge.last);
       gp_Pnt pn;
       gp_Vec e1, e2;
-      edge.curve->D2(tn, pn, e1, e2);
+      curve.D2(tn, pn, e1, e2);
       const Eigen::Vector3d rn = toEigen(pn) - q;
       const double fn = rn.squaredNorm();
       if (fn <= f * (1 + kRoundOff) + 1e-300) {
@@ -388,7 +389,7 @@ Foot solveOnFace(const Target::Data& data, ThreadContext& context, int faceId, c
     // An edge whose box is farther than the best foot (here or elsewhere) cannot hold a nearer one.
     const double bound = foot.distance >= 0 ? foot.distance : bestSoFar;
     if (bound >= 0 && data.edges[static_cast<std::size_t>(use.edge)].box.squaredDistance(q) > bound * bound) continue;
-    const Foot onEdge = closestOnEdge(data, use.edge, q, bound);
+    const Foot onEdge = closestOnEdge(data, context, use.edge, q, bound);
     if (onEdge.distance < 0 || (bound >= 0 && onEdge.distance >= bound)) continue;
     const gp_Pnt2d uv = use.pcurve->Value(onEdge.t);
     foot.point = onEdge.point;
@@ -797,7 +798,7 @@ void storeFoot(const Target::Data& data, ThreadContext& context, const Foot& foo
 
 }  // namespace
 
-Foot closestOnEdge(const Target::Data& data, int edgeId, const Eigen::Vector3d& q, double bound) {
+Foot closestOnEdge(const Target::Data& data, ThreadContext& context, int edgeId, const Eigen::Vector3d& q, double bound) {
   const EdgeData& edge = data.edges[static_cast<std::size_t>(edgeId)];
   Foot best;
   if (edge.degenerate || edge.polyline.size() < 2) return best;
@@ -847,7 +848,7 @@ Foot closestOnEdge(const Target::Data& data, int edgeId, const Eigen::Vector3d& 
   const double limit = std::min(nearest, bound >= 0 ? bound : std::numeric_limits<double>::infinity()) + data.margin;
   for (int s = 0; s < seeds; ++s) {
     if (seedDistance[s] > limit) continue;
-    const CurveResult result = newtonOnCurve(edge, q, seedParam[s], data.convergence);
+    const CurveResult result = newtonOnCurve(edge, context.curve(edgeId), q, seedParam[s], data.convergence);
     const double footDistance = (result.point - q).norm();
     if (best.distance < 0 || footDistance < best.distance) {
       best.point = result.point;
@@ -925,7 +926,7 @@ ProjectionResult Target::projectToEdges(const Eigen::Ref<const Points>& points, 
       Foot best;
       for (const auto& [boxSquared, b] : order) {
         if (best.distance >= 0 && boxSquared > best.distance * best.distance) break;
-        const Foot foot = closestOnEdge(*data_, boxEdge[b], q, best.distance);
+        const Foot foot = closestOnEdge(*data_, context, boxEdge[b], q, best.distance);
         if (foot.distance >= 0 && (best.distance < 0 || foot.distance < best.distance)) best = foot;
       }
       if (best.distance >= 0) {
