@@ -1,5 +1,6 @@
 #include "core/polyhedron/placement.h"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -104,7 +105,9 @@ struct RayBatch {
     origins.push_back(origin);
     directions.push_back(direction);
   }
-  void resolve(const target::Target& target, Draft& draft) const {
+  // firstHit: the nearest intersection ahead of each origin (origins inside the body); rays
+  // without one, and all rays otherwise, take the outermost intersection.
+  void resolve(const target::Target& target, Draft& draft, bool firstHit = false) const {
     if (vertices.empty()) return;
     target::Points o(static_cast<Eigen::Index>(origins.size()), 3),
         d(static_cast<Eigen::Index>(origins.size()), 3);
@@ -112,7 +115,16 @@ struct RayBatch {
       o.row(static_cast<Eigen::Index>(i)) = origins[i].transpose();
       d.row(static_cast<Eigen::Index>(i)) = directions[i].transpose();
     }
-    const target::Points hits = outerHits(target, o, d);
+    target::Points hits = outerHits(target, o, d);
+    if (firstHit) {
+      const target::ProjectionResult near = target.projectAlong(o, d);
+      for (Eigen::Index i = 0; i < o.rows(); ++i) {
+        const bool ahead = (near.points.row(i) - o.row(i)).dot(d.row(i)) > 0.0;
+        if (near.status[static_cast<size_t>(i)] != target::ProjectionStatus::Fallback &&
+            near.status[static_cast<size_t>(i)] != target::ProjectionStatus::Failed && ahead)
+          hits.row(i) = near.points.row(i);
+      }
+    }
     for (size_t i = 0; i < vertices.size(); ++i)
       draft.vertices[static_cast<size_t>(vertices[i])] = hits.row(static_cast<Eigen::Index>(i)).transpose();
   }
@@ -264,75 +276,67 @@ Vec sectionCentre(const PlaneSection& section, const Vec& fallback) {
   return weight > 0.0 ? Vec(sum / weight) : fallback;
 }
 
-Draft buildRevolution(const TemplateValues& values, const target::Target& target,
-                      const std::vector<FeatureCurve>& curves, std::optional<fit::SymmetryPlane>& plane,
-                      std::map<std::string, std::string>& used) {
-  const PrincipalFrame frame = principalFrame(target);
-  const int axial = values.integer("axial");
+// A body of revolution's axis frame: stations run along e1 from `lo` to `hi` (coordinates from
+// `origin`); a half body lies on the e2 side of the symmetry plane through `origin`.
+struct BodyAxis {
+  bool half = false;
+  Vec origin = Vec::Zero();
+  Vec e1 = Vec::UnitX(), e2 = Vec::UnitY(), e3 = Vec::UnitZ();
+  double lo = 0.0, hi = 0.0;
+  double radius = 0.0;                  // largest distance of the body from the axis
+  std::array<std::string, 2> ends;      // nose (at lo) and tail (at hi): round, flat or open
+};
+
+int quarterSegments(const TemplateValues& values) {
   const int circumferential = values.integer("circumferential");
   if (circumferential % 4 != 0) {
     throw InvalidInputError("template parameter 'circumferential' must be a multiple of 4, got " +
                             std::to_string(circumferential));
   }
-  const std::string& halfChoice = values.choice("half");
-  const std::optional<fit::SymmetryPlane> detected = detectSymmetryPlane(target, curves);
-  if (halfChoice == "yes" && !detected) {
-    throw InvalidInputError(
-        "a half body needs a symmetry plane: the target has no free boundary curve lying in a plane "
-        "with the whole target on one side");
-  }
-  const bool half = halfChoice == "yes" || (halfChoice == "auto" && detected);
-  used["half"] = half ? "yes" : "no";
-  Vec e1 = frame.axes.col(0), e2 = frame.axes.col(1), e3 = frame.axes.col(2);
-  Vec origin = frame.centre;
-  if (half) {
-    plane = detected;
-    e2 = plane->normal.normalized();
-    e1 = (e1 - e1.dot(e2) * e2).normalized();
-    e3 = e1.cross(e2);
-    origin = frame.centre - (frame.centre - plane->point).dot(e2) * e2;
-  } else {
-    plane.reset();
-  }
-  const target::Points& nodes = target.meshNodes();
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo, radius = 0.0;
-  for (Eigen::Index k = 0; k < nodes.rows(); ++k) {
-    const Vec d = nodes.row(k).transpose() - origin;
-    const double a = d.dot(e1);
-    lo = std::min(lo, a);
-    hi = std::max(hi, a);
-    radius = std::max(radius, (d - a * e1).norm());
-  }
-  const double length = hi - lo;
-  std::array<std::string, 2> ends{values.choice("nose"), values.choice("tail")};
+  return circumferential / 4;
+}
+
+// Resolves `auto` nose and tail choices from the target's free boundary and records them.
+void resolveEnds(const TemplateValues& values, const target::Target& target, const std::vector<FeatureCurve>& curves,
+                 const std::optional<fit::SymmetryPlane>& plane, BodyAxis& body,
+                 std::map<std::string, std::string>& used) {
+  body.ends = {values.choice("nose"), values.choice("tail")};
   for (int side = 0; side < 2; ++side) {
-    std::string& end = ends[static_cast<size_t>(side)];
+    std::string& end = body.ends[static_cast<size_t>(side)];
     if (end == "auto") {
-      end = boundaryNear(target, curves, plane, origin, e1, side ? hi : lo, 0.01 * length) ? "open" : "round";
+      end = boundaryNear(target, curves, plane, body.origin, body.e1, side ? body.hi : body.lo,
+                         0.01 * (body.hi - body.lo))
+                ? "open"
+                : "round";
     }
   }
-  used["nose"] = ends[0];
-  used["tail"] = ends[1];
-  const double cap = std::min(radius, 0.25 * length);
-  const double inset = 1e-4 * length;
-  const double rimNose = ends[0] == "round" ? lo + cap : lo + inset;
-  const double rimTail = ends[1] == "round" ? hi - cap : hi - inset;
+  used["nose"] = body.ends[0];
+  used["tail"] = body.ends[1];
+}
 
-  const int n = circumferential / 4;
+// Axial coordinates of the end rims: a round end's dome takes `cap` of the length.
+std::array<double, 2> bodyRims(const BodyAxis& body) {
+  const double length = body.hi - body.lo;
+  const double cap = std::min(body.radius, 0.25 * length);
+  const double inset = 1e-4 * length;
+  return {body.ends[0] == "round" ? body.lo + cap : body.lo + inset,
+          body.ends[1] == "round" ? body.hi - cap : body.hi - inset};
+}
+
+// The body grid: the lattice [0, #stations - 1] x [0, ny] x [0, n] (a half body without its
+// j = 0 side, open ends without their end sides) with rings at the station centres (#stations,
+// on the axis in order from nose rim to tail rim), each ring vertex cast radially onto the target,
+// the end caps cast from their rim centres (domes) or along the axis (flat). Draft vertex v is
+// lattice vertex v. `firstHit`: cast to the nearest surface from the centre (a body with other
+// parts around it, such as a wing); otherwise to the outermost surface.
+Draft buildBodyGrid(const target::Target& target, const BodyAxis& body, int n, const std::vector<Vec>& centres,
+                    bool firstHit, Lattice& lattice) {
+  const bool half = body.half;
+  const int axial = static_cast<int>(centres.size()) - 1;
   const int ny = half ? std::max(1, (n + 1) / 2) : n;
-  const std::array<int, 3> sizes{axial, ny, n};
-  const Lattice lattice =
-      latticeSurface(sizes, {ends[0] != "open", ends[1] != "open", !half, true, true, true});
-  std::vector<Vec> centres(static_cast<size_t>(axial + 1));
-  for (int i = 0; i <= axial; ++i) {
-    const double a = rimNose + (rimTail - rimNose) * i / axial;
-    const Vec fallback = origin + a * e1;
-    const PlaneSection section(target, fallback, e1);
-    Vec centre = sectionCentre(section, fallback);
-    centre += (a - (centre - origin).dot(e1)) * e1;
-    if (half) centre -= (centre - plane->point).dot(e2) * e2;
-    centres[static_cast<size_t>(i)] = centre;
-  }
+  const double cap = std::min(body.radius, 0.25 * (body.hi - body.lo));
+  lattice = latticeSurface({axial, ny, n},
+                           {body.ends[0] != "open", body.ends[1] != "open", !half, true, true, true});
   Draft draft;
   draft.faces = lattice.faces;
   RayBatch rays;
@@ -344,33 +348,33 @@ Draft buildRevolution(const TemplateValues& values, const target::Target& target
     const double a = s * std::sqrt(1.0 - 0.5 * t * t);  // square to disc (elliptical grid map)
     const double b = t * std::sqrt(1.0 - 0.5 * s * s);
     const bool ring = (!half && j == 0) || j == ny || k == 0 || k == n;
-    const Vec radial = a * e2 + b * e3;
-    const int v = draft.add(centres[static_cast<size_t>(i)] + radius * radial);
+    const Vec radial = a * body.e2 + b * body.e3;
+    const Vec& centre = centres[static_cast<size_t>(i)];
+    const int v = draft.add(centre + body.radius * radial);
     // Rays in the symmetry plane would graze the target's boundary there: cast them from just
     // inside the body; the improvement snaps the vertices back onto the plane.
-    const Vec lift = half && j == 0 ? Vec(1e-3 * radius * e2) : Vec::Zero();
+    const Vec lift = half && j == 0 ? Vec(1e-3 * body.radius * body.e2) : Vec::Zero();
     if (ring) {
-      rays.add(v, centres[static_cast<size_t>(i)] + lift, radial);
-      if ((i == 0 && ends[0] == "flat") || (i == axial && ends[1] == "flat")) flatRim.push_back(v);
+      rays.add(v, centre + lift, radial);
+      if ((i == 0 && body.ends[0] == "flat") || (i == axial && body.ends[1] == "flat")) flatRim.push_back(v);
       // Half models: where the symmetry boundary meets an open or flat end.
       if (half && j == 0 && (k == 0 || k == n) &&
-          ((i == 0 && ends[0] != "round") || (i == axial && ends[1] != "round"))) {
+          ((i == 0 && body.ends[0] != "round") || (i == axial && body.ends[1] != "round"))) {
         draft.corners.push_back(v);
       }
       continue;
     }
-    const Vec rim = centres[static_cast<size_t>(i)];
     const double outward = i == 0 ? -1.0 : 1.0;
-    const std::string& end = ends[i == 0 ? 0 : 1];
+    const std::string& end = body.ends[i == 0 ? 0 : 1];
     if (end == "round") {
       const double rho = std::min(1.0, std::sqrt(a * a + b * b));
-      const Vec dome = radius * radial + outward * cap * std::sqrt(1.0 - rho * rho) * e1;
-      rays.add(v, rim + lift, dome);
+      const Vec dome = body.radius * radial + outward * cap * std::sqrt(1.0 - rho * rho) * body.e1;
+      rays.add(v, centre + lift, dome);
     } else {
-      rays.add(v, rim + radius * radial + lift, outward * e1);
+      rays.add(v, centre + body.radius * radial + lift, outward * body.e1);
     }
   }
-  rays.resolve(target, draft);
+  rays.resolve(target, draft, firstHit);
   for (const auto& [a, b] : latticeEdges(lattice)) {
     const bool aRim = std::find(flatRim.begin(), flatRim.end(), a) != flatRim.end();
     const bool bRim = std::find(flatRim.begin(), flatRim.end(), b) != flatRim.end();
@@ -379,6 +383,61 @@ Draft buildRevolution(const TemplateValues& values, const target::Target& target
     if (aRim && bRim && ca[0] == cb[0]) draft.creases.push_back({a, b});
   }
   return draft;
+}
+
+Draft buildRevolution(const TemplateValues& values, const target::Target& target,
+                      const std::vector<FeatureCurve>& curves, std::optional<fit::SymmetryPlane>& plane,
+                      std::map<std::string, std::string>& used) {
+  const PrincipalFrame frame = principalFrame(target);
+  const int axial = values.integer("axial");
+  const int n = quarterSegments(values);
+  const std::string& halfChoice = values.choice("half");
+  const std::optional<fit::SymmetryPlane> detected = detectSymmetryPlane(target, curves);
+  if (halfChoice == "yes" && !detected) {
+    throw InvalidInputError(
+        "a half body needs a symmetry plane: the target has no free boundary curve lying in a plane "
+        "with the whole target on one side");
+  }
+  BodyAxis body;
+  body.half = halfChoice == "yes" || (halfChoice == "auto" && detected);
+  used["half"] = body.half ? "yes" : "no";
+  body.e1 = frame.axes.col(0);
+  body.e2 = frame.axes.col(1);
+  body.e3 = frame.axes.col(2);
+  body.origin = frame.centre;
+  if (body.half) {
+    plane = detected;
+    body.e2 = plane->normal.normalized();
+    body.e1 = (body.e1 - body.e1.dot(body.e2) * body.e2).normalized();
+    body.e3 = body.e1.cross(body.e2);
+    body.origin = frame.centre - (frame.centre - plane->point).dot(body.e2) * body.e2;
+  } else {
+    plane.reset();
+  }
+  const target::Points& nodes = target.meshNodes();
+  body.lo = std::numeric_limits<double>::infinity();
+  body.hi = -body.lo;
+  for (Eigen::Index k = 0; k < nodes.rows(); ++k) {
+    const Vec d = nodes.row(k).transpose() - body.origin;
+    const double a = d.dot(body.e1);
+    body.lo = std::min(body.lo, a);
+    body.hi = std::max(body.hi, a);
+    body.radius = std::max(body.radius, (d - a * body.e1).norm());
+  }
+  resolveEnds(values, target, curves, plane, body, used);
+  const auto [rimNose, rimTail] = bodyRims(body);
+  std::vector<Vec> centres(static_cast<size_t>(axial + 1));
+  for (int i = 0; i <= axial; ++i) {
+    const double a = rimNose + (rimTail - rimNose) * i / axial;
+    const Vec fallback = body.origin + a * body.e1;
+    const PlaneSection section(target, fallback, body.e1);
+    Vec centre = sectionCentre(section, fallback);
+    centre += (a - (centre - body.origin).dot(body.e1)) * body.e1;
+    if (body.half) centre -= (centre - plane->point).dot(body.e2) * body.e2;
+    centres[static_cast<size_t>(i)] = centre;
+  }
+  Lattice lattice;
+  return buildBodyGrid(target, body, n, centres, false, lattice);
 }
 
 // ---- wings ----------------------------------------------------------------------------------
@@ -430,7 +489,7 @@ WingFrame wingFrame(const target::Target& target, const std::vector<FeatureCurve
   w.extentHigh = s.maxCoeff();
   double best = 0.0;
   for (size_t c = 0; c < curves.size(); ++c) {
-    if (curves[c].kind != FeatureCurveKind::Sharp) continue;
+    if (curves[c].kind != FeatureCurveKind::Sharp || curves[c].closed) continue;  // loops: tip rims, junctions
     const target::Points line = curvePolyline(target, curves[c]);
     const Vec chord = (line.row(line.rows() - 1) - line.row(0)).transpose();
     if (std::abs(chord.normalized().dot(w.span)) < 0.5) continue;  // not spanwise
@@ -455,8 +514,35 @@ WingFrame wingFrame(const target::Target& target, const std::vector<FeatureCurve
   return w;
 }
 
-// Upper and lower section points at cosine-spaced chord fractions: ring of 2m points starting at
-// the trailing edge (index 0), leading edge at index m.
+// A wing ring of 2m points starting at the trailing edge `te` (index 0), leading edge at index
+// m: the leading edge is the point of `outline` farthest from the trailing edge; at cosine-spaced
+// chord fractions (dense at both edges) `across(base, thickness)` gives the outline's points on
+// the line (or plane) across the chord through `base`, and the extreme ones along the thickness
+// direction (span x chord) are the upper and lower ring points.
+template <class Across>
+std::vector<Vec> chordRing(const Vec& te, const target::Points& outline, const Vec& span, int m, Across&& across) {
+  Vec le = te;
+  for (Eigen::Index k = 0; k < outline.rows(); ++k) {
+    if ((outline.row(k).transpose() - te).norm() > (le - te).norm()) le = outline.row(k).transpose();
+  }
+  const Vec chord = te - le;
+  const Vec thickness = span.cross(chord).normalized();
+  std::vector<Vec> ring(static_cast<size_t>(2 * m));
+  ring[0] = te;
+  ring[static_cast<size_t>(m)] = le;
+  for (int i = 1; i < m; ++i) {
+    const double xi = 0.5 * (1.0 + std::cos(kPi * i / m));  // 1 at the trailing edge, 0 at the leading edge
+    const Vec base = le + xi * chord;
+    const std::vector<Vec> points = across(base, thickness);
+    const auto below = [&](const Vec& a, const Vec& b) { return (a - base).dot(thickness) < (b - base).dot(thickness); };
+    ring[static_cast<size_t>(i)] = points.empty() ? base : *std::max_element(points.begin(), points.end(), below);
+    ring[static_cast<size_t>(2 * m - i)] =
+        points.empty() ? base : *std::min_element(points.begin(), points.end(), below);
+  }
+  return ring;
+}
+
+// Upper and lower section points of the wing at span s (chordRing on the plane section).
 std::vector<Vec> wingRing(const target::Target& target, const WingFrame& w, double s, int m) {
   const double inset = 1e-4 * (w.extentHigh - w.extentLow);
   const double cut = std::clamp(s, w.low + inset, w.high - inset);
@@ -465,28 +551,11 @@ std::vector<Vec> wingRing(const target::Target& target, const WingFrame& w, doub
   if (section.empty() || !te) {
     throw InvalidInputError("wing placement: no section of the target at span " + std::to_string(cut));
   }
-  Vec le = *te;
-  const target::Points& p = section.points();
-  for (Eigen::Index k = 0; k < p.rows(); ++k) {
-    if ((p.row(k).transpose() - *te).norm() > (le - *te).norm()) le = p.row(k).transpose();
-  }
-  const Vec chord = *te - le;
-  const Vec thickness = w.span.cross(chord).normalized();
-  std::vector<Vec> ring(static_cast<size_t>(2 * m));
-  ring[0] = *te;
-  for (int i = 1; i <= m; ++i) {
-    const double xi = 0.5 * (1.0 + std::cos(kPi * i / m));  // 1 at the trailing edge, 0 at the leading edge
-    const Vec base = le + xi * chord;
-    const std::vector<double> hits = section.lineHits(base, thickness);
-    const Vec upper = hits.empty() ? base : Vec(base + hits.back() * thickness);
-    const Vec lower = hits.empty() ? base : Vec(base + hits.front() * thickness);
-    if (i == m) {
-      ring[static_cast<size_t>(m)] = le;
-    } else {
-      ring[static_cast<size_t>(i)] = upper;
-      ring[static_cast<size_t>(2 * m - i)] = lower;
-    }
-  }
+  std::vector<Vec> ring = chordRing(*te, section.points(), w.span, m, [&](const Vec& base, const Vec& thickness) {
+    std::vector<Vec> points;
+    for (double hit : section.lineHits(base, thickness)) points.push_back(base + hit * thickness);
+    return points;
+  });
   // Stations at the ends of the span lie on the end itself.
   for (Vec& v : ring) v += (s - (v - w.origin).dot(w.span)) * w.span;
   return ring;
@@ -512,6 +581,59 @@ WingPlanform measurePlanform(const WingFrame& w, const std::vector<Vec>& root, c
   return planform;
 }
 
+// Quad strips between consecutive wing rings (2m vertices each, trailing edge first) and the
+// trailing-edge crease along their first vertices.
+void addWingStrips(Draft& draft, const std::vector<std::vector<int>>& rings) {
+  for (size_t j = 0; j + 1 < rings.size(); ++j) {
+    const std::vector<int>& a = rings[j];
+    const std::vector<int>& b = rings[j + 1];
+    for (size_t k = 0; k < a.size(); ++k) {
+      const size_t k1 = (k + 1) % a.size();
+      draft.faces.push_back({a[k], a[k1], b[k1], b[k]});
+    }
+    draft.creases.push_back({a[0], b[0]});
+  }
+}
+
+// A tip cap on a wing ring (2m vertices, trailing edge first): one row of vertices between upper
+// and lower surface, cast along `outward` onto the tip (rounded) or left in the ring (flat, with
+// a creased rim). `far`: the cap continues the strips' orientation (the tip at the end of the
+// rings); otherwise it is reversed (a full wing's first tip). The trailing edge becomes a corner.
+void addTipCap(Draft& draft, const target::Target& target, const std::vector<int>& ring, const Vec& outward,
+               bool rounded, bool far) {
+  const int ringSize = static_cast<int>(ring.size());
+  const int m = ringSize / 2;
+  RayBatch rays;
+  std::vector<int> c(static_cast<size_t>(m), -1);
+  for (int i = 1; i < m; ++i) {
+    const Vec mid = 0.5 * (draft.vertices[static_cast<size_t>(ring[static_cast<size_t>(i)])] +
+                           draft.vertices[static_cast<size_t>(ring[static_cast<size_t>(2 * m - i)])]);
+    c[static_cast<size_t>(i)] = draft.add(mid);
+    if (rounded) rays.add(c[static_cast<size_t>(i)], mid, outward);
+  }
+  rays.resolve(target, draft);
+  const auto r = [&](int k) { return ring[static_cast<size_t>((k + ringSize) % ringSize)]; };
+  const auto cv = [&](int i) { return c[static_cast<size_t>(i)]; };
+  std::vector<std::vector<int>> faces;
+  // At the trailing edge the cap is split into two triangles: one quad would fold there around
+  // the thin trailing-edge wedge with an angle of a few degrees at the corner vertex.
+  faces.push_back({r(0), r(1), cv(1)});
+  faces.push_back({r(0), cv(1), r(2 * m - 1)});
+  for (int i = 1; i + 1 < m; ++i) {
+    faces.push_back({r(i), r(i + 1), cv(i + 1), cv(i)});
+    faces.push_back({cv(i), cv(i + 1), r(2 * m - i - 1), r(2 * m - i)});
+  }
+  faces.push_back({r(m - 1), r(m), r(m + 1), cv(m - 1)});
+  for (std::vector<int>& face : faces) {
+    if (!far) std::reverse(face.begin(), face.end());
+    draft.faces.push_back(face);
+  }
+  if (!rounded) {
+    for (int k = 0; k < ringSize; ++k) draft.creases.push_back({r(k), r(k + 1)});
+  }
+  draft.corners.push_back(ring[0]);
+}
+
 Draft buildWing(const TemplateValues& values, const target::Target& target,
                 const std::vector<FeatureCurve>& curves, std::optional<fit::SymmetryPlane>& plane,
                 std::optional<WingPlanform>& planform) {
@@ -532,57 +654,291 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
     for (const Vec& p : ring) ids.push_back(draft.add(p));
     rings.push_back(ids);
   }
-  const int ringSize = 2 * m;
-  for (int j = 0; j < stations; ++j) {
-    for (int k = 0; k < ringSize; ++k) {
-      const int k1 = (k + 1) % ringSize;
-      draft.faces.push_back({rings[static_cast<size_t>(j)][static_cast<size_t>(k)],
-                             rings[static_cast<size_t>(j)][static_cast<size_t>(k1)],
-                             rings[static_cast<size_t>(j + 1)][static_cast<size_t>(k1)],
-                             rings[static_cast<size_t>(j + 1)][static_cast<size_t>(k)]});
-    }
-    draft.creases.push_back({rings[static_cast<size_t>(j)][0], rings[static_cast<size_t>(j + 1)][0]});
-  }
-  // Tip caps: one row of vertices between upper and lower surface, on the tip's far side.
-  const auto cap = [&](const std::vector<int>& ring, double outward) {
-    RayBatch rays;
-    std::vector<int> c(static_cast<size_t>(m), -1);
-    for (int i = 1; i < m; ++i) {
-      const Vec mid = 0.5 * (draft.vertices[static_cast<size_t>(ring[static_cast<size_t>(i)])] +
-                             draft.vertices[static_cast<size_t>(ring[static_cast<size_t>(2 * m - i)])]);
-      c[static_cast<size_t>(i)] = draft.add(mid);
-      if (rounded) rays.add(c[static_cast<size_t>(i)], mid, outward * w.span);
-    }
-    rays.resolve(target, draft);
-    const auto r = [&](int k) { return ring[static_cast<size_t>((k + ringSize) % ringSize)]; };
-    const auto cv = [&](int i) { return c[static_cast<size_t>(i)]; };
-    std::vector<std::vector<int>> faces;
-    // At the trailing edge the cap is split into two triangles: one quad would fold there around
-    // the thin trailing-edge wedge with an angle of a few degrees at the corner vertex.
-    faces.push_back({r(0), r(1), cv(1)});
-    faces.push_back({r(0), cv(1), r(2 * m - 1)});
-    for (int i = 1; i + 1 < m; ++i) {
-      faces.push_back({r(i), r(i + 1), cv(i + 1), cv(i)});
-      faces.push_back({cv(i), cv(i + 1), r(2 * m - i - 1), r(2 * m - i)});
-    }
-    faces.push_back({r(m - 1), r(m), r(m + 1), cv(m - 1)});
-    // The far tip continues the strips' orientation; the near one (full wings) is reversed.
-    for (std::vector<int>& face : faces) {
-      if (outward < 0.0) std::reverse(face.begin(), face.end());
-      draft.faces.push_back(face);
-    }
-    if (!rounded) {
-      for (int k = 0; k < ringSize; ++k) draft.creases.push_back({r(k), r(k + 1)});
-    }
-    draft.corners.push_back(ring[0]);
-  };
+  addWingStrips(draft, rings);
   planform = measurePlanform(w, first, last, m);
-  cap(rings.back(), 1.0);
+  addTipCap(draft, target, rings.back(), w.span, rounded, true);
   if (half) {
     draft.corners.push_back(rings.front()[0]);
   } else {
-    cap(rings.front(), -1.0);
+    addTipCap(draft, target, rings.front(), -w.span, rounded, false);
   }
+  return draft;
+}
+
+// ---- wing-fuselage half model -----------------------------------------------------------------
+
+// Points where a polyline (#K x 3; closed: the last point joins the first) crosses a plane.
+std::vector<Vec> planeCrossings(const target::Points& line, bool closed, const Vec& point, const Vec& normal) {
+  std::vector<Vec> crossings;
+  const Eigen::Index count = line.rows();
+  for (Eigen::Index k = 0; k + (closed ? 0 : 1) < count; ++k) {
+    const Vec a = line.row(k).transpose();
+    const Vec b = line.row((k + 1) % count).transpose();
+    const double da = (a - point).dot(normal);
+    const double db = (b - point).dot(normal);
+    if ((da <= 0.0) != (db <= 0.0)) crossings.push_back(a + da / (da - db) * (b - a));
+  }
+  return crossings;
+}
+
+// Drops vertices no face uses and renumbers the rest.
+void removeUnusedVertices(Draft& draft) {
+  std::vector<int> index(draft.vertices.size(), -1);
+  for (const std::vector<int>& face : draft.faces) {
+    for (int v : face) index[static_cast<size_t>(v)] = 0;
+  }
+  std::vector<Vec> kept;
+  for (size_t v = 0; v < index.size(); ++v) {
+    if (index[v] < 0) continue;
+    index[v] = static_cast<int>(kept.size());
+    kept.push_back(draft.vertices[v]);
+  }
+  draft.vertices = std::move(kept);
+  for (std::vector<int>& face : draft.faces) {
+    for (int& v : face) v = index[static_cast<size_t>(v)];
+  }
+  for (std::array<int, 2>& crease : draft.creases) crease = {index[static_cast<size_t>(crease[0])], index[static_cast<size_t>(crease[1])]};
+  for (int& corner : draft.corners) corner = index[static_cast<size_t>(corner)];
+}
+
+// A half fuselage (the revolution generator's body grid, its axis and stations taken from the
+// body's profile in the symmetry plane) with a hole where the wing root meets it, and the half
+// wing (the wing generator's stations and tip cap) extruded from the hole's boundary, which lies
+// on the wing-body intersection curve and is creased. The hole spans chordwise - 2 axial segments
+// (stations at the root ring's chord fractions) and two circumferential segments centred on the
+// wing; its ends are the root's leading- and trailing-edge vertices.
+Draft buildWingFuselage(const TemplateValues& values, const target::Target& target,
+                        const std::vector<FeatureCurve>& curves, std::optional<fit::SymmetryPlane>& plane,
+                        std::map<std::string, std::string>& used, std::optional<WingPlanform>& planform) {
+  const int axial = values.integer("axial");
+  const int n = quarterSegments(values);
+  const int m = values.integer("chordwise");
+  const int stations = values.integer("spanwise");
+  const bool rounded = values.choice("tip") == "rounded";
+  const int holeSegments = m - 2;
+  if (m < 3 || n < 2 || axial < holeSegments + 2) {
+    throw InvalidInputError(
+        "template parameters: the wing-fuselage model needs chordwise >= 3, circumferential >= 8 and axial >= "
+        "chordwise (the wing root takes chordwise - 2 axial segments), got chordwise " + std::to_string(m) +
+        ", circumferential " + std::to_string(4 * n) + ", axial " + std::to_string(axial));
+  }
+  plane = detectSymmetryPlane(target, curves);
+  if (!plane) {
+    throw InvalidInputError(
+        "a wing-fuselage half model needs a symmetry plane: the target has no free boundary curve lying in a "
+        "plane with the whole target on one side (leave out the symmetry-plane face)");
+  }
+  BodyAxis body;
+  body.half = true;
+  body.e2 = plane->normal.normalized();
+  // The body's profile: the free-boundary curves in the symmetry plane. Its main direction is the
+  // axis (the wing would tilt the principal axes of the whole target).
+  const double diagonal = target.report().diagonal;
+  std::vector<target::Points> profile;
+  std::vector<Vec> profilePoints;
+  for (const FeatureCurve& curve : curves) {
+    if (curve.kind != FeatureCurveKind::Boundary) continue;
+    const target::Points line = curvePolyline(target, curve);
+    const Eigen::VectorXd offsets = (line.rowwise() - plane->point.transpose()) * body.e2;
+    if (line.rows() < 2 || offsets.cwiseAbs().maxCoeff() > 1e-3 * diagonal) continue;
+    profile.push_back(line);
+    for (Eigen::Index k = 0; k < line.rows(); ++k) profilePoints.push_back(line.row(k).transpose());
+  }
+  Vec centre = Vec::Zero();
+  for (const Vec& p : profilePoints) centre += p / static_cast<double>(profilePoints.size());
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (const Vec& p : profilePoints) covariance += (p - centre) * (p - centre).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
+  body.e1 = eigen.eigenvectors().col(2);  // largest eigenvalue last
+  body.e1 = (body.e1 - body.e1.dot(body.e2) * body.e2).normalized();
+  body.e3 = body.e1.cross(body.e2);
+  body.origin = centre - (centre - plane->point).dot(body.e2) * body.e2;
+  body.lo = std::numeric_limits<double>::infinity();
+  body.hi = -body.lo;
+  for (const Vec& p : profilePoints) {
+    const double a = (p - body.origin).dot(body.e1);
+    body.lo = std::min(body.lo, a);
+    body.hi = std::max(body.hi, a);
+  }
+  resolveEnds(values, target, curves, plane, body, used);
+  // Station centres: midway between the profile's extreme crossings (a round body's axis).
+  const auto centreAt = [&](double a) {
+    const Vec point = body.origin + a * body.e1;
+    double low = std::numeric_limits<double>::infinity(), high = -low;
+    for (const target::Points& line : profile) {
+      for (const Vec& p : planeCrossings(line, false, point, body.e1)) {
+        low = std::min(low, (p - point).dot(body.e3));
+        high = std::max(high, (p - point).dot(body.e3));
+      }
+    }
+    return low <= high ? Vec(point + 0.5 * (low + high) * body.e3) : point;
+  };
+  for (const target::Points& line : profile) {
+    for (Eigen::Index k = 0; k < line.rows(); ++k) {
+      const Vec p = line.row(k).transpose();
+      const double a = (p - body.origin).dot(body.e1);
+      body.radius = std::max(body.radius, std::abs((p - centreAt(a)).dot(body.e3)));
+    }
+  }
+
+  // The wing: its trailing edge and, through the trailing edge's inner end, the intersection curve.
+  std::optional<fit::SymmetryPlane> wingPlane;
+  WingFrame w = wingFrame(target, curves, true, wingPlane);
+  // The junction: a closed sharp curve starting at an end vertex of a (spanwise, open) trailing-
+  // edge curve, the innermost one if several (a flat tip's rim also starts at the trailing edge).
+  const auto spanOf = [&](const Vec& p) { return (p - w.origin).dot(w.span); };
+  target::Points junction;
+  Vec teRoot = Vec::Zero();
+  w.low = std::numeric_limits<double>::infinity();
+  for (const FeatureCurve& te : curves) {
+    if (te.kind != FeatureCurveKind::Sharp || te.closed) continue;
+    for (const FeatureCurve& loop : curves) {
+      if (loop.kind != FeatureCurveKind::Sharp || !loop.closed || loop.startVertex < 0 ||
+          (loop.startVertex != te.startVertex && loop.startVertex != te.endVertex))
+        continue;
+      const Vec corner = target.vertexPosition(loop.startVertex);
+      const target::Points line = curvePolyline(target, te);
+      const Eigen::VectorXd along = (line.rowwise() - w.origin.transpose()) * w.span;
+      // Spanwise and reaching outboard from the vertex.
+      if (std::abs(along.maxCoeff() - along.minCoeff()) < 0.25 * (w.extentHigh - w.extentLow) ||
+          along.maxCoeff() <= spanOf(corner) + 1e-3 * diagonal || spanOf(corner) >= w.low)
+        continue;
+      w.low = spanOf(corner);
+      teRoot = corner;
+      junction = curvePolyline(target, loop);
+    }
+  }
+  if (junction.rows() == 0) {
+    throw InvalidInputError(
+        "wing-fuselage placement: no closed sharp curve (the wing-body intersection) starts where the trailing "
+        "edge meets the body: the wing must be fused with the body, the intersection curve sharp");
+  }
+  const std::vector<Vec> root = chordRing(teRoot, junction, w.span, m, [&](const Vec& base, const Vec& thickness) {
+    return planeCrossings(junction, true, base, w.span.cross(thickness));  // the plane across the chord
+  });
+
+  // Stations: the hole's columns at the root ring's chord fractions, the rest spread evenly
+  // ahead of and behind the wing.
+  const bool trailingAft = (root[0] - root[static_cast<size_t>(m)]).dot(body.e1) > 0.0;
+  const auto axialOf = [&](int r) {  // ring points r and 2m - r (r = 1 .. m - 1)
+    return (0.5 * (root[static_cast<size_t>(r)] + root[static_cast<size_t>(2 * m - r)]) - body.origin).dot(body.e1);
+  };
+  std::vector<double> columns;  // axial coordinates of the hole's columns, increasing
+  for (int r = 1; r < m; ++r) columns.push_back(axialOf(r));
+  if (trailingAft) std::reverse(columns.begin(), columns.end());
+  const auto [rimNose, rimTail] = bodyRims(body);
+  const double front = columns.front() - rimNose, back = rimTail - columns.back();
+  if (!(front > 0.0 && back > 0.0)) {
+    throw InvalidInputError("wing-fuselage placement: the wing root reaches beyond the body's " +
+                            std::string(front > 0.0 ? "tail" : "nose") + " rim");
+  }
+  const int free = axial - holeSegments;
+  const int i0 = std::clamp(static_cast<int>(std::lround(free * front / (front + back))), 1, free - 1);
+  const int i1 = i0 + holeSegments;
+  std::vector<Vec> centres;
+  for (int i = 0; i <= axial; ++i) {
+    double a = 0.0;
+    if (i <= i0) {
+      a = rimNose + (columns.front() - rimNose) * i / i0;
+    } else if (i <= i1) {
+      a = columns[static_cast<size_t>(i - i0)];
+    } else {
+      a = columns.back() + (rimTail - columns.back()) * (i - i1) / (axial - i1);
+    }
+    centres.push_back(centreAt(a));
+  }
+  Lattice lattice;
+  Draft draft = buildBodyGrid(target, body, n, centres, true, lattice);
+
+  // Side vertices by (station, position q around the half ring from the plane below to the plane above).
+  const int ny = std::max(1, (n + 1) / 2);
+  const int around = 2 * ny + n;
+  std::map<std::pair<int, int>, int> side;
+  std::vector<std::pair<int, int>> place(draft.vertices.size(), {-1, -1});
+  for (size_t v = 0; v < lattice.coords.size(); ++v) {
+    const auto [i, j, k] = lattice.coords[v];
+    const int q = k == 0 ? j : j == ny ? ny + k : k == n ? ny + n + (ny - j) : -1;
+    if (q < 0) continue;
+    side[{i, q}] = static_cast<int>(v);
+    place[v] = {i, q};
+  }
+  const auto at = [&](int i, int q) { return draft.vertices[static_cast<size_t>(side.at({i, q}))]; };
+  // The hole's middle row: the ring position nearest the root's centre, two positions from the plane.
+  Vec rootCentre = Vec::Zero();
+  for (const Vec& p : root) rootCentre += p / static_cast<double>(root.size());
+  const int im = (i0 + i1) / 2;
+  const Vec toRoot = rootCentre - centres[static_cast<size_t>(im)];
+  int qc = 2;
+  for (int q = 2; q <= around - 2; ++q) {
+    const auto cosine = [&](int r) { return (at(im, r) - centres[static_cast<size_t>(im)]).normalized().dot(toRoot.normalized()); };
+    if (cosine(q) > cosine(qc)) qc = q;
+  }
+  const Vec thickness = w.span.cross(root[0] - root[static_cast<size_t>(m)]);
+  double upwards = 0.0;
+  for (int i = i0; i <= i1; ++i) upwards += (at(i, qc + 1) - at(i, qc - 1)).dot(thickness);
+  const int upperRow = upwards > 0.0 ? qc + 1 : qc - 1;
+  const int lowerRow = 2 * qc - upperRow;
+  std::vector<int> junctionRing(static_cast<size_t>(2 * m));
+  const auto column = [&](int r) { return trailingAft ? i1 - (r - 1) : i0 + (r - 1); };
+  junctionRing[0] = side.at({trailingAft ? i1 : i0, qc});
+  junctionRing[static_cast<size_t>(m)] = side.at({trailingAft ? i0 : i1, qc});
+  for (int r = 1; r < m; ++r) {
+    junctionRing[static_cast<size_t>(r)] = side.at({column(r), upperRow});
+    junctionRing[static_cast<size_t>(2 * m - r)] = side.at({column(r), lowerRow});
+  }
+  for (size_t r = 0; r < root.size(); ++r) draft.vertices[static_cast<size_t>(junctionRing[r])] = root[r];
+  // The hole: the 2 (chordwise - 2) side quads within its columns and rows.
+  const auto inHole = [&](int v) {
+    const auto [i, q] = place[static_cast<size_t>(v)];
+    return i >= i0 && i <= i1 && q >= qc - 1 && q <= qc + 1;
+  };
+  draft.faces.erase(std::remove_if(draft.faces.begin(), draft.faces.end(),
+                                   [&](const std::vector<int>& face) { return std::all_of(face.begin(), face.end(), inHole); }),
+                    draft.faces.end());
+
+  // The wing from the junction ring to the tip; its first station clear of the body.
+  double clear = -std::numeric_limits<double>::infinity();
+  for (const Vec& p : root) clear = std::max(clear, (p - w.origin).dot(w.span));
+  for (int i = i0; i <= i1; ++i) {
+    for (int q = 0; q <= around; ++q) {
+      if (std::abs(q - qc) > 1) clear = std::max(clear, (at(i, q) - w.origin).dot(w.span));
+    }
+  }
+  clear += 0.02 * (w.high - w.low);
+  const double first = std::max(w.low + (w.high - w.low) / stations, clear);
+  std::vector<std::vector<int>> rings{junctionRing};
+  std::vector<Vec> tip;
+  for (int j = 1; j <= stations; ++j) {
+    const double s = j == stations ? w.high : first + (w.high - first) * (j - 1) / (stations - 1);
+    tip = wingRing(target, w, s, m);
+    std::vector<int> ids;
+    for (const Vec& p : tip) ids.push_back(draft.add(p));
+    rings.push_back(ids);
+  }
+  Draft wing;
+  wing.vertices = draft.vertices;
+  addWingStrips(wing, rings);
+  addTipCap(wing, target, rings.back(), w.span, rounded, true);
+  // The wing's faces must run against the fuselage's along the junction edges.
+  const int a = junctionRing[0], b = junctionRing[1];
+  const bool sameWay = std::any_of(draft.faces.begin(), draft.faces.end(), [&](const std::vector<int>& face) {
+    for (size_t c = 0; c < face.size(); ++c) {
+      if (face[c] == a && face[(c + 1) % face.size()] == b) return true;
+    }
+    return false;
+  });
+  for (std::vector<int>& face : wing.faces) {
+    if (sameWay) std::reverse(face.begin(), face.end());
+    draft.faces.push_back(face);
+  }
+  draft.vertices = wing.vertices;
+  draft.creases.insert(draft.creases.end(), wing.creases.begin(), wing.creases.end());
+  draft.corners.insert(draft.corners.end(), wing.corners.begin(), wing.corners.end());
+  for (int r = 0; r < 2 * m; ++r)
+    draft.creases.push_back({junctionRing[static_cast<size_t>(r)], junctionRing[static_cast<size_t>((r + 1) % (2 * m))]});
+  draft.corners.push_back(junctionRing[0]);
+  planform = measurePlanform(w, root, tip, m);
+  removeUnusedVertices(draft);
   return draft;
 }
 
@@ -685,6 +1041,9 @@ PlacedPolyhedron placeTemplate(const PolyhedronTemplate& polyhedronTemplate, con
       break;
     case Generator::Nacelle:
       draft = buildNacelle(values, target);
+      break;
+    case Generator::WingFuselage:
+      draft = buildWingFuselage(values, target, curves, plane, used, planform);
       break;
   }
   // The signed volume of a closed polyhedron does not depend on the reference point; an open half
