@@ -14,7 +14,6 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
-#include <tuple>
 #include <memory>
 #include <string>
 
@@ -36,10 +35,11 @@ constexpr double kPi = 3.14159265358979323846;
 struct Variant {
   testing::WingBodyParameters parameters;
   std::string name;
+  int fitLevels = 3;  // levels the fit test runs (the test stays under 30 s)
 };
 
 std::vector<Variant> variants() {
-  return {{testing::WingBodyParameters{}, "wing_body_mid"}, {testing::lowWingParameters(), "wing_body_low"}};
+  return {{testing::WingBodyParameters{}, "wing_body_mid", 4}, {testing::lowWingParameters(), "wing_body_low", 3}};
 }
 
 // The wing-body without its symmetry-plane face; the whole shape (with the face) is written as
@@ -205,67 +205,41 @@ TEST(WingFuselage, PlacedAndMappedOnBothVariants) {
   }
 }
 
-// Largest sample distance of the fitter's current state overall and at least `away` from `point`.
-std::pair<double, double> maxDistances(fit::SurfaceFitter& fitter, const Eigen::Vector3d& point, double away) {
-  const RowMatrixX3d positions = fitter.limitPositions();
-  const target::ProjectionResult& feet = fitter.project();
-  double overall = 0.0, far = 0.0;
-  for (Eigen::Index i = 0; i < positions.rows(); ++i) {
-    const double d = (positions.row(i) - feet.points.row(i)).norm();
-    overall = std::max(overall, d);
-    if ((positions.row(i).transpose() - point).norm() >= away) far = std::max(far, d);
-  }
-  return {overall, far};
-}
-
-// Level by level, 4 correction passes each. The CAD limits the accuracy near the root of the
-// trailing edge: OCCT's fuse approximates the intersection curve there with an edge tolerance of
-// 1e-2 (its lower branch of the mid-wing variant wiggles by up to 2e-2 within 0.05 of the
-// trailing-edge vertex), and the thin trailing-edge wedge pinches the limit surface (as on the M6).
+// Level by level, 4 correction passes each: the max sample distance falls at every level and
+// ends below 1e-4 of the body length (measured: mid wing 2.6e-4 at level 4, low wing 6.9e-4 at
+// level 3; docs/templates.md has the table).
 TEST(WingFuselage, FittedOnBothVariants) {
   for (const Variant& variant : variants()) {
     SCOPED_TRACE(variant.name);
     const double length = variant.parameters.length;
     const auto target = wingBodyTarget(variant);
     const PlacedPolyhedron placed = placeTemplate(wingFuselageTemplate(), *target);
-    Eigen::Vector3d junctionCorner = Eigen::Vector3d::Zero();
-    for (const CornerMapping& corner : placed.mapping.corners) {
-      const Eigen::Vector3d c = target->vertexPosition(corner.cadVertex);
-      if (c.y() < variant.parameters.tipSpan / 2) junctionCorner = c;
-    }
     fit::FitOptions options;
     options.symmetryPlane = placed.symmetryPlane;
     fit::SurfaceFitter fitter(target, placed.mesh, placed.mapping.map, options);
     std::FILE* out = std::fopen((kOutput + "/" + variant.name + "_fit.md").c_str(), "w");
-    std::fprintf(out,
-                 "| level | control points | max distance | RMS | max farther than 0.1 from the trailing edge's root | "
-                 "seconds |\n|---|---|---|---|---|---|\n");
+    std::fprintf(out, "| level | control points | max distance | RMS | seconds |\n|---|---|---|---|---|\n");
     double previous = std::numeric_limits<double>::infinity();
-    double overall = 0.0, far = 0.0, rms = 0.0;
-    for (int level = 1; level <= 3; ++level) {
+    for (int level = 1; level <= variant.fitLevels; ++level) {
       const auto start = std::chrono::steady_clock::now();
       fitter.subdivide();
       fitter.correctParameters(4);
-      const fit::PassRecord& record = fitter.record(false);
-      std::tie(overall, far) = maxDistances(fitter, junctionCorner, 0.1);
-      rms = record.rmsDistance;
+      const fit::PassRecord record = fitter.record(false);
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-      std::fprintf(out, "| %d | %d | %.3e | %.3e | %.3e | %.1f |\n", level, record.controlPoints, overall, rms, far,
-                   seconds);
-      std::printf("%s level %d: %d control points, max %.3e, RMS %.3e, max farther than 0.1 from the trailing edge's "
-                  "root %.3e (%.1f s)\n",
-                  variant.name.c_str(), level, record.controlPoints, overall, rms, far, seconds);
-      EXPECT_LT(overall, previous) << "level " << level;
+      std::fprintf(out, "| %d | %d | %.3e | %.3e | %.1f |\n", level, record.controlPoints, record.maxDistance,
+                   record.rmsDistance, seconds);
+      std::printf("%s level %d: %d control points, max %.3e, RMS %.3e (%.1f s)\n", variant.name.c_str(), level,
+                  record.controlPoints, record.maxDistance, record.rmsDistance, seconds);
+      EXPECT_LT(record.maxDistance, previous) << "level " << level;
       EXPECT_EQ(record.failedProjections, 0);
-      previous = overall;
+      previous = record.maxDistance;
+      if (level == variant.fitLevels) {
+        EXPECT_LT(record.maxDistance, 1e-4 * length);
+        EXPECT_LT(record.rmsDistance, 1e-5 * length);
+      }
     }
     std::fclose(out);
     writeControlMesh(fitter.mesh(), kOutput + "/" + variant.name + "_fitted.cmesh");
-    // Measured at level 3: max 6.9e-3 / 1.7e-3, RMS 7.4e-5 / 2.8e-5, away from the trailing
-    // edge's root 2.4e-3 / 1.5e-3 (mid / low wing).
-    EXPECT_LT(overall, 8e-4 * length);
-    EXPECT_LT(far, 3e-4 * length);
-    EXPECT_LT(rms, 1e-5 * length);
     for (int edge : fitter.mesh().boundaryEdges()) {
       for (int end = 0; end < 2; ++end)
         EXPECT_NEAR(fitter.mesh().vertices()(fitter.mesh().edges()(edge, end), 1), 0.0, 1e-12);
@@ -273,11 +247,13 @@ TEST(WingFuselage, FittedOnBothVariants) {
   }
 }
 
-// Closest points on the intersection curve near its trailing-edge vertex, where OCCT's
-// approximation crowds the lower branch's parameter: Newton alone stalled there and returned the
-// upper branch (3e-2 away) for a point 2e-3 from the lower one.
-TEST(WingFuselage, ClosestPointOnTheIntersectionCurve) {
-  const auto target = wingBodyTarget(variants()[0]);
+// Closest points on an intersection curve whose parameter crowds near its trailing-edge vertex
+// (sections not mirrored: OCCT's approximation there has a tolerance of 1e-2): Newton alone
+// stalled and returned the upper branch (3e-2 away) for a point 2e-3 from the lower one.
+TEST(WingFuselage, ClosestPointOnACrowdedIntersectionCurve) {
+  testing::WingBodyParameters p;
+  p.mirroredSections = false;
+  const auto target = wingBodyTarget({p, "wing_body_crowded"});
   std::vector<int> junction;
   for (const FeatureCurve& c : detectFeatureCurves(*target)) {
     if (c.kind == FeatureCurveKind::Sharp && c.closed && c.length > 4.0) junction = c.edges;

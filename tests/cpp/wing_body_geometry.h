@@ -9,6 +9,7 @@
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
+#include <BRepBuilderAPI_Transform.hxx>
 #include <BRepOffsetAPI_ThruSections.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeRevol.hxx>
@@ -16,14 +17,16 @@
 #include <Geom_Ellipse.hxx>
 #include <Geom_TrimmedCurve.hxx>
 #include <TColgp_HArray1OfPnt.hxx>
+#include <TopoDS.hxx>
+#include <TopoDS_Edge.hxx>
 #include <TopoDS_Shape.hxx>
 #include <TopoDS_Wire.hxx>
 #include <gp_Ax2.hxx>
 #include <gp_Elips.hxx>
+#include <gp_Trsf.hxx>
 #include <gp_Vec.hxx>
 
 #include <cmath>
-#include <vector>
 
 namespace bvmesh::testing {
 
@@ -41,6 +44,11 @@ struct WingBodyParameters {
   double sweepDeg = 25.0;     // leading-edge sweep
   double dihedralDeg = 0.0;
   double rootSpanFraction = 0.3;  // y of the root section / radius (inside the body)
+  // false: each section's lower curve is interpolated on its own instead of mirroring the upper
+  // one. OCCT's fuse then approximates the intersection curve near the trailing-edge vertex with
+  // an edge tolerance of 1e-2 (the lower branch doubles back, its parameter crowds): a CAD defect
+  // for testing projections. Mirrored sections give tolerances of 5e-6.
+  bool mirroredSections = true;
 };
 
 inline double naca0012HalfThickness(double x) {  // closed trailing edge (coefficient -0.1036)
@@ -48,34 +56,40 @@ inline double naca0012HalfThickness(double x) {  // closed trailing edge (coeffi
                 0.1036 * x * x * x * x);
 }
 
-// Section wire at span y: upper curve trailing edge -> leading edge, lower curve back, both
-// interpolating NACA 0012 points with a vertical tangent at the leading edge, so that the leading
-// edge is smooth and the trailing edge sharp.
-inline TopoDS_Wire nacaSectionWire(double leadingEdge, double y, double z, double chord) {
+// Section wire at span y: the upper curve from the trailing to the leading edge interpolating
+// NACA 0012 points, vertical at the leading edge, and below it its mirror image (`mirrored`) or
+// a curve interpolating the lower points from the leading to the trailing edge (see
+// WingBodyParameters::mirroredSections). The leading edge is smooth, the trailing edge sharp.
+inline TopoDS_Wire nacaSectionWire(double leadingEdge, double y, double z, double chord, bool mirrored = true) {
   constexpr int kPoints = 41;
   const double pi = std::acos(-1.0);
-  const auto point = [&](double x, double side) {
-    return gp_Pnt(leadingEdge + chord * x, y, z + side * chord * naca0012HalfThickness(x));
-  };
   const double slope = (naca0012HalfThickness(1.0) - naca0012HalfThickness(1.0 - 1e-6)) / 1e-6;
-  BRepBuilderAPI_MakeWire wire;
-  for (double side : {1.0, -1.0}) {
+  // sign 1: upper, trailing -> leading edge; -1: lower, leading -> trailing edge.
+  const auto side = [&](double sign) {
     Handle(TColgp_HArray1OfPnt) points = new TColgp_HArray1OfPnt(1, kPoints);
     for (int i = 0; i < kPoints; ++i) {
-      const double x = 0.5 * (1.0 + std::cos(pi * i / (kPoints - 1)));  // 1 (trailing edge) .. 0
-      points->SetValue(side > 0 ? i + 1 : kPoints - i, point(x, side));
+      const double x = 0.5 * (1.0 + std::cos(pi * i / (kPoints - 1)));  // 1 .. 0
+      points->SetValue(sign > 0 ? i + 1 : kPoints - i,
+                       gp_Pnt(leadingEdge + chord * x, y, z + sign * chord * naca0012HalfThickness(x)));
     }
-    const gp_Vec trailing = gp_Vec(1.0, 0.0, side * slope).Normalized();
-    const gp_Vec down(0.0, 0.0, -1.0);
+    const gp_Vec trailing = gp_Vec(1.0, 0.0, sign * slope).Normalized();
     GeomAPI_Interpolate interpolate(points, false, 1e-9);
-    if (side > 0) {
-      interpolate.Load(trailing.Reversed(), down);
+    if (sign > 0) {
+      interpolate.Load(trailing.Reversed(), gp_Vec(0.0, 0.0, -1.0));
     } else {
-      interpolate.Load(down, trailing);
+      interpolate.Load(gp_Vec(0.0, 0.0, -1.0), trailing);
     }
     interpolate.Perform();
-    wire.Add(BRepBuilderAPI_MakeEdge(interpolate.Curve()).Edge());
-  }
+    return BRepBuilderAPI_MakeEdge(interpolate.Curve()).Edge();
+  };
+  const TopoDS_Edge upper = side(1.0);
+  gp_Trsf mirror;
+  mirror.SetMirror(gp_Ax2(gp_Pnt(0.0, y, z), gp_Dir(0, 0, 1)));
+  const TopoDS_Edge lower =
+      mirrored ? TopoDS::Edge(BRepBuilderAPI_Transform(upper, mirror, true).Shape()) : side(-1.0);
+  BRepBuilderAPI_MakeWire wire;
+  wire.Add(upper);
+  wire.Add(lower);
   return wire.Wire();
 }
 
@@ -104,8 +118,8 @@ inline TopoDS_Shape makeHalfWing(const WingBodyParameters& p) {
   const double tipLeadingEdge = p.rootLeadingEdge + span * std::tan(p.sweepDeg * pi / 180.0);
   const double tipZ = p.wingHeight + span * std::tan(p.dihedralDeg * pi / 180.0);
   BRepOffsetAPI_ThruSections loft(true, false);
-  loft.AddWire(nacaSectionWire(p.rootLeadingEdge, rootY, p.wingHeight, p.rootChord));
-  loft.AddWire(nacaSectionWire(tipLeadingEdge, p.tipSpan, tipZ, p.tipChord));
+  loft.AddWire(nacaSectionWire(p.rootLeadingEdge, rootY, p.wingHeight, p.rootChord, p.mirroredSections));
+  loft.AddWire(nacaSectionWire(tipLeadingEdge, p.tipSpan, tipZ, p.tipChord, p.mirroredSections));
   loft.Build();
   return loft.Shape();
 }
