@@ -39,7 +39,8 @@ struct Variant {
 };
 
 std::vector<Variant> variants() {
-  return {{testing::WingBodyParameters{}, "wing_body_mid", 4}, {testing::lowWingParameters(), "wing_body_low", 3}};
+  return {{testing::WingBodyParameters{}, "wing_body_mid", 4},
+          {testing::lowWingParameters(), "wing_body_low", 3}};
 }
 
 // The wing-body without its symmetry-plane face; the whole shape (with the face) is written as
@@ -104,7 +105,8 @@ struct WingChains {
   int junction = -1, rim = -1, trailingEdge = -1, boundary = -1;
 };
 
-WingChains wingChains(const FeatureMapping& mapping, const ControlMesh& mesh, const testing::WingBodyParameters& p) {
+WingChains wingChains(const FeatureMapping& mapping, const ControlMesh& mesh,
+                      const testing::WingBodyParameters& p) {
   WingChains found;
   for (size_t c = 0; c < mapping.chains.size(); ++c) {
     const MeshFeatureChain& chain = mapping.chains[c];
@@ -134,10 +136,12 @@ TEST(WingFuselage, PlacedAndMappedOnBothVariants) {
     writeControlMesh(placed.mesh, kOutput + "/" + variant.name + "_placed.cmesh");
     const ControlMesh& mesh = placed.mesh;
     int triangles = 0, quads = 0;
-    for (int f = 0; f < mesh.numFaces(); ++f) (mesh.faceSize(f) == 3 ? triangles : quads) += mesh.faceSize(f) <= 4;
-    std::printf("%s: %d vertices, %d faces (%d quads, %d triangles), %zu creases, %zu corners, placed in %.2f s\n",
-                variant.name.c_str(), mesh.numVertices(), mesh.numFaces(), quads, triangles,
-                static_cast<size_t>(mesh.creases().rows()), mesh.corners().size(), seconds);
+    for (int f = 0; f < mesh.numFaces(); ++f)
+      (mesh.faceSize(f) == 3 ? triangles : quads) += mesh.faceSize(f) <= 4;
+    std::printf(
+        "%s: %d vertices, %d faces (%d quads, %d triangles), %zu creases, %zu corners, placed in %.2f s\n",
+        variant.name.c_str(), mesh.numVertices(), mesh.numFaces(), quads, triangles,
+        static_cast<size_t>(mesh.creases().rows()), mesh.corners().size(), seconds);
     // Quads everywhere but the two triangles of the tip cap at the trailing edge.
     EXPECT_EQ(quads + triangles, mesh.numFaces());
     EXPECT_EQ(triangles, 2);
@@ -163,7 +167,8 @@ TEST(WingFuselage, PlacedAndMappedOnBothVariants) {
     const MeshFeatureChain& ring = placed.mapping.chains[static_cast<size_t>(chains.junction)];
     EXPECT_EQ(ring.edges.size(), 12u);  // 2 x chordwise
     double off = 0.0;
-    for (int v : ring.vertices) off = std::max(off, std::abs(axisDistance(mesh.vertices().row(v)) - p.radius));
+    for (int v : ring.vertices)
+      off = std::max(off, std::abs(axisDistance(mesh.vertices().row(v)) - p.radius));
     EXPECT_LT(off, 1e-6);
     const ChainMapping& ringMap = placed.mapping.chainMappings[static_cast<size_t>(chains.junction)];
     ASSERT_GE(ringMap.curve, 0);
@@ -190,8 +195,9 @@ TEST(WingFuselage, PlacedAndMappedOnBothVariants) {
     EXPECT_EQ(placed.mapping.chains[static_cast<size_t>(chains.trailingEdge)].edges.size(), 4u);  // spanwise
     ASSERT_TRUE(placed.planform.has_value());
     std::printf("%s: planform span %.3f, root chord %.3f, tip chord %.3f, sweeps %.1f / %.1f deg\n",
-                variant.name.c_str(), placed.planform->span, placed.planform->rootChord, placed.planform->tipChord,
-                placed.planform->leadingEdgeSweepDeg, placed.planform->trailingEdgeSweepDeg);
+                variant.name.c_str(), placed.planform->span, placed.planform->rootChord,
+                placed.planform->tipChord, placed.planform->leadingEdgeSweepDeg,
+                placed.planform->trailingEdgeSweepDeg);
     // Planform against the construction: chords and sweeps of the trapezoidal wing (the root chord
     // is the wing's chord at the span where the trailing edge leaves the body).
     const double rootY = p.rootSpanFraction * p.radius;
@@ -228,8 +234,8 @@ TEST(WingFuselage, FittedOnBothVariants) {
       const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       std::fprintf(out, "| %d | %d | %.3e | %.3e | %.1f |\n", level, record.controlPoints, record.maxDistance,
                    record.rmsDistance, seconds);
-      std::printf("%s level %d: %d control points, max %.3e, RMS %.3e (%.1f s)\n", variant.name.c_str(), level,
-                  record.controlPoints, record.maxDistance, record.rmsDistance, seconds);
+      std::printf("%s level %d: %d control points, max %.3e, RMS %.3e (%.1f s)\n", variant.name.c_str(),
+                  level, record.controlPoints, record.maxDistance, record.rmsDistance, seconds);
       EXPECT_LT(record.maxDistance, previous) << "level " << level;
       EXPECT_EQ(record.failedProjections, 0);
       previous = record.maxDistance;
@@ -272,7 +278,8 @@ TEST(WingFuselage, ClosestPointOnACrowdedIntersectionCurve) {
 TEST(WingFuselage, ABodyWithoutAWingIsExplained) {
   // The fuselage alone, cut at y = 0: a symmetry plane but no trailing edge.
   const TopoDS_Shape body =
-      BRepAlgoAPI_Cut(testing::makeFuselage({}), BRepPrimAPI_MakeBox(gp_Pnt(-20, -20, -20), gp_Pnt(20, 0, 20)).Shape())
+      BRepAlgoAPI_Cut(testing::makeFuselage({}),
+                      BRepPrimAPI_MakeBox(gp_Pnt(-20, -20, -20), gp_Pnt(20, 0, 20)).Shape())
           .Shape();
   const target::Target target(removeSymmetryFace(body).shape);
   try {

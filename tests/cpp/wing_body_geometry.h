@@ -32,16 +32,16 @@ namespace bvmesh::testing {
 
 // Lengths in body units; the fuselage axis is the x axis, the wing spans +y.
 struct WingBodyParameters {
-  double length = 10.0;     // nose (x = 0) to tail
-  double radius = 0.6;      // of the cylindrical part
-  double noseLength = 2.0;  // elliptic nose, x in [0, noseLength]
-  double tailLength = 3.5;  // elliptic tail, x in [length - tailLength, length]
-  double wingHeight = 0.0;  // z of the root chord line (0: mid wing, < 0: low wing)
-  double rootChord = 2.6;   // chord of the root section (inside the fuselage)
+  double length = 10.0;          // nose (x = 0) to tail
+  double radius = 0.6;           // of the cylindrical part
+  double noseLength = 2.0;       // elliptic nose, x in [0, noseLength]
+  double tailLength = 3.5;       // elliptic tail, x in [length - tailLength, length]
+  double wingHeight = 0.0;       // z of the root chord line (0: mid wing, < 0: low wing)
+  double rootChord = 2.6;        // chord of the root section (inside the fuselage)
   double rootLeadingEdge = 3.6;  // x of the root leading edge
   double tipChord = 1.0;
-  double tipSpan = 4.0;  // y of the flat tip
-  double sweepDeg = 25.0;     // leading-edge sweep
+  double tipSpan = 4.0;    // y of the flat tip
+  double sweepDeg = 25.0;  // leading-edge sweep
   double dihedralDeg = 0.0;
   double rootSpanFraction = 0.3;  // y of the root section / radius (inside the body)
   // false: each section's lower curve is interpolated on its own instead of mirroring the upper
@@ -52,15 +52,16 @@ struct WingBodyParameters {
 };
 
 inline double naca0012HalfThickness(double x) {  // closed trailing edge (coefficient -0.1036)
-  return 0.6 * (0.2969 * std::sqrt(x) - 0.1260 * x - 0.3516 * x * x + 0.2843 * x * x * x -
-                0.1036 * x * x * x * x);
+  return 0.6 *
+         (0.2969 * std::sqrt(x) - 0.1260 * x - 0.3516 * x * x + 0.2843 * x * x * x - 0.1036 * x * x * x * x);
 }
 
 // Section wire at span y: the upper curve from the trailing to the leading edge interpolating
 // NACA 0012 points, vertical at the leading edge, and below it its mirror image (`mirrored`) or
 // a curve interpolating the lower points from the leading to the trailing edge (see
 // WingBodyParameters::mirroredSections). The leading edge is smooth, the trailing edge sharp.
-inline TopoDS_Wire nacaSectionWire(double leadingEdge, double y, double z, double chord, bool mirrored = true) {
+inline TopoDS_Wire nacaSectionWire(double leadingEdge, double y, double z, double chord,
+                                   bool mirrored = true) {
   constexpr int kPoints = 41;
   const double pi = std::acos(-1.0);
   const double slope = (naca0012HalfThickness(1.0) - naca0012HalfThickness(1.0 - 1e-6)) / 1e-6;
@@ -98,15 +99,16 @@ inline TopoDS_Shape makeFuselage(const WingBodyParameters& p) {
   const double tailStart = p.length - p.tailLength;
   // Profile in the half plane y = 0, z >= 0, closed along the axis.
   const gp_Dir x(1, 0, 0);
-  Handle(Geom_Ellipse) nose =
-      new Geom_Ellipse(gp_Elips(gp_Ax2(gp_Pnt(p.noseLength, 0, 0), gp_Dir(0, -1, 0), x), p.noseLength, p.radius));
-  Handle(Geom_Ellipse) tail =
-      new Geom_Ellipse(gp_Elips(gp_Ax2(gp_Pnt(tailStart, 0, 0), gp_Dir(0, -1, 0), x), p.tailLength, p.radius));
+  Handle(Geom_Ellipse) nose = new Geom_Ellipse(
+      gp_Elips(gp_Ax2(gp_Pnt(p.noseLength, 0, 0), gp_Dir(0, -1, 0), x), p.noseLength, p.radius));
+  Handle(Geom_Ellipse) tail = new Geom_Ellipse(
+      gp_Elips(gp_Ax2(gp_Pnt(tailStart, 0, 0), gp_Dir(0, -1, 0), x), p.tailLength, p.radius));
   BRepBuilderAPI_MakeWire profile;
   profile.Add(BRepBuilderAPI_MakeEdge(new Geom_TrimmedCurve(nose, 0.5 * pi, pi)).Edge());
   profile.Add(BRepBuilderAPI_MakeEdge(gp_Pnt(0, 0, 0), gp_Pnt(p.length, 0, 0)).Edge());
   profile.Add(BRepBuilderAPI_MakeEdge(new Geom_TrimmedCurve(tail, 0.0, 0.5 * pi)).Edge());
-  profile.Add(BRepBuilderAPI_MakeEdge(gp_Pnt(tailStart, 0, p.radius), gp_Pnt(p.noseLength, 0, p.radius)).Edge());
+  profile.Add(
+      BRepBuilderAPI_MakeEdge(gp_Pnt(tailStart, 0, p.radius), gp_Pnt(p.noseLength, 0, p.radius)).Edge());
   const TopoDS_Face face = BRepBuilderAPI_MakeFace(profile.Wire(), true).Face();
   return BRepPrimAPI_MakeRevol(face, gp_Ax1(gp_Pnt(0, 0, 0), x), 2.0 * pi).Shape();
 }

@@ -283,8 +283,8 @@ struct BodyAxis {
   Vec origin = Vec::Zero();
   Vec e1 = Vec::UnitX(), e2 = Vec::UnitY(), e3 = Vec::UnitZ();
   double lo = 0.0, hi = 0.0;
-  double radius = 0.0;                  // largest distance of the body from the axis
-  std::array<std::string, 2> ends;      // nose (at lo) and tail (at hi): round, flat or open
+  double radius = 0.0;              // largest distance of the body from the axis
+  std::array<std::string, 2> ends;  // nose (at lo) and tail (at hi): round, flat or open
 };
 
 int quarterSegments(const TemplateValues& values) {
@@ -297,9 +297,9 @@ int quarterSegments(const TemplateValues& values) {
 }
 
 // Resolves `auto` nose and tail choices from the target's free boundary and records them.
-void resolveEnds(const TemplateValues& values, const target::Target& target, const std::vector<FeatureCurve>& curves,
-                 const std::optional<fit::SymmetryPlane>& plane, BodyAxis& body,
-                 std::map<std::string, std::string>& used) {
+void resolveEnds(const TemplateValues& values, const target::Target& target,
+                 const std::vector<FeatureCurve>& curves, const std::optional<fit::SymmetryPlane>& plane,
+                 BodyAxis& body, std::map<std::string, std::string>& used) {
   body.ends = {values.choice("nose"), values.choice("tail")};
   for (int side = 0; side < 2; ++side) {
     std::string& end = body.ends[static_cast<size_t>(side)];
@@ -329,8 +329,8 @@ std::array<double, 2> bodyRims(const BodyAxis& body) {
 // the end caps cast from their rim centres (domes) or along the axis (flat). Draft vertex v is
 // lattice vertex v. `firstHit`: cast to the nearest surface from the centre (a body with other
 // parts around it, such as a wing); otherwise to the outermost surface.
-Draft buildBodyGrid(const target::Target& target, const BodyAxis& body, int n, const std::vector<Vec>& centres,
-                    bool firstHit, Lattice& lattice) {
+Draft buildBodyGrid(const target::Target& target, const BodyAxis& body, int n,
+                    const std::vector<Vec>& centres, bool firstHit, Lattice& lattice) {
   const bool half = body.half;
   const int axial = static_cast<int>(centres.size()) - 1;
   const int ny = half ? std::max(1, (n + 1) / 2) : n;
@@ -489,7 +489,8 @@ WingFrame wingFrame(const target::Target& target, const std::vector<FeatureCurve
   w.extentHigh = s.maxCoeff();
   double best = 0.0;
   for (size_t c = 0; c < curves.size(); ++c) {
-    if (curves[c].kind != FeatureCurveKind::Sharp || curves[c].closed) continue;  // loops: tip rims, junctions
+    if (curves[c].kind != FeatureCurveKind::Sharp || curves[c].closed)
+      continue;  // loops: tip rims, junctions
     const target::Points line = curvePolyline(target, curves[c]);
     const Vec chord = (line.row(line.rows() - 1) - line.row(0)).transpose();
     if (std::abs(chord.normalized().dot(w.span)) < 0.5) continue;  // not spanwise
@@ -520,7 +521,8 @@ WingFrame wingFrame(const target::Target& target, const std::vector<FeatureCurve
 // the line (or plane) across the chord through `base`, and the extreme ones along the thickness
 // direction (span x chord) are the upper and lower ring points.
 template <class Across>
-std::vector<Vec> chordRing(const Vec& te, const target::Points& outline, const Vec& span, int m, Across&& across) {
+std::vector<Vec> chordRing(const Vec& te, const target::Points& outline, const Vec& span, int m,
+                           Across&& across) {
   Vec le = te;
   for (Eigen::Index k = 0; k < outline.rows(); ++k) {
     if ((outline.row(k).transpose() - te).norm() > (le - te).norm()) le = outline.row(k).transpose();
@@ -534,8 +536,11 @@ std::vector<Vec> chordRing(const Vec& te, const target::Points& outline, const V
     const double xi = 0.5 * (1.0 + std::cos(kPi * i / m));  // 1 at the trailing edge, 0 at the leading edge
     const Vec base = le + xi * chord;
     const std::vector<Vec> points = across(base, thickness);
-    const auto below = [&](const Vec& a, const Vec& b) { return (a - base).dot(thickness) < (b - base).dot(thickness); };
-    ring[static_cast<size_t>(i)] = points.empty() ? base : *std::max_element(points.begin(), points.end(), below);
+    const auto below = [&](const Vec& a, const Vec& b) {
+      return (a - base).dot(thickness) < (b - base).dot(thickness);
+    };
+    ring[static_cast<size_t>(i)] =
+        points.empty() ? base : *std::max_element(points.begin(), points.end(), below);
     ring[static_cast<size_t>(2 * m - i)] =
         points.empty() ? base : *std::min_element(points.begin(), points.end(), below);
   }
@@ -551,11 +556,12 @@ std::vector<Vec> wingRing(const target::Target& target, const WingFrame& w, doub
   if (section.empty() || !te) {
     throw InvalidInputError("wing placement: no section of the target at span " + std::to_string(cut));
   }
-  std::vector<Vec> ring = chordRing(*te, section.points(), w.span, m, [&](const Vec& base, const Vec& thickness) {
-    std::vector<Vec> points;
-    for (double hit : section.lineHits(base, thickness)) points.push_back(base + hit * thickness);
-    return points;
-  });
+  std::vector<Vec> ring =
+      chordRing(*te, section.points(), w.span, m, [&](const Vec& base, const Vec& thickness) {
+        std::vector<Vec> points;
+        for (double hit : section.lineHits(base, thickness)) points.push_back(base + hit * thickness);
+        return points;
+      });
   // Stations at the ends of the span lie on the end itself.
   for (Vec& v : ring) v += (s - (v - w.origin).dot(w.span)) * w.span;
   return ring;
@@ -668,7 +674,8 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
 // ---- wing-fuselage half model -----------------------------------------------------------------
 
 // Points where a polyline (#K x 3; closed: the last point joins the first) crosses a plane.
-std::vector<Vec> planeCrossings(const target::Points& line, bool closed, const Vec& point, const Vec& normal) {
+std::vector<Vec> planeCrossings(const target::Points& line, bool closed, const Vec& point,
+                                const Vec& normal) {
   std::vector<Vec> crossings;
   const Eigen::Index count = line.rows();
   for (Eigen::Index k = 0; k + (closed ? 0 : 1) < count; ++k) {
@@ -697,7 +704,8 @@ void removeUnusedVertices(Draft& draft) {
   for (std::vector<int>& face : draft.faces) {
     for (int& v : face) v = index[static_cast<size_t>(v)];
   }
-  for (std::array<int, 2>& crease : draft.creases) crease = {index[static_cast<size_t>(crease[0])], index[static_cast<size_t>(crease[1])]};
+  for (std::array<int, 2>& crease : draft.creases)
+    crease = {index[static_cast<size_t>(crease[0])], index[static_cast<size_t>(crease[1])]};
   for (int& corner : draft.corners) corner = index[static_cast<size_t>(corner)];
 }
 
@@ -718,9 +726,11 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
   const int holeSegments = m - 2;
   if (m < 3 || n < 2 || axial < holeSegments + 2) {
     throw InvalidInputError(
-        "template parameters: the wing-fuselage model needs chordwise >= 3, circumferential >= 8 and axial >= "
-        "chordwise (the wing root takes chordwise - 2 axial segments), got chordwise " + std::to_string(m) +
-        ", circumferential " + std::to_string(4 * n) + ", axial " + std::to_string(axial));
+        "template parameters: the wing-fuselage model needs chordwise >= 3, circumferential >= 8 and axial "
+        ">= "
+        "chordwise (the wing root takes chordwise - 2 axial segments), got chordwise " +
+        std::to_string(m) + ", circumferential " + std::to_string(4 * n) + ", axial " +
+        std::to_string(axial));
   }
   plane = detectSymmetryPlane(target, curves);
   if (!plane) {
@@ -810,18 +820,21 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
   }
   if (junction.rows() == 0) {
     throw InvalidInputError(
-        "wing-fuselage placement: no closed sharp curve (the wing-body intersection) starts where the trailing "
+        "wing-fuselage placement: no closed sharp curve (the wing-body intersection) starts where the "
+        "trailing "
         "edge meets the body: the wing must be fused with the body, the intersection curve sharp");
   }
-  const std::vector<Vec> root = chordRing(teRoot, junction, w.span, m, [&](const Vec& base, const Vec& thickness) {
-    return planeCrossings(junction, true, base, w.span.cross(thickness));  // the plane across the chord
-  });
+  const std::vector<Vec> root =
+      chordRing(teRoot, junction, w.span, m, [&](const Vec& base, const Vec& thickness) {
+        return planeCrossings(junction, true, base, w.span.cross(thickness));  // the plane across the chord
+      });
 
   // Stations: the hole's columns at the root ring's chord fractions, the rest spread evenly
   // ahead of and behind the wing.
   const bool trailingAft = (root[0] - root[static_cast<size_t>(m)]).dot(body.e1) > 0.0;
   const auto axialOf = [&](int r) {  // ring points r and 2m - r (r = 1 .. m - 1)
-    return (0.5 * (root[static_cast<size_t>(r)] + root[static_cast<size_t>(2 * m - r)]) - body.origin).dot(body.e1);
+    return (0.5 * (root[static_cast<size_t>(r)] + root[static_cast<size_t>(2 * m - r)]) - body.origin)
+        .dot(body.e1);
   };
   std::vector<double> columns;  // axial coordinates of the hole's columns, increasing
   for (int r = 1; r < m; ++r) columns.push_back(axialOf(r));
@@ -870,7 +883,9 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
   const Vec toRoot = rootCentre - centres[static_cast<size_t>(im)];
   int qc = 2;
   for (int q = 2; q <= around - 2; ++q) {
-    const auto cosine = [&](int r) { return (at(im, r) - centres[static_cast<size_t>(im)]).normalized().dot(toRoot.normalized()); };
+    const auto cosine = [&](int r) {
+      return (at(im, r) - centres[static_cast<size_t>(im)]).normalized().dot(toRoot.normalized());
+    };
     if (cosine(q) > cosine(qc)) qc = q;
   }
   const Vec thickness = w.span.cross(root[0] - root[static_cast<size_t>(m)]);
@@ -893,7 +908,9 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
     return i >= i0 && i <= i1 && q >= qc - 1 && q <= qc + 1;
   };
   draft.faces.erase(std::remove_if(draft.faces.begin(), draft.faces.end(),
-                                   [&](const std::vector<int>& face) { return std::all_of(face.begin(), face.end(), inHole); }),
+                                   [&](const std::vector<int>& face) {
+                                     return std::all_of(face.begin(), face.end(), inHole);
+                                   }),
                     draft.faces.end());
 
   // The wing from the junction ring to the tip; its first station clear of the body.
@@ -935,7 +952,8 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
   draft.creases.insert(draft.creases.end(), wing.creases.begin(), wing.creases.end());
   draft.corners.insert(draft.corners.end(), wing.corners.begin(), wing.corners.end());
   for (int r = 0; r < 2 * m; ++r)
-    draft.creases.push_back({junctionRing[static_cast<size_t>(r)], junctionRing[static_cast<size_t>((r + 1) % (2 * m))]});
+    draft.creases.push_back(
+        {junctionRing[static_cast<size_t>(r)], junctionRing[static_cast<size_t>((r + 1) % (2 * m))]});
   draft.corners.push_back(junctionRing[0]);
   planform = measurePlanform(w, root, tip, m);
   removeUnusedVertices(draft);
