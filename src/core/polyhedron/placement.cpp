@@ -389,6 +389,7 @@ struct WingFrame {
   double low = 0.0, high = 0.0;               // span range of the stations (trailing-edge ends)
   double extentLow = 0.0, extentHigh = 0.0;   // span range of the whole target
   std::vector<target::Points> trailingEdges;  // polylines of the sharp spanwise curves
+  std::vector<int> trailingEdgeCurves;        // their indices in the feature curve list
 };
 
 // The trailing-edge point at span s: where a trailing-edge polyline crosses the plane.
@@ -437,6 +438,7 @@ WingFrame wingFrame(const target::Target& target, const std::vector<FeatureCurve
     const double from = (line.row(0).transpose() - w.origin).dot(w.span);
     const double to = (line.row(line.rows() - 1).transpose() - w.origin).dot(w.span);
     w.trailingEdges.push_back(line);
+    w.trailingEdgeCurves.push_back(static_cast<int>(c));
     if (w.trailingEdges.size() == 1) {
       w.low = std::min(from, to);
       w.high = std::max(from, to);
@@ -455,9 +457,29 @@ WingFrame wingFrame(const target::Target& target, const std::vector<FeatureCurve
   return w;
 }
 
-// Upper and lower section points at cosine-spaced chord fractions: ring of 2m points starting at
-// the trailing edge (index 0), leading edge at index m.
-std::vector<Vec> wingRing(const target::Target& target, const WingFrame& w, double s, int m) {
+// A wing section: the trailing-edge point, the leading edge (the section point farthest from it)
+// and the direction from the lower to the upper side.
+struct WingSection {
+  Vec trailingEdge = Vec::Zero(), leadingEdge = Vec::Zero(), thickness = Vec::Zero();
+  Vec chord() const { return trailingEdge - leadingEdge; }
+  // Chord fraction of a point: 1 at the trailing edge, 0 at the leading edge.
+  double fraction(const Vec& p) const { return (p - leadingEdge).dot(chord()) / chord().squaredNorm(); }
+};
+
+// Chord fractions of a ring's upper (or lower) side from the trailing edge towards the leading
+// edge, both ends excluded: cosine spacing, dense at both edges.
+std::vector<double> cosineFractions(int m) {
+  std::vector<double> xi;
+  for (int i = 1; i < m; ++i) xi.push_back(0.5 * (1.0 + std::cos(kPi * i / m)));
+  return xi;
+}
+
+// Ring of section points starting at the trailing edge (index 0): the upper side at the chord
+// fractions `upper`, the leading edge at index n = upper.size() + 1, the lower side at the
+// fractions `lower` (same count) back towards the trailing edge.
+std::vector<Vec> wingRing(const target::Target& target, const WingFrame& w, double s,
+                          const std::vector<double>& upper, const std::vector<double>& lower,
+                          WingSection* sectionOut = nullptr) {
   const double inset = 1e-4 * (w.extentHigh - w.extentLow);
   const double cut = std::clamp(s, w.low + inset, w.high - inset);
   const PlaneSection section(target, w.origin + cut * w.span, w.span);
@@ -470,45 +492,113 @@ std::vector<Vec> wingRing(const target::Target& target, const WingFrame& w, doub
   for (Eigen::Index k = 0; k < p.rows(); ++k) {
     if ((p.row(k).transpose() - *te).norm() > (le - *te).norm()) le = p.row(k).transpose();
   }
-  const Vec chord = *te - le;
-  const Vec thickness = w.span.cross(chord).normalized();
-  std::vector<Vec> ring(static_cast<size_t>(2 * m));
+  const WingSection wing{*te, le, w.span.cross(Vec(*te - le)).normalized()};
+  const auto onSide = [&](double xi, bool upperSide) {
+    const Vec base = le + xi * wing.chord();
+    const std::vector<double> hits = section.lineHits(base, wing.thickness);
+    if (hits.empty()) return base;
+    return Vec(base + (upperSide ? hits.back() : hits.front()) * wing.thickness);
+  };
+  const size_t n = upper.size() + 1;
+  std::vector<Vec> ring(2 * n);
   ring[0] = *te;
-  for (int i = 1; i <= m; ++i) {
-    const double xi = 0.5 * (1.0 + std::cos(kPi * i / m));  // 1 at the trailing edge, 0 at the leading edge
-    const Vec base = le + xi * chord;
-    const std::vector<double> hits = section.lineHits(base, thickness);
-    const Vec upper = hits.empty() ? base : Vec(base + hits.back() * thickness);
-    const Vec lower = hits.empty() ? base : Vec(base + hits.front() * thickness);
-    if (i == m) {
-      ring[static_cast<size_t>(m)] = le;
-    } else {
-      ring[static_cast<size_t>(i)] = upper;
-      ring[static_cast<size_t>(2 * m - i)] = lower;
-    }
+  ring[n] = le;
+  for (size_t i = 1; i < n; ++i) {
+    ring[i] = onSide(upper[i - 1], true);
+    ring[2 * n - i] = onSide(lower[i - 1], false);
   }
   // Stations at the ends of the span lie on the end itself.
   for (Vec& v : ring) v += (s - (v - w.origin).dot(w.span)) * w.span;
+  if (sectionOut) *sectionOut = WingSection{ring[0], ring[n], wing.thickness};
   return ring;
 }
 
-WingPlanform measurePlanform(const WingFrame& w, const std::vector<Vec>& root, const std::vector<Vec>& tip,
-                             int m) {
+// Short sharp curves that close the trailing-edge wedge at a tip, leaving the trailing edge's tip
+// vertex: along the upper and the lower side of the tip section (where the wedge's flat sides meet
+// the tip cap) and along the tip's ridge. Each is given by its far CAD vertex; absent when the CAD
+// has no such curve (a wedge that simply runs into a rounded cap).
+struct TrailingEdgeTip {
+  std::optional<Vec> upper, lower, ridge;
+};
+
+TrailingEdgeTip trailingEdgeTip(const target::Target& target, const std::vector<FeatureCurve>& curves,
+                                const WingFrame& w, const WingSection& tipSection) {
+  const double chord = tipSection.chord().norm();
+  // The trailing edge's CAD vertex at this tip.
+  int corner = -1;
+  double nearest = 1e-3 * chord;
+  for (int c : w.trailingEdgeCurves) {
+    for (int v : {curves[static_cast<size_t>(c)].startVertex, curves[static_cast<size_t>(c)].endVertex}) {
+      if (v < 0) continue;
+      const double d = (target.vertexPosition(v) - tipSection.trailingEdge).norm();
+      if (d <= nearest) {
+        nearest = d;
+        corner = v;
+      }
+    }
+  }
+  TrailingEdgeTip tip;
+  if (corner < 0) return tip;
+  struct Candidate {
+    Vec end;
+    double side;  // thickness component of the unit direction from the corner
+  };
+  std::vector<Candidate> candidates;
+  for (size_t c = 0; c < curves.size(); ++c) {
+    const FeatureCurve& curve = curves[c];
+    if (curve.kind != FeatureCurveKind::Sharp || curve.closed || curve.length > 0.1 * chord) continue;
+    if (std::find(w.trailingEdgeCurves.begin(), w.trailingEdgeCurves.end(), static_cast<int>(c)) !=
+        w.trailingEdgeCurves.end())
+      continue;
+    int far = -1;
+    if (curve.startVertex == corner) far = curve.endVertex;
+    if (curve.endVertex == corner) far = curve.startVertex;
+    if (far < 0) continue;
+    const Vec end = target.vertexPosition(far);
+    const Vec direction = (end - tipSection.trailingEdge).normalized();
+    if (direction.dot(-tipSection.chord().normalized()) <= 0.0) continue;  // must run forward
+    candidates.push_back({end, direction.dot(tipSection.thickness)});
+  }
+  double largestSide = 0.0;
+  for (const Candidate& c : candidates) largestSide = std::max(largestSide, std::abs(c.side));
+  for (const Candidate& c : candidates) {
+    if (c.side > 0.5 * largestSide) {
+      if (!tip.upper || c.side > (*tip.upper - tipSection.trailingEdge).normalized().dot(tipSection.thickness))
+        tip.upper = c.end;
+    } else if (c.side < -0.5 * largestSide) {
+      if (!tip.lower || c.side < (*tip.lower - tipSection.trailingEdge).normalized().dot(tipSection.thickness))
+        tip.lower = c.end;
+    } else if (!tip.ridge || (c.end - tipSection.trailingEdge).norm() > (*tip.ridge - tipSection.trailingEdge).norm()) {
+      tip.ridge = c.end;
+    }
+  }
+  // The wedge's sides are closed as a pair or not at all.
+  if (!tip.upper || !tip.lower) tip.upper = tip.lower = std::nullopt;
+  return tip;
+}
+
+// Inserts a chord fraction into a descending list, keeping it strictly descending.
+void insertFraction(std::vector<double>& fractions, double xi) {
+  if (xi <= 0.0 || xi >= 1.0) return;
+  const auto at = std::find_if(fractions.begin(), fractions.end(), [&](double f) { return f <= xi; });
+  if (at != fractions.end() && std::abs(*at - xi) < 1e-9) return;
+  fractions.insert(at, xi);
+}
+
+WingPlanform measurePlanform(const WingFrame& w, const WingSection& root, const WingSection& tip) {
   WingPlanform planform;
   planform.spanDirection = w.span;
-  const Vec rootChord = root[0] - root[static_cast<size_t>(m)];
-  const Vec tipChord = tip[0] - tip[static_cast<size_t>(m)];
-  planform.rootChord = rootChord.norm();
-  planform.tipChord = tipChord.norm();
-  planform.span = (tip[0] - root[0]).dot(w.span);
+  planform.rootChord = root.chord().norm();
+  planform.tipChord = tip.chord().norm();
+  planform.span = (tip.trailingEdge - root.trailingEdge).dot(w.span);
   // Sweep: angle of an edge line from the span direction, towards the root chord.
-  const Vec downstream = (rootChord - rootChord.dot(w.span) * w.span).normalized();
+  const Vec downstream = (root.chord() - root.chord().dot(w.span) * w.span).normalized();
   const auto sweep = [&](const Vec& from, const Vec& to) {
     const Vec d = to - from;
     return std::atan2(d.dot(downstream), d.dot(w.span)) * 180.0 / kPi;
   };
-  planform.leadingEdgeSweepDeg = sweep(root[static_cast<size_t>(m)], tip[static_cast<size_t>(m)]);
-  planform.trailingEdgeSweepDeg = sweep(root[0], tip[0]);
+  planform.leadingEdgeSweepDeg = sweep(root.leadingEdge, tip.leadingEdge);
+  planform.trailingEdgeSweepDeg = sweep(root.trailingEdge, tip.trailingEdge);
   return planform;
 }
 
@@ -520,19 +610,57 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
   const bool half = values.choice("span") == "half";
   const bool rounded = values.choice("tip") == "rounded";
   const WingFrame w = wingFrame(target, curves, half, plane);
+  // Stations dense towards the tips, whose caps and wedge closures are small features, and coarse
+  // where a wing's sections change slowly: half-cosine spacing, a half wing's root being no tip.
+  const auto spanAt = [&](int j) {
+    const double t = static_cast<double>(j) / stations;
+    const double f = half ? std::sin(0.5 * kPi * t) : 0.5 * (1.0 - std::cos(kPi * t));
+    return w.low + (w.high - w.low) * f;
+  };
+
+  // The tips' wedge closures decide the chord fractions of every station: where the wedge's flat
+  // sides end at a tip, every section gets a vertex at that chord fraction, so that the tip's
+  // closing creases run from the trailing edge along the ring to that vertex.
+  std::vector<double> upper = cosineFractions(m), lower = cosineFractions(m);
+  std::map<int, TrailingEdgeTip> tips;  // by station: the far tip, and the near one of full wings
+  std::map<int, std::array<double, 2>> tipFractions;  // upper and lower closure ends' chord fractions
+  for (int j : half ? std::vector<int>{stations} : std::vector<int>{0, stations}) {
+    WingSection section;
+    wingRing(target, w, spanAt(j), upper, lower, &section);
+    const TrailingEdgeTip tip = rounded ? trailingEdgeTip(target, curves, w, section) : TrailingEdgeTip{};
+    tips[j] = tip;
+    if (tip.upper) tipFractions[j] = {section.fraction(*tip.upper), section.fraction(*tip.lower)};
+  }
+  if (!tipFractions.empty()) {  // one pair of fractions for all stations: the first tip's
+    insertFraction(upper, tipFractions.begin()->second[0]);
+    insertFraction(lower, tipFractions.begin()->second[1]);
+  }
+  if (upper.size() != lower.size()) {  // the two sides must stay paired for the tip caps
+    upper = lower = cosineFractions(m);
+    tipFractions.clear();
+  }
+  const int n = static_cast<int>(upper.size()) + 1;  // ring index of the leading edge
+  const int ringSize = 2 * n;
+  // Ring index of the side vertex whose chord fraction is nearest `xi`.
+  const auto nearestIndex = [](const std::vector<double>& fractions, double xi) {
+    size_t best = 0;
+    for (size_t i = 1; i < fractions.size(); ++i)
+      if (std::abs(fractions[i] - xi) < std::abs(fractions[best] - xi)) best = i;
+    return static_cast<int>(best) + 1;
+  };
+
   Draft draft;
   std::vector<std::vector<int>> rings;
-  std::vector<Vec> first, last;
+  WingSection rootSection, tipSection;
   for (int j = 0; j <= stations; ++j) {
-    const double s = w.low + (w.high - w.low) * j / stations;
+    WingSection section;
+    std::vector<Vec> ring = wingRing(target, w, spanAt(j), upper, lower, &section);
+    if (j == 0) rootSection = section;
+    if (j == stations) tipSection = section;
     std::vector<int> ids;
-    const std::vector<Vec> ring = wingRing(target, w, s, m);
-    if (j == 0) first = ring;
-    if (j == stations) last = ring;
     for (const Vec& p : ring) ids.push_back(draft.add(p));
     rings.push_back(ids);
   }
-  const int ringSize = 2 * m;
   for (int j = 0; j < stations; ++j) {
     for (int k = 0; k < ringSize; ++k) {
       const int k1 = (k + 1) % ringSize;
@@ -543,29 +671,48 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
     }
     draft.creases.push_back({rings[static_cast<size_t>(j)][0], rings[static_cast<size_t>(j + 1)][0]});
   }
-  // Tip caps: one row of vertices between upper and lower surface, on the tip's far side.
-  const auto cap = [&](const std::vector<int>& ring, double outward) {
+  // Tip caps: a row of vertices along the tip's ridge between upper and lower surface. Ridge vertex
+  // i sits across ring vertices i + 1 (upper) and 2n - i - 1 (lower); at the trailing edge the cap
+  // is two triangles (a quad would fold around the thin wedge, with a corner angle of a few
+  // degrees), meeting at ridge vertex 0, which is the end of the CAD's ridge crease when it has one.
+  const auto cap = [&](int station, double outward) {
+    const std::vector<int>& ring = rings[static_cast<size_t>(station)];
+    const auto r = [&](int k) { return ring[static_cast<size_t>((k + ringSize) % ringSize)]; };
+    const auto at = [&](int vertex) -> Vec& { return draft.vertices[static_cast<size_t>(vertex)]; };
+    const TrailingEdgeTip& tip = tips[station];
+    if (tipFractions.count(station)) {  // the wedge's closing creases, along the ring
+      const int upperEnd = nearestIndex(upper, tipFractions[station][0]);
+      const int lowerEnd = ringSize - nearestIndex(lower, tipFractions[station][1]);
+      at(r(upperEnd)) = *tip.upper;
+      at(r(lowerEnd)) = *tip.lower;
+      for (int k = 0; k < upperEnd; ++k) draft.creases.push_back({r(k), r(k + 1)});
+      for (int k = lowerEnd; k < ringSize; ++k) draft.creases.push_back({r(k), r(k + 1)});
+      draft.corners.push_back(r(upperEnd));
+      draft.corners.push_back(r(lowerEnd));
+    }
     RayBatch rays;
-    std::vector<int> c(static_cast<size_t>(m), -1);
-    for (int i = 1; i < m; ++i) {
-      const Vec mid = 0.5 * (draft.vertices[static_cast<size_t>(ring[static_cast<size_t>(i)])] +
-                             draft.vertices[static_cast<size_t>(ring[static_cast<size_t>(2 * m - i)])]);
+    std::vector<int> c(static_cast<size_t>(n - 1), -1);
+    for (int i = 0; i + 1 < n; ++i) {
+      const Vec mid = 0.5 * (at(r(i + 1)) + at(r(ringSize - i - 1)));
       c[static_cast<size_t>(i)] = draft.add(mid);
-      if (rounded) rays.add(c[static_cast<size_t>(i)], mid, outward * w.span);
+      if (i == 0 && tip.ridge) {
+        at(c[0]) = *tip.ridge;
+        draft.creases.push_back({r(0), c[0]});
+        draft.corners.push_back(c[0]);
+      } else if (rounded) {
+        rays.add(c[static_cast<size_t>(i)], mid, outward * w.span);
+      }
     }
     rays.resolve(target, draft);
-    const auto r = [&](int k) { return ring[static_cast<size_t>((k + ringSize) % ringSize)]; };
     const auto cv = [&](int i) { return c[static_cast<size_t>(i)]; };
     std::vector<std::vector<int>> faces;
-    // At the trailing edge the cap is split into two triangles: one quad would fold there around
-    // the thin trailing-edge wedge with an angle of a few degrees at the corner vertex.
-    faces.push_back({r(0), r(1), cv(1)});
-    faces.push_back({r(0), cv(1), r(2 * m - 1)});
-    for (int i = 1; i + 1 < m; ++i) {
-      faces.push_back({r(i), r(i + 1), cv(i + 1), cv(i)});
-      faces.push_back({cv(i), cv(i + 1), r(2 * m - i - 1), r(2 * m - i)});
+    faces.push_back({r(0), r(1), cv(0)});
+    faces.push_back({r(0), cv(0), r(ringSize - 1)});
+    for (int i = 1; i + 1 < n; ++i) {
+      faces.push_back({r(i), r(i + 1), cv(i), cv(i - 1)});
+      faces.push_back({cv(i - 1), cv(i), r(ringSize - i - 1), r(ringSize - i)});
     }
-    faces.push_back({r(m - 1), r(m), r(m + 1), cv(m - 1)});
+    faces.push_back({r(n - 1), r(n), r(n + 1), cv(n - 2)});
     // The far tip continues the strips' orientation; the near one (full wings) is reversed.
     for (std::vector<int>& face : faces) {
       if (outward < 0.0) std::reverse(face.begin(), face.end());
@@ -576,12 +723,12 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
     }
     draft.corners.push_back(ring[0]);
   };
-  planform = measurePlanform(w, first, last, m);
-  cap(rings.back(), 1.0);
+  planform = measurePlanform(w, rootSection, tipSection);
+  cap(stations, 1.0);
   if (half) {
     draft.corners.push_back(rings.front()[0]);
   } else {
-    cap(rings.front(), -1.0);
+    cap(0, -1.0);
   }
   return draft;
 }
