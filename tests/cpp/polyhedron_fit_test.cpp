@@ -3,7 +3,18 @@
 // files with FreeCAD), and the fitter's own sample-to-target distances.
 #include <gtest/gtest.h>
 
+#include <BRepBuilderAPI_MakeEdge.hxx>
+#include <BRepBuilderAPI_MakeWire.hxx>
+#include <BRepOffsetAPI_ThruSections.hxx>
+#include <GeomAPI_Interpolate.hxx>
+#include <Geom_BSplineCurve.hxx>
+#include <TColStd_HArray1OfBoolean.hxx>
+#include <TColgp_Array1OfVec.hxx>
+#include <TColgp_HArray1OfPnt.hxx>
+#include <TopoDS_Wire.hxx>
+
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <string>
@@ -50,6 +61,88 @@ int chainOfKind(const FeatureMapping& mapping, FeatureCurveKind kind) {
     }
   }
   return found;
+}
+
+// NACA 0012 section (closed trailing edge) of the given chord, leading edge at (x0, y, 0): the
+// upper side from the trailing to the leading edge and the lower side back, two B-spline edges
+// meeting tangentially at the leading edge and at an angle at the trailing edge.
+TopoDS_Wire nacaSection(double chord, double x0, double y) {
+  const auto thickness = [](double x) {
+    return 0.6 * (0.2969 * std::sqrt(x) - 0.1260 * x - 0.3516 * x * x + 0.2843 * x * x * x - 0.1036 * x * x * x * x);
+  };
+  const int count = 25;
+  const auto side = [&](double sign) {
+    Handle(TColgp_HArray1OfPnt) points = new TColgp_HArray1OfPnt(1, count);
+    for (int i = 0; i < count; ++i) {
+      const double t = static_cast<double>(i) / (count - 1);
+      const double x = sign > 0 ? 0.5 * (1.0 + std::cos(M_PI * t)) : 0.5 * (1.0 - std::cos(M_PI * t));
+      points->SetValue(i + 1, gp_Pnt(x0 + chord * x, y, sign * chord * thickness(x)));
+    }
+    GeomAPI_Interpolate interpolate(points, false, 1e-9);
+    // Vertical tangent at the leading edge (the upper side ends there, the lower side starts).
+    TColgp_Array1OfVec tangents(1, count);
+    Handle(TColStd_HArray1OfBoolean) given = new TColStd_HArray1OfBoolean(1, count, false);
+    const int leadingEdge = sign > 0 ? count : 1;
+    tangents.SetValue(leadingEdge, gp_Vec(0, 0, -1));
+    given->SetValue(leadingEdge, true);
+    interpolate.Load(tangents, given);
+    interpolate.Perform();
+    return BRepBuilderAPI_MakeEdge(interpolate.Curve()).Edge();
+  };
+  return BRepBuilderAPI_MakeWire(side(1.0), side(-1.0)).Wire();
+}
+
+// A straight tapered, swept half wing from y = 0 to y = span with flat root and tip faces.
+TopoDS_Shape loftedWing(double rootChord, double tipChord, double span, double sweep) {
+  BRepOffsetAPI_ThruSections loft(true, false);
+  loft.AddWire(nacaSection(rootChord, 0.0, 0.0));
+  loft.AddWire(nacaSection(tipChord, sweep, span));
+  loft.Build();
+  return loft.Shape();
+}
+
+TEST(PolyhedronFit, FlatTipHalfWingOnAGeneratedWing) {
+  // Not the M6: a NACA 0012 wing lofted here, root chord 1, tip chord 0.5, span 2, swept 0.4,
+  // with a flat tip face whose rim is one closed sharp curve, and no short curves closing the
+  // trailing edge at the tip.
+  const HalfModelShape half = removeSymmetryFace(loftedWing(1.0, 0.5, 2.0, 0.4));
+  EXPECT_NEAR(std::abs(half.plane.normal.y()), 1.0, 1e-9);
+  auto target = std::make_shared<const target::Target>(half.shape);
+  PlacementOptions placement;
+  placement.parameters = {{"tip", "flat"}, {"chordwise", "8"}, {"spanwise", "4"}};
+  const PlacedPolyhedron placed = placeTemplate(libraryTemplate("half_wing"), *target, placement);
+  ASSERT_TRUE(placed.mapping.complete()) << placed.mapping.describeUnmapped();
+  ASSERT_TRUE(placed.planform.has_value());
+  EXPECT_NEAR(placed.planform->rootChord, 1.0, 1e-3);
+  EXPECT_NEAR(placed.planform->tipChord, 0.5, 1e-3);
+  EXPECT_NEAR(placed.planform->span, 2.0, 1e-6);
+  EXPECT_NEAR(placed.planform->leadingEdgeSweepDeg, std::atan2(0.4, 2.0) * 180.0 / M_PI, 0.05);
+  // The trailing edge and the tip rim are crease chains on their CAD curves; the trailing edge's
+  // ends are the only corners.
+  int sharpChains = 0;
+  for (size_t c = 0; c < placed.mapping.chains.size(); ++c) {
+    if (placed.mapping.chains[c].kind != FeatureCurveKind::Sharp) continue;
+    ++sharpChains;
+    EXPECT_GE(placed.mapping.chainMappings[c].curve, 0);
+  }
+  EXPECT_EQ(sharpChains, 2);
+  EXPECT_EQ(placed.mapping.corners.size(), 2u);
+
+  fit::FitOptions options;
+  options.tolerance = 1e-5;  // of the root chord
+  options.maxLevel = 3;
+  options.symmetryPlane = placed.symmetryPlane;
+  fit::SurfaceFitter fitter(target, placed.mesh, placed.mapping.map, options);
+  const fit::FitSummary summary = runAndRecord(fitter, "generated_wing_flat_tip");
+  double previousLevel = summary.history.front().maxDistance;
+  for (size_t i = 1; i < summary.history.size(); ++i) {
+    const fit::PassRecord& r = summary.history[i];
+    if (i + 1 < summary.history.size() && summary.history[i + 1].level == r.level) continue;
+    EXPECT_LT(r.maxDistance, 0.5 * previousLevel) << "level " << r.level;  // each level's best
+    previousLevel = r.maxDistance;
+  }
+  EXPECT_LT(summary.history.back().maxDistance, 2e-5);  // 1.4e-5 of the root chord at level 3
+  EXPECT_EQ(summary.history.back().failedProjections, 0);
 }
 
 TEST(PolyhedronFit, HalfWingPlacedAndFittedOnOneraM6) {
