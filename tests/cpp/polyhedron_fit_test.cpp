@@ -24,6 +24,8 @@
 #include "core/mesh/mesh_io.h"
 #include "core/polyhedron/placement.h"
 #include "core/polyhedron/target_analysis.h"
+#include "core/surface/limit_bsplines.h"
+#include "core/surface/limit_points.h"
 
 namespace bvmesh::polyhedron {
 namespace {
@@ -233,6 +235,20 @@ TEST(PolyhedronFit, HalfWingPlacedAndFittedOnOneraM6) {
     for (int end = 0; end < 2; ++end)
       EXPECT_NEAR(fitter.mesh().vertices()(fitter.mesh().edges()(edge, end), 1), 0.0, 1e-9);
   }
+
+  // The B-spline surface: neighbouring charts share their borders to far below 1e-7 of the root
+  // chord, and sewing at that tolerance gives a valid shell open only at the root.
+  const surface::LimitBSplines bsplines = surface::limitSurfaceToBSplines(surface::toQuadControlMesh(fitter.mesh()));
+  EXPECT_LT(bsplines.maxBorderGap, 1e-7 * 810.49);
+  surface::SewingOptions sewing;
+  sewing.relativeTolerance = 1e-7 * 810.49 / target->report().diagonal;
+  const surface::SewnShape shell = surface::sewBSplineSurfaces(bsplines.surfaces, sewing);
+  std::printf("M6 B-spline shell: %zu charts, border gap %.2e mm, sewing tolerance %.2e mm, %d free edges\n",
+              bsplines.surfaces.size(), bsplines.maxBorderGap, shell.tolerance, shell.freeEdges);
+  EXPECT_TRUE(shell.valid);
+  EXPECT_FALSE(shell.solid);
+  EXPECT_LE(shell.maxEdgeTolerance, shell.tolerance);
+  EXPECT_EQ(shell.freeEdges, 8);  // the charts' sides on the root section
 }
 
 TEST(PolyhedronFit, HalfCapsulePlacedAndFittedOnHemisphereCylinder) {
