@@ -89,6 +89,10 @@ class PlacementTest(unittest.TestCase):
         np.testing.assert_allclose(np.asarray(mesh.vertices)[root["vertices"], 1], 0.0, atol=1e-9)
         polyhedra.plot_polyhedron(mesh, os.path.join(output_dir(), "polyhedron_m6_half_wing.png"), self.wing,
                                   "half_wing on the ONERA M6 (crease red, corners black)")
+        # Close-up of the tip trailing edge: the wedge closed by three creases ending in corners.
+        polyhedra.plot_polyhedron(mesh, os.path.join(output_dir(), "polyhedron_m6_half_wing_tip.png"), self.wing,
+                                  "half_wing at the M6 tip trailing edge", views=((20, -130), (90, -90), (0, -90), (0, 0)),
+                                  region=((1141.0, 1194.0, -1.5), (1148.0, 1198.0, 1.5)))
 
     def test_placed_half_wing_fits_from_python(self):
         placed = polyhedra.place("half_wing", self.wing)
