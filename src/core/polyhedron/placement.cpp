@@ -448,6 +448,7 @@ struct WingFrame {
   double low = 0.0, high = 0.0;               // span range of the stations (trailing-edge ends)
   double extentLow = 0.0, extentHigh = 0.0;   // span range of the whole target
   std::vector<target::Points> trailingEdges;  // polylines of the sharp spanwise curves
+  std::vector<int> trailingEdgeCurves;        // their indices in the feature curve list
 };
 
 // The trailing-edge point at span s: where a trailing-edge polyline crosses the plane.
@@ -497,6 +498,7 @@ WingFrame wingFrame(const target::Target& target, const std::vector<FeatureCurve
     const double from = (line.row(0).transpose() - w.origin).dot(w.span);
     const double to = (line.row(line.rows() - 1).transpose() - w.origin).dot(w.span);
     w.trailingEdges.push_back(line);
+    w.trailingEdgeCurves.push_back(static_cast<int>(c));
     if (w.trailingEdges.size() == 1) {
       w.low = std::min(from, to);
       w.high = std::max(from, to);
@@ -515,40 +517,52 @@ WingFrame wingFrame(const target::Target& target, const std::vector<FeatureCurve
   return w;
 }
 
-// A wing ring of 2m points starting at the trailing edge `te` (index 0), leading edge at index
-// m: the leading edge is the point of `outline` farthest from the trailing edge; at cosine-spaced
-// chord fractions (dense at both edges) `across(base, thickness)` gives the outline's points on
-// the line (or plane) across the chord through `base`, and the extreme ones along the thickness
-// direction (span x chord) are the upper and lower ring points.
-template <class Across>
-std::vector<Vec> chordRing(const Vec& te, const target::Points& outline, const Vec& span, int m,
-                           Across&& across) {
+// A wing section: the trailing-edge point, the leading edge (the section point farthest from it)
+// and the direction from the lower to the upper side.
+struct WingSection {
+  Vec trailingEdge = Vec::Zero(), leadingEdge = Vec::Zero(), thickness = Vec::Zero();
+  Vec chord() const { return trailingEdge - leadingEdge; }
+  // Chord fraction of a point: 1 at the trailing edge, 0 at the leading edge.
+  double fraction(const Vec& p) const { return (p - leadingEdge).dot(chord()) / chord().squaredNorm(); }
+};
+
+// Chord fractions of a ring's upper (or lower) side from the trailing edge towards the leading
+// edge, both ends excluded: cosine spacing, dense at both edges.
+std::vector<double> cosineFractions(int m) {
+  std::vector<double> xi;
+  for (int i = 1; i < m; ++i) xi.push_back(0.5 * (1.0 + std::cos(kPi * i / m)));
+  return xi;
+}
+
+// Ring of section points starting at the trailing edge `te` (index 0): the upper side at the
+// chord fractions `upper`, the leading edge (the point of `outline` farthest from the trailing
+// edge) at index n = upper.size() + 1, the lower side at the fractions `lower` (same count) back
+// towards the trailing edge. `onSide(base, thickness, upperSide)` gives the section's point across
+// the chord at `base` on that side (thickness: span x chord, from the lower to the upper side).
+template <class OnSide>
+std::vector<Vec> sectionRing(const Vec& te, const target::Points& outline, const Vec& span,
+                             const std::vector<double>& upper, const std::vector<double>& lower,
+                             WingSection& section, OnSide&& onSide) {
   Vec le = te;
   for (Eigen::Index k = 0; k < outline.rows(); ++k) {
     if ((outline.row(k).transpose() - te).norm() > (le - te).norm()) le = outline.row(k).transpose();
   }
-  const Vec chord = te - le;
-  const Vec thickness = span.cross(chord).normalized();
-  std::vector<Vec> ring(static_cast<size_t>(2 * m));
+  section = WingSection{te, le, span.cross(Vec(te - le)).normalized()};
+  const size_t n = upper.size() + 1;
+  std::vector<Vec> ring(2 * n);
   ring[0] = te;
-  ring[static_cast<size_t>(m)] = le;
-  for (int i = 1; i < m; ++i) {
-    const double xi = 0.5 * (1.0 + std::cos(kPi * i / m));  // 1 at the trailing edge, 0 at the leading edge
-    const Vec base = le + xi * chord;
-    const std::vector<Vec> points = across(base, thickness);
-    const auto below = [&](const Vec& a, const Vec& b) {
-      return (a - base).dot(thickness) < (b - base).dot(thickness);
-    };
-    ring[static_cast<size_t>(i)] =
-        points.empty() ? base : *std::max_element(points.begin(), points.end(), below);
-    ring[static_cast<size_t>(2 * m - i)] =
-        points.empty() ? base : *std::min_element(points.begin(), points.end(), below);
+  ring[n] = le;
+  for (size_t i = 1; i < n; ++i) {
+    ring[i] = onSide(Vec(le + upper[i - 1] * section.chord()), section.thickness, true);
+    ring[2 * n - i] = onSide(Vec(le + lower[i - 1] * section.chord()), section.thickness, false);
   }
   return ring;
 }
 
-// Upper and lower section points of the wing at span s (chordRing on the plane section).
-std::vector<Vec> wingRing(const target::Target& target, const WingFrame& w, double s, int m) {
+// The wing's ring at span s (sectionRing on the plane section of the target).
+std::vector<Vec> wingRing(const target::Target& target, const WingFrame& w, double s,
+                          const std::vector<double>& upper, const std::vector<double>& lower,
+                          WingSection* sectionOut = nullptr) {
   const double inset = 1e-4 * (w.extentHigh - w.extentLow);
   const double cut = std::clamp(s, w.low + inset, w.high - inset);
   const PlaneSection section(target, w.origin + cut * w.span, w.span);
@@ -556,39 +570,148 @@ std::vector<Vec> wingRing(const target::Target& target, const WingFrame& w, doub
   if (section.empty() || !te) {
     throw InvalidInputError("wing placement: no section of the target at span " + std::to_string(cut));
   }
+  WingSection wing;
   std::vector<Vec> ring =
-      chordRing(*te, section.points(), w.span, m, [&](const Vec& base, const Vec& thickness) {
-        std::vector<Vec> points;
-        for (double hit : section.lineHits(base, thickness)) points.push_back(base + hit * thickness);
-        return points;
-      });
+      sectionRing(*te, section.points(), w.span, upper, lower, wing,
+                  [&](const Vec& base, const Vec& thickness, bool upperSide) {
+                    const std::vector<double> hits = section.lineHits(base, thickness);
+                    if (hits.empty()) return base;
+                    return Vec(base + (upperSide ? hits.back() : hits.front()) * thickness);
+                  });
   // Stations at the ends of the span lie on the end itself.
   for (Vec& v : ring) v += (s - (v - w.origin).dot(w.span)) * w.span;
+  if (sectionOut) *sectionOut = WingSection{ring[0], ring[upper.size() + 1], wing.thickness};
   return ring;
 }
 
-WingPlanform measurePlanform(const WingFrame& w, const std::vector<Vec>& root, const std::vector<Vec>& tip,
-                             int m) {
+// Short sharp curves that close the trailing-edge wedge at a tip, leaving the trailing edge's tip
+// vertex: along the upper and the lower side of the tip section (where the wedge's flat sides meet
+// the tip cap) and along the tip's ridge. Each is given by its far CAD vertex; absent when the CAD
+// has no such curve (a wedge that simply runs into a rounded cap).
+struct TrailingEdgeTip {
+  std::optional<Vec> upper, lower, ridge;
+};
+
+TrailingEdgeTip trailingEdgeTip(const target::Target& target, const std::vector<FeatureCurve>& curves,
+                                const WingFrame& w, const WingSection& tipSection) {
+  const double chord = tipSection.chord().norm();
+  // The trailing edge's CAD vertex at this tip.
+  int corner = -1;
+  double nearest = 1e-3 * chord;
+  for (int c : w.trailingEdgeCurves) {
+    for (int v : {curves[static_cast<size_t>(c)].startVertex, curves[static_cast<size_t>(c)].endVertex}) {
+      if (v < 0) continue;
+      const double d = (target.vertexPosition(v) - tipSection.trailingEdge).norm();
+      if (d <= nearest) {
+        nearest = d;
+        corner = v;
+      }
+    }
+  }
+  TrailingEdgeTip tip;
+  if (corner < 0) return tip;
+  struct Candidate {
+    Vec end;
+    double side;  // thickness component of the unit direction from the corner
+  };
+  std::vector<Candidate> candidates;
+  for (size_t c = 0; c < curves.size(); ++c) {
+    const FeatureCurve& curve = curves[c];
+    if (curve.kind != FeatureCurveKind::Sharp || curve.closed || curve.length > 0.1 * chord) continue;
+    if (std::find(w.trailingEdgeCurves.begin(), w.trailingEdgeCurves.end(), static_cast<int>(c)) !=
+        w.trailingEdgeCurves.end())
+      continue;
+    int far = -1;
+    if (curve.startVertex == corner) far = curve.endVertex;
+    if (curve.endVertex == corner) far = curve.startVertex;
+    if (far < 0) continue;
+    const Vec end = target.vertexPosition(far);
+    const Vec direction = (end - tipSection.trailingEdge).normalized();
+    if (direction.dot(-tipSection.chord().normalized()) <= 0.0) continue;  // must run forward
+    candidates.push_back({end, direction.dot(tipSection.thickness)});
+  }
+  double largestSide = 0.0;
+  for (const Candidate& c : candidates) largestSide = std::max(largestSide, std::abs(c.side));
+  for (const Candidate& c : candidates) {
+    if (c.side > 0.5 * largestSide) {
+      if (!tip.upper ||
+          c.side > (*tip.upper - tipSection.trailingEdge).normalized().dot(tipSection.thickness))
+        tip.upper = c.end;
+    } else if (c.side < -0.5 * largestSide) {
+      if (!tip.lower ||
+          c.side < (*tip.lower - tipSection.trailingEdge).normalized().dot(tipSection.thickness))
+        tip.lower = c.end;
+    } else if (!tip.ridge ||
+               (c.end - tipSection.trailingEdge).norm() > (*tip.ridge - tipSection.trailingEdge).norm()) {
+      tip.ridge = c.end;
+    }
+  }
+  // The wedge's sides are closed as a pair or not at all.
+  if (!tip.upper || !tip.lower) tip.upper = tip.lower = std::nullopt;
+  return tip;
+}
+
+// Inserts a chord fraction into a descending list, keeping it strictly descending.
+void insertFraction(std::vector<double>& fractions, double xi) {
+  if (xi <= 0.0 || xi >= 1.0) return;
+  const auto at = std::find_if(fractions.begin(), fractions.end(), [&](double f) { return f <= xi; });
+  if (at != fractions.end() && std::abs(*at - xi) < 1e-9) return;
+  fractions.insert(at, xi);
+}
+
+WingPlanform measurePlanform(const WingFrame& w, const WingSection& root, const WingSection& tip) {
   WingPlanform planform;
   planform.spanDirection = w.span;
-  const Vec rootChord = root[0] - root[static_cast<size_t>(m)];
-  const Vec tipChord = tip[0] - tip[static_cast<size_t>(m)];
-  planform.rootChord = rootChord.norm();
-  planform.tipChord = tipChord.norm();
-  planform.span = (tip[0] - root[0]).dot(w.span);
+  planform.rootChord = root.chord().norm();
+  planform.tipChord = tip.chord().norm();
+  planform.span = (tip.trailingEdge - root.trailingEdge).dot(w.span);
   // Sweep: angle of an edge line from the span direction, towards the root chord.
-  const Vec downstream = (rootChord - rootChord.dot(w.span) * w.span).normalized();
+  const Vec downstream = (root.chord() - root.chord().dot(w.span) * w.span).normalized();
   const auto sweep = [&](const Vec& from, const Vec& to) {
     const Vec d = to - from;
     return std::atan2(d.dot(downstream), d.dot(w.span)) * 180.0 / kPi;
   };
-  planform.leadingEdgeSweepDeg = sweep(root[static_cast<size_t>(m)], tip[static_cast<size_t>(m)]);
-  planform.trailingEdgeSweepDeg = sweep(root[0], tip[0]);
+  planform.leadingEdgeSweepDeg = sweep(root.leadingEdge, tip.leadingEdge);
+  planform.trailingEdgeSweepDeg = sweep(root.trailingEdge, tip.trailingEdge);
   return planform;
 }
 
-// Quad strips between consecutive wing rings (2m vertices each, trailing edge first) and the
-// trailing-edge crease along their first vertices.
+// The chord fractions of a wing's rings and its tips' wedge closures.
+struct WingLayout {
+  std::vector<double> upper, lower;                   // chord fractions of the side vertices
+  std::map<int, TrailingEdgeTip> tips;                // by station
+  std::map<int, std::array<double, 2>> tipFractions;  // upper and lower closure ends' chord fractions
+  int leadingEdge() const { return static_cast<int>(upper.size()) + 1; }  // its ring index
+};
+
+// The tips' wedge closures decide the chord fractions of every station: where the wedge's flat
+// sides end at a tip, every section gets a vertex at that chord fraction, so that the tip's
+// closing creases run from the trailing edge along the ring to that vertex. `tipSpans`: span of
+// each tip station, by station.
+WingLayout wingLayout(const target::Target& target, const std::vector<FeatureCurve>& curves,
+                      const WingFrame& w, int m, bool rounded, const std::map<int, double>& tipSpans) {
+  WingLayout layout;
+  layout.upper = layout.lower = cosineFractions(m);
+  for (const auto& [j, span] : tipSpans) {
+    WingSection section;
+    wingRing(target, w, span, layout.upper, layout.lower, &section);
+    const TrailingEdgeTip tip = rounded ? trailingEdgeTip(target, curves, w, section) : TrailingEdgeTip{};
+    layout.tips[j] = tip;
+    if (tip.upper) layout.tipFractions[j] = {section.fraction(*tip.upper), section.fraction(*tip.lower)};
+  }
+  if (!layout.tipFractions.empty()) {  // one pair of fractions for all stations: the first tip's
+    insertFraction(layout.upper, layout.tipFractions.begin()->second[0]);
+    insertFraction(layout.lower, layout.tipFractions.begin()->second[1]);
+  }
+  if (layout.upper.size() != layout.lower.size()) {  // the two sides must stay paired for the tip caps
+    layout.upper = layout.lower = cosineFractions(m);
+    layout.tipFractions.clear();
+  }
+  return layout;
+}
+
+// Quad strips between consecutive wing rings (trailing edge first) and the trailing-edge crease
+// along their first vertices.
 void addWingStrips(Draft& draft, const std::vector<std::vector<int>>& rings) {
   for (size_t j = 0; j + 1 < rings.size(); ++j) {
     const std::vector<int>& a = rings[j];
@@ -601,37 +724,66 @@ void addWingStrips(Draft& draft, const std::vector<std::vector<int>>& rings) {
   }
 }
 
-// A tip cap on a wing ring (2m vertices, trailing edge first): one row of vertices between upper
-// and lower surface, cast along `outward` onto the tip (rounded) or left in the ring (flat, with
-// a creased rim). `far`: the cap continues the strips' orientation (the tip at the end of the
-// rings); otherwise it is reversed (a full wing's first tip). The trailing edge becomes a corner.
-void addTipCap(Draft& draft, const target::Target& target, const std::vector<int>& ring, const Vec& outward,
-               bool rounded, bool far) {
-  const int ringSize = static_cast<int>(ring.size());
-  const int m = ringSize / 2;
+// Ring index of the side vertex whose chord fraction is nearest `xi`.
+int nearestIndex(const std::vector<double>& fractions, double xi) {
+  size_t best = 0;
+  for (size_t i = 1; i < fractions.size(); ++i)
+    if (std::abs(fractions[i] - xi) < std::abs(fractions[best] - xi)) best = i;
+  return static_cast<int>(best) + 1;
+}
+
+// Tip cap on the ring of station `station`: a row of vertices along the tip's ridge between upper
+// and lower surface, cast along outward x span onto a rounded tip, in the ring's plane with a
+// creased rim for a flat one. Ridge vertex i sits across ring vertices i + 1 (upper) and
+// 2n - i - 1 (lower); at the trailing edge the cap is two triangles (a quad would fold around the
+// thin wedge, with a corner angle of a few degrees), meeting at ridge vertex 0, which is the end
+// of the CAD's ridge crease when it has one. outward 1: the far tip, continuing the strips'
+// orientation; -1: a full wing's near tip, reversed. The trailing edge becomes a corner.
+void addTipCap(Draft& draft, const target::Target& target, const WingFrame& w, const WingLayout& layout,
+               int station, const std::vector<int>& ring, double outward, bool rounded) {
+  const int n = layout.leadingEdge();
+  const int ringSize = 2 * n;
+  const auto r = [&](int k) { return ring[static_cast<size_t>((k + ringSize) % ringSize)]; };
+  const auto at = [&](int vertex) -> Vec& { return draft.vertices[static_cast<size_t>(vertex)]; };
+  static const TrailingEdgeTip kNoClosure;
+  const auto found = layout.tips.find(station);
+  const TrailingEdgeTip& tip = found == layout.tips.end() ? kNoClosure : found->second;
+  const auto fractions = layout.tipFractions.find(station);
+  if (fractions != layout.tipFractions.end()) {  // the wedge's closing creases, along the ring
+    const int upperEnd = nearestIndex(layout.upper, fractions->second[0]);
+    const int lowerEnd = ringSize - nearestIndex(layout.lower, fractions->second[1]);
+    at(r(upperEnd)) = *tip.upper;
+    at(r(lowerEnd)) = *tip.lower;
+    for (int k = 0; k < upperEnd; ++k) draft.creases.push_back({r(k), r(k + 1)});
+    for (int k = lowerEnd; k < ringSize; ++k) draft.creases.push_back({r(k), r(k + 1)});
+    draft.corners.push_back(r(upperEnd));
+    draft.corners.push_back(r(lowerEnd));
+  }
   RayBatch rays;
-  std::vector<int> c(static_cast<size_t>(m), -1);
-  for (int i = 1; i < m; ++i) {
-    const Vec mid = 0.5 * (draft.vertices[static_cast<size_t>(ring[static_cast<size_t>(i)])] +
-                           draft.vertices[static_cast<size_t>(ring[static_cast<size_t>(2 * m - i)])]);
+  std::vector<int> c(static_cast<size_t>(n - 1), -1);
+  for (int i = 0; i + 1 < n; ++i) {
+    const Vec mid = 0.5 * (at(r(i + 1)) + at(r(ringSize - i - 1)));
     c[static_cast<size_t>(i)] = draft.add(mid);
-    if (rounded) rays.add(c[static_cast<size_t>(i)], mid, outward);
+    if (i == 0 && tip.ridge) {
+      at(c[0]) = *tip.ridge;
+      draft.creases.push_back({r(0), c[0]});
+      draft.corners.push_back(c[0]);
+    } else if (rounded) {
+      rays.add(c[static_cast<size_t>(i)], mid, outward * w.span);
+    }
   }
   rays.resolve(target, draft);
-  const auto r = [&](int k) { return ring[static_cast<size_t>((k + ringSize) % ringSize)]; };
   const auto cv = [&](int i) { return c[static_cast<size_t>(i)]; };
   std::vector<std::vector<int>> faces;
-  // At the trailing edge the cap is split into two triangles: one quad would fold there around
-  // the thin trailing-edge wedge with an angle of a few degrees at the corner vertex.
-  faces.push_back({r(0), r(1), cv(1)});
-  faces.push_back({r(0), cv(1), r(2 * m - 1)});
-  for (int i = 1; i + 1 < m; ++i) {
-    faces.push_back({r(i), r(i + 1), cv(i + 1), cv(i)});
-    faces.push_back({cv(i), cv(i + 1), r(2 * m - i - 1), r(2 * m - i)});
+  faces.push_back({r(0), r(1), cv(0)});
+  faces.push_back({r(0), cv(0), r(ringSize - 1)});
+  for (int i = 1; i + 1 < n; ++i) {
+    faces.push_back({r(i), r(i + 1), cv(i), cv(i - 1)});
+    faces.push_back({cv(i - 1), cv(i), r(ringSize - i - 1), r(ringSize - i)});
   }
-  faces.push_back({r(m - 1), r(m), r(m + 1), cv(m - 1)});
+  faces.push_back({r(n - 1), r(n), r(n + 1), cv(n - 2)});
   for (std::vector<int>& face : faces) {
-    if (!far) std::reverse(face.begin(), face.end());
+    if (outward < 0.0) std::reverse(face.begin(), face.end());
     draft.faces.push_back(face);
   }
   if (!rounded) {
@@ -648,25 +800,36 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
   const bool half = values.choice("span") == "half";
   const bool rounded = values.choice("tip") == "rounded";
   const WingFrame w = wingFrame(target, curves, half, plane);
+  // Stations dense towards the tips, whose caps and wedge closures are small features, and coarse
+  // where a wing's sections change slowly: half-cosine spacing, a half wing's root being no tip.
+  const auto spanAt = [&](int j) {
+    const double t = static_cast<double>(j) / stations;
+    const double f = half ? std::sin(0.5 * kPi * t) : 0.5 * (1.0 - std::cos(kPi * t));
+    return w.low + (w.high - w.low) * f;
+  };
+  std::map<int, double> tipSpans{{stations, spanAt(stations)}};  // the far tip, and a full wing's near one
+  if (!half) tipSpans[0] = spanAt(0);
+  const WingLayout layout = wingLayout(target, curves, w, m, rounded, tipSpans);
+
   Draft draft;
   std::vector<std::vector<int>> rings;
-  std::vector<Vec> first, last;
+  WingSection rootSection, tipSection;
   for (int j = 0; j <= stations; ++j) {
-    const double s = w.low + (w.high - w.low) * j / stations;
+    WingSection section;
+    std::vector<Vec> ring = wingRing(target, w, spanAt(j), layout.upper, layout.lower, &section);
+    if (j == 0) rootSection = section;
+    if (j == stations) tipSection = section;
     std::vector<int> ids;
-    const std::vector<Vec> ring = wingRing(target, w, s, m);
-    if (j == 0) first = ring;
-    if (j == stations) last = ring;
     for (const Vec& p : ring) ids.push_back(draft.add(p));
     rings.push_back(ids);
   }
   addWingStrips(draft, rings);
-  planform = measurePlanform(w, first, last, m);
-  addTipCap(draft, target, rings.back(), w.span, rounded, true);
+  planform = measurePlanform(w, rootSection, tipSection);
+  addTipCap(draft, target, w, layout, stations, rings.back(), 1.0, rounded);
   if (half) {
     draft.corners.push_back(rings.front()[0]);
   } else {
-    addTipCap(draft, target, rings.front(), -w.span, rounded, false);
+    addTipCap(draft, target, w, layout, 0, rings.front(), -1.0, rounded);
   }
   return draft;
 }
@@ -723,14 +886,10 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
   const int m = values.integer("chordwise");
   const int stations = values.integer("spanwise");
   const bool rounded = values.choice("tip") == "rounded";
-  const int holeSegments = m - 2;
-  if (m < 3 || n < 2 || axial < holeSegments + 2) {
+  if (n < 2) {
     throw InvalidInputError(
-        "template parameters: the wing-fuselage model needs chordwise >= 3, circumferential >= 8 and axial "
-        ">= "
-        "chordwise (the wing root takes chordwise - 2 axial segments), got chordwise " +
-        std::to_string(m) + ", circumferential " + std::to_string(4 * n) + ", axial " +
-        std::to_string(axial));
+        "template parameter 'circumferential' must be at least 8 for a wing-fuselage model, got " +
+        std::to_string(4 * n));
   }
   plane = detectSymmetryPlane(target, curves);
   if (!plane) {
@@ -821,23 +980,44 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
   if (junction.rows() == 0) {
     throw InvalidInputError(
         "wing-fuselage placement: no closed sharp curve (the wing-body intersection) starts where the "
-        "trailing "
-        "edge meets the body: the wing must be fused with the body, the intersection curve sharp");
+        "trailing edge meets the body: the wing must be fused with the body, the intersection curve sharp");
   }
+  const WingLayout layout = wingLayout(target, curves, w, m, rounded, {{stations, w.high}});
+  const int lead = layout.leadingEdge();  // ring index of the leading edge (chordwise, or one more
+                                          // for a rounded tip's wedge closure)
+  const int holeSegments = lead - 2;
+  if (lead < 3 || axial < holeSegments + 2) {
+    throw InvalidInputError(
+        "template parameters: the wing-fuselage model needs chordwise >= 3 and axial >= "
+        "chordwise (the wing root takes chordwise - 2 axial segments), got axial " +
+        std::to_string(axial) + ", chordwise " + std::to_string(lead));
+  }
+  WingSection rootSection;
   const std::vector<Vec> root =
-      chordRing(teRoot, junction, w.span, m, [&](const Vec& base, const Vec& thickness) {
-        return planeCrossings(junction, true, base, w.span.cross(thickness));  // the plane across the chord
-      });
+      sectionRing(teRoot, junction, w.span, layout.upper, layout.lower, rootSection,
+                  [&](const Vec& base, const Vec& thickness, bool upperSide) {
+                    // The junction's extreme crossing with the plane across the chord at `base`.
+                    Vec best = base;
+                    double height = -std::numeric_limits<double>::infinity();
+                    for (const Vec& p : planeCrossings(junction, true, base, w.span.cross(thickness))) {
+                      const double h = (upperSide ? 1.0 : -1.0) * (p - base).dot(thickness);
+                      if (h > height) {
+                        height = h;
+                        best = p;
+                      }
+                    }
+                    return best;
+                  });
 
   // Stations: the hole's columns at the root ring's chord fractions, the rest spread evenly
   // ahead of and behind the wing.
-  const bool trailingAft = (root[0] - root[static_cast<size_t>(m)]).dot(body.e1) > 0.0;
-  const auto axialOf = [&](int r) {  // ring points r and 2m - r (r = 1 .. m - 1)
-    return (0.5 * (root[static_cast<size_t>(r)] + root[static_cast<size_t>(2 * m - r)]) - body.origin)
+  const bool trailingAft = (root[0] - root[static_cast<size_t>(lead)]).dot(body.e1) > 0.0;
+  const auto axialOf = [&](int r) {  // ring points r and 2 lead - r (r = 1 .. lead - 1)
+    return (0.5 * (root[static_cast<size_t>(r)] + root[static_cast<size_t>(2 * lead - r)]) - body.origin)
         .dot(body.e1);
   };
   std::vector<double> columns;  // axial coordinates of the hole's columns, increasing
-  for (int r = 1; r < m; ++r) columns.push_back(axialOf(r));
+  for (int r = 1; r < lead; ++r) columns.push_back(axialOf(r));
   if (trailingAft) std::reverse(columns.begin(), columns.end());
   const auto [rimNose, rimTail] = bodyRims(body);
   const double front = columns.front() - rimNose, back = rimTail - columns.back();
@@ -888,18 +1068,18 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
     };
     if (cosine(q) > cosine(qc)) qc = q;
   }
-  const Vec thickness = w.span.cross(root[0] - root[static_cast<size_t>(m)]);
+  const Vec thickness = w.span.cross(root[0] - root[static_cast<size_t>(lead)]);
   double upwards = 0.0;
   for (int i = i0; i <= i1; ++i) upwards += (at(i, qc + 1) - at(i, qc - 1)).dot(thickness);
   const int upperRow = upwards > 0.0 ? qc + 1 : qc - 1;
   const int lowerRow = 2 * qc - upperRow;
-  std::vector<int> junctionRing(static_cast<size_t>(2 * m));
+  std::vector<int> junctionRing(static_cast<size_t>(2 * lead));
   const auto column = [&](int r) { return trailingAft ? i1 - (r - 1) : i0 + (r - 1); };
   junctionRing[0] = side.at({trailingAft ? i1 : i0, qc});
-  junctionRing[static_cast<size_t>(m)] = side.at({trailingAft ? i0 : i1, qc});
-  for (int r = 1; r < m; ++r) {
+  junctionRing[static_cast<size_t>(lead)] = side.at({trailingAft ? i0 : i1, qc});
+  for (int r = 1; r < lead; ++r) {
     junctionRing[static_cast<size_t>(r)] = side.at({column(r), upperRow});
-    junctionRing[static_cast<size_t>(2 * m - r)] = side.at({column(r), lowerRow});
+    junctionRing[static_cast<size_t>(2 * lead - r)] = side.at({column(r), lowerRow});
   }
   for (size_t r = 0; r < root.size(); ++r) draft.vertices[static_cast<size_t>(junctionRing[r])] = root[r];
   // The hole: the 2 (chordwise - 2) side quads within its columns and rows.
@@ -924,10 +1104,10 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
   clear += 0.02 * (w.high - w.low);
   const double first = std::max(w.low + (w.high - w.low) / stations, clear);
   std::vector<std::vector<int>> rings{junctionRing};
-  std::vector<Vec> tip;
+  WingSection tipSection;
   for (int j = 1; j <= stations; ++j) {
     const double s = j == stations ? w.high : first + (w.high - first) * (j - 1) / (stations - 1);
-    tip = wingRing(target, w, s, m);
+    const std::vector<Vec> tip = wingRing(target, w, s, layout.upper, layout.lower, &tipSection);
     std::vector<int> ids;
     for (const Vec& p : tip) ids.push_back(draft.add(p));
     rings.push_back(ids);
@@ -935,7 +1115,7 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
   Draft wing;
   wing.vertices = draft.vertices;
   addWingStrips(wing, rings);
-  addTipCap(wing, target, rings.back(), w.span, rounded, true);
+  addTipCap(wing, target, w, layout, stations, rings.back(), 1.0, rounded);
   // The wing's faces must run against the fuselage's along the junction edges.
   const int a = junctionRing[0], b = junctionRing[1];
   const bool sameWay = std::any_of(draft.faces.begin(), draft.faces.end(), [&](const std::vector<int>& face) {
@@ -951,11 +1131,12 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
   draft.vertices = wing.vertices;
   draft.creases.insert(draft.creases.end(), wing.creases.begin(), wing.creases.end());
   draft.corners.insert(draft.corners.end(), wing.corners.begin(), wing.corners.end());
-  for (int r = 0; r < 2 * m; ++r)
+  for (int r = 0; r < 2 * lead; ++r) {
     draft.creases.push_back(
-        {junctionRing[static_cast<size_t>(r)], junctionRing[static_cast<size_t>((r + 1) % (2 * m))]});
+        {junctionRing[static_cast<size_t>(r)], junctionRing[static_cast<size_t>((r + 1) % (2 * lead))]});
+  }
   draft.corners.push_back(junctionRing[0]);
-  planform = measurePlanform(w, root, tip, m);
+  planform = measurePlanform(w, rootSection, tipSection);
   removeUnusedVertices(draft);
   return draft;
 }
