@@ -1,7 +1,7 @@
 """The wing_fuselage template through bvmesh.polyhedra on a wing-body half model built with
 FreeCAD's Part module (elliptic nose, cylinder, elliptic tail; swept, tapered NACA 0012 wing with
 a sharp trailing edge and a flat tip; fused and cut at y = 0): placement, mapping, a short fit
-and a picture (test-output/polyhedron_wing_fuselage.png)."""
+and pictures (test-output/polyhedron_wing_fuselage*.png)."""
 
 import math
 import os
@@ -109,6 +109,9 @@ class WingFuselageTest(unittest.TestCase):
         polyhedra.plot_polyhedron(mesh, os.path.join(output_dir(), "polyhedron_wing_fuselage.png"), self.target,
                                   "wing_fuselage on a wing-body half model (creases red, corners black)",
                                   views=((25, -60), (90, -90), (0, 0)))
+        polyhedra.plot_polyhedron(mesh, os.path.join(output_dir(), "polyhedron_wing_fuselage_junction.png"),
+                                  self.target, "wing_fuselage: the wing root on the fuselage",
+                                  views=((30, -50), (-30, -50), (0, 0)), region=((3.0, 0.0, -0.8), (7.0, 1.6, 0.8)))
         fitter = bvmesh.SurfaceFitter(self.target, mesh, placed["feature_map"],
                                       symmetry_plane=placed["symmetry_plane"], max_level=2)
         history = fitter.run()["history"]
