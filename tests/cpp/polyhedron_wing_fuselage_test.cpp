@@ -6,8 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <BRepAlgoAPI_Cut.hxx>
+#include <BRepBuilderAPI_Transform.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepTools.hxx>
+#include <gp_Ax1.hxx>
+#include <gp_Trsf.hxx>
 
 #include <algorithm>
 #include <chrono>
@@ -271,6 +274,34 @@ TEST(WingFuselage, ClosestPointOnACrowdedIntersectionCurve) {
     EXPECT_NEAR(feet.points(i, 0), q(i, 0), 3e-3) << i;
     EXPECT_GT(feet.points(i, 2) * q(i, 2), 0.0) << i;  // same side of the wing
   }
+}
+
+TEST(WingFuselage, NoseEitherWay) {
+  // The mid-wing model turned half a turn about the y axis through (5, 0, 0): nose at x = 10,
+  // wing upside down; the body axis and its profile stay, the root's trailing edge now lies
+  // towards the other end of the axis.
+  gp_Trsf turn;
+  turn.SetRotation(gp_Ax1(gp_Pnt(5, 0, 0), gp_Dir(0, 1, 0)), kPi);
+  const HalfModelShape half =
+      removeSymmetryFace(BRepBuilderAPI_Transform(testing::makeWingBody({}), turn, true).Shape());
+  const target::Target target(half.shape);
+  const PlacedPolyhedron turned = placeTemplate(wingFuselageTemplate(), target);
+  const PlacedPolyhedron placed = placeTemplate(wingFuselageTemplate(), *wingBodyTarget(variants()[0]));
+  EXPECT_NO_THROW(requireComplete(turned.mapping)) << turned.mapping.describeUnmapped();
+  ASSERT_EQ(turned.mesh.numVertices(), placed.mesh.numVertices());
+  EXPECT_EQ(turned.mesh.numFaces(), placed.mesh.numFaces());
+  EXPECT_EQ(turned.mapping.chains.size(), placed.mapping.chains.size());
+  EXPECT_NEAR(turned.planform->rootChord, placed.planform->rootChord, 1e-6);
+  EXPECT_NEAR(turned.planform->leadingEdgeSweepDeg, placed.planform->leadingEdgeSweepDeg, 1e-6);
+  // The junction on the cylinder, the boundary on y = 0.
+  const WingChains chains = wingChains(turned.mapping, turned.mesh, variants()[0].parameters);
+  ASSERT_GE(chains.junction, 0);
+  ASSERT_GE(chains.boundary, 0);
+  for (int v : turned.mapping.chains[static_cast<size_t>(chains.junction)].vertices)
+    EXPECT_NEAR(axisDistance(turned.mesh.vertices().row(v)), variants()[0].parameters.radius, 1e-6);
+  for (int v : turned.mapping.chains[static_cast<size_t>(chains.boundary)].vertices)
+    EXPECT_NEAR(turned.mesh.vertices()(v, 1), 0.0, 1e-12);
+  for (const CornerMapping& corner : turned.mapping.corners) EXPECT_GE(corner.cadVertex, 0);
 }
 
 TEST(WingFuselage, CoarsestParametersAndARoundedTip) {
