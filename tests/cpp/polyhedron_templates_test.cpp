@@ -79,8 +79,8 @@ TEST(TemplateLibrary, HoldsTheDocumentedTemplates) {
     names.insert(t.name);
     EXPECT_FALSE(t.description.empty()) << t.name;
   }
-  for (const char* name :
-       {"box", "sphere", "cylinder", "capsule", "fuselage", "half_wing", "wing", "nacelle"}) {
+  for (const char* name : {"box", "sphere", "cylinder", "capsule", "fuselage", "half_wing", "wing", "nacelle",
+                           "wing_fuselage"}) {
     EXPECT_TRUE(names.count(name)) << name;
   }
   EXPECT_THROW(readTemplateLibrary(kTemplates + "/missing"), InvalidInputError);

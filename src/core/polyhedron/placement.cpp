@@ -1,5 +1,6 @@
 #include "core/polyhedron/placement.h"
 
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -104,7 +105,9 @@ struct RayBatch {
     origins.push_back(origin);
     directions.push_back(direction);
   }
-  void resolve(const target::Target& target, Draft& draft) const {
+  // firstHit: the nearest intersection ahead of each origin (origins inside the body); rays
+  // without one, and all rays otherwise, take the outermost intersection.
+  void resolve(const target::Target& target, Draft& draft, bool firstHit = false) const {
     if (vertices.empty()) return;
     target::Points o(static_cast<Eigen::Index>(origins.size()), 3),
         d(static_cast<Eigen::Index>(origins.size()), 3);
@@ -112,7 +115,16 @@ struct RayBatch {
       o.row(static_cast<Eigen::Index>(i)) = origins[i].transpose();
       d.row(static_cast<Eigen::Index>(i)) = directions[i].transpose();
     }
-    const target::Points hits = outerHits(target, o, d);
+    target::Points hits = outerHits(target, o, d);
+    if (firstHit) {
+      const target::ProjectionResult near = target.projectAlong(o, d);
+      for (Eigen::Index i = 0; i < o.rows(); ++i) {
+        const bool ahead = (near.points.row(i) - o.row(i)).dot(d.row(i)) > 0.0;
+        if (near.status[static_cast<size_t>(i)] != target::ProjectionStatus::Fallback &&
+            near.status[static_cast<size_t>(i)] != target::ProjectionStatus::Failed && ahead)
+          hits.row(i) = near.points.row(i);
+      }
+    }
     for (size_t i = 0; i < vertices.size(); ++i)
       draft.vertices[static_cast<size_t>(vertices[i])] = hits.row(static_cast<Eigen::Index>(i)).transpose();
   }
@@ -264,75 +276,67 @@ Vec sectionCentre(const PlaneSection& section, const Vec& fallback) {
   return weight > 0.0 ? Vec(sum / weight) : fallback;
 }
 
-Draft buildRevolution(const TemplateValues& values, const target::Target& target,
-                      const std::vector<FeatureCurve>& curves, std::optional<fit::SymmetryPlane>& plane,
-                      std::map<std::string, std::string>& used) {
-  const PrincipalFrame frame = principalFrame(target);
-  const int axial = values.integer("axial");
+// A body of revolution's axis frame: stations run along e1 from `lo` to `hi` (coordinates from
+// `origin`); a half body lies on the e2 side of the symmetry plane through `origin`.
+struct BodyAxis {
+  bool half = false;
+  Vec origin = Vec::Zero();
+  Vec e1 = Vec::UnitX(), e2 = Vec::UnitY(), e3 = Vec::UnitZ();
+  double lo = 0.0, hi = 0.0;
+  double radius = 0.0;              // largest distance of the body from the axis
+  std::array<std::string, 2> ends;  // nose (at lo) and tail (at hi): round, flat or open
+};
+
+int quarterSegments(const TemplateValues& values) {
   const int circumferential = values.integer("circumferential");
   if (circumferential % 4 != 0) {
     throw InvalidInputError("template parameter 'circumferential' must be a multiple of 4, got " +
                             std::to_string(circumferential));
   }
-  const std::string& halfChoice = values.choice("half");
-  const std::optional<fit::SymmetryPlane> detected = detectSymmetryPlane(target, curves);
-  if (halfChoice == "yes" && !detected) {
-    throw InvalidInputError(
-        "a half body needs a symmetry plane: the target has no free boundary curve lying in a plane "
-        "with the whole target on one side");
-  }
-  const bool half = halfChoice == "yes" || (halfChoice == "auto" && detected);
-  used["half"] = half ? "yes" : "no";
-  Vec e1 = frame.axes.col(0), e2 = frame.axes.col(1), e3 = frame.axes.col(2);
-  Vec origin = frame.centre;
-  if (half) {
-    plane = detected;
-    e2 = plane->normal.normalized();
-    e1 = (e1 - e1.dot(e2) * e2).normalized();
-    e3 = e1.cross(e2);
-    origin = frame.centre - (frame.centre - plane->point).dot(e2) * e2;
-  } else {
-    plane.reset();
-  }
-  const target::Points& nodes = target.meshNodes();
-  double lo = std::numeric_limits<double>::infinity(), hi = -lo, radius = 0.0;
-  for (Eigen::Index k = 0; k < nodes.rows(); ++k) {
-    const Vec d = nodes.row(k).transpose() - origin;
-    const double a = d.dot(e1);
-    lo = std::min(lo, a);
-    hi = std::max(hi, a);
-    radius = std::max(radius, (d - a * e1).norm());
-  }
-  const double length = hi - lo;
-  std::array<std::string, 2> ends{values.choice("nose"), values.choice("tail")};
+  return circumferential / 4;
+}
+
+// Resolves `auto` nose and tail choices from the target's free boundary and records them.
+void resolveEnds(const TemplateValues& values, const target::Target& target,
+                 const std::vector<FeatureCurve>& curves, const std::optional<fit::SymmetryPlane>& plane,
+                 BodyAxis& body, std::map<std::string, std::string>& used) {
+  body.ends = {values.choice("nose"), values.choice("tail")};
   for (int side = 0; side < 2; ++side) {
-    std::string& end = ends[static_cast<size_t>(side)];
+    std::string& end = body.ends[static_cast<size_t>(side)];
     if (end == "auto") {
-      end = boundaryNear(target, curves, plane, origin, e1, side ? hi : lo, 0.01 * length) ? "open" : "round";
+      end = boundaryNear(target, curves, plane, body.origin, body.e1, side ? body.hi : body.lo,
+                         0.01 * (body.hi - body.lo))
+                ? "open"
+                : "round";
     }
   }
-  used["nose"] = ends[0];
-  used["tail"] = ends[1];
-  const double cap = std::min(radius, 0.25 * length);
-  const double inset = 1e-4 * length;
-  const double rimNose = ends[0] == "round" ? lo + cap : lo + inset;
-  const double rimTail = ends[1] == "round" ? hi - cap : hi - inset;
+  used["nose"] = body.ends[0];
+  used["tail"] = body.ends[1];
+}
 
-  const int n = circumferential / 4;
+// Axial coordinates of the end rims: a round end's dome takes `cap` of the length.
+std::array<double, 2> bodyRims(const BodyAxis& body) {
+  const double length = body.hi - body.lo;
+  const double cap = std::min(body.radius, 0.25 * length);
+  const double inset = 1e-4 * length;
+  return {body.ends[0] == "round" ? body.lo + cap : body.lo + inset,
+          body.ends[1] == "round" ? body.hi - cap : body.hi - inset};
+}
+
+// The body grid: the lattice [0, #stations - 1] x [0, ny] x [0, n] (a half body without its
+// j = 0 side, open ends without their end sides) with rings at the station centres (#stations,
+// on the axis in order from nose rim to tail rim), each ring vertex cast radially onto the target,
+// the end caps cast from their rim centres (domes) or along the axis (flat). Draft vertex v is
+// lattice vertex v. `firstHit`: cast to the nearest surface from the centre (a body with other
+// parts around it, such as a wing); otherwise to the outermost surface.
+Draft buildBodyGrid(const target::Target& target, const BodyAxis& body, int n,
+                    const std::vector<Vec>& centres, bool firstHit, Lattice& lattice) {
+  const bool half = body.half;
+  const int axial = static_cast<int>(centres.size()) - 1;
   const int ny = half ? std::max(1, (n + 1) / 2) : n;
-  const std::array<int, 3> sizes{axial, ny, n};
-  const Lattice lattice =
-      latticeSurface(sizes, {ends[0] != "open", ends[1] != "open", !half, true, true, true});
-  std::vector<Vec> centres(static_cast<size_t>(axial + 1));
-  for (int i = 0; i <= axial; ++i) {
-    const double a = rimNose + (rimTail - rimNose) * i / axial;
-    const Vec fallback = origin + a * e1;
-    const PlaneSection section(target, fallback, e1);
-    Vec centre = sectionCentre(section, fallback);
-    centre += (a - (centre - origin).dot(e1)) * e1;
-    if (half) centre -= (centre - plane->point).dot(e2) * e2;
-    centres[static_cast<size_t>(i)] = centre;
-  }
+  const double cap = std::min(body.radius, 0.25 * (body.hi - body.lo));
+  lattice = latticeSurface({axial, ny, n},
+                           {body.ends[0] != "open", body.ends[1] != "open", !half, true, true, true});
   Draft draft;
   draft.faces = lattice.faces;
   RayBatch rays;
@@ -344,33 +348,33 @@ Draft buildRevolution(const TemplateValues& values, const target::Target& target
     const double a = s * std::sqrt(1.0 - 0.5 * t * t);  // square to disc (elliptical grid map)
     const double b = t * std::sqrt(1.0 - 0.5 * s * s);
     const bool ring = (!half && j == 0) || j == ny || k == 0 || k == n;
-    const Vec radial = a * e2 + b * e3;
-    const int v = draft.add(centres[static_cast<size_t>(i)] + radius * radial);
+    const Vec radial = a * body.e2 + b * body.e3;
+    const Vec& centre = centres[static_cast<size_t>(i)];
+    const int v = draft.add(centre + body.radius * radial);
     // Rays in the symmetry plane would graze the target's boundary there: cast them from just
     // inside the body; the improvement snaps the vertices back onto the plane.
-    const Vec lift = half && j == 0 ? Vec(1e-3 * radius * e2) : Vec::Zero();
+    const Vec lift = half && j == 0 ? Vec(1e-3 * body.radius * body.e2) : Vec::Zero();
     if (ring) {
-      rays.add(v, centres[static_cast<size_t>(i)] + lift, radial);
-      if ((i == 0 && ends[0] == "flat") || (i == axial && ends[1] == "flat")) flatRim.push_back(v);
+      rays.add(v, centre + lift, radial);
+      if ((i == 0 && body.ends[0] == "flat") || (i == axial && body.ends[1] == "flat")) flatRim.push_back(v);
       // Half models: where the symmetry boundary meets an open or flat end.
       if (half && j == 0 && (k == 0 || k == n) &&
-          ((i == 0 && ends[0] != "round") || (i == axial && ends[1] != "round"))) {
+          ((i == 0 && body.ends[0] != "round") || (i == axial && body.ends[1] != "round"))) {
         draft.corners.push_back(v);
       }
       continue;
     }
-    const Vec rim = centres[static_cast<size_t>(i)];
     const double outward = i == 0 ? -1.0 : 1.0;
-    const std::string& end = ends[i == 0 ? 0 : 1];
+    const std::string& end = body.ends[i == 0 ? 0 : 1];
     if (end == "round") {
       const double rho = std::min(1.0, std::sqrt(a * a + b * b));
-      const Vec dome = radius * radial + outward * cap * std::sqrt(1.0 - rho * rho) * e1;
-      rays.add(v, rim + lift, dome);
+      const Vec dome = body.radius * radial + outward * cap * std::sqrt(1.0 - rho * rho) * body.e1;
+      rays.add(v, centre + lift, dome);
     } else {
-      rays.add(v, rim + radius * radial + lift, outward * e1);
+      rays.add(v, centre + body.radius * radial + lift, outward * body.e1);
     }
   }
-  rays.resolve(target, draft);
+  rays.resolve(target, draft, firstHit);
   for (const auto& [a, b] : latticeEdges(lattice)) {
     const bool aRim = std::find(flatRim.begin(), flatRim.end(), a) != flatRim.end();
     const bool bRim = std::find(flatRim.begin(), flatRim.end(), b) != flatRim.end();
@@ -379,6 +383,61 @@ Draft buildRevolution(const TemplateValues& values, const target::Target& target
     if (aRim && bRim && ca[0] == cb[0]) draft.creases.push_back({a, b});
   }
   return draft;
+}
+
+Draft buildRevolution(const TemplateValues& values, const target::Target& target,
+                      const std::vector<FeatureCurve>& curves, std::optional<fit::SymmetryPlane>& plane,
+                      std::map<std::string, std::string>& used) {
+  const PrincipalFrame frame = principalFrame(target);
+  const int axial = values.integer("axial");
+  const int n = quarterSegments(values);
+  const std::string& halfChoice = values.choice("half");
+  const std::optional<fit::SymmetryPlane> detected = detectSymmetryPlane(target, curves);
+  if (halfChoice == "yes" && !detected) {
+    throw InvalidInputError(
+        "a half body needs a symmetry plane: the target has no free boundary curve lying in a plane "
+        "with the whole target on one side");
+  }
+  BodyAxis body;
+  body.half = halfChoice == "yes" || (halfChoice == "auto" && detected);
+  used["half"] = body.half ? "yes" : "no";
+  body.e1 = frame.axes.col(0);
+  body.e2 = frame.axes.col(1);
+  body.e3 = frame.axes.col(2);
+  body.origin = frame.centre;
+  if (body.half) {
+    plane = detected;
+    body.e2 = plane->normal.normalized();
+    body.e1 = (body.e1 - body.e1.dot(body.e2) * body.e2).normalized();
+    body.e3 = body.e1.cross(body.e2);
+    body.origin = frame.centre - (frame.centre - plane->point).dot(body.e2) * body.e2;
+  } else {
+    plane.reset();
+  }
+  const target::Points& nodes = target.meshNodes();
+  body.lo = std::numeric_limits<double>::infinity();
+  body.hi = -body.lo;
+  for (Eigen::Index k = 0; k < nodes.rows(); ++k) {
+    const Vec d = nodes.row(k).transpose() - body.origin;
+    const double a = d.dot(body.e1);
+    body.lo = std::min(body.lo, a);
+    body.hi = std::max(body.hi, a);
+    body.radius = std::max(body.radius, (d - a * body.e1).norm());
+  }
+  resolveEnds(values, target, curves, plane, body, used);
+  const auto [rimNose, rimTail] = bodyRims(body);
+  std::vector<Vec> centres(static_cast<size_t>(axial + 1));
+  for (int i = 0; i <= axial; ++i) {
+    const double a = rimNose + (rimTail - rimNose) * i / axial;
+    const Vec fallback = body.origin + a * body.e1;
+    const PlaneSection section(target, fallback, body.e1);
+    Vec centre = sectionCentre(section, fallback);
+    centre += (a - (centre - body.origin).dot(body.e1)) * body.e1;
+    if (body.half) centre -= (centre - plane->point).dot(body.e2) * body.e2;
+    centres[static_cast<size_t>(i)] = centre;
+  }
+  Lattice lattice;
+  return buildBodyGrid(target, body, n, centres, false, lattice);
 }
 
 // ---- wings ----------------------------------------------------------------------------------
@@ -431,7 +490,8 @@ WingFrame wingFrame(const target::Target& target, const std::vector<FeatureCurve
   w.extentHigh = s.maxCoeff();
   double best = 0.0;
   for (size_t c = 0; c < curves.size(); ++c) {
-    if (curves[c].kind != FeatureCurveKind::Sharp) continue;
+    if (curves[c].kind != FeatureCurveKind::Sharp || curves[c].closed)
+      continue;  // loops: tip rims, junctions
     const target::Points line = curvePolyline(target, curves[c]);
     const Vec chord = (line.row(line.rows() - 1) - line.row(0)).transpose();
     if (std::abs(chord.normalized().dot(w.span)) < 0.5) continue;  // not spanwise
@@ -474,9 +534,32 @@ std::vector<double> cosineFractions(int m) {
   return xi;
 }
 
-// Ring of section points starting at the trailing edge (index 0): the upper side at the chord
-// fractions `upper`, the leading edge at index n = upper.size() + 1, the lower side at the
-// fractions `lower` (same count) back towards the trailing edge.
+// Ring of section points starting at the trailing edge `te` (index 0): the upper side at the
+// chord fractions `upper`, the leading edge (the point of `outline` farthest from the trailing
+// edge) at index n = upper.size() + 1, the lower side at the fractions `lower` (same count) back
+// towards the trailing edge. `onSide(base, thickness, upperSide)` gives the section's point across
+// the chord at `base` on that side (thickness: span x chord, from the lower to the upper side).
+template <class OnSide>
+std::vector<Vec> sectionRing(const Vec& te, const target::Points& outline, const Vec& span,
+                             const std::vector<double>& upper, const std::vector<double>& lower,
+                             WingSection& section, OnSide&& onSide) {
+  Vec le = te;
+  for (Eigen::Index k = 0; k < outline.rows(); ++k) {
+    if ((outline.row(k).transpose() - te).norm() > (le - te).norm()) le = outline.row(k).transpose();
+  }
+  section = WingSection{te, le, span.cross(Vec(te - le)).normalized()};
+  const size_t n = upper.size() + 1;
+  std::vector<Vec> ring(2 * n);
+  ring[0] = te;
+  ring[n] = le;
+  for (size_t i = 1; i < n; ++i) {
+    ring[i] = onSide(Vec(le + upper[i - 1] * section.chord()), section.thickness, true);
+    ring[2 * n - i] = onSide(Vec(le + lower[i - 1] * section.chord()), section.thickness, false);
+  }
+  return ring;
+}
+
+// The wing's ring at span s (sectionRing on the plane section of the target).
 std::vector<Vec> wingRing(const target::Target& target, const WingFrame& w, double s,
                           const std::vector<double>& upper, const std::vector<double>& lower,
                           WingSection* sectionOut = nullptr) {
@@ -487,29 +570,17 @@ std::vector<Vec> wingRing(const target::Target& target, const WingFrame& w, doub
   if (section.empty() || !te) {
     throw InvalidInputError("wing placement: no section of the target at span " + std::to_string(cut));
   }
-  Vec le = *te;
-  const target::Points& p = section.points();
-  for (Eigen::Index k = 0; k < p.rows(); ++k) {
-    if ((p.row(k).transpose() - *te).norm() > (le - *te).norm()) le = p.row(k).transpose();
-  }
-  const WingSection wing{*te, le, w.span.cross(Vec(*te - le)).normalized()};
-  const auto onSide = [&](double xi, bool upperSide) {
-    const Vec base = le + xi * wing.chord();
-    const std::vector<double> hits = section.lineHits(base, wing.thickness);
-    if (hits.empty()) return base;
-    return Vec(base + (upperSide ? hits.back() : hits.front()) * wing.thickness);
-  };
-  const size_t n = upper.size() + 1;
-  std::vector<Vec> ring(2 * n);
-  ring[0] = *te;
-  ring[n] = le;
-  for (size_t i = 1; i < n; ++i) {
-    ring[i] = onSide(upper[i - 1], true);
-    ring[2 * n - i] = onSide(lower[i - 1], false);
-  }
+  WingSection wing;
+  std::vector<Vec> ring =
+      sectionRing(*te, section.points(), w.span, upper, lower, wing,
+                  [&](const Vec& base, const Vec& thickness, bool upperSide) {
+                    const std::vector<double> hits = section.lineHits(base, thickness);
+                    if (hits.empty()) return base;
+                    return Vec(base + (upperSide ? hits.back() : hits.front()) * thickness);
+                  });
   // Stations at the ends of the span lie on the end itself.
   for (Vec& v : ring) v += (s - (v - w.origin).dot(w.span)) * w.span;
-  if (sectionOut) *sectionOut = WingSection{ring[0], ring[n], wing.thickness};
+  if (sectionOut) *sectionOut = WingSection{ring[0], ring[upper.size() + 1], wing.thickness};
   return ring;
 }
 
@@ -563,12 +634,15 @@ TrailingEdgeTip trailingEdgeTip(const target::Target& target, const std::vector<
   for (const Candidate& c : candidates) largestSide = std::max(largestSide, std::abs(c.side));
   for (const Candidate& c : candidates) {
     if (c.side > 0.5 * largestSide) {
-      if (!tip.upper || c.side > (*tip.upper - tipSection.trailingEdge).normalized().dot(tipSection.thickness))
+      if (!tip.upper ||
+          c.side > (*tip.upper - tipSection.trailingEdge).normalized().dot(tipSection.thickness))
         tip.upper = c.end;
     } else if (c.side < -0.5 * largestSide) {
-      if (!tip.lower || c.side < (*tip.lower - tipSection.trailingEdge).normalized().dot(tipSection.thickness))
+      if (!tip.lower ||
+          c.side < (*tip.lower - tipSection.trailingEdge).normalized().dot(tipSection.thickness))
         tip.lower = c.end;
-    } else if (!tip.ridge || (c.end - tipSection.trailingEdge).norm() > (*tip.ridge - tipSection.trailingEdge).norm()) {
+    } else if (!tip.ridge ||
+               (c.end - tipSection.trailingEdge).norm() > (*tip.ridge - tipSection.trailingEdge).norm()) {
       tip.ridge = c.end;
     }
   }
@@ -602,6 +676,122 @@ WingPlanform measurePlanform(const WingFrame& w, const WingSection& root, const 
   return planform;
 }
 
+// The chord fractions of a wing's rings and its tips' wedge closures.
+struct WingLayout {
+  std::vector<double> upper, lower;                   // chord fractions of the side vertices
+  std::map<int, TrailingEdgeTip> tips;                // by station
+  std::map<int, std::array<double, 2>> tipFractions;  // upper and lower closure ends' chord fractions
+  int leadingEdge() const { return static_cast<int>(upper.size()) + 1; }  // its ring index
+};
+
+// The tips' wedge closures decide the chord fractions of every station: where the wedge's flat
+// sides end at a tip, every section gets a vertex at that chord fraction, so that the tip's
+// closing creases run from the trailing edge along the ring to that vertex. `tipSpans`: span of
+// each tip station, by station.
+WingLayout wingLayout(const target::Target& target, const std::vector<FeatureCurve>& curves,
+                      const WingFrame& w, int m, bool rounded, const std::map<int, double>& tipSpans) {
+  WingLayout layout;
+  layout.upper = layout.lower = cosineFractions(m);
+  for (const auto& [j, span] : tipSpans) {
+    WingSection section;
+    wingRing(target, w, span, layout.upper, layout.lower, &section);
+    const TrailingEdgeTip tip = rounded ? trailingEdgeTip(target, curves, w, section) : TrailingEdgeTip{};
+    layout.tips[j] = tip;
+    if (tip.upper) layout.tipFractions[j] = {section.fraction(*tip.upper), section.fraction(*tip.lower)};
+  }
+  if (!layout.tipFractions.empty()) {  // one pair of fractions for all stations: the first tip's
+    insertFraction(layout.upper, layout.tipFractions.begin()->second[0]);
+    insertFraction(layout.lower, layout.tipFractions.begin()->second[1]);
+  }
+  if (layout.upper.size() != layout.lower.size()) {  // the two sides must stay paired for the tip caps
+    layout.upper = layout.lower = cosineFractions(m);
+    layout.tipFractions.clear();
+  }
+  return layout;
+}
+
+// Quad strips between consecutive wing rings (trailing edge first) and the trailing-edge crease
+// along their first vertices.
+void addWingStrips(Draft& draft, const std::vector<std::vector<int>>& rings) {
+  for (size_t j = 0; j + 1 < rings.size(); ++j) {
+    const std::vector<int>& a = rings[j];
+    const std::vector<int>& b = rings[j + 1];
+    for (size_t k = 0; k < a.size(); ++k) {
+      const size_t k1 = (k + 1) % a.size();
+      draft.faces.push_back({a[k], a[k1], b[k1], b[k]});
+    }
+    draft.creases.push_back({a[0], b[0]});
+  }
+}
+
+// Ring index of the side vertex whose chord fraction is nearest `xi`.
+int nearestIndex(const std::vector<double>& fractions, double xi) {
+  size_t best = 0;
+  for (size_t i = 1; i < fractions.size(); ++i)
+    if (std::abs(fractions[i] - xi) < std::abs(fractions[best] - xi)) best = i;
+  return static_cast<int>(best) + 1;
+}
+
+// Tip cap on the ring of station `station`: a row of vertices along the tip's ridge between upper
+// and lower surface, cast along outward x span onto a rounded tip, in the ring's plane with a
+// creased rim for a flat one. Ridge vertex i sits across ring vertices i + 1 (upper) and
+// 2n - i - 1 (lower); at the trailing edge the cap is two triangles (a quad would fold around the
+// thin wedge, with a corner angle of a few degrees), meeting at ridge vertex 0, which is the end
+// of the CAD's ridge crease when it has one. outward 1: the far tip, continuing the strips'
+// orientation; -1: a full wing's near tip, reversed. The trailing edge becomes a corner.
+void addTipCap(Draft& draft, const target::Target& target, const WingFrame& w, const WingLayout& layout,
+               int station, const std::vector<int>& ring, double outward, bool rounded) {
+  const int n = layout.leadingEdge();
+  const int ringSize = 2 * n;
+  const auto r = [&](int k) { return ring[static_cast<size_t>((k + ringSize) % ringSize)]; };
+  const auto at = [&](int vertex) -> Vec& { return draft.vertices[static_cast<size_t>(vertex)]; };
+  static const TrailingEdgeTip kNoClosure;
+  const auto found = layout.tips.find(station);
+  const TrailingEdgeTip& tip = found == layout.tips.end() ? kNoClosure : found->second;
+  const auto fractions = layout.tipFractions.find(station);
+  if (fractions != layout.tipFractions.end()) {  // the wedge's closing creases, along the ring
+    const int upperEnd = nearestIndex(layout.upper, fractions->second[0]);
+    const int lowerEnd = ringSize - nearestIndex(layout.lower, fractions->second[1]);
+    at(r(upperEnd)) = *tip.upper;
+    at(r(lowerEnd)) = *tip.lower;
+    for (int k = 0; k < upperEnd; ++k) draft.creases.push_back({r(k), r(k + 1)});
+    for (int k = lowerEnd; k < ringSize; ++k) draft.creases.push_back({r(k), r(k + 1)});
+    draft.corners.push_back(r(upperEnd));
+    draft.corners.push_back(r(lowerEnd));
+  }
+  RayBatch rays;
+  std::vector<int> c(static_cast<size_t>(n - 1), -1);
+  for (int i = 0; i + 1 < n; ++i) {
+    const Vec mid = 0.5 * (at(r(i + 1)) + at(r(ringSize - i - 1)));
+    c[static_cast<size_t>(i)] = draft.add(mid);
+    if (i == 0 && tip.ridge) {
+      at(c[0]) = *tip.ridge;
+      draft.creases.push_back({r(0), c[0]});
+      draft.corners.push_back(c[0]);
+    } else if (rounded) {
+      rays.add(c[static_cast<size_t>(i)], mid, outward * w.span);
+    }
+  }
+  rays.resolve(target, draft);
+  const auto cv = [&](int i) { return c[static_cast<size_t>(i)]; };
+  std::vector<std::vector<int>> faces;
+  faces.push_back({r(0), r(1), cv(0)});
+  faces.push_back({r(0), cv(0), r(ringSize - 1)});
+  for (int i = 1; i + 1 < n; ++i) {
+    faces.push_back({r(i), r(i + 1), cv(i), cv(i - 1)});
+    faces.push_back({cv(i - 1), cv(i), r(ringSize - i - 1), r(ringSize - i)});
+  }
+  faces.push_back({r(n - 1), r(n), r(n + 1), cv(n - 2)});
+  for (std::vector<int>& face : faces) {
+    if (outward < 0.0) std::reverse(face.begin(), face.end());
+    draft.faces.push_back(face);
+  }
+  if (!rounded) {
+    for (int k = 0; k < ringSize; ++k) draft.creases.push_back({r(k), r(k + 1)});
+  }
+  draft.corners.push_back(ring[0]);
+}
+
 Draft buildWing(const TemplateValues& values, const target::Target& target,
                 const std::vector<FeatureCurve>& curves, std::optional<fit::SymmetryPlane>& plane,
                 std::optional<WingPlanform>& planform) {
@@ -617,119 +807,337 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
     const double f = half ? std::sin(0.5 * kPi * t) : 0.5 * (1.0 - std::cos(kPi * t));
     return w.low + (w.high - w.low) * f;
   };
-
-  // The tips' wedge closures decide the chord fractions of every station: where the wedge's flat
-  // sides end at a tip, every section gets a vertex at that chord fraction, so that the tip's
-  // closing creases run from the trailing edge along the ring to that vertex.
-  std::vector<double> upper = cosineFractions(m), lower = cosineFractions(m);
-  std::map<int, TrailingEdgeTip> tips;  // by station: the far tip, and the near one of full wings
-  std::map<int, std::array<double, 2>> tipFractions;  // upper and lower closure ends' chord fractions
-  for (int j : half ? std::vector<int>{stations} : std::vector<int>{0, stations}) {
-    WingSection section;
-    wingRing(target, w, spanAt(j), upper, lower, &section);
-    const TrailingEdgeTip tip = rounded ? trailingEdgeTip(target, curves, w, section) : TrailingEdgeTip{};
-    tips[j] = tip;
-    if (tip.upper) tipFractions[j] = {section.fraction(*tip.upper), section.fraction(*tip.lower)};
-  }
-  if (!tipFractions.empty()) {  // one pair of fractions for all stations: the first tip's
-    insertFraction(upper, tipFractions.begin()->second[0]);
-    insertFraction(lower, tipFractions.begin()->second[1]);
-  }
-  if (upper.size() != lower.size()) {  // the two sides must stay paired for the tip caps
-    upper = lower = cosineFractions(m);
-    tipFractions.clear();
-  }
-  const int n = static_cast<int>(upper.size()) + 1;  // ring index of the leading edge
-  const int ringSize = 2 * n;
-  // Ring index of the side vertex whose chord fraction is nearest `xi`.
-  const auto nearestIndex = [](const std::vector<double>& fractions, double xi) {
-    size_t best = 0;
-    for (size_t i = 1; i < fractions.size(); ++i)
-      if (std::abs(fractions[i] - xi) < std::abs(fractions[best] - xi)) best = i;
-    return static_cast<int>(best) + 1;
-  };
+  std::map<int, double> tipSpans{{stations, spanAt(stations)}};  // the far tip, and a full wing's near one
+  if (!half) tipSpans[0] = spanAt(0);
+  const WingLayout layout = wingLayout(target, curves, w, m, rounded, tipSpans);
 
   Draft draft;
   std::vector<std::vector<int>> rings;
   WingSection rootSection, tipSection;
   for (int j = 0; j <= stations; ++j) {
     WingSection section;
-    std::vector<Vec> ring = wingRing(target, w, spanAt(j), upper, lower, &section);
+    std::vector<Vec> ring = wingRing(target, w, spanAt(j), layout.upper, layout.lower, &section);
     if (j == 0) rootSection = section;
     if (j == stations) tipSection = section;
     std::vector<int> ids;
     for (const Vec& p : ring) ids.push_back(draft.add(p));
     rings.push_back(ids);
   }
-  for (int j = 0; j < stations; ++j) {
-    for (int k = 0; k < ringSize; ++k) {
-      const int k1 = (k + 1) % ringSize;
-      draft.faces.push_back({rings[static_cast<size_t>(j)][static_cast<size_t>(k)],
-                             rings[static_cast<size_t>(j)][static_cast<size_t>(k1)],
-                             rings[static_cast<size_t>(j + 1)][static_cast<size_t>(k1)],
-                             rings[static_cast<size_t>(j + 1)][static_cast<size_t>(k)]});
-    }
-    draft.creases.push_back({rings[static_cast<size_t>(j)][0], rings[static_cast<size_t>(j + 1)][0]});
-  }
-  // Tip caps: a row of vertices along the tip's ridge between upper and lower surface. Ridge vertex
-  // i sits across ring vertices i + 1 (upper) and 2n - i - 1 (lower); at the trailing edge the cap
-  // is two triangles (a quad would fold around the thin wedge, with a corner angle of a few
-  // degrees), meeting at ridge vertex 0, which is the end of the CAD's ridge crease when it has one.
-  const auto cap = [&](int station, double outward) {
-    const std::vector<int>& ring = rings[static_cast<size_t>(station)];
-    const auto r = [&](int k) { return ring[static_cast<size_t>((k + ringSize) % ringSize)]; };
-    const auto at = [&](int vertex) -> Vec& { return draft.vertices[static_cast<size_t>(vertex)]; };
-    const TrailingEdgeTip& tip = tips[station];
-    if (tipFractions.count(station)) {  // the wedge's closing creases, along the ring
-      const int upperEnd = nearestIndex(upper, tipFractions[station][0]);
-      const int lowerEnd = ringSize - nearestIndex(lower, tipFractions[station][1]);
-      at(r(upperEnd)) = *tip.upper;
-      at(r(lowerEnd)) = *tip.lower;
-      for (int k = 0; k < upperEnd; ++k) draft.creases.push_back({r(k), r(k + 1)});
-      for (int k = lowerEnd; k < ringSize; ++k) draft.creases.push_back({r(k), r(k + 1)});
-      draft.corners.push_back(r(upperEnd));
-      draft.corners.push_back(r(lowerEnd));
-    }
-    RayBatch rays;
-    std::vector<int> c(static_cast<size_t>(n - 1), -1);
-    for (int i = 0; i + 1 < n; ++i) {
-      const Vec mid = 0.5 * (at(r(i + 1)) + at(r(ringSize - i - 1)));
-      c[static_cast<size_t>(i)] = draft.add(mid);
-      if (i == 0 && tip.ridge) {
-        at(c[0]) = *tip.ridge;
-        draft.creases.push_back({r(0), c[0]});
-        draft.corners.push_back(c[0]);
-      } else if (rounded) {
-        rays.add(c[static_cast<size_t>(i)], mid, outward * w.span);
-      }
-    }
-    rays.resolve(target, draft);
-    const auto cv = [&](int i) { return c[static_cast<size_t>(i)]; };
-    std::vector<std::vector<int>> faces;
-    faces.push_back({r(0), r(1), cv(0)});
-    faces.push_back({r(0), cv(0), r(ringSize - 1)});
-    for (int i = 1; i + 1 < n; ++i) {
-      faces.push_back({r(i), r(i + 1), cv(i), cv(i - 1)});
-      faces.push_back({cv(i - 1), cv(i), r(ringSize - i - 1), r(ringSize - i)});
-    }
-    faces.push_back({r(n - 1), r(n), r(n + 1), cv(n - 2)});
-    // The far tip continues the strips' orientation; the near one (full wings) is reversed.
-    for (std::vector<int>& face : faces) {
-      if (outward < 0.0) std::reverse(face.begin(), face.end());
-      draft.faces.push_back(face);
-    }
-    if (!rounded) {
-      for (int k = 0; k < ringSize; ++k) draft.creases.push_back({r(k), r(k + 1)});
-    }
-    draft.corners.push_back(ring[0]);
-  };
+  addWingStrips(draft, rings);
   planform = measurePlanform(w, rootSection, tipSection);
-  cap(stations, 1.0);
+  addTipCap(draft, target, w, layout, stations, rings.back(), 1.0, rounded);
   if (half) {
     draft.corners.push_back(rings.front()[0]);
   } else {
-    cap(0, -1.0);
+    addTipCap(draft, target, w, layout, 0, rings.front(), -1.0, rounded);
   }
+  return draft;
+}
+
+// ---- wing-fuselage half model -----------------------------------------------------------------
+
+// Points where a polyline (#K x 3; closed: the last point joins the first) crosses a plane.
+std::vector<Vec> planeCrossings(const target::Points& line, bool closed, const Vec& point,
+                                const Vec& normal) {
+  std::vector<Vec> crossings;
+  const Eigen::Index count = line.rows();
+  for (Eigen::Index k = 0; k + (closed ? 0 : 1) < count; ++k) {
+    const Vec a = line.row(k).transpose();
+    const Vec b = line.row((k + 1) % count).transpose();
+    const double da = (a - point).dot(normal);
+    const double db = (b - point).dot(normal);
+    if ((da <= 0.0) != (db <= 0.0)) crossings.push_back(a + da / (da - db) * (b - a));
+  }
+  return crossings;
+}
+
+// Drops vertices no face uses and renumbers the rest.
+void removeUnusedVertices(Draft& draft) {
+  std::vector<int> index(draft.vertices.size(), -1);
+  for (const std::vector<int>& face : draft.faces) {
+    for (int v : face) index[static_cast<size_t>(v)] = 0;
+  }
+  std::vector<Vec> kept;
+  for (size_t v = 0; v < index.size(); ++v) {
+    if (index[v] < 0) continue;
+    index[v] = static_cast<int>(kept.size());
+    kept.push_back(draft.vertices[v]);
+  }
+  draft.vertices = std::move(kept);
+  for (std::vector<int>& face : draft.faces) {
+    for (int& v : face) v = index[static_cast<size_t>(v)];
+  }
+  for (std::array<int, 2>& crease : draft.creases)
+    crease = {index[static_cast<size_t>(crease[0])], index[static_cast<size_t>(crease[1])]};
+  for (int& corner : draft.corners) corner = index[static_cast<size_t>(corner)];
+}
+
+// A half fuselage (the revolution generator's body grid, its axis and stations taken from the
+// body's profile in the symmetry plane) with a hole where the wing root meets it, and the half
+// wing (the wing generator's stations and tip cap) extruded from the hole's boundary, which lies
+// on the wing-body intersection curve and is creased. The hole spans chordwise - 2 axial segments
+// (stations at the root ring's chord fractions) and two circumferential segments centred on the
+// wing; its ends are the root's leading- and trailing-edge vertices.
+Draft buildWingFuselage(const TemplateValues& values, const target::Target& target,
+                        const std::vector<FeatureCurve>& curves, std::optional<fit::SymmetryPlane>& plane,
+                        std::map<std::string, std::string>& used, std::optional<WingPlanform>& planform) {
+  const int axial = values.integer("axial");
+  const int n = quarterSegments(values);
+  const int m = values.integer("chordwise");
+  const int stations = values.integer("spanwise");
+  const bool rounded = values.choice("tip") == "rounded";
+  if (n < 2) {
+    throw InvalidInputError(
+        "template parameter 'circumferential' must be at least 8 for a wing-fuselage model, got " +
+        std::to_string(4 * n));
+  }
+  plane = detectSymmetryPlane(target, curves);
+  if (!plane) {
+    throw InvalidInputError(
+        "a wing-fuselage half model needs a symmetry plane: the target has no free boundary curve lying in a "
+        "plane with the whole target on one side (leave out the symmetry-plane face)");
+  }
+  BodyAxis body;
+  body.half = true;
+  body.e2 = plane->normal.normalized();
+  // The body's profile: the free-boundary curves in the symmetry plane. Its main direction is the
+  // axis (the wing would tilt the principal axes of the whole target).
+  const double diagonal = target.report().diagonal;
+  std::vector<target::Points> profile;
+  std::vector<Vec> profilePoints;
+  for (const FeatureCurve& curve : curves) {
+    if (curve.kind != FeatureCurveKind::Boundary) continue;
+    const target::Points line = curvePolyline(target, curve);
+    const Eigen::VectorXd offsets = (line.rowwise() - plane->point.transpose()) * body.e2;
+    if (line.rows() < 2 || offsets.cwiseAbs().maxCoeff() > 1e-3 * diagonal) continue;
+    profile.push_back(line);
+    for (Eigen::Index k = 0; k < line.rows(); ++k) profilePoints.push_back(line.row(k).transpose());
+  }
+  Vec centre = Vec::Zero();
+  for (const Vec& p : profilePoints) centre += p / static_cast<double>(profilePoints.size());
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (const Vec& p : profilePoints) covariance += (p - centre) * (p - centre).transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
+  body.e1 = eigen.eigenvectors().col(2);  // largest eigenvalue last
+  body.e1 = (body.e1 - body.e1.dot(body.e2) * body.e2).normalized();
+  body.e3 = body.e1.cross(body.e2);
+  body.origin = centre - (centre - plane->point).dot(body.e2) * body.e2;
+  body.lo = std::numeric_limits<double>::infinity();
+  body.hi = -body.lo;
+  for (const Vec& p : profilePoints) {
+    const double a = (p - body.origin).dot(body.e1);
+    body.lo = std::min(body.lo, a);
+    body.hi = std::max(body.hi, a);
+  }
+  resolveEnds(values, target, curves, plane, body, used);
+  // Station centres: midway between the profile's extreme crossings (a round body's axis).
+  const auto centreAt = [&](double a) {
+    const Vec point = body.origin + a * body.e1;
+    double low = std::numeric_limits<double>::infinity(), high = -low;
+    for (const target::Points& line : profile) {
+      for (const Vec& p : planeCrossings(line, false, point, body.e1)) {
+        low = std::min(low, (p - point).dot(body.e3));
+        high = std::max(high, (p - point).dot(body.e3));
+      }
+    }
+    return low <= high ? Vec(point + 0.5 * (low + high) * body.e3) : point;
+  };
+  for (const target::Points& line : profile) {
+    for (Eigen::Index k = 0; k < line.rows(); ++k) {
+      const Vec p = line.row(k).transpose();
+      const double a = (p - body.origin).dot(body.e1);
+      body.radius = std::max(body.radius, std::abs((p - centreAt(a)).dot(body.e3)));
+    }
+  }
+
+  // The wing: its trailing edge and, through the trailing edge's inner end, the intersection curve.
+  std::optional<fit::SymmetryPlane> wingPlane;
+  WingFrame w = wingFrame(target, curves, true, wingPlane);
+  // The junction: a closed sharp curve starting at an end vertex of a (spanwise, open) trailing-
+  // edge curve, the innermost one if several (a flat tip's rim also starts at the trailing edge).
+  const auto spanOf = [&](const Vec& p) { return (p - w.origin).dot(w.span); };
+  target::Points junction;
+  Vec teRoot = Vec::Zero();
+  w.low = std::numeric_limits<double>::infinity();
+  for (const FeatureCurve& te : curves) {
+    if (te.kind != FeatureCurveKind::Sharp || te.closed) continue;
+    for (const FeatureCurve& loop : curves) {
+      if (loop.kind != FeatureCurveKind::Sharp || !loop.closed || loop.startVertex < 0 ||
+          (loop.startVertex != te.startVertex && loop.startVertex != te.endVertex))
+        continue;
+      const Vec corner = target.vertexPosition(loop.startVertex);
+      const target::Points line = curvePolyline(target, te);
+      const Eigen::VectorXd along = (line.rowwise() - w.origin.transpose()) * w.span;
+      // Spanwise and reaching outboard from the vertex.
+      if (std::abs(along.maxCoeff() - along.minCoeff()) < 0.25 * (w.extentHigh - w.extentLow) ||
+          along.maxCoeff() <= spanOf(corner) + 1e-3 * diagonal || spanOf(corner) >= w.low)
+        continue;
+      w.low = spanOf(corner);
+      teRoot = corner;
+      junction = curvePolyline(target, loop);
+    }
+  }
+  if (junction.rows() == 0) {
+    throw InvalidInputError(
+        "wing-fuselage placement: no closed sharp curve (the wing-body intersection) starts where the "
+        "trailing edge meets the body: the wing must be fused with the body, the intersection curve sharp");
+  }
+  const WingLayout layout = wingLayout(target, curves, w, m, rounded, {{stations, w.high}});
+  const int lead = layout.leadingEdge();  // ring index of the leading edge (chordwise, or one more
+                                          // for a rounded tip's wedge closure)
+  const int holeSegments = lead - 2;
+  if (lead < 3 || axial < holeSegments + 2) {
+    throw InvalidInputError(
+        "template parameters: the wing-fuselage model needs chordwise >= 3 and axial >= "
+        "chordwise (the wing root takes chordwise - 2 axial segments), got axial " +
+        std::to_string(axial) + ", chordwise " + std::to_string(lead));
+  }
+  WingSection rootSection;
+  const std::vector<Vec> root =
+      sectionRing(teRoot, junction, w.span, layout.upper, layout.lower, rootSection,
+                  [&](const Vec& base, const Vec& thickness, bool upperSide) {
+                    // The junction's extreme crossing with the plane across the chord at `base`.
+                    Vec best = base;
+                    double height = -std::numeric_limits<double>::infinity();
+                    for (const Vec& p : planeCrossings(junction, true, base, w.span.cross(thickness))) {
+                      const double h = (upperSide ? 1.0 : -1.0) * (p - base).dot(thickness);
+                      if (h > height) {
+                        height = h;
+                        best = p;
+                      }
+                    }
+                    return best;
+                  });
+
+  // Stations: the hole's columns at the root ring's chord fractions, the rest spread evenly
+  // ahead of and behind the wing.
+  const bool trailingAft = (root[0] - root[static_cast<size_t>(lead)]).dot(body.e1) > 0.0;
+  const auto axialOf = [&](int r) {  // ring points r and 2 lead - r (r = 1 .. lead - 1)
+    return (0.5 * (root[static_cast<size_t>(r)] + root[static_cast<size_t>(2 * lead - r)]) - body.origin)
+        .dot(body.e1);
+  };
+  std::vector<double> columns;  // axial coordinates of the hole's columns, increasing
+  for (int r = 1; r < lead; ++r) columns.push_back(axialOf(r));
+  if (trailingAft) std::reverse(columns.begin(), columns.end());
+  const auto [rimNose, rimTail] = bodyRims(body);
+  const double front = columns.front() - rimNose, back = rimTail - columns.back();
+  if (!(front > 0.0 && back > 0.0)) {
+    throw InvalidInputError("wing-fuselage placement: the wing root reaches beyond the body's " +
+                            std::string(front > 0.0 ? "tail" : "nose") + " rim");
+  }
+  const int free = axial - holeSegments;
+  const int i0 = std::clamp(static_cast<int>(std::lround(free * front / (front + back))), 1, free - 1);
+  const int i1 = i0 + holeSegments;
+  std::vector<Vec> centres;
+  for (int i = 0; i <= axial; ++i) {
+    double a = 0.0;
+    if (i <= i0) {
+      a = rimNose + (columns.front() - rimNose) * i / i0;
+    } else if (i <= i1) {
+      a = columns[static_cast<size_t>(i - i0)];
+    } else {
+      a = columns.back() + (rimTail - columns.back()) * (i - i1) / (axial - i1);
+    }
+    centres.push_back(centreAt(a));
+  }
+  Lattice lattice;
+  Draft draft = buildBodyGrid(target, body, n, centres, true, lattice);
+
+  // Side vertices by (station, position q around the half ring from the plane below to the plane above).
+  const int ny = std::max(1, (n + 1) / 2);
+  const int around = 2 * ny + n;
+  std::map<std::pair<int, int>, int> side;
+  std::vector<std::pair<int, int>> place(draft.vertices.size(), {-1, -1});
+  for (size_t v = 0; v < lattice.coords.size(); ++v) {
+    const auto [i, j, k] = lattice.coords[v];
+    const int q = k == 0 ? j : j == ny ? ny + k : k == n ? ny + n + (ny - j) : -1;
+    if (q < 0) continue;
+    side[{i, q}] = static_cast<int>(v);
+    place[v] = {i, q};
+  }
+  const auto at = [&](int i, int q) { return draft.vertices[static_cast<size_t>(side.at({i, q}))]; };
+  // The hole's middle row: the ring position nearest the root's centre, two positions from the plane.
+  Vec rootCentre = Vec::Zero();
+  for (const Vec& p : root) rootCentre += p / static_cast<double>(root.size());
+  const int im = (i0 + i1) / 2;
+  const Vec toRoot = rootCentre - centres[static_cast<size_t>(im)];
+  int qc = 2;
+  for (int q = 2; q <= around - 2; ++q) {
+    const auto cosine = [&](int r) {
+      return (at(im, r) - centres[static_cast<size_t>(im)]).normalized().dot(toRoot.normalized());
+    };
+    if (cosine(q) > cosine(qc)) qc = q;
+  }
+  const Vec thickness = w.span.cross(root[0] - root[static_cast<size_t>(lead)]);
+  double upwards = 0.0;
+  for (int i = i0; i <= i1; ++i) upwards += (at(i, qc + 1) - at(i, qc - 1)).dot(thickness);
+  const int upperRow = upwards > 0.0 ? qc + 1 : qc - 1;
+  const int lowerRow = 2 * qc - upperRow;
+  std::vector<int> junctionRing(static_cast<size_t>(2 * lead));
+  const auto column = [&](int r) { return trailingAft ? i1 - (r - 1) : i0 + (r - 1); };
+  junctionRing[0] = side.at({trailingAft ? i1 : i0, qc});
+  junctionRing[static_cast<size_t>(lead)] = side.at({trailingAft ? i0 : i1, qc});
+  for (int r = 1; r < lead; ++r) {
+    junctionRing[static_cast<size_t>(r)] = side.at({column(r), upperRow});
+    junctionRing[static_cast<size_t>(2 * lead - r)] = side.at({column(r), lowerRow});
+  }
+  for (size_t r = 0; r < root.size(); ++r) draft.vertices[static_cast<size_t>(junctionRing[r])] = root[r];
+  // The hole: the 2 (chordwise - 2) side quads within its columns and rows.
+  const auto inHole = [&](int v) {
+    const auto [i, q] = place[static_cast<size_t>(v)];
+    return i >= i0 && i <= i1 && q >= qc - 1 && q <= qc + 1;
+  };
+  draft.faces.erase(std::remove_if(draft.faces.begin(), draft.faces.end(),
+                                   [&](const std::vector<int>& face) {
+                                     return std::all_of(face.begin(), face.end(), inHole);
+                                   }),
+                    draft.faces.end());
+
+  // The wing from the junction ring to the tip; its first station clear of the body.
+  double clear = -std::numeric_limits<double>::infinity();
+  for (const Vec& p : root) clear = std::max(clear, (p - w.origin).dot(w.span));
+  for (int i = i0; i <= i1; ++i) {
+    for (int q = 0; q <= around; ++q) {
+      if (std::abs(q - qc) > 1) clear = std::max(clear, (at(i, q) - w.origin).dot(w.span));
+    }
+  }
+  clear += 0.02 * (w.high - w.low);
+  const double first = std::max(w.low + (w.high - w.low) / stations, clear);
+  std::vector<std::vector<int>> rings{junctionRing};
+  WingSection tipSection;
+  for (int j = 1; j <= stations; ++j) {
+    const double s = j == stations ? w.high : first + (w.high - first) * (j - 1) / (stations - 1);
+    const std::vector<Vec> tip = wingRing(target, w, s, layout.upper, layout.lower, &tipSection);
+    std::vector<int> ids;
+    for (const Vec& p : tip) ids.push_back(draft.add(p));
+    rings.push_back(ids);
+  }
+  Draft wing;
+  wing.vertices = draft.vertices;
+  addWingStrips(wing, rings);
+  addTipCap(wing, target, w, layout, stations, rings.back(), 1.0, rounded);
+  // The wing's faces must run against the fuselage's along the junction edges.
+  const int a = junctionRing[0], b = junctionRing[1];
+  const bool sameWay = std::any_of(draft.faces.begin(), draft.faces.end(), [&](const std::vector<int>& face) {
+    for (size_t c = 0; c < face.size(); ++c) {
+      if (face[c] == a && face[(c + 1) % face.size()] == b) return true;
+    }
+    return false;
+  });
+  for (std::vector<int>& face : wing.faces) {
+    if (sameWay) std::reverse(face.begin(), face.end());
+    draft.faces.push_back(face);
+  }
+  draft.vertices = wing.vertices;
+  draft.creases.insert(draft.creases.end(), wing.creases.begin(), wing.creases.end());
+  draft.corners.insert(draft.corners.end(), wing.corners.begin(), wing.corners.end());
+  for (int r = 0; r < 2 * lead; ++r) {
+    draft.creases.push_back(
+        {junctionRing[static_cast<size_t>(r)], junctionRing[static_cast<size_t>((r + 1) % (2 * lead))]});
+  }
+  draft.corners.push_back(junctionRing[0]);
+  planform = measurePlanform(w, rootSection, tipSection);
+  removeUnusedVertices(draft);
   return draft;
 }
 
@@ -832,6 +1240,9 @@ PlacedPolyhedron placeTemplate(const PolyhedronTemplate& polyhedronTemplate, con
       break;
     case Generator::Nacelle:
       draft = buildNacelle(values, target);
+      break;
+    case Generator::WingFuselage:
+      draft = buildWingFuselage(values, target, curves, plane, used, planform);
       break;
   }
   // The signed volume of a closed polyhedron does not depend on the reference point; an open half
