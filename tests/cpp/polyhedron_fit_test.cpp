@@ -3,15 +3,7 @@
 // files with FreeCAD), and the fitter's own sample-to-target distances.
 #include <gtest/gtest.h>
 
-#include <BRepBuilderAPI_MakeEdge.hxx>
-#include <BRepBuilderAPI_MakeWire.hxx>
 #include <BRepOffsetAPI_ThruSections.hxx>
-#include <GeomAPI_Interpolate.hxx>
-#include <Geom_BSplineCurve.hxx>
-#include <TColStd_HArray1OfBoolean.hxx>
-#include <TColgp_Array1OfVec.hxx>
-#include <TColgp_HArray1OfPnt.hxx>
-#include <TopoDS_Wire.hxx>
 
 #include <algorithm>
 #include <cmath>
@@ -26,6 +18,7 @@
 #include "core/polyhedron/target_analysis.h"
 #include "core/surface/limit_bsplines.h"
 #include "core/surface/limit_points.h"
+#include "wing_body_geometry.h"
 
 namespace bvmesh::polyhedron {
 namespace {
@@ -65,40 +58,11 @@ int chainOfKind(const FeatureMapping& mapping, FeatureCurveKind kind) {
   return found;
 }
 
-// NACA 0012 section (closed trailing edge) of the given chord, leading edge at (x0, y, 0): the
-// upper side from the trailing to the leading edge and the lower side back, two B-spline edges
-// meeting tangentially at the leading edge and at an angle at the trailing edge.
-TopoDS_Wire nacaSection(double chord, double x0, double y) {
-  const auto thickness = [](double x) {
-    return 0.6 * (0.2969 * std::sqrt(x) - 0.1260 * x - 0.3516 * x * x + 0.2843 * x * x * x - 0.1036 * x * x * x * x);
-  };
-  const int count = 25;
-  const auto side = [&](double sign) {
-    Handle(TColgp_HArray1OfPnt) points = new TColgp_HArray1OfPnt(1, count);
-    for (int i = 0; i < count; ++i) {
-      const double t = static_cast<double>(i) / (count - 1);
-      const double x = sign > 0 ? 0.5 * (1.0 + std::cos(M_PI * t)) : 0.5 * (1.0 - std::cos(M_PI * t));
-      points->SetValue(i + 1, gp_Pnt(x0 + chord * x, y, sign * chord * thickness(x)));
-    }
-    GeomAPI_Interpolate interpolate(points, false, 1e-9);
-    // Vertical tangent at the leading edge (the upper side ends there, the lower side starts).
-    TColgp_Array1OfVec tangents(1, count);
-    Handle(TColStd_HArray1OfBoolean) given = new TColStd_HArray1OfBoolean(1, count, false);
-    const int leadingEdge = sign > 0 ? count : 1;
-    tangents.SetValue(leadingEdge, gp_Vec(0, 0, -1));
-    given->SetValue(leadingEdge, true);
-    interpolate.Load(tangents, given);
-    interpolate.Perform();
-    return BRepBuilderAPI_MakeEdge(interpolate.Curve()).Edge();
-  };
-  return BRepBuilderAPI_MakeWire(side(1.0), side(-1.0)).Wire();
-}
-
 // A straight tapered, swept half wing from y = 0 to y = span with flat root and tip faces.
 TopoDS_Shape loftedWing(double rootChord, double tipChord, double span, double sweep) {
   BRepOffsetAPI_ThruSections loft(true, false);
-  loft.AddWire(nacaSection(rootChord, 0.0, 0.0));
-  loft.AddWire(nacaSection(tipChord, sweep, span));
+  loft.AddWire(testing::nacaSectionWire(0.0, 0.0, 0.0, rootChord));
+  loft.AddWire(testing::nacaSectionWire(sweep, span, 0.0, tipChord));
   loft.Build();
   return loft.Shape();
 }
