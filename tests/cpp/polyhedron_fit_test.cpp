@@ -3,7 +3,10 @@
 // files with FreeCAD), and the fitter's own sample-to-target distances.
 #include <gtest/gtest.h>
 
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_Transform.hxx>
 #include <BRepOffsetAPI_ThruSections.hxx>
+#include <BRepPrimAPI_MakeRevol.hxx>
 
 #include <algorithm>
 #include <cmath>
@@ -108,6 +111,52 @@ TEST(PolyhedronFit, FlatTipHalfWingOnAGeneratedWing) {
     previousLevel = r.maxDistance;
   }
   EXPECT_LT(summary.history.back().maxDistance, 2e-5);  // 1.4e-5 of the root chord at level 3
+  EXPECT_EQ(summary.history.back().failedProjections, 0);
+}
+
+TEST(PolyhedronFit, NacelleWithASharpLipTrailingEdge) {
+  // A nacelle made here: a NACA 0012 lip profile of chord 1, inclined by 5 degrees (converging
+  // towards the rear), its leading edge 1 from the x axis, revolved about that axis. Its
+  // trailing edge is a sharp circle of radius 1 - sin(5 deg) about the axis.
+  gp_Trsf incidence;
+  incidence.SetRotation(gp_Ax1(gp_Pnt(0, 0, 1), gp_Dir(0, 1, 0)), 5.0 * M_PI / 180.0);
+  const TopoDS_Shape profile = BRepBuilderAPI_Transform(
+      BRepBuilderAPI_MakeFace(testing::nacaSectionWire(0.0, 0.0, 1.0, 1.0), true).Face(), incidence).Shape();
+  const TopoDS_Shape nacelle =
+      BRepPrimAPI_MakeRevol(profile, gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0)), 2.0 * M_PI).Shape();
+  auto target = std::make_shared<const target::Target>(nacelle);
+  // As placed (before the improvement pushes the crease polygon out, so that its limit curve
+  // lies on the circle): one crease loop around the axis with its vertices on the trailing edge.
+  PlacementOptions asPlaced;
+  asPlaced.improve = false;
+  const PlacedPolyhedron raw = placeTemplate(libraryTemplate("nacelle"), *target, asPlaced);
+  ASSERT_TRUE(raw.mapping.complete()) << raw.mapping.describeUnmapped();
+  EXPECT_EQ(raw.mesh.boundaryEdges().size(), 0u);
+  ASSERT_EQ(raw.mapping.chains.size(), 1u);
+  EXPECT_GE(raw.mapping.chainMappings[0].curve, 0);
+  EXPECT_EQ(raw.mesh.creases().rows(), 8);  // circumferential segments
+  const double radius = 1.0 - std::sin(5.0 * M_PI / 180.0);
+  for (int v : raw.mapping.chains[0].vertices) {
+    const Eigen::Vector3d p = raw.mesh.vertices().row(v).transpose();
+    EXPECT_NEAR(std::hypot(p.y(), p.z()), radius, 1e-3);
+    EXPECT_NEAR(p.x(), std::cos(5.0 * M_PI / 180.0), 1e-3);
+  }
+  const PlacedPolyhedron placed = placeTemplate(libraryTemplate("nacelle"), *target);
+  ASSERT_TRUE(placed.mapping.complete()) << placed.mapping.describeUnmapped();
+
+  fit::FitOptions options;
+  options.tolerance = 1e-5;
+  options.maxLevel = 3;
+  fit::SurfaceFitter fitter(target, placed.mesh, placed.mapping.map, options);
+  const fit::FitSummary summary = runAndRecord(fitter, "nacelle_sharp_lip");
+  double previousLevel = summary.history.front().maxDistance;
+  for (size_t i = 1; i < summary.history.size(); ++i) {
+    const fit::PassRecord& r = summary.history[i];
+    if (i + 1 < summary.history.size() && summary.history[i + 1].level == r.level) continue;
+    EXPECT_LT(r.maxDistance, 0.5 * previousLevel) << "level " << r.level;  // each level's best
+    previousLevel = r.maxDistance;
+  }
+  EXPECT_EQ(summary.reason, fit::StopReason::Converged);  // 3.7e-6 at level 3
   EXPECT_EQ(summary.history.back().failedProjections, 0);
 }
 

@@ -1143,7 +1143,30 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
 
 // ---- nacelle ring ---------------------------------------------------------------------------
 
-Draft buildNacelle(const TemplateValues& values, const target::Target& target) {
+// A nacelle lip's trailing edge: the closed sharp curve crossing every meridian half-plane once
+// (as a polyline), or empty when the target has none (a rounded lip, a torus).
+target::Points lipTrailingEdge(const target::Target& target, const std::vector<FeatureCurve>& curves,
+                               const Vec& centre, const Vec& axis, const Vec& u, const Vec& v,
+                               int circumferential) {
+  for (const FeatureCurve& curve : curves) {
+    if (curve.kind != FeatureCurveKind::Sharp || !curve.closed) continue;
+    const target::Points line = curvePolyline(target, curve);
+    bool aroundAxis = true;
+    for (int k = 0; k < circumferential && aroundAxis; ++k) {
+      const double phi = 2.0 * kPi * k / circumferential;
+      const Vec radial = std::cos(phi) * u + std::sin(phi) * v;
+      int crossings = 0;
+      for (const Vec& c : planeCrossings(line, true, centre, axis.cross(radial)))
+        crossings += (c - centre).dot(radial) > 0.0 ? 1 : 0;
+      aroundAxis = crossings == 1;
+    }
+    if (aroundAxis) return line;
+  }
+  return target::Points(0, 3);
+}
+
+Draft buildNacelle(const TemplateValues& values, const target::Target& target,
+                   const std::vector<FeatureCurve>& curves) {
   const PrincipalFrame frame = principalFrame(target);
   const int around = values.integer("section");
   const int circumferential = values.integer("circumferential");
@@ -1152,9 +1175,9 @@ Draft buildNacelle(const TemplateValues& values, const target::Target& target) {
   int axisIndex = 0;
   double bestGap = -1.0;
   for (int a = 0; a < 3; ++a) {
-    const double v = frame.variances[a];
-    const double gap =
-        std::min(std::abs(v - frame.variances[(a + 1) % 3]), std::abs(v - frame.variances[(a + 2) % 3]));
+    const double variance = frame.variances[a];
+    const double gap = std::min(std::abs(variance - frame.variances[(a + 1) % 3]),
+                                std::abs(variance - frame.variances[(a + 2) % 3]));
     if (gap > bestGap) {
       bestGap = gap;
       axisIndex = a;
@@ -1164,52 +1187,75 @@ Draft buildNacelle(const TemplateValues& values, const target::Target& target) {
   const Vec u = frame.axes.col((axisIndex + 1) % 3);
   const Vec v = axis.cross(u);
   const Vec centre = frameMid(frame);
+  // A lip with a sharp trailing edge gets airfoil rings like a wing's sections (trailing edge,
+  // cosine-spaced chord fractions on both sides), the trailing edge a closed crease loop; a
+  // rounded lip gets rings cast from the profile's centre.
+  const target::Points trailingEdge = lipTrailingEdge(target, curves, centre, axis, u, v, circumferential);
+  const std::vector<double> fractions = cosineFractions(std::max(2, around / 2));
   Draft draft;
   std::vector<std::vector<int>> rings;
   for (int k = 0; k < circumferential; ++k) {
     const double phi = 2.0 * kPi * k / circumferential;
     const Vec radial = std::cos(phi) * u + std::sin(phi) * v;
-    const PlaneSection section(target, centre, axis.cross(radial));
-    // The profile on this side of the axis: its centre, then rays in the meridian plane.
-    Vec sum = Vec::Zero();
-    int count = 0;
+    const Vec meridianNormal = axis.cross(radial);
+    const PlaneSection section(target, centre, meridianNormal);
+    // The profile on this side of the axis.
+    std::vector<Vec> profile;
     const target::Points& p = section.points();
     for (Eigen::Index r = 0; r < p.rows(); ++r) {
-      if ((p.row(r).transpose() - centre).dot(radial) > 0.0) {
-        sum += p.row(r).transpose();
-        ++count;
-      }
+      if ((p.row(r).transpose() - centre).dot(radial) > 0.0) profile.push_back(p.row(r).transpose());
     }
-    if (count == 0)
+    if (profile.empty())
       throw InvalidInputError(
           "nacelle placement: the target does not surround its axis (no section at angle " +
           std::to_string(phi * 180.0 / kPi) + " deg)");
-    const Vec profileCentre = sum / count;
-    std::vector<int> ring;
-    for (int i = 0; i < around; ++i) {
-      const double theta = 2.0 * kPi * i / around;
-      const Vec direction = std::cos(theta) * axis + std::sin(theta) * radial;
-      double far = 0.0;
-      bool found = false;
-      for (double hit : section.lineHits(profileCentre, direction)) {
-        const Vec point = profileCentre + hit * direction;
-        if (hit > 0.0 && (point - centre).dot(radial) > 0.0) {
-          far = found ? std::min(far, hit) : hit;
-          found = true;
-        }
+    // Distances along a line in the meridian plane to the profile on this side of the axis.
+    const auto hitsOnThisSide = [&](const Vec& origin, const Vec& direction) {
+      std::vector<double> hits;
+      for (double hit : section.lineHits(origin, direction))
+        if ((origin + hit * direction - centre).dot(radial) > 0.0) hits.push_back(hit);
+      return hits;
+    };
+    std::vector<Vec> positions;
+    if (trailingEdge.rows() > 0) {
+      Vec te = Vec::Zero();
+      for (const Vec& c : planeCrossings(trailingEdge, true, centre, meridianNormal))
+        if ((c - centre).dot(radial) > 0.0) te = c;
+      target::Points outline(static_cast<Eigen::Index>(profile.size()), 3);
+      for (size_t r = 0; r < profile.size(); ++r) outline.row(static_cast<Eigen::Index>(r)) = profile[r].transpose();
+      WingSection lip;
+      positions = sectionRing(te, outline, meridianNormal, fractions, fractions, lip,
+                              [&](const Vec& base, const Vec& thickness, bool upperSide) {
+                                const std::vector<double> hits = hitsOnThisSide(base, thickness);
+                                if (hits.empty()) return base;
+                                const auto [lo, hi] = std::minmax_element(hits.begin(), hits.end());
+                                return Vec(base + (upperSide ? *hi : *lo) * thickness);
+                              });
+    } else {
+      Vec profileCentre = Vec::Zero();
+      for (const Vec& q : profile) profileCentre += q;
+      profileCentre /= static_cast<double>(profile.size());
+      for (int i = 0; i < around; ++i) {
+        const double theta = 2.0 * kPi * i / around;
+        const Vec direction = std::cos(theta) * axis + std::sin(theta) * radial;
+        double nearest = 0.0;
+        for (double hit : hitsOnThisSide(profileCentre, direction))
+          if (hit > 0.0 && (nearest == 0.0 || hit < nearest)) nearest = hit;
+        positions.push_back(profileCentre + nearest * direction);
       }
-      ring.push_back(draft.add(profileCentre + far * direction));
     }
+    std::vector<int> ring;
+    for (const Vec& position : positions) ring.push_back(draft.add(position));
     rings.push_back(ring);
   }
   for (int k = 0; k < circumferential; ++k) {
     const std::vector<int>& a = rings[static_cast<size_t>(k)];
     const std::vector<int>& b = rings[static_cast<size_t>((k + 1) % circumferential)];
-    for (int i = 0; i < around; ++i) {
-      const int i1 = (i + 1) % around;
-      draft.faces.push_back({a[static_cast<size_t>(i)], a[static_cast<size_t>(i1)],
-                             b[static_cast<size_t>(i1)], b[static_cast<size_t>(i)]});
+    for (size_t i = 0; i < a.size(); ++i) {
+      const size_t i1 = (i + 1) % a.size();
+      draft.faces.push_back({a[i], a[i1], b[i1], b[i]});
     }
+    if (trailingEdge.rows() > 0) draft.creases.push_back({a[0], b[0]});
   }
   return draft;
 }
@@ -1239,7 +1285,7 @@ PlacedPolyhedron placeTemplate(const PolyhedronTemplate& polyhedronTemplate, con
       draft = buildWing(values, target, curves, plane, planform);
       break;
     case Generator::Nacelle:
-      draft = buildNacelle(values, target);
+      draft = buildNacelle(values, target, curves);
       break;
     case Generator::WingFuselage:
       draft = buildWingFuselage(values, target, curves, plane, used, planform);
