@@ -50,6 +50,17 @@ fit::FitSummary runAndRecord(fit::SurfaceFitter& fitter, const std::string& name
   return summary;
 }
 
+// The max distance at the end of each level is below half of the previous level's.
+void expectEveryLevelHalvesTheDistance(const fit::FitSummary& summary) {
+  double previousLevel = summary.history.front().maxDistance;
+  for (size_t i = 1; i < summary.history.size(); ++i) {
+    const fit::PassRecord& r = summary.history[i];
+    if (i + 1 < summary.history.size() && summary.history[i + 1].level == r.level) continue;
+    EXPECT_LT(r.maxDistance, 0.5 * previousLevel) << "level " << r.level;
+    previousLevel = r.maxDistance;
+  }
+}
+
 int chainOfKind(const FeatureMapping& mapping, FeatureCurveKind kind) {
   int found = -1;
   for (size_t c = 0; c < mapping.chains.size(); ++c) {
@@ -103,13 +114,7 @@ TEST(PolyhedronFit, FlatTipHalfWingOnAGeneratedWing) {
   options.symmetryPlane = placed.symmetryPlane;
   fit::SurfaceFitter fitter(target, placed.mesh, placed.mapping.map, options);
   const fit::FitSummary summary = runAndRecord(fitter, "generated_wing_flat_tip");
-  double previousLevel = summary.history.front().maxDistance;
-  for (size_t i = 1; i < summary.history.size(); ++i) {
-    const fit::PassRecord& r = summary.history[i];
-    if (i + 1 < summary.history.size() && summary.history[i + 1].level == r.level) continue;
-    EXPECT_LT(r.maxDistance, 0.5 * previousLevel) << "level " << r.level;  // each level's best
-    previousLevel = r.maxDistance;
-  }
+  expectEveryLevelHalvesTheDistance(summary);
   EXPECT_LT(summary.history.back().maxDistance, 2e-5);  // 1.4e-5 of the root chord at level 3
   EXPECT_EQ(summary.history.back().failedProjections, 0);
 }
@@ -149,13 +154,7 @@ TEST(PolyhedronFit, NacelleWithASharpLipTrailingEdge) {
   options.maxLevel = 3;
   fit::SurfaceFitter fitter(target, placed.mesh, placed.mapping.map, options);
   const fit::FitSummary summary = runAndRecord(fitter, "nacelle_sharp_lip");
-  double previousLevel = summary.history.front().maxDistance;
-  for (size_t i = 1; i < summary.history.size(); ++i) {
-    const fit::PassRecord& r = summary.history[i];
-    if (i + 1 < summary.history.size() && summary.history[i + 1].level == r.level) continue;
-    EXPECT_LT(r.maxDistance, 0.5 * previousLevel) << "level " << r.level;  // each level's best
-    previousLevel = r.maxDistance;
-  }
+  expectEveryLevelHalvesTheDistance(summary);
   EXPECT_EQ(summary.reason, fit::StopReason::Converged);  // 3.7e-6 at level 3
   EXPECT_EQ(summary.history.back().failedProjections, 0);
 }
