@@ -89,9 +89,10 @@ TEST(PolyhedronFit, FlatTipHalfWingOnAGeneratedWing) {
   EXPECT_NEAR(std::abs(half.plane.normal.y()), 1.0, 1e-9);
   auto target = std::make_shared<const target::Target>(half.shape);
   PlacementOptions placement;
-  placement.parameters = {{"tip", "flat"}, {"chordwise", "8"}, {"spanwise", "4"}};
+  placement.parameters = {{"chordwise", "8"}, {"spanwise", "4"}};
   const PlacedPolyhedron placed = placeTemplate(libraryTemplate("half_wing"), *target, placement);
   ASSERT_TRUE(placed.mapping.complete()) << placed.mapping.describeUnmapped();
+  EXPECT_EQ(placed.parameters.at("tip"), "flat");  // `auto`: the tip face's rim is sharp
   ASSERT_TRUE(placed.planform.has_value());
   EXPECT_NEAR(placed.planform->rootChord, 1.0, 1e-3);
   EXPECT_NEAR(placed.planform->tipChord, 0.5, 1e-3);
@@ -167,6 +168,7 @@ TEST(PolyhedronFit, HalfWingPlacedAndFittedOnOneraM6) {
   const PlacedPolyhedron placed = placeTemplate(libraryTemplate("half_wing"), *target);
   writeControlMesh(placed.mesh, kOutput + "/m6_half_wing_placed.cmesh");
   ASSERT_TRUE(placed.mapping.complete()) << placed.mapping.describeUnmapped();
+  EXPECT_EQ(placed.parameters.at("tip"), "rounded");  // `auto`: no sharp rim around the tip
   ASSERT_TRUE(placed.symmetryPlane.has_value());
   EXPECT_NEAR(std::abs(placed.symmetryPlane->normal.normalized().y()), 1.0, 1e-9);
   EXPECT_NEAR(placed.symmetryPlane->point.y(), 0.0, 1e-6);

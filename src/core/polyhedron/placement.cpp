@@ -677,6 +677,30 @@ WingPlanform measurePlanform(const WingFrame& w, const WingSection& root, const 
 }
 
 // The chord fractions of a wing's rings and its tips' wedge closures.
+// Resolves the `tip` choice: `auto` is flat when a sharp curve other than the trailing edge, and
+// longer than 5 % of the span, lies within 1 % of the span of the tip's end (a flat tip's rim),
+// else rounded. Records the choice.
+bool roundedTip(const TemplateValues& values, const target::Target& target, const std::vector<FeatureCurve>& curves,
+                const WingFrame& w, double tipSpan, std::map<std::string, std::string>& used) {
+  std::string tip = values.choice("tip");
+  if (tip == "auto") {
+    const double extent = w.extentHigh - w.extentLow;
+    bool rim = false;
+    for (size_t c = 0; c < curves.size() && !rim; ++c) {
+      if (curves[c].kind != FeatureCurveKind::Sharp || curves[c].length < 0.05 * extent) continue;
+      if (std::find(w.trailingEdgeCurves.begin(), w.trailingEdgeCurves.end(), static_cast<int>(c)) !=
+          w.trailingEdgeCurves.end())
+        continue;
+      const target::Points line = curvePolyline(target, curves[c]);
+      const Eigen::VectorXd s = (line.rowwise() - w.origin.transpose()) * w.span;
+      rim = (s.array() - tipSpan).abs().maxCoeff() <= 0.01 * extent;
+    }
+    tip = rim ? "flat" : "rounded";
+  }
+  used["tip"] = tip;
+  return tip == "rounded";
+}
+
 struct WingLayout {
   std::vector<double> upper, lower;                   // chord fractions of the side vertices
   std::map<int, TrailingEdgeTip> tips;                // by station
@@ -794,12 +818,12 @@ void addTipCap(Draft& draft, const target::Target& target, const WingFrame& w, c
 
 Draft buildWing(const TemplateValues& values, const target::Target& target,
                 const std::vector<FeatureCurve>& curves, std::optional<fit::SymmetryPlane>& plane,
-                std::optional<WingPlanform>& planform) {
+                std::map<std::string, std::string>& used, std::optional<WingPlanform>& planform) {
   const int m = values.integer("chordwise");
   const int stations = values.integer("spanwise");
   const bool half = values.choice("span") == "half";
-  const bool rounded = values.choice("tip") == "rounded";
   const WingFrame w = wingFrame(target, curves, half, plane);
+  const bool rounded = roundedTip(values, target, curves, w, w.high, used);
   // Stations dense towards the tips, whose caps and wedge closures are small features, and coarse
   // where a wing's sections change slowly: half-cosine spacing, a half wing's root being no tip.
   const auto spanAt = [&](int j) {
@@ -885,7 +909,6 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
   const int n = quarterSegments(values);
   const int m = values.integer("chordwise");
   const int stations = values.integer("spanwise");
-  const bool rounded = values.choice("tip") == "rounded";
   if (n < 2) {
     throw InvalidInputError(
         "template parameter 'circumferential' must be at least 8 for a wing-fuselage model, got " +
@@ -982,6 +1005,7 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
         "wing-fuselage placement: no closed sharp curve (the wing-body intersection) starts where the "
         "trailing edge meets the body: the wing must be fused with the body, the intersection curve sharp");
   }
+  const bool rounded = roundedTip(values, target, curves, w, w.high, used);
   const WingLayout layout = wingLayout(target, curves, w, m, rounded, {{stations, w.high}});
   const int lead = layout.leadingEdge();  // ring index of the leading edge (chordwise, or one more
                                           // for a rounded tip's wedge closure)
@@ -1282,7 +1306,7 @@ PlacedPolyhedron placeTemplate(const PolyhedronTemplate& polyhedronTemplate, con
       draft = buildRevolution(values, target, curves, plane, used);
       break;
     case Generator::Wing:
-      draft = buildWing(values, target, curves, plane, planform);
+      draft = buildWing(values, target, curves, plane, used, planform);
       break;
     case Generator::Nacelle:
       draft = buildNacelle(values, target, curves);
