@@ -4,7 +4,7 @@
 // face their foot lies on and the cosine between the limit normal and the target normal there.
 //
 //   build/bench/bench_m6_template_fit [chordwise] [spanwise] [max_level] [stagnation] [along] [reject]
-//   (defaults 6 4 5 0.9 0 1; stagnation: FitOptions::stagnationRatio, along 1: projectAlongNormals,
+//   (defaults: the template's resolution (also for "-"), 5 0.9 0 1; stagnation: FitOptions::stagnationRatio, along 1: projectAlongNormals,
 //   reject 0: FitOptions::rejectOpposingFeet off, the plain closest points)
 #include <algorithm>
 #include <chrono>
@@ -22,8 +22,9 @@
 
 int main(int argc, char** argv) {
   using namespace bvmesh;
-  const std::string chordwise = argc > 1 ? argv[1] : "6";
-  const std::string spanwise = argc > 2 ? argv[2] : "4";
+  const auto templateParameter = [&](int i) { return argc > i && std::string(argv[i]) != "-" ? argv[i] : ""; };
+  const std::string chordwise = templateParameter(1);
+  const std::string spanwise = templateParameter(2);
   const int maxLevel = argc > 3 ? std::atoi(argv[3]) : 5;
   const double stagnation = argc > 4 ? std::atof(argv[4]) : 0.9;
   const bool along = argc > 5 && std::atoi(argv[5]) != 0;
@@ -33,7 +34,8 @@ int main(int argc, char** argv) {
       cad::readShapeFile(std::string(BVMESH_DATA_DIR) + "/AileM6_with_sharp_TE.stp"));
   auto target = std::make_shared<const target::Target>(half.shape);
   polyhedron::PlacementOptions placement;
-  placement.parameters = {{"chordwise", chordwise}, {"spanwise", spanwise}};
+  if (!chordwise.empty()) placement.parameters["chordwise"] = chordwise;
+  if (!spanwise.empty()) placement.parameters["spanwise"] = spanwise;
   const polyhedron::PlacedPolyhedron placed =
       polyhedron::placeTemplate(polyhedron::readTemplate(std::string(BVMESH_DATA_DIR) +
                                                          "/../../resources/templates/half_wing.template"),

@@ -123,10 +123,12 @@ def faces_target(shape_or_brep, faces, **target_options):
     return core.Target.from_brep(core.select_faces(brep, [int(f) for f in faces]), **target_options)
 
 
-def plot_polyhedron(mesh, path, target=None, title=None, views=((25, -60), (90, -90), (0, -90)), min_aspect=0.2):
+def plot_polyhedron(mesh, path, target=None, title=None, views=((25, -60), (90, -90), (0, -90)), min_aspect=0.2,
+                    region=None):
     """Writes a PNG of the polyhedron (edges blue, creases red, corners black) over the target's
     tessellation (grey), offscreen with matplotlib, from the given (elevation, azimuth) views.
-    Directions thinner than min_aspect of the largest extent are drawn stretched."""
+    Directions thinner than min_aspect of the largest extent are drawn stretched. region: an
+    optional box (low corner, high corner) to close in on; only what touches it is drawn."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -139,6 +141,16 @@ def plot_polyhedron(mesh, path, target=None, title=None, views=((25, -60), (90, 
     if target is not None:
         nodes = np.asarray(target.mesh_nodes)
         low, high = np.minimum(low, nodes.min(axis=0)), np.maximum(high, nodes.max(axis=0))
+    if region is not None:
+        low, high = (np.asarray(corner, dtype=float) for corner in region)
+
+    def touching(points, elements):
+        """The elements (index rows into points) with a point inside the shown box."""
+        elements = np.asarray(elements, dtype=int)
+        if region is None or elements.size == 0:
+            return elements
+        inside = np.all((points >= low) & (points <= high), axis=1)
+        return elements[inside[elements].any(axis=1)]
     # Thin directions (a wing's thickness) are stretched to at least `min_aspect` of the largest
     # extent, so that sections stay visible.
     extent = np.maximum(high - low, min_aspect * (high - low).max())
@@ -147,14 +159,16 @@ def plot_polyhedron(mesh, path, target=None, title=None, views=((25, -60), (90, 
     for k, (elevation, azimuth) in enumerate(views):
         axes = figure.add_subplot(1, len(views), k + 1, projection="3d")
         if target is not None:
-            triangles = nodes[np.asarray(target.mesh_triangles)]
+            triangles = nodes[touching(nodes, target.mesh_triangles)]
             axes.add_collection3d(Poly3DCollection(triangles, facecolor=(0.8, 0.8, 0.8, 0.25), edgecolor="none"))
-        axes.add_collection3d(Line3DCollection(vertices[np.asarray(mesh.edges)], colors="tab:blue", linewidths=0.7))
-        creases = np.asarray(mesh.creases)
+        axes.add_collection3d(Line3DCollection(vertices[touching(vertices, mesh.edges)], colors="tab:blue",
+                                               linewidths=0.7))
+        creases = touching(vertices, mesh.creases)
         if len(creases):
             axes.add_collection3d(Line3DCollection(vertices[creases], colors="red", linewidths=2.0))
-        corners = np.asarray(mesh.corners)
-        axes.scatter(*vertices.T, s=3, c="tab:blue")
+        shown = touching(vertices, np.arange(len(vertices)).reshape(-1, 1))[:, 0]
+        corners = np.intersect1d(np.asarray(mesh.corners, dtype=int), shown)
+        axes.scatter(*vertices[shown].T, s=3, c="tab:blue")
         if len(corners):
             axes.scatter(*vertices[corners].T, s=25, c="black")
         for set_limits, c, e in zip((axes.set_xlim, axes.set_ylim, axes.set_zlim), centre, extent):

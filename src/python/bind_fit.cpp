@@ -133,16 +133,6 @@ py::dict recordToDict(const fit::PassRecord& record) {
   return dict;
 }
 
-const char* reasonName(fit::StopReason reason) {
-  switch (reason) {
-    case fit::StopReason::Converged: return "converged";
-    case fit::StopReason::Stagnated: return "stagnated";
-    case fit::StopReason::MaxLevel: return "max_level";
-    case fit::StopReason::Cancelled: return "cancelled";
-  }
-  return "max_level";
-}
-
 py::list historyToList(const std::vector<fit::PassRecord>& history) {
   py::list list;
   for (const fit::PassRecord& record : history) list.append(recordToDict(record));
@@ -271,7 +261,7 @@ void bindFit(py::module_& module) {
              };
              const fit::FitSummary summary = released([&] { return f.run(report, &stop); });
              py::dict result;
-             result["reason"] = reasonName(summary.reason);
+             result["reason"] = fit::stopReasonName(summary.reason);
              result["tolerance"] = summary.tolerance;
              result["history"] = historyToList(summary.history);
              return result;

@@ -131,6 +131,7 @@ TEST(LeastSquaresCgls, ErrorScalesWithTheCorrectionNotTheCoordinates) {
   const RowMatrixX3d start = truth + 1e-3 * randomPoints(200, random);
   LeastSquaresOptions options;
   options.method = LeastSquaresMethod::Cgls;
+  options.cglsTolerance = 1e-8;
   const ControlPointSolver solver(a, Eigen::VectorXd(), {}, options);
   const RowMatrixX3d result = solver.solve(a * truth, start);
   EXPECT_LT((result - truth).cwiseAbs().maxCoeff(), 1e-9);

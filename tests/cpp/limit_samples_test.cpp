@@ -5,6 +5,8 @@
 #include <Eigen/Geometry>
 
 #include <array>
+#include <string>
+#include <vector>
 
 #include "core/common/errors.h"
 #include "core/subdiv/limit_evaluator.h"
@@ -301,6 +303,29 @@ TEST(LimitSamples, EvaluatorDerivativesAreTheSlopeOfPositions) {
                InvalidInputError);
   EXPECT_THROW(evaluator.evaluate(mesh.vertices(), {{0, 1.5, 0.5}}), InvalidInputError);
   EXPECT_THROW(evaluator.evaluate(RowMatrixX3d::Zero(2, 3), {{0, 0.5, 0.5}}), InvalidInputError);
+}
+
+TEST(LimitSamples, LargeEvaluatorBatchesAgreeWithSmallOnes) {
+  // Batches of 20000 locations or more are split over threads: the same values as one by one,
+  // and a bad location anywhere in the batch is still reported by its index.
+  const ControlMesh mesh = withPositions(subdivide(makeMesh(testing::prismData(5))).mesh, 0.05, 31);
+  const LimitEvaluator evaluator(mesh);
+  std::vector<SurfaceLocation> locations;
+  for (int q = 0; q < 30000; ++q)
+    locations.push_back({q % mesh.numFaces(), (q % 101) / 100.0, (q % 37) / 36.0});
+  const LimitEvaluation batch = evaluator.evaluate(mesh.vertices(), locations);
+  for (int q : {0, 14999, 15000, 29999}) {
+    const LimitEvaluation one = evaluator.evaluate(mesh.vertices(), {locations[static_cast<size_t>(q)]});
+    EXPECT_EQ(batch.positions.row(q), one.positions.row(0));
+    EXPECT_EQ(batch.normals.row(q), one.normals.row(0));
+  }
+  locations[25000].u = 2.0;
+  try {
+    evaluator.evaluate(mesh.vertices(), locations);
+    FAIL() << "a location outside the face accepted";
+  } catch (const InvalidInputError& error) {
+    EXPECT_NE(std::string(error.what()).find("location 25000"), std::string::npos) << error.what();
+  }
 }
 
 TEST(LimitSamples, OperatorsAreReusableAndStable) {

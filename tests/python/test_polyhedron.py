@@ -68,11 +68,14 @@ class PlacementTest(unittest.TestCase):
         self.assertAlmostEqual(abs(normal[1]), 1.0, places=9)
         np.testing.assert_allclose(polyhedra.symmetry_plane(self.wing)[1], normal)
         crease = [c for c in placed["chains"] if c["kind"] == "crease"]
-        self.assertEqual(len(crease), 1)
-        # The trailing edge: the longest sharp curve of the wing, 1242.6 mm.
-        curve = placed["curves"][crease[0]["curve"]]
-        self.assertEqual(curve["kind"], "sharp")
-        self.assertAlmostEqual(curve["length"], 1242.611, delta=0.01)
+        lengths = sorted(placed["curves"][c["curve"]]["length"] for c in crease)
+        self.assertTrue(all(placed["curves"][c["curve"]]["kind"] == "sharp" for c in crease))
+        # The trailing edge, the longest sharp curve of the wing (1242.6 mm), and the three short
+        # curves closing its wedge at the tip (Edge1, Edge3, Edge5: 2.60, 2.51, 2.60 mm).
+        self.assertEqual(len(crease), 4)
+        self.assertAlmostEqual(lengths[-1], 1242.611, delta=0.01)
+        np.testing.assert_allclose(lengths[:3], [2.513, 2.602, 2.602], atol=0.01)
+        self.assertEqual(len(placed["corners"]), 5)
         # Planform against the CAD vertices: root trailing edge (810.49, 0, 0), root leading edge
         # (0, 0, 0), tip trailing edge (1146.57, 1196.3, 0), tip leading edge (690.66, 1196.3, 0).
         planform = placed["planform"]
@@ -86,6 +89,10 @@ class PlacementTest(unittest.TestCase):
         np.testing.assert_allclose(np.asarray(mesh.vertices)[root["vertices"], 1], 0.0, atol=1e-9)
         polyhedra.plot_polyhedron(mesh, os.path.join(output_dir(), "polyhedron_m6_half_wing.png"), self.wing,
                                   "half_wing on the ONERA M6 (crease red, corners black)")
+        # Close-up of the tip trailing edge: the wedge closed by three creases ending in corners.
+        polyhedra.plot_polyhedron(mesh, os.path.join(output_dir(), "polyhedron_m6_half_wing_tip.png"), self.wing,
+                                  "half_wing at the M6 tip trailing edge", views=((20, -130), (90, -90), (0, -90), (0, 0)),
+                                  region=((1141.0, 1194.0, -1.5), (1148.0, 1198.0, 1.5)))
 
     def test_placed_half_wing_fits_from_python(self):
         placed = polyhedra.place("half_wing", self.wing)

@@ -44,7 +44,9 @@ struct ApproximationConstraints {
 struct LeastSquaresOptions {
   LeastSquaresMethod method = LeastSquaresMethod::Cgls;
   // CGLS stops when the normal-equation residual of the correction has fallen by this factor.
-  double cglsTolerance = 1e-8;
+  // A fitting pass need not solve exactly: the next pass corrects it again. On the M6, 1e-4 reaches
+  // the same accuracy as 1e-8 in half the time; the sphere study's orders are unchanged.
+  double cglsTolerance = 1e-4;
   int cglsMaxIterations = 2000;
 };
 

@@ -621,6 +621,16 @@ const PassRecord& SurfaceFitter::record(bool withCheck) {
   return s.history.back();
 }
 
+const char* stopReasonName(StopReason reason) {
+  switch (reason) {
+    case StopReason::Converged: return "converged";
+    case StopReason::Stagnated: return "stagnated";
+    case StopReason::MaxLevel: return "max_level";
+    case StopReason::Cancelled: return "cancelled";
+  }
+  return "max_level";
+}
+
 FitSummary SurfaceFitter::run(const ProgressCallback& progress, const std::atomic<bool>* cancel) {
   State& s = *state_;
   FitSummary summary;

@@ -91,6 +91,9 @@ struct PassRecord {
 
 enum class StopReason { Converged, Stagnated, MaxLevel, Cancelled };
 
+// "converged", "stagnated", "max_level" or "cancelled".
+const char* stopReasonName(StopReason reason);
+
 struct FitSummary {
   StopReason reason = StopReason::MaxLevel;
   double tolerance = 0.0;  // the absolute tolerance used

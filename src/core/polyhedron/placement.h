@@ -1,7 +1,8 @@
 // Automatic placement of a template on a target: the generator's topology is built with the
 // template's parameters and laid onto the target (principal axes and extents for bodies; span,
-// trailing-edge curve, sections and chords for wings; the symmetry plane of a half model from a
-// planar free boundary), then its creases, boundaries and corners are mapped onto the target's
+// trailing-edge curve, sections and chords for wings; the body's profile, the trailing edge and
+// the wing-body intersection curve for a wing-fuselage model; the symmetry plane of a half model
+// from a planar free boundary), then its creases, boundaries and corners are mapped onto the target's
 // feature curves and vertices, and the polyhedron is improved (improve.h).
 #pragma once
 
@@ -49,7 +50,7 @@ struct PlacedPolyhedron {
   std::vector<FeatureCurve> curves;                 // the target's feature curves the mapping refers to
   std::optional<fit::SymmetryPlane> symmetryPlane;  // for FitOptions::symmetryPlane
   std::map<std::string, std::string> parameters;    // the values used ("auto" resolved)
-  std::optional<WingPlanform> planform;             // wing templates only
+  std::optional<WingPlanform> planform;             // wing and wing-fuselage templates only
 };
 
 // Throws InvalidInputError when the target does not suit the template (e.g. a half wing on a

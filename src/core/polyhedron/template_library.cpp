@@ -16,7 +16,7 @@ constexpr const char* kMagic = "bvmesh-template";
 
 const std::pair<const char*, Generator> kGenerators[] = {
     {"box", Generator::Box},   {"sphere", Generator::Sphere},   {"revolution", Generator::Revolution},
-    {"wing", Generator::Wing}, {"nacelle", Generator::Nacelle},
+    {"wing", Generator::Wing}, {"nacelle", Generator::Nacelle}, {"wing_fuselage", Generator::WingFuselage},
 };
 
 bool parseInteger(const std::string& text, int& value) {
@@ -113,7 +113,7 @@ PolyhedronTemplate parseTemplate(std::istream& in, const std::string& name) {
         }
       }
       if (!known)
-        fail(number, "unknown generator '" + tokens[1] + "' (box, sphere, revolution, wing, nacelle)");
+        fail(number, "unknown generator '" + tokens[1] + "' (box, sphere, revolution, wing, nacelle, wing_fuselage)");
       generatorSeen = true;
     } else if (keyword == "relaxation" || keyword == "pushout") {
       int passes = 0;

@@ -1,6 +1,6 @@
 // Templates of initial polyhedra: small human-editable text files (resources/templates/*.template,
 // format in docs/templates.md) that name a generator (the topology family: box, sphere,
-// revolution body, wing, nacelle ring), set its parameters' defaults and limits, and describe
+// revolution body, wing, nacelle ring, wing-fuselage half model), set its parameters' defaults and limits, and describe
 // the template. placeTemplate (placement.h) builds the polyhedron on a target.
 #pragma once
 
@@ -11,7 +11,7 @@
 
 namespace bvmesh::polyhedron {
 
-enum class Generator { Box, Sphere, Revolution, Wing, Nacelle };
+enum class Generator { Box, Sphere, Revolution, Wing, Nacelle, WingFuselage };
 
 struct TemplateParameter {
   std::string name;

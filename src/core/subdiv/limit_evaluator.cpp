@@ -8,7 +8,10 @@
 #include <opensubdiv/far/stencilTable.h>
 #include <opensubdiv/far/stencilTableFactory.h>
 
+#include <algorithm>
+#include <atomic>
 #include <string>
+#include <thread>
 
 #include "core/common/errors.h"
 #include "core/subdiv/osd_refiner.h"
@@ -91,44 +94,61 @@ LimitEvaluation LimitEvaluator::evaluate(const RowMatrixX3d& controlPoints,
                             " x 3 control points, got " + std::to_string(controlPoints.rows()) +
                             " x 3");
   }
-  const RowMatrixX3d points = impl_->patchPoints * controlPoints;
   const auto count = static_cast<Eigen::Index>(locations.size());
-  LimitEvaluation result{RowMatrixX3d(count, 3), RowMatrixX3d(count, 3), RowMatrixX3d(count, 3),
-                         RowMatrixX3d(count, 3)};
-  double wP[20], wDu[20], wDv[20];  // Gregory basis patches have the most points: 20
   for (Eigen::Index q = 0; q < count; ++q) {
     const SurfaceLocation& location = locations[static_cast<size_t>(q)];
-    const std::string name = "location " + std::to_string(q);
     if (location.face < 0 || location.face >= impl_->numPtexFaces) {
-      throw InvalidInputError(name + ": ptex face " + std::to_string(location.face) +
+      throw InvalidInputError("location " + std::to_string(q) + ": ptex face " + std::to_string(location.face) +
                               " is outside 0.." + std::to_string(impl_->numPtexFaces - 1));
     }
     if (!(location.u >= 0.0 && location.u <= 1.0 && location.v >= 0.0 && location.v <= 1.0)) {
-      throw InvalidInputError(name + ": (u, v) = (" + std::to_string(location.u) + ", " +
-                              std::to_string(location.v) + ") is outside [0, 1]^2");
+      throw InvalidInputError("location " + std::to_string(q) + ": (u, v) = (" + std::to_string(location.u) +
+                              ", " + std::to_string(location.v) + ") is outside [0, 1]^2");
     }
-    const Far::PatchTable::PatchHandle* handle =
-        impl_->patchMap->FindPatch(location.face, location.u, location.v);
-    if (handle == nullptr) {
-      throw SolverError(name + ": OpenSubdiv has no patch at ptex face " +
-                        std::to_string(location.face));
+  }
+  const RowMatrixX3d points = impl_->patchPoints * controlPoints;
+  LimitEvaluation result{RowMatrixX3d(count, 3), RowMatrixX3d(count, 3), RowMatrixX3d(count, 3),
+                         RowMatrixX3d(count, 3)};
+  // Each location reads the patch table and writes its own rows: large batches are split over
+  // the hardware threads.
+  std::atomic<Eigen::Index> missing{-1};
+  const auto evaluateRange = [&](Eigen::Index begin, Eigen::Index end) {
+    double wP[20], wDu[20], wDv[20];  // Gregory basis patches have the most points: 20
+    for (Eigen::Index q = begin; q < end; ++q) {
+      const SurfaceLocation& location = locations[static_cast<size_t>(q)];
+      const Far::PatchTable::PatchHandle* handle = impl_->patchMap->FindPatch(location.face, location.u, location.v);
+      if (handle == nullptr) {
+        missing = q;
+        return;
+      }
+      impl_->patchTable->EvaluateBasis(*handle, location.u, location.v, wP, wDu, wDv);
+      const Far::ConstIndexArray cvs = impl_->patchTable->GetPatchVertices(*handle);
+      Eigen::RowVector3d p = Eigen::RowVector3d::Zero(), du = p, dv = p;
+      for (int k = 0; k < cvs.size(); ++k) {
+        const auto row = points.row(cvs[k]);
+        p += wP[k] * row;
+        du += wDu[k] * row;
+        dv += wDv[k] * row;
+      }
+      result.positions.row(q) = p;
+      result.derivativesU.row(q) = du;
+      result.derivativesV.row(q) = dv;
+      const Eigen::RowVector3d n = du.cross(dv);
+      const double length = n.norm();
+      result.normals.row(q) = length > 0.0 ? Eigen::RowVector3d(n / length) : Eigen::RowVector3d::Zero();
     }
-    impl_->patchTable->EvaluateBasis(*handle, location.u, location.v, wP, wDu, wDv);
-    const Far::ConstIndexArray cvs = impl_->patchTable->GetPatchVertices(*handle);
-    Eigen::RowVector3d p = Eigen::RowVector3d::Zero(), du = p, dv = p;
-    for (int k = 0; k < cvs.size(); ++k) {
-      const auto row = points.row(cvs[k]);
-      p += wP[k] * row;
-      du += wDu[k] * row;
-      dv += wDv[k] * row;
-    }
-    result.positions.row(q) = p;
-    result.derivativesU.row(q) = du;
-    result.derivativesV.row(q) = dv;
-    const Eigen::RowVector3d n = du.cross(dv);
-    const double length = n.norm();
-    result.normals.row(q) =
-        length > 0.0 ? Eigen::RowVector3d(n / length) : Eigen::RowVector3d::Zero();
+  };
+  const Eigen::Index threadCount =
+      count < 20000 ? 1 : std::max<Eigen::Index>(1, static_cast<Eigen::Index>(std::thread::hardware_concurrency()));
+  const Eigen::Index chunk = (count + threadCount - 1) / threadCount;
+  std::vector<std::thread> threads;
+  for (Eigen::Index t = 1; t < threadCount; ++t)
+    threads.emplace_back(evaluateRange, std::min(count, t * chunk), std::min(count, (t + 1) * chunk));
+  evaluateRange(0, std::min(count, chunk));
+  for (std::thread& thread : threads) thread.join();
+  if (missing >= 0) {
+    throw SolverError("location " + std::to_string(missing.load()) + ": OpenSubdiv has no patch at ptex face " +
+                      std::to_string(locations[static_cast<size_t>(missing.load())].face));
   }
   return result;
 }

@@ -35,8 +35,8 @@ public:
   int numControlPoints() const;
   int numPtexFaces() const;
 
-  // Evaluates at #Q locations for #V x 3 control points. Throws InvalidInputError for a ptex
-  // face out of range or u, v outside [0, 1].
+  // Evaluates at #Q locations for #V x 3 control points, on the hardware threads for large
+  // batches. Throws InvalidInputError for a ptex face out of range or u, v outside [0, 1].
   LimitEvaluation evaluate(const RowMatrixX3d& controlPoints,
                            const std::vector<SurfaceLocation>& locations) const;
 

@@ -1,10 +1,7 @@
 #include "core/surface/limit_points.h"
 
-#include <algorithm>
 #include <cmath>
-#include <exception>
 #include <string>
-#include <thread>
 
 #include "core/common/errors.h"
 
@@ -48,41 +45,9 @@ QuadControlMesh toQuadControlMesh(const ControlMesh& mesh) {
 LimitPointsFunction limitPoints(const LimitEvaluator& evaluator, const RowMatrixX3d& controlPoints) {
   return [&evaluator, &controlPoints](const std::vector<SurfaceLocation>& locations, RowMatrixX3d& points,
                                       RowMatrixX3d* normals) {
-    // Evaluation only reads the evaluator: large batches are split over the hardware threads.
-    const size_t threadCount =
-        locations.size() < 20000 ? 1 : std::max<size_t>(1, std::thread::hardware_concurrency());
-    if (threadCount == 1) {
-      LimitEvaluation evaluation = evaluator.evaluate(controlPoints, locations);
-      points = std::move(evaluation.positions);
-      if (normals != nullptr) *normals = std::move(evaluation.normals);
-      return;
-    }
-    points.resize(static_cast<Eigen::Index>(locations.size()), 3);
-    if (normals != nullptr) normals->resize(static_cast<Eigen::Index>(locations.size()), 3);
-    const size_t chunk = (locations.size() + threadCount - 1) / threadCount;
-    std::vector<std::thread> threads;
-    std::vector<std::exception_ptr> errors(threadCount);
-    for (size_t t = 0; t < threadCount; ++t) {
-      threads.emplace_back([&, t] {
-        try {
-          const size_t begin = std::min(locations.size(), t * chunk);
-          const size_t end = std::min(locations.size(), begin + chunk);
-          const std::vector<SurfaceLocation> part(locations.begin() + static_cast<std::ptrdiff_t>(begin),
-                                                  locations.begin() + static_cast<std::ptrdiff_t>(end));
-          const LimitEvaluation evaluation = evaluator.evaluate(controlPoints, part);
-          const auto rows = static_cast<Eigen::Index>(begin);
-          const auto count = static_cast<Eigen::Index>(end - begin);
-          points.middleRows(rows, count) = evaluation.positions;
-          if (normals != nullptr) normals->middleRows(rows, count) = evaluation.normals;
-        } catch (...) {
-          errors[t] = std::current_exception();
-        }
-      });
-    }
-    for (auto& thread : threads) thread.join();
-    for (const auto& error : errors) {
-      if (error) std::rethrow_exception(error);
-    }
+    LimitEvaluation evaluation = evaluator.evaluate(controlPoints, locations);
+    points = std::move(evaluation.positions);
+    if (normals != nullptr) *normals = std::move(evaluation.normals);
   };
 }
 

@@ -251,7 +251,7 @@ struct CurveResult {
 };
 
 // Minimizes |C(t) - q|^2 on [first, last]: Newton with the exact second derivative, Gauss-Newton
-// where it is not positive, halving steps that do not descend.
+// where it is not positive or where Newton stalls, halving steps that do not descend.
 CurveResult newtonOnCurve(const EdgeData& edge, GeomAdaptor_Curve& curve, const Eigen::Vector3d& q, double t,
                           double convergence) {
   t = clampTo(t, edge.first, edge.last);
@@ -260,10 +260,11 @@ CurveResult newtonOnCurve(const EdgeData& edge, GeomAdaptor_Curve& curve, const 
   curve.D2(t, p, d1, d2);
   Eigen::Vector3d r = toEigen(p) - q;
   double f = r.squaredNorm();
+  bool gaussNewton = false;
   for (int iteration = 0; iteration < kMaxNewtonIterations; ++iteration) {
     const Eigen::Vector3d c1 = toEigen(d1);
     const double g = r.dot(c1);
-    double h = c1.squaredNorm() + r.dot(toEigen(d2));
+    double h = c1.squaredNorm() + (gaussNewton ? 0.0 : r.dot(toEigen(d2)));
     if (!(h > 0)) h = c1.squaredNorm();
     if (!(h > 0)) break;
     double step = -g / h;
@@ -286,6 +287,14 @@ CurveResult newtonOnCurve(const EdgeData& edge, GeomAdaptor_Curve& curve, const 
         r = rn;
         f = fn;
       }
+    }
+    // A large curvature term (a parameterisation that crowds at one end, as on approximated
+    // intersection curves) can make Newton's steps tiny while the foot is still far along the
+    // curve: go on with Gauss-Newton steps (towards the foot on the tangent line).
+    const double along = std::abs(r.dot(toEigen(d1))) / std::max(toEigen(d1).norm(), 1e-300);
+    if (accepted && moved <= convergence && along > convergence && !gaussNewton) {
+      gaussNewton = true;
+      continue;
     }
     if (!accepted || moved <= convergence) break;
   }

@@ -1,0 +1,128 @@
+"""The wing_fuselage template through bvmesh.polyhedra on a wing-body half model built with
+FreeCAD's Part module (elliptic nose, cylinder, elliptic tail; swept, tapered NACA 0012 wing with
+a sharp trailing edge and a flat tip; fused and cut at y = 0): placement, mapping, a short fit
+and pictures (test-output/polyhedron_wing_fuselage*.png)."""
+
+import math
+import os
+import tempfile
+import unittest
+
+import numpy as np
+
+import bvmesh
+from bvmesh import polyhedra
+
+try:
+    import FreeCAD
+    import Part
+except ImportError:  # pragma: no cover - FreeCAD is installed on the test machines
+    FreeCAD = Part = None
+
+LENGTH, RADIUS, NOSE, TAIL = 10.0, 0.6, 2.0, 3.5
+ROOT_Y, ROOT_LE, ROOT_CHORD = 0.18, 3.6, 2.6
+TIP_Y, TIP_CHORD, SWEEP_DEG = 4.0, 1.0, 25.0
+
+
+def output_dir():
+    path = os.environ.get("BVMESH_TEST_OUTPUT_DIR") or tempfile.mkdtemp()
+    os.makedirs(path, exist_ok=True)
+    return path
+
+
+def naca0012(x):
+    """Half thickness of NACA 0012 with a closed trailing edge, chord 1."""
+    return 0.6 * (0.2969 * math.sqrt(x) - 0.1260 * x - 0.3516 * x**2 + 0.2843 * x**3 - 0.1036 * x**4)
+
+
+def section(leading_edge, y, chord):
+    """Closed wire: the upper B-spline from the trailing to the leading edge (vertical there) and
+    its mirror image below."""
+    xs = [0.5 * (1 + math.cos(math.pi * i / 40)) for i in range(41)]  # 1 .. 0
+    slope = (naca0012(1.0) - naca0012(1.0 - 1e-6)) / 1e-6
+    points = [FreeCAD.Vector(leading_edge + chord * x, y, chord * naca0012(x)) for x in xs]
+    curve = Part.BSplineCurve()
+    curve.interpolate(points, InitialTangent=FreeCAD.Vector(-1, 0, -slope), FinalTangent=FreeCAD.Vector(0, 0, -1))
+    upper = curve.toShape()
+    return Part.Wire([upper, upper.mirror(FreeCAD.Vector(0, y, 0), FreeCAD.Vector(0, 0, 1))])
+
+
+def fuselage():
+    """Solid of revolution about the x axis: elliptic nose, cylinder, elliptic tail."""
+    v = FreeCAD.Vector
+    tail_start = LENGTH - TAIL
+    nose = Part.Ellipse(v(NOSE, 0, 0), NOSE, RADIUS)  # in the plane z = 0, major axis along x
+    tail = Part.Ellipse(v(tail_start, 0, 0), TAIL, RADIUS)
+    profile = Part.Wire([
+        Part.ArcOfEllipse(nose, math.pi / 2, math.pi).toShape(),
+        Part.LineSegment(v(0, 0, 0), v(LENGTH, 0, 0)).toShape(),
+        Part.ArcOfEllipse(tail, 0, math.pi / 2).toShape(),
+        Part.LineSegment(v(tail_start, RADIUS, 0), v(NOSE, RADIUS, 0)).toShape(),
+    ])
+    return Part.Face(profile).revolve(v(0, 0, 0), v(1, 0, 0), 360)
+
+
+def cut_at_symmetry_plane(shape):
+    return shape.cut(Part.makeBox(40, 20, 20, FreeCAD.Vector(-20, -20, -10)))
+
+
+def wing_body():
+    tip_le = ROOT_LE + (TIP_Y - ROOT_Y) * math.tan(math.radians(SWEEP_DEG))
+    wing = Part.makeLoft([section(ROOT_LE, ROOT_Y, ROOT_CHORD), section(tip_le, TIP_Y, TIP_CHORD)], True, False)
+    return cut_at_symmetry_plane(fuselage().fuse(wing))
+
+
+@unittest.skipIf(Part is None, "FreeCAD is not importable")
+class WingFuselageTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.target, cls.face, cls.plane = polyhedra.half_model_target(wing_body())
+
+    def test_listed_in_the_library(self):
+        template = {t["name"]: t for t in polyhedra.list_templates()}["wing_fuselage"]
+        self.assertEqual(template["generator"], "wing_fuselage")
+        names = [p["name"] for p in template["parameters"]]
+        for name in ("axial", "circumferential", "chordwise", "spanwise", "tip"):
+            self.assertIn(name, names)
+
+    def test_placed_mapped_and_fitted(self):
+        self.assertAlmostEqual(abs(self.plane[1][1]), 1.0, places=9)
+        placed = polyhedra.place("wing_fuselage", self.target)  # strict: every feature mapped
+        mesh = placed["mesh"]
+        vertices = np.asarray(mesh.vertices)
+        sizes = np.array([len(f) for f in mesh.faces])
+        self.assertEqual(int((sizes == 3).sum()), 2)  # the tip cap at the trailing edge
+        self.assertEqual(int((sizes == 4).sum()), len(sizes) - 2)
+        kinds = sorted(c["kind"] for c in placed["chains"])
+        self.assertEqual(kinds, ["boundary", "crease", "crease", "crease"])  # junction, trailing edge, tip rim
+        boundary = np.unique(np.asarray(mesh.boundary_edges))
+        np.testing.assert_allclose(vertices[boundary, 1], 0.0, atol=1e-9)
+        # The junction loop lies on the fuselage cylinder (radius 0.6).
+        creases = [c for c in placed["chains"] if c["kind"] == "crease"]
+        junction = [c for c in creases if vertices[c["vertices"], 1].max() < 2 * RADIUS]
+        self.assertEqual(len(junction), 1)
+        radii = np.hypot(vertices[junction[0]["vertices"], 1], vertices[junction[0]["vertices"], 2])
+        np.testing.assert_allclose(radii, RADIUS, atol=1e-6)
+        planform = placed["planform"]
+        self.assertAlmostEqual(planform["tip_chord"], TIP_CHORD, delta=1e-3)
+        self.assertAlmostEqual(planform["leading_edge_sweep_deg"], SWEEP_DEG, delta=0.1)
+        polyhedra.plot_polyhedron(mesh, os.path.join(output_dir(), "polyhedron_wing_fuselage.png"), self.target,
+                                  "wing_fuselage on a wing-body half model (creases red, corners black)",
+                                  views=((25, -60), (90, -90), (0, 0)))
+        polyhedra.plot_polyhedron(mesh, os.path.join(output_dir(), "polyhedron_wing_fuselage_junction.png"),
+                                  self.target, "wing_fuselage: the wing root on the fuselage",
+                                  views=((30, -50), (-30, -50), (0, 0)), region=((3.0, 0.0, -0.8), (7.0, 1.6, 0.8)))
+        fitter = bvmesh.SurfaceFitter(self.target, mesh, placed["feature_map"],
+                                      symmetry_plane=placed["symmetry_plane"], max_level=2)
+        history = fitter.run()["history"]
+        self.assertLess(history[-1]["max_distance"], 0.25 * history[0]["max_distance"])
+        self.assertLess(history[-1]["max_distance"], 1e-3 * LENGTH)
+
+    def test_body_without_a_wing_is_a_value_error(self):
+        target, _, _ = polyhedra.half_model_target(cut_at_symmetry_plane(fuselage()))
+        with self.assertRaisesRegex(ValueError, "sharp trailing edge"):
+            polyhedra.place("wing_fuselage", target)
+
+
+if __name__ == "__main__":
+    unittest.main()
