@@ -346,5 +346,41 @@ TEST(TargetCad, UntrimmedIgesSurface) {
   }
 }
 
+// Span polynomials against Geom_BSplineSurface::D2 (de Boor on the poles) on the M6's eight
+// B-spline faces (degree 5, 2 to 32 spans): random (u, v) and the domain's corners.
+TEST(SpanPolynomials, MatchBSplineEvaluationOnTheM6) {
+  const TopoDS_Shape shape = cad::readShapeFile(kDataDir + "/AileM6_with_sharp_TE.stp");
+  TopTools_IndexedMapOfShape faces;
+  TopExp::MapShapes(shape, TopAbs_FACE, faces);
+  std::mt19937 generator(22);
+  std::uniform_real_distribution<double> unit(0, 1);
+  int tested = 0;
+  for (int f = 1; f <= faces.Extent(); ++f) {
+    const Handle(Geom_BSplineSurface) surface =
+        Handle(Geom_BSplineSurface)::DownCast(BRep_Tool::Surface(TopoDS::Face(faces(f))));
+    if (surface.IsNull() || surface->IsURational() || surface->IsVRational()) continue;
+    ++tested;
+    const SpanPolynomials polynomials(*surface);
+    double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
+    surface->Bounds(u0, u1, v0, v1);
+    for (int k = 0; k < 500; ++k) {
+      const double u = k < 4 ? (k % 2 == 0 ? u0 : u1) : u0 + unit(generator) * (u1 - u0);
+      const double v = k < 4 ? (k / 2 == 0 ? v0 : v1) : v0 + unit(generator) * (v1 - v0);
+      gp_Pnt p, q;
+      gp_Vec d[5], e[5];
+      surface->D2(u, v, p, d[0], d[1], d[2], d[3], d[4]);
+      polynomials.D2(u, v, q, e[0], e[1], e[2], e[3], e[4]);
+      EXPECT_LE(p.Distance(q), 1e-12 * (1 + p.XYZ().Modulus())) << "face " << f - 1 << " (u, v) = (" << u << ", " << v << ")";
+      // Derivatives to round-off relative to the largest of their order.
+      const double first = std::max(d[0].Magnitude(), d[1].Magnitude());
+      const double second = std::max({d[2].Magnitude(), d[3].Magnitude(), d[4].Magnitude()});
+      for (int n = 0; n < 5; ++n)
+        EXPECT_LE((d[n] - e[n]).Magnitude(), 1e-9 * (n < 2 ? first : second) + 1e-300)
+            << "face " << f - 1 << " derivative " << n << " (u, v) = (" << u << ", " << v << ")";
+    }
+  }
+  EXPECT_EQ(tested, 8);
+}
+
 }  // namespace
 }  // namespace bvmesh::target

@@ -27,6 +27,9 @@
 namespace bvmesh::target {
 namespace {
 
+// Limit of a face's span polynomials (coefficients per coordinate): 24 MB.
+constexpr std::size_t kMaxSpanCoefficients = std::size_t{1} << 20;
+
 int indexOf(const TopTools_IndexedMapOfShape& map, const TopoDS_Shape& shape) {
   return map.FindIndex(shape) - 1;
 }
@@ -103,6 +106,12 @@ void extractTopology(Target::Data& data) {
     if (const Handle(Geom_BSplineSurface) bspline = Handle(Geom_BSplineSurface)::DownCast(f.surface); !bspline.IsNull()) {
       for (int k = 1; k <= bspline->NbUKnots(); ++k) f.uKnots.push_back(bspline->UKnot(k));
       for (int k = 1; k <= bspline->NbVKnots(); ++k) f.vKnots.push_back(bspline->VKnot(k));
+      // Span polynomials for polynomial surfaces of moderate size (memory: spans x (du + 1) x
+      // (dv + 1) x 3 doubles); rational and periodic ones stay with the adaptors.
+      const bool polynomial = !bspline->IsURational() && !bspline->IsVRational() && !f.uPeriodic && !f.vPeriodic;
+      const std::size_t spans = (f.uKnots.size() - 1) * (f.vKnots.size() - 1);
+      if (polynomial && spans * static_cast<std::size_t>((bspline->UDegree() + 1) * (bspline->VDegree() + 1)) <= kMaxSpanCoefficients)
+        f.polynomials = SpanPolynomials(*bspline);
     }
     for (TopExp_Explorer it(f.face, TopAbs_EDGE); it.More(); it.Next()) {
       const TopoDS_Edge& edge = TopoDS::Edge(it.Current());
@@ -312,6 +321,82 @@ FaceSurface& ThreadContext::surface(int face) {
   std::unique_ptr<FaceSurface>& slot = surfaces_[static_cast<std::size_t>(face)];
   if (!slot) slot = std::make_unique<FaceSurface>(data_.faces[static_cast<std::size_t>(face)]);
   return *slot;
+}
+
+SpanPolynomials::SpanPolynomials(const Geom_BSplineSurface& surface)
+    : uDegree_(surface.UDegree()), vDegree_(surface.VDegree()) {
+  for (int k = 1; k <= surface.NbUKnots(); ++k) uBreaks_.push_back(surface.UKnot(k));
+  for (int k = 1; k <= surface.NbVKnots(); ++k) vBreaks_.push_back(surface.VKnot(k));
+  const int uSpans = static_cast<int>(uBreaks_.size()) - 1, vSpans = static_cast<int>(vBreaks_.size()) - 1;
+  const int terms = (uDegree_ + 1) * (vDegree_ + 1);
+  coefficients_.resize(static_cast<std::size_t>(uSpans * vSpans * terms * 3));
+  for (int a = 0; a < uSpans; ++a) {
+    for (int b = 0; b < vSpans; ++b) {
+      const double u = uBreaks_[static_cast<std::size_t>(a)], v = vBreaks_[static_cast<std::size_t>(b)];
+      const double hu = uBreaks_[static_cast<std::size_t>(a) + 1] - u, hv = vBreaks_[static_cast<std::size_t>(b) + 1] - v;
+      double* out = &coefficients_[static_cast<std::size_t>((a * vSpans + b) * terms * 3)];
+      // c_ij = d^(i+j) S / du^i dv^j * hu^i hv^j / (i! j!) of this span's polynomial at its corner.
+      double uScale = 1.0;
+      for (int i = 0; i <= uDegree_; ++i) {
+        double scale = uScale;
+        for (int j = 0; j <= vDegree_; ++j) {
+          gp_XYZ d;
+          if (i == 0 && j == 0) {
+            gp_Pnt p;
+            surface.LocalD0(u, v, a + 1, a + 2, b + 1, b + 2, p);
+            d = p.XYZ();
+          } else {
+            d = surface.LocalDN(u, v, a + 1, a + 2, b + 1, b + 2, i, j).XYZ();
+          }
+          for (int k = 0; k < 3; ++k) out[(i * (vDegree_ + 1) + j) * 3 + k] = scale * d.Coord(k + 1);
+          scale *= hv / (j + 1);
+        }
+        uScale *= hu / (i + 1);
+      }
+    }
+  }
+}
+
+void SpanPolynomials::D2(double u, double v, gp_Pnt& p, gp_Vec& su, gp_Vec& sv, gp_Vec& suu, gp_Vec& svv,
+                         gp_Vec& suv) const {
+  const int uSpans = static_cast<int>(uBreaks_.size()) - 1, vSpans = static_cast<int>(vBreaks_.size()) - 1;
+  const int a = std::clamp(static_cast<int>(std::upper_bound(uBreaks_.begin(), uBreaks_.end(), u) - uBreaks_.begin()) - 1, 0, uSpans - 1);
+  const int b = std::clamp(static_cast<int>(std::upper_bound(vBreaks_.begin(), vBreaks_.end(), v) - vBreaks_.begin()) - 1, 0, vSpans - 1);
+  const double u0 = uBreaks_[static_cast<std::size_t>(a)], v0 = vBreaks_[static_cast<std::size_t>(b)];
+  const double hu = uBreaks_[static_cast<std::size_t>(a) + 1] - u0, hv = vBreaks_[static_cast<std::size_t>(b) + 1] - v0;
+  const double s = (u - u0) / hu, t = (v - v0) / hv;
+  const double* c = &coefficients_[static_cast<std::size_t>((a * vSpans + b) * (uDegree_ + 1) * (vDegree_ + 1) * 3)];
+  // Horner in t for each power of s (value, first and second t-derivative: r0, r1, r2 / 2), then
+  // Horner in s over those: S and its s-derivatives (s0, s1, s2 / 2), S_t and its s-derivative
+  // (t0, t1), S_tt / 2 (tt).
+  double s0[3] = {0, 0, 0}, s1[3] = {0, 0, 0}, s2[3] = {0, 0, 0}, t0[3] = {0, 0, 0}, t1[3] = {0, 0, 0}, tt[3] = {0, 0, 0};
+  for (int i = uDegree_; i >= 0; --i) {
+    const double* row = c + i * (vDegree_ + 1) * 3;
+    double r0[3] = {row[vDegree_ * 3], row[vDegree_ * 3 + 1], row[vDegree_ * 3 + 2]};
+    double r1[3] = {0, 0, 0}, r2[3] = {0, 0, 0};
+    for (int j = vDegree_ - 1; j >= 0; --j) {
+      for (int k = 0; k < 3; ++k) {
+        r2[k] = r2[k] * t + r1[k];
+        r1[k] = r1[k] * t + r0[k];
+        r0[k] = r0[k] * t + row[j * 3 + k];
+      }
+    }
+    for (int k = 0; k < 3; ++k) {
+      s2[k] = s2[k] * s + s1[k];
+      s1[k] = s1[k] * s + s0[k];
+      s0[k] = s0[k] * s + r0[k];
+      t1[k] = t1[k] * s + t0[k];
+      t0[k] = t0[k] * s + r1[k];
+      tt[k] = tt[k] * s + r2[k];
+    }
+  }
+  p.SetCoord(s0[0], s0[1], s0[2]);
+  su.SetCoord(s1[0] / hu, s1[1] / hu, s1[2] / hu);
+  sv.SetCoord(t0[0] / hv, t0[1] / hv, t0[2] / hv);
+  const double uu = 2 / (hu * hu), vv = 2 / (hv * hv), uv = 1 / (hu * hv);
+  suu.SetCoord(uu * s2[0], uu * s2[1], uu * s2[2]);
+  svv.SetCoord(vv * tt[0], vv * tt[1], vv * tt[2]);
+  suv.SetCoord(uv * t1[0], uv * t1[1], uv * t1[2]);
 }
 
 GeomAdaptor_Curve& ThreadContext::curve(int edge) {

@@ -5,6 +5,7 @@
 
 #include <GeomAdaptor_Curve.hxx>
 #include <GeomAdaptor_Surface.hxx>
+#include <Geom_BSplineSurface.hxx>
 #include <Geom2d_Curve.hxx>
 #include <Geom_Curve.hxx>
 #include <Geom_Surface.hxx>
@@ -62,6 +63,24 @@ private:
   std::vector<int> cellSegments_;
 };
 
+// A polynomial (non-rational, non-periodic) B-spline surface as one polynomial per knot span,
+// in powers of the span's local parameters scaled to [0, 1] (Taylor coefficients at the span's
+// corner, from OCCT's derivatives of that span). Built once and shared by all threads; an
+// evaluation with second derivatives costs about a third of GeomAdaptor_Surface's cached one.
+class SpanPolynomials {
+public:
+  SpanPolynomials() = default;
+  explicit SpanPolynomials(const Geom_BSplineSurface& surface);
+  bool empty() const { return coefficients_.empty(); }
+  void D2(double u, double v, gp_Pnt& p, gp_Vec& su, gp_Vec& sv, gp_Vec& suu, gp_Vec& svv, gp_Vec& suv) const;
+
+private:
+  int uDegree_ = 0, vDegree_ = 0;
+  std::vector<double> uBreaks_, vBreaks_;  // distinct knots
+  // Per span (u outer): (uDegree + 1) x (vDegree + 1) coefficients (u power outer) x 3.
+  std::vector<double> coefficients_;
+};
+
 struct FaceData {
   TopoDS_Face face;
   Handle(Geom_Surface) surface;  // with the face's location applied
@@ -76,6 +95,7 @@ struct FaceData {
   double uPeriod = 0, vPeriod = 0;
   std::vector<FaceEdgeUse> edges;                        // non-degenerate boundary edges
   TrimClassifier trim;
+  SpanPolynomials polynomials;  // polynomial B-spline surfaces only (else empty)
 };
 
 struct EdgeData {
@@ -134,20 +154,28 @@ struct Target::Data {
   mutable std::vector<std::unique_ptr<ThreadContext>> pool;
 };
 
-// Evaluation of one face's surface by one thread. GeomAdaptor_Surface converts the B-spline span
-// of (u, v) to polynomial form and keeps that one span; the evaluations for one point (Newton
-// steps, seeds from several triangles) move back and forth between neighbouring spans, and each
-// change rebuilds the cache, which costs more than an evaluation. So a B-spline face has up to
-// kSlots adaptors, each keeping the span it last evaluated: evaluations go to the adaptor holding
-// their span, a new span replaces the least recently used one. 16 slots hold every span a
-// thread visits for many points in a row (the M6's faces have 2 to 32 spans; 4 slots rebuilt
-// about one cache per point).
+// Evaluation of one face's surface by one thread: through the face's span polynomials where it
+// has them, else GeomAdaptor_Surface. GeomAdaptor_Surface converts the B-spline span of (u, v)
+// to polynomial form and keeps that one span; the evaluations for one point (Newton steps,
+// seeds from several triangles) move back and forth between neighbouring spans, and each change
+// rebuilds the cache, which costs more than an evaluation. So a (rational or periodic) B-spline
+// face has up to kSlots adaptors, each keeping the span it last evaluated: evaluations go to the
+// adaptor holding their span, a new span replaces the least recently used one (16 slots: 4
+// rebuilt about one cache per M6 point).
 class FaceSurface {
 public:
   explicit FaceSurface(const FaceData& face) : face_(face) { spans_.fill(-1); }
-  void D1(double u, double v, gp_Pnt& p, gp_Vec& su, gp_Vec& sv) { adaptor(u, v).D1(u, v, p, su, sv); }
+  void D1(double u, double v, gp_Pnt& p, gp_Vec& su, gp_Vec& sv) {
+    if (face_.polynomials.empty()) {
+      adaptor(u, v).D1(u, v, p, su, sv);
+    } else {
+      gp_Vec suu, svv, suv;
+      face_.polynomials.D2(u, v, p, su, sv, suu, svv, suv);
+    }
+  }
   void D2(double u, double v, gp_Pnt& p, gp_Vec& su, gp_Vec& sv, gp_Vec& suu, gp_Vec& svv, gp_Vec& suv) {
-    adaptor(u, v).D2(u, v, p, su, sv, suu, svv, suv);
+    if (face_.polynomials.empty()) adaptor(u, v).D2(u, v, p, su, sv, suu, svv, suv);
+    else face_.polynomials.D2(u, v, p, su, sv, suu, svv, suv);
   }
 
 private:
