@@ -16,6 +16,7 @@
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <ctime>
@@ -73,14 +74,17 @@ int main(int argc, char** argv) {
   std::printf("file %s: %d faces, %d triangles (relative deflection %g), target built in %.3f s\n", file.c_str(),
               target.faceCount(), target.report().triangleCount, relativeDeflection, buildSeconds);
 
-  const Points points = nearSurface(target, count, 1);
+  // The baselines time the first baselineCount of these points, bvmesh the first count (which
+  // may be fewer, or none).
+  const Points sample = nearSurface(target, std::max(count, baselineCount), 1);
+  const Points points = sample.topRows(count);
 
   // Baseline 1: BRepExtrema_DistShapeShape per point.
   start = Clock::now();
   double checksum = 0;
   for (int i = 0; i < baselineCount; ++i) {
     BRepExtrema_DistShapeShape distance(
-        BRepBuilderAPI_MakeVertex(gp_Pnt(points(i, 0), points(i, 1), points(i, 2))).Vertex(), shape);
+        BRepBuilderAPI_MakeVertex(gp_Pnt(sample(i, 0), sample(i, 1), sample(i, 2))).Vertex(), shape);
     checksum += distance.Value();
   }
   const double extremaPerPoint = secondsSince(start) / baselineCount;
@@ -94,7 +98,7 @@ int main(int argc, char** argv) {
   for (int i = 0; i < baselineCount; ++i) {
     double best = 1e300;
     for (const Handle(Geom_Surface)& surface : surfaces) {
-      GeomAPI_ProjectPointOnSurf projector(gp_Pnt(points(i, 0), points(i, 1), points(i, 2)), surface);
+      GeomAPI_ProjectPointOnSurf projector(gp_Pnt(sample(i, 0), sample(i, 1), sample(i, 2)), surface);
       if (projector.NbPoints() > 0) best = std::min(best, projector.LowerDistance());
     }
     checksum += best;
@@ -123,6 +127,11 @@ int main(int argc, char** argv) {
     const ProjectionResult warm = timed.project(moved, &hints);
     const double warmSeconds = secondsSince(start);
     const double warmCpu = cpuSeconds() - cpu;
+    if (count == 0) {
+      std::printf("%-8d no points: %ld cold and %ld warm results\n", threads, static_cast<long>(cold.distances.size()),
+                  static_cast<long>(warm.distances.size()));
+      continue;
+    }
     double maxDifference = 0;
     for (int i = 0; i < count; ++i) maxDifference = std::max(maxDifference, std::abs(warm.distances[i] - cold.distances[i]));
     for (const auto& [name, seconds, cpuTime] :

@@ -23,11 +23,12 @@ inline std::string shapeText(const pybind11::array& array) {
   return text + (array.ndim() == 1 ? ",)" : ")");
 }
 
-// An (n, columns) array of numbers, copied.
+// An (n, columns) array of numbers, copied. An empty sequence ([], numpy shape (0,)) is n = 0.
 inline RowMatrixXd rowsOf(const pybind11::object& object, const char* name, pybind11::ssize_t columns) {
   const DoubleArray array = DoubleArray::ensure(object);
   const std::string expected = "(n, " + std::to_string(columns) + ")";
   if (!array) throw pybind11::value_error(std::string(name) + " must be a numeric array of shape " + expected);
+  if (array.ndim() == 1 && array.shape(0) == 0) return RowMatrixXd(0, columns);
   if (array.ndim() != 2 || array.shape(1) != columns) {
     throw pybind11::value_error(std::string(name) + " must have shape " + expected + ", got " + shapeText(array));
   }

@@ -6,7 +6,9 @@
 #include <BRepClass_FaceClassifier.hxx>
 #include <BRepExtrema_DistShapeShape.hxx>
 #include <BRep_Builder.hxx>
+#include <BRepTools.hxx>
 #include <BRep_Tool.hxx>
+#include <Geom2d_Curve.hxx>
 #include <Geom_BSplineSurface.hxx>
 #include <Geom_Surface.hxx>
 #include <IGESControl_Writer.hxx>
@@ -14,6 +16,7 @@
 #include <TColStd_Array1OfReal.hxx>
 #include <TColgp_Array2OfPnt.hxx>
 #include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
@@ -24,6 +27,7 @@
 
 #include "core/cad/shape_io.h"
 #include "core/target/target.h"
+#include "core/target/target_data.h"
 
 namespace bvmesh::target {
 namespace {
@@ -75,8 +79,10 @@ TEST_P(TargetCad, DistancesMatchBRepExtremaAndFeetLieOnTheirTrimmedFaces) {
     ASSERT_TRUE(reference.IsDone());
     const auto status = result.status[static_cast<std::size_t>(i)];
     ASSERT_TRUE(status == ProjectionStatus::Ok || status == ProjectionStatus::OnTrimBoundary) << "point " << i;
-    // Where the nearest point is a vertex or lies on an edge, the model itself is only defined
-    // to that vertex's or edge's tolerance (its 3D curves end up to 1e-3 mm from its vertices).
+    // Where the nearest point is a vertex or lies on an edge, BRepExtrema measures to the vertex
+    // point or the edge's 3D curve, which the model places only within that tolerance of the
+    // faces (the M6's tip edges, tolerance 3.3e-2 mm, run up to 1.2e-2 mm off both of their
+    // faces' surfaces), while a foot inside a face lies on its surface.
     double modelTolerance = 0;
     if (reference.SupportTypeShape2(1) == BRepExtrema_IsVertex)
       modelTolerance = BRep_Tool::Tolerance(TopoDS::Vertex(reference.SupportOnShape2(1)));
@@ -111,6 +117,48 @@ TEST_P(TargetCad, WarmStartsEqualColdStarts) {
     EXPECT_NEAR(warm.distances[i], cold.distances[i], 1e-12 * size) << "point " << i;
     EXPECT_LE((warm.points.row(i) - cold.points.row(i)).norm(), 1e-9 * size) << "point " << i;
     EXPECT_EQ(warm.status[static_cast<std::size_t>(i)], cold.status[static_cast<std::size_t>(i)]) << "point " << i;
+  }
+}
+
+// The trim classifier (grid of known cells, rays to the nearest one) against OCCT's classifier
+// on the exact pcurves, for random (u, v) in and around every face's parameter box. The
+// polygon here samples each pcurve uniformly (deviation ~1e-8 of the box); points within 1e-6
+// of the boundary (BRepClass: ON) are skipped.
+TEST_P(TargetCad, TrimClassifierAgreesWithBRepClass) {
+  const TopoDS_Shape shape = cad::readShapeFile(kDataDir + "/" + GetParam());
+  TopTools_IndexedMapOfShape faces;
+  TopExp::MapShapes(shape, TopAbs_FACE, faces);
+  std::mt19937 generator(21);
+  std::uniform_real_distribution<double> unit(-0.05, 1.05);
+  for (int f = 1; f <= faces.Extent(); ++f) {
+    const TopoDS_Face& face = TopoDS::Face(faces(f));
+    double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
+    BRepTools::UVBounds(face, u0, u1, v0, v1);
+    std::vector<std::vector<Eigen::Vector2d>> curves;
+    for (TopExp_Explorer it(face, TopAbs_EDGE); it.More(); it.Next()) {
+      double first = 0, last = 0;
+      const Handle(Geom2d_Curve) pcurve = BRep_Tool::CurveOnSurface(TopoDS::Edge(it.Current()), face, first, last);
+      ASSERT_FALSE(pcurve.IsNull());
+      constexpr int kSamples = 4000;
+      std::vector<Eigen::Vector2d> polyline;
+      for (int k = 0; k <= kSamples; ++k) {
+        const gp_Pnt2d p = pcurve->Value(first + (last - first) * k / kSamples);
+        polyline.emplace_back(p.X(), p.Y());
+      }
+      curves.push_back(std::move(polyline));
+    }
+    const TrimClassifier classifier(u0, u1, v0, v1, curves);
+    const double tolerance = 1e-6 * std::max(u1 - u0, v1 - v0);
+    int compared = 0;
+    for (int k = 0; k < 2000; ++k) {
+      const double u = u0 + unit(generator) * (u1 - u0);
+      const double v = v0 + unit(generator) * (v1 - v0);
+      const TopAbs_State state = BRepClass_FaceClassifier(face, gp_Pnt2d(u, v), tolerance).State();
+      if (state == TopAbs_ON) continue;
+      ++compared;
+      EXPECT_EQ(classifier.inside(u, v), state == TopAbs_IN) << "face " << f - 1 << " (u, v) = (" << u << ", " << v << ")";
+    }
+    EXPECT_GT(compared, 1900) << "face " << f - 1;
   }
 }
 
@@ -296,6 +344,42 @@ TEST(TargetCad, UntrimmedIgesSurface) {
     EXPECT_NEAR(result.distances[i], expected[static_cast<std::size_t>(i)], 1e-9 * target.report().diagonal)
         << "point " << i;
   }
+}
+
+// Span polynomials against Geom_BSplineSurface::D2 (de Boor on the poles) on the M6's eight
+// B-spline faces (degree 5, 2 to 32 spans): random (u, v) and the domain's corners.
+TEST(SpanPolynomials, MatchBSplineEvaluationOnTheM6) {
+  const TopoDS_Shape shape = cad::readShapeFile(kDataDir + "/AileM6_with_sharp_TE.stp");
+  TopTools_IndexedMapOfShape faces;
+  TopExp::MapShapes(shape, TopAbs_FACE, faces);
+  std::mt19937 generator(22);
+  std::uniform_real_distribution<double> unit(0, 1);
+  int tested = 0;
+  for (int f = 1; f <= faces.Extent(); ++f) {
+    const Handle(Geom_BSplineSurface) surface =
+        Handle(Geom_BSplineSurface)::DownCast(BRep_Tool::Surface(TopoDS::Face(faces(f))));
+    if (surface.IsNull() || surface->IsURational() || surface->IsVRational()) continue;
+    ++tested;
+    const SpanPolynomials polynomials(*surface);
+    double u0 = 0, u1 = 0, v0 = 0, v1 = 0;
+    surface->Bounds(u0, u1, v0, v1);
+    for (int k = 0; k < 500; ++k) {
+      const double u = k < 4 ? (k % 2 == 0 ? u0 : u1) : u0 + unit(generator) * (u1 - u0);
+      const double v = k < 4 ? (k / 2 == 0 ? v0 : v1) : v0 + unit(generator) * (v1 - v0);
+      gp_Pnt p, q;
+      gp_Vec d[5], e[5];
+      surface->D2(u, v, p, d[0], d[1], d[2], d[3], d[4]);
+      polynomials.D2(u, v, q, e[0], e[1], e[2], e[3], e[4]);
+      EXPECT_LE(p.Distance(q), 1e-12 * (1 + p.XYZ().Modulus())) << "face " << f - 1 << " (u, v) = (" << u << ", " << v << ")";
+      // Derivatives to round-off relative to the largest of their order.
+      const double first = std::max(d[0].Magnitude(), d[1].Magnitude());
+      const double second = std::max({d[2].Magnitude(), d[3].Magnitude(), d[4].Magnitude()});
+      for (int n = 0; n < 5; ++n)
+        EXPECT_LE((d[n] - e[n]).Magnitude(), 1e-9 * (n < 2 ? first : second) + 1e-300)
+            << "face " << f - 1 << " derivative " << n << " (u, v) = (" << u << ", " << v << ")";
+    }
+  }
+  EXPECT_EQ(tested, 8);
 }
 
 }  // namespace

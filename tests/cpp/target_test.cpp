@@ -324,6 +324,26 @@ TEST(Target, ReportsGapsBetweenFaces) {
   EXPECT_NEAR(result.distances[0], std::hypot(0.0004, 0.1), 1e-14);
 }
 
+// No points: every projection returns empty results (no thread work, no index query).
+TEST(Target, EmptyPointArraysGiveEmptyResults) {
+  const Target target(BRepPrimAPI_MakeCylinder(1.0, 2.0).Shape());
+  const Points none(0, 3);
+  const SurfaceHints hints{Eigen::VectorXi(0), Params(0, 2)};
+  int edge = 0;
+  while (target.edgePolyline(edge).rows() == 0) ++edge;  // a non-degenerate edge
+  for (const ProjectionResult& result :
+       {target.project(none), target.project(none, &hints), target.projectToEdges(none, {edge}),
+        target.projectToFreeBoundary(none), target.projectToVertices(none, {0}), target.projectAlong(none, none)}) {
+    EXPECT_EQ(result.points.rows(), 0);
+    EXPECT_EQ(result.distances.size(), 0);
+    EXPECT_EQ(result.ids.size(), 0);
+    EXPECT_EQ(result.faces.size(), 0);
+    EXPECT_EQ(result.params.rows(), 0);
+    EXPECT_EQ(result.normals.rows(), 0);
+    EXPECT_TRUE(result.status.empty());
+  }
+}
+
 TEST(Target, RejectsBadInput) {
   EXPECT_THROW(Target{TopoDS_Shape{}}, InvalidInputError);
   TopoDS_Compound empty;

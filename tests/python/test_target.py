@@ -128,6 +128,20 @@ class Projections(unittest.TestCase):
             self.assertEqual(result[key].shape, (7,))
         self.assertEqual(result["status"].dtype, np.uint8)
 
+    def test_no_points_give_empty_results(self):
+        none = np.zeros((0, 3))
+        results = [self.target.project(none), self.target.project([]),
+                   self.target.project(none, hint_faces=np.zeros(0, dtype=np.int32), hint_uv=np.zeros((0, 2))),
+                   self.target.project_to_edges(none, self.target.sharp_edges(150.0)),
+                   self.target.project_to_free_boundary(none), self.target.project_to_vertex(none, 0),
+                   self.target.project_along(none, none)]
+        for result in results:
+            self.assertEqual(result["points"].shape, (0, 3))
+            self.assertEqual(result["params"].shape, (0, 2))
+            self.assertEqual(result["normals"].shape, (0, 3))
+            for key in ("distances", "ids", "faces", "status"):
+                self.assertEqual(result[key].shape, (0,))
+
     def test_edges_vertices_and_directions(self):
         trailing_edge = self.target.sharp_edges(150.0)
         points = near_surface_points(self.target, 300, 0.02 * self.size, 6)

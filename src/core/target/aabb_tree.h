@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <utility>
 #include <vector>
 
 namespace bvmesh::target {
@@ -66,26 +67,33 @@ public:
 
   bool empty() const { return nodes_.empty(); }
 
-  // Nearest primitive to p. distance(id, p) returns the squared distance to primitive id.
-  // Returns -1 for an empty tree; bestSquared receives the squared distance.
+  // Nearest primitive to p. distance(id, p) returns the squared distance to primitive id; it is
+  // called for every primitive whose box lies within the nearest distance found so far plus
+  // `slack` (with slack > 0 the caller sees every primitive within slack of the nearest one,
+  // in one traversal). Returns -1 for an empty tree; bestSquared receives the squared distance.
   template <class SquaredDistance>
-  int nearest(const Eigen::Vector3d& p, SquaredDistance&& distance, double& bestSquared) const {
+  int nearest(const Eigen::Vector3d& p, SquaredDistance&& distance, double& bestSquared, double slack = 0.0) const {
     bestSquared = std::numeric_limits<double>::infinity();
+    double reachSquared = bestSquared;  // (sqrt(bestSquared) + slack)^2
     int best = -1;
     if (nodes_.empty()) return best;
-    int stack[128];
+    // Nodes to visit with their box distances (computed once, when the parent is visited).
+    std::pair<int, double> stack[128];
     int top = 0;
-    stack[top++] = 0;
+    stack[top++] = {0, nodes_[0].box.squaredDistance(p)};
     while (top > 0) {
-      const Node& node = nodes_[static_cast<std::size_t>(stack[--top])];
-      if (node.box.squaredDistance(p) >= bestSquared) continue;
+      const auto [index, boxSquared] = stack[--top];
+      if (boxSquared > reachSquared) continue;
+      const Node& node = nodes_[static_cast<std::size_t>(index)];
       if (node.count > 0) {
         for (int i = node.first; i < node.first + node.count; ++i) {
           const int id = order_[static_cast<std::size_t>(i)];
+          if (boxes_[static_cast<std::size_t>(id)].squaredDistance(p) > reachSquared) continue;
           const double d = distance(id, p);
           if (d < bestSquared) {
             bestSquared = d;
             best = id;
+            reachSquared = (std::sqrt(d) + slack) * (std::sqrt(d) + slack);
           }
         }
       } else {
@@ -95,11 +103,11 @@ public:
         const double da = nodes_[static_cast<std::size_t>(a)].box.squaredDistance(p);
         const double db = nodes_[static_cast<std::size_t>(b)].box.squaredDistance(p);
         if (da < db) {
-          stack[top++] = b;
-          stack[top++] = a;
+          stack[top++] = {b, db};
+          stack[top++] = {a, da};
         } else {
-          stack[top++] = a;
-          stack[top++] = b;
+          stack[top++] = {a, da};
+          stack[top++] = {b, db};
         }
       }
     }

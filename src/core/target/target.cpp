@@ -27,6 +27,9 @@
 namespace bvmesh::target {
 namespace {
 
+// Limit of a face's span polynomials (coefficients per coordinate): 24 MB.
+constexpr std::size_t kMaxSpanCoefficients = std::size_t{1} << 20;
+
 int indexOf(const TopTools_IndexedMapOfShape& map, const TopoDS_Shape& shape) {
   return map.FindIndex(shape) - 1;
 }
@@ -62,7 +65,7 @@ std::vector<std::vector<Eigen::Vector2d>> boundaryPolylines(const FaceData& face
   return curves;
 }
 
-// Extracts faces, edges and vertices with their adjacency.// Extracts faces, edges and vertices with their adjacency.
+// Extracts faces, edges and vertices with their adjacency.
 void extractTopology(Target::Data& data) {
   TopTools_IndexedMapOfShape faceMap, edgeMap, vertexMap;
   TopExp::MapShapes(data.shape, TopAbs_FACE, faceMap);
@@ -103,6 +106,12 @@ void extractTopology(Target::Data& data) {
     if (const Handle(Geom_BSplineSurface) bspline = Handle(Geom_BSplineSurface)::DownCast(f.surface); !bspline.IsNull()) {
       for (int k = 1; k <= bspline->NbUKnots(); ++k) f.uKnots.push_back(bspline->UKnot(k));
       for (int k = 1; k <= bspline->NbVKnots(); ++k) f.vKnots.push_back(bspline->VKnot(k));
+      // Span polynomials for polynomial surfaces of moderate size (memory: spans x (du + 1) x
+      // (dv + 1) x 3 doubles); rational and periodic ones stay with the adaptors.
+      const bool polynomial = !bspline->IsURational() && !bspline->IsVRational() && !f.uPeriodic && !f.vPeriodic;
+      const std::size_t spans = (f.uKnots.size() - 1) * (f.vKnots.size() - 1);
+      if (polynomial && spans * static_cast<std::size_t>((bspline->UDegree() + 1) * (bspline->VDegree() + 1)) <= kMaxSpanCoefficients)
+        f.polynomials = SpanPolynomials(*bspline);
     }
     for (TopExp_Explorer it(f.face, TopAbs_EDGE); it.More(); it.Next()) {
       const TopoDS_Edge& edge = TopoDS::Edge(it.Current());
@@ -209,6 +218,7 @@ void tessellate(Target::Data& data) {
 // Free edges that nearly meet a free edge of another face.
 void findGaps(const Target::Data& data, TargetReport& report) {
   const double search = data.options.relativeGapSearch * data.diagonal;
+  ThreadContext context(data);
   std::vector<Box3> boxes(data.edges.size());
   for (int id : report.freeEdges)
     for (const Eigen::Vector3d& p : data.edges[static_cast<std::size_t>(id)].polyline)
@@ -234,7 +244,7 @@ void findGaps(const Target::Data& data, TargetReport& report) {
       double best = std::numeric_limits<double>::infinity();
       int bestEdge = -1;
       for (int other : others) {
-        const Foot foot = closestOnEdge(data, other, q);
+        const Foot foot = closestOnEdge(data, context, other, q, best);
         if (foot.distance >= 0 && foot.distance < best) {
           best = foot.distance;
           bestEdge = other;
@@ -293,7 +303,15 @@ GeomAdaptor_Surface& FaceSurface::adaptor(double u, double v) {
   }
   if (spans_[slot] != span) {
     spans_[slot] = span;
-    if (!adaptors_[slot]) adaptors_[slot] = std::make_unique<GeomAdaptor_Surface>(face_.surface);
+    // GeomAdaptor_Surface evaluates a B-spline exactly on its first or last parameter by the
+    // uncached de Boor path (one-sided derivatives at trimming knots), several times slower;
+    // feet on the domain's border (Newton clamps there) are common. Bounds wider than the
+    // domain keep every evaluation on the span cache, whose end values are the same polynomial.
+    if (!adaptors_[slot]) {
+      const double du = face_.uMax - face_.uMin, dv = face_.vMax - face_.vMin;
+      adaptors_[slot] = std::make_unique<GeomAdaptor_Surface>(face_.surface, face_.uMin - du, face_.uMax + du,
+                                                              face_.vMin - dv, face_.vMax + dv);
+    }
   }
   used_[slot] = ++clock_;
   return *adaptors_[slot];
@@ -305,68 +323,164 @@ FaceSurface& ThreadContext::surface(int face) {
   return *slot;
 }
 
+SpanPolynomials::SpanPolynomials(const Geom_BSplineSurface& surface)
+    : uDegree_(surface.UDegree()), vDegree_(surface.VDegree()) {
+  for (int k = 1; k <= surface.NbUKnots(); ++k) uBreaks_.push_back(surface.UKnot(k));
+  for (int k = 1; k <= surface.NbVKnots(); ++k) vBreaks_.push_back(surface.VKnot(k));
+  const int uSpans = static_cast<int>(uBreaks_.size()) - 1, vSpans = static_cast<int>(vBreaks_.size()) - 1;
+  const int terms = (uDegree_ + 1) * (vDegree_ + 1);
+  coefficients_.resize(static_cast<std::size_t>(uSpans * vSpans * terms * 3));
+  for (int a = 0; a < uSpans; ++a) {
+    for (int b = 0; b < vSpans; ++b) {
+      const double u = uBreaks_[static_cast<std::size_t>(a)], v = vBreaks_[static_cast<std::size_t>(b)];
+      const double hu = uBreaks_[static_cast<std::size_t>(a) + 1] - u, hv = vBreaks_[static_cast<std::size_t>(b) + 1] - v;
+      double* out = &coefficients_[static_cast<std::size_t>((a * vSpans + b) * terms * 3)];
+      // c_ij = d^(i+j) S / du^i dv^j * hu^i hv^j / (i! j!) of this span's polynomial at its corner.
+      double uScale = 1.0;
+      for (int i = 0; i <= uDegree_; ++i) {
+        double scale = uScale;
+        for (int j = 0; j <= vDegree_; ++j) {
+          gp_XYZ d;
+          if (i == 0 && j == 0) {
+            gp_Pnt p;
+            surface.LocalD0(u, v, a + 1, a + 2, b + 1, b + 2, p);
+            d = p.XYZ();
+          } else {
+            d = surface.LocalDN(u, v, a + 1, a + 2, b + 1, b + 2, i, j).XYZ();
+          }
+          for (int k = 0; k < 3; ++k) out[(i * (vDegree_ + 1) + j) * 3 + k] = scale * d.Coord(k + 1);
+          scale *= hv / (j + 1);
+        }
+        uScale *= hu / (i + 1);
+      }
+    }
+  }
+}
+
+void SpanPolynomials::D2(double u, double v, gp_Pnt& p, gp_Vec& su, gp_Vec& sv, gp_Vec& suu, gp_Vec& svv,
+                         gp_Vec& suv) const {
+  const int uSpans = static_cast<int>(uBreaks_.size()) - 1, vSpans = static_cast<int>(vBreaks_.size()) - 1;
+  const int a = std::clamp(static_cast<int>(std::upper_bound(uBreaks_.begin(), uBreaks_.end(), u) - uBreaks_.begin()) - 1, 0, uSpans - 1);
+  const int b = std::clamp(static_cast<int>(std::upper_bound(vBreaks_.begin(), vBreaks_.end(), v) - vBreaks_.begin()) - 1, 0, vSpans - 1);
+  const double u0 = uBreaks_[static_cast<std::size_t>(a)], v0 = vBreaks_[static_cast<std::size_t>(b)];
+  const double hu = uBreaks_[static_cast<std::size_t>(a) + 1] - u0, hv = vBreaks_[static_cast<std::size_t>(b) + 1] - v0;
+  const double s = (u - u0) / hu, t = (v - v0) / hv;
+  const double* c = &coefficients_[static_cast<std::size_t>((a * vSpans + b) * (uDegree_ + 1) * (vDegree_ + 1) * 3)];
+  // Horner in t for each power of s (value, first and second t-derivative: r0, r1, r2 / 2), then
+  // Horner in s over those: S and its s-derivatives (s0, s1, s2 / 2), S_t and its s-derivative
+  // (t0, t1), S_tt / 2 (tt).
+  double s0[3] = {0, 0, 0}, s1[3] = {0, 0, 0}, s2[3] = {0, 0, 0}, t0[3] = {0, 0, 0}, t1[3] = {0, 0, 0}, tt[3] = {0, 0, 0};
+  for (int i = uDegree_; i >= 0; --i) {
+    const double* row = c + i * (vDegree_ + 1) * 3;
+    double r0[3] = {row[vDegree_ * 3], row[vDegree_ * 3 + 1], row[vDegree_ * 3 + 2]};
+    double r1[3] = {0, 0, 0}, r2[3] = {0, 0, 0};
+    for (int j = vDegree_ - 1; j >= 0; --j) {
+      for (int k = 0; k < 3; ++k) {
+        r2[k] = r2[k] * t + r1[k];
+        r1[k] = r1[k] * t + r0[k];
+        r0[k] = r0[k] * t + row[j * 3 + k];
+      }
+    }
+    for (int k = 0; k < 3; ++k) {
+      s2[k] = s2[k] * s + s1[k];
+      s1[k] = s1[k] * s + s0[k];
+      s0[k] = s0[k] * s + r0[k];
+      t1[k] = t1[k] * s + t0[k];
+      t0[k] = t0[k] * s + r1[k];
+      tt[k] = tt[k] * s + r2[k];
+    }
+  }
+  p.SetCoord(s0[0], s0[1], s0[2]);
+  su.SetCoord(s1[0] / hu, s1[1] / hu, s1[2] / hu);
+  sv.SetCoord(t0[0] / hv, t0[1] / hv, t0[2] / hv);
+  const double uu = 2 / (hu * hu), vv = 2 / (hv * hv), uv = 1 / (hu * hv);
+  suu.SetCoord(uu * s2[0], uu * s2[1], uu * s2[2]);
+  svv.SetCoord(vv * tt[0], vv * tt[1], vv * tt[2]);
+  suv.SetCoord(uv * t1[0], uv * t1[1], uv * t1[2]);
+}
+
+GeomAdaptor_Curve& ThreadContext::curve(int edge) {
+  std::unique_ptr<GeomAdaptor_Curve>& slot = curves_[static_cast<std::size_t>(edge)];
+  if (!slot) {
+    // Bounds wider than the edge's range, as for surfaces: the adaptor evaluates a B-spline on
+    // its first or last parameter by the uncached path.
+    const EdgeData& e = data_.edges[static_cast<std::size_t>(edge)];
+    const double range = e.last - e.first;
+    slot = std::make_unique<GeomAdaptor_Curve>(e.curve, e.first - range, e.last + range);
+  }
+  return *slot;
+}
+
+Eigen::Vector3d unitNormal(const FaceData& face, const gp_Vec& su, const gp_Vec& sv, double relativeTolerance) {
+  const Eigen::Vector3d n = toEigen(su).cross(toEigen(sv));
+  const double length = n.norm();
+  if (!(length > relativeTolerance * (su.Magnitude() + sv.Magnitude()) + 1e-300) || !std::isfinite(length))
+    return Eigen::Vector3d::Zero();
+  return face.reversed ? Eigen::Vector3d(-n / length) : Eigen::Vector3d(n / length);
+}
+
 Eigen::Vector3d faceNormal(const FaceData& face, FaceSurface& surface, double u, double v) {
   gp_Pnt p;
   gp_Vec su, sv;
   surface.D1(u, v, p, su, sv);
-  Eigen::Vector3d n = toEigen(su).cross(toEigen(sv));
+  const Eigen::Vector3d n = unitNormal(face, su, sv, 1e-12);
+  if (!n.isZero()) return n;
   // At a pole (sphere apex) one derivative vanishes: step towards the face's interior.
-  if (n.norm() <= 1e-12 * (toEigen(su).norm() + toEigen(sv).norm()) + 1e-300) {
-    const double uc = 0.5 * (face.u0 + face.u1);
-    const double vc = 0.5 * (face.v0 + face.v1);
-    surface.D1(u + 1e-6 * (uc - u), v + 1e-6 * (vc - v), p, su, sv);
-    n = toEigen(su).cross(toEigen(sv));
-  }
-  const double length = n.norm();
-  if (!(length > 0) || !std::isfinite(length)) return Eigen::Vector3d::Zero();
-  n /= length;
-  return face.reversed ? Eigen::Vector3d(-n) : n;
+  const double uc = 0.5 * (face.u0 + face.u1);
+  const double vc = 0.5 * (face.v0 + face.v1);
+  surface.D1(u + 1e-6 * (uc - u), v + 1e-6 * (vc - v), p, su, sv);
+  return unitNormal(face, su, sv, 0.0);
 }
 
 TrimClassifier::TrimClassifier(double u0, double u1, double v0, double v1,
                                const std::vector<std::vector<Eigen::Vector2d>>& curves)
-    : everywhere_(curves.empty()), u0_(u0), v0_(v0), du_((u1 - u0) / kSize), dv_((v1 - v0) / kSize) {
+    : everywhere_(curves.empty()), origin_(u0, v0), step_((u1 - u0) / kSize, (v1 - v0) / kSize) {
   if (everywhere_) return;
-  if (!(du_ > 0) || !(dv_ > 0) || !std::isfinite(du_) || !std::isfinite(dv_))
-    throw TopologyError("Target: a face has a degenerate parameter box");
+  if (!(step_.minCoeff() > 0) || !step_.allFinite()) throw TopologyError("Target: a face has a degenerate parameter box");
   cells_.assign(kSize * kSize, Unknown);
-  rowSegments_.resize(kSize);
-  auto cellOf = [&](double x, double lo, double step) {
-    return std::clamp(static_cast<int>(std::floor((x - lo) / step)), 0, kSize - 1);
-  };
+  std::vector<std::vector<int>> lists(kSize * kSize);
   for (const std::vector<Eigen::Vector2d>& curve : curves) {
     for (std::size_t k = 0; k + 1 < curve.size(); ++k) {
       const Eigen::Vector2d& a = curve[k];
       const Eigen::Vector2d& b = curve[k + 1];
       const int id = static_cast<int>(segments_.size());
       segments_.emplace_back(a.x(), a.y(), b.x(), b.y());
-      for (int row = cellOf(std::min(a.y(), b.y()), v0_, dv_); row <= cellOf(std::max(a.y(), b.y()), v0_, dv_); ++row)
-        rowSegments_[static_cast<std::size_t>(row)].push_back(id);
-      // Mark the cells along the segment (quarter-cell steps) and their neighbours.
-      const int steps = 1 + static_cast<int>(4 * std::max(std::abs(b.x() - a.x()) / du_, std::abs(b.y() - a.y()) / dv_));
+      for (int j = index(std::min(a.y(), b.y()), 1); j <= index(std::max(a.y(), b.y()), 1); ++j)
+        for (int i = index(std::min(a.x(), b.x()), 0); i <= index(std::max(a.x(), b.x()), 0); ++i)
+          lists[static_cast<std::size_t>(j * kSize + i)].push_back(id);
+      // Mark the cells along the segment (quarter-cell steps) and their neighbours: no segment
+      // passes through a cell that is not marked.
+      const int steps = 1 + static_cast<int>(4 * (b - a).cwiseAbs().cwiseQuotient(step_).maxCoeff());
       for (int s = 0; s <= steps; ++s) {
         const Eigen::Vector2d p = a + (b - a) * (static_cast<double>(s) / steps);
-        const int x = cellOf(p.x(), u0_, du_), y = cellOf(p.y(), v0_, dv_);
+        const int x = index(p.x(), 0), y = index(p.y(), 1);
         for (int j = std::max(0, y - 1); j <= std::min(kSize - 1, y + 1); ++j)
           for (int i = std::max(0, x - 1); i <= std::min(kSize - 1, x + 1); ++i)
             cells_[static_cast<std::size_t>(j * kSize + i)] = Boundary;
       }
     }
   }
-  // Every other connected region of cells is on one side: test one cell, fill the region.
+  cellStart_.assign(1, 0);
+  for (const std::vector<int>& list : lists) {
+    cellSegments_.insert(cellSegments_.end(), list.begin(), list.end());
+    cellStart_.push_back(static_cast<int>(cellSegments_.size()));
+  }
+  // Every other connected region of cells is on one side: test one cell (crossings up to the
+  // box's end), fill the region.
   std::vector<int> stack;
   for (int start = 0; start < kSize * kSize; ++start) {
     if (cells_[static_cast<std::size_t>(start)] != Unknown) continue;
-    const std::uint8_t value =
-        crossingInside(u0_ + (start % kSize + 0.5) * du_, v0_ + (start / kSize + 0.5) * dv_, start / kSize) ? Inside : Outside;
+    const int x = start % kSize, y = start / kSize;
+    const Eigen::Vector2d center = origin_ + Eigen::Vector2d(x + 0.5, y + 0.5).cwiseProduct(step_);
+    const std::uint8_t value = oddCrossings(center, 0, 1, kSize - 1 - x) ? Inside : Outside;
     cells_[static_cast<std::size_t>(start)] = value;
     stack.assign(1, start);
     while (!stack.empty()) {
       const int cell = stack.back();
       stack.pop_back();
-      const int x = cell % kSize, y = cell / kSize;
+      const int cx = cell % kSize, cy = cell / kSize;
       for (const auto& [dx, dy] : {std::pair{1, 0}, std::pair{-1, 0}, std::pair{0, 1}, std::pair{0, -1}}) {
-        const int nx = x + dx, ny = y + dy;
+        const int nx = cx + dx, ny = cy + dy;
         if (nx < 0 || ny < 0 || nx >= kSize || ny >= kSize) continue;
         std::uint8_t& next = cells_[static_cast<std::size_t>(ny * kSize + nx)];
         if (next != Unknown) continue;
@@ -377,25 +491,51 @@ TrimClassifier::TrimClassifier(double u0, double u1, double v0, double v1,
   }
 }
 
-bool TrimClassifier::crossingInside(double u, double v, int row) const {
-  // Crossings of the ray from (u, v) towards +u; half-open in v so that a vertex counts once.
-  bool inside = false;
-  for (int id : rowSegments_[static_cast<std::size_t>(row)]) {
-    const Eigen::Vector4d& s = segments_[static_cast<std::size_t>(id)];
-    if ((s[1] > v) == (s[3] > v)) continue;
-    const double crossing = s[0] + (v - s[1]) * (s[2] - s[0]) / (s[3] - s[1]);
-    if (crossing > u) inside = !inside;
+int TrimClassifier::index(double x, int axis) const {
+  return std::clamp(static_cast<int>(std::floor((x - origin_[axis]) / step_[axis])), 0, kSize - 1);
+}
+
+bool TrimClassifier::oddCrossings(const Eigen::Vector2d& p, int axis, int direction, int steps) const {
+  // Half-open across the ray so that a vertex shared by two segments counts once. A segment
+  // listed in several cells counts in the cell holding its crossing only.
+  const int across = 1 - axis;
+  int cell[2] = {index(p.x(), 0), index(p.y(), 1)};
+  bool odd = false;
+  for (int n = 0; n <= steps; ++n, cell[axis] += direction) {
+    const std::size_t c = static_cast<std::size_t>(cell[1] * kSize + cell[0]);
+    for (int k = cellStart_[c]; k < cellStart_[c + 1]; ++k) {
+      const Eigen::Vector4d& s = segments_[static_cast<std::size_t>(cellSegments_[static_cast<std::size_t>(k)])];
+      const double a0 = s[axis], c0 = s[across], a1 = s[2 + axis], c1 = s[2 + across];
+      if ((c0 > p[across]) == (c1 > p[across])) continue;
+      const double crossing = std::clamp(a0 + (p[across] - c0) * (a1 - a0) / (c1 - c0), std::min(a0, a1), std::max(a0, a1));
+      if (direction * (crossing - p[axis]) > 0 && index(crossing, axis) == cell[axis]) odd = !odd;
+    }
   }
-  return inside;
+  return odd;
 }
 
 bool TrimClassifier::inside(double u, double v) const {
   if (everywhere_) return true;
-  const double x = (u - u0_) / du_, y = (v - v0_) / dv_;
-  if (!(x >= 0 && y >= 0 && x <= kSize && y <= kSize)) return false;  // the box holds the boundary
-  const int i = std::min(static_cast<int>(x), kSize - 1), j = std::min(static_cast<int>(y), kSize - 1);
+  const Eigen::Vector2d p(u, v);
+  const Eigen::Vector2d x = (p - origin_).cwiseQuotient(step_);
+  if (!(x.minCoeff() >= 0 && x.maxCoeff() <= kSize)) return false;  // the box holds the boundary
+  const int i = index(u, 0), j = index(v, 1);
   const std::uint8_t cell = cells_[static_cast<std::size_t>(j * kSize + i)];
-  return cell == Boundary ? crossingInside(u, v, j) : cell == Inside;
+  if (cell != Boundary) return cell == Inside;
+  // Rays along +u, -u, +v, -v: the first to reach a known cell (or to leave the grid: outside)
+  // decides. The point is on that cell's side when an even number of segments cross in between.
+  constexpr int kAxis[4] = {0, 0, 1, 1};
+  constexpr int kDirection[4] = {1, -1, 1, -1};
+  for (int steps = 1;; ++steps) {
+    for (int r = 0; r < 4; ++r) {
+      const int ci = kAxis[r] == 0 ? i + kDirection[r] * steps : i;
+      const int cj = kAxis[r] == 1 ? j + kDirection[r] * steps : j;
+      const bool leaves = ci < 0 || cj < 0 || ci >= kSize || cj >= kSize;
+      const std::uint8_t known = leaves ? std::uint8_t{Outside} : cells_[static_cast<std::size_t>(cj * kSize + ci)];
+      if (known == Boundary) continue;
+      return (known == Inside) != oddCrossings(p, kAxis[r], kDirection[r], steps - 1);
+    }
+  }
 }
 
 std::unique_ptr<ThreadContext> Target::Data::acquireContext() const {

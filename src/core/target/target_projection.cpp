@@ -121,6 +121,7 @@ struct NewtonResult {
   bool converged = false;
   bool singular = false;  // stopped where the parametrization degenerates (a pole)
   bool blocked = false;   // stopped at the trim (constrained iteration only)
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // unit normal at the point; 0 at a pole
 };
 
 bool isSingular(const gp_Vec& su, const gp_Vec& sv) {
@@ -168,6 +169,7 @@ NewtonResult newtonOnSurface(const FaceData& face, FaceSurface& surface, const E
     }
     bool accepted = false;
     bool fullStep = false;
+    bool settled = false;
     double moved = 0.0;
     for (int attempt = 0; attempt < 60 && !accepted; ++attempt) {
       fullStep = lambda == 0.0;
@@ -175,11 +177,12 @@ NewtonResult newtonOnSurface(const FaceData& face, FaceSurface& surface, const E
       a(0, 0) += lambda * jtj(0, 0) + 1e-300;
       a(1, 1) += lambda * jtj(1, 1) + 1e-300;
       // Where the Hessian is not positive definite (beyond a focal point), damp until it is.
-      const bool definite = fixU ? a(1, 1) > 0 : fixV ? a(0, 0) > 0 : a(0, 0) > 0 && a.determinant() > 0;
+      const double determinant = a.determinant();
+      const bool definite = fixU ? a(1, 1) > 0 : fixV ? a(0, 0) > 0 : a(0, 0) > 0 && determinant > 0;
       Eigen::Vector2d step = Eigen::Vector2d::Zero();
       if (fixU) step[1] = -g[1] / a(1, 1);
       else if (fixV) step[0] = -g[0] / a(0, 0);
-      else step = a.ldlt().solve(-g);
+      else step = Eigen::Vector2d(a(0, 1) * g[1] - a(1, 1) * g[0], a(1, 0) * g[0] - a(0, 0) * g[1]) / determinant;
       if (!definite || !step.allFinite()) {
         lambda = std::max(1e-6, 10 * lambda);
         continue;
@@ -187,6 +190,13 @@ NewtonResult newtonOnSurface(const FaceData& face, FaceSurface& surface, const E
       step = clipStep(face, step);
       const double un = clampTo(u + step[0], uLo, uHi);
       const double vn = clampTo(v + step[1], vLo, vHi);
+      // An undamped step that moves the point by less than the tolerance (to first order; the
+      // step is far too small for the second) would end the iteration after one more
+      // evaluation that only confirms it: the point has converged.
+      if (fullStep && inside == nullptr && (su * (un - u) + sv * (vn - v)).norm() <= convergence) {
+        settled = true;
+        break;
+      }
       if (inside != nullptr && !(*inside)(un, vn)) {
         lambda = std::max(1e-6, 10 * lambda);
         result.blocked = true;
@@ -198,7 +208,10 @@ NewtonResult newtonOnSurface(const FaceData& face, FaceSurface& surface, const E
       surface.D2(un, vn, t.p, t.su, t.sv, t.suu, t.svv, t.suv);
       const Eigen::Vector3d rn = toEigen(t.p) - q;
       const double fn = rn.squaredNorm();
-      if (fn <= f * (1 + kRoundOff) + 1e-300) {
+      // Near the surface, the rounding of S itself (~1e-16 of the coordinates) changes |S - q|^2
+      // by more than its relative round-off, and would reject the last, tiny Newton steps: a
+      // step may also raise the distance by a tenth of the tolerance.
+      if (fn <= f * (1 + kRoundOff) + 1e-300 || std::sqrt(fn) <= std::sqrt(f) + 0.1 * convergence) {
         moved = (rn - r).norm();
         accepted = true;
         result.blocked = false;
@@ -212,14 +225,15 @@ NewtonResult newtonOnSurface(const FaceData& face, FaceSurface& surface, const E
         lambda = std::max(1e-6, 10 * lambda);
       }
     }
-    // Converged: a step moved the point by less than the tolerance and was either undamped or
-    // taken where the gradient vanishes; or no step descends any more.
+    // Converged: a step moved (or an undamped step would move) the point by less than the
+    // tolerance and was either undamped or taken where the gradient vanishes; or no step
+    // descends any more.
     // Stationary: the gradient along the free parameters vanishes (relative to |S_u|, |S_v|).
     const double gu = fixU ? 0.0 : g[0] * g[0] / std::max(jtj(0, 0), 1e-300);
     const double gv = fixV ? 0.0 : g[1] * g[1] / std::max(jtj(1, 1), 1e-300);
     const bool stationary = std::sqrt(gu + gv) <= 1e3 * convergence;
-    if (!accepted || (moved <= convergence && (fullStep || stationary))) {
-      result.converged = accepted || stationary;
+    if (settled || !accepted || (moved <= convergence && (fullStep || stationary))) {
+      result.converged = settled || accepted || stationary;
       break;
     }
   }
@@ -227,6 +241,7 @@ NewtonResult newtonOnSurface(const FaceData& face, FaceSurface& surface, const E
   result.v = v;
   result.point = toEigen(s.p);
   result.singular = isSingular(s.su, s.sv);
+  result.normal = unitNormal(face, s.su, s.sv, 1e-12);
   return result;
 }
 
@@ -237,11 +252,12 @@ struct CurveResult {
 
 // Minimizes |C(t) - q|^2 on [first, last]: Newton with the exact second derivative, Gauss-Newton
 // where it is not positive or where Newton stalls, halving steps that do not descend.
-CurveResult newtonOnCurve(const EdgeData& edge, const Eigen::Vector3d& q, double t, double convergence) {
+CurveResult newtonOnCurve(const EdgeData& edge, GeomAdaptor_Curve& curve, const Eigen::Vector3d& q, double t,
+                          double convergence) {
   t = clampTo(t, edge.first, edge.last);
   gp_Pnt p;
   gp_Vec d1, d2;
-  edge.curve->D2(t, p, d1, d2);
+  curve.D2(t, p, d1, d2);
   Eigen::Vector3d r = toEigen(p) - q;
   double f = r.squaredNorm();
   bool gaussNewton = false;
@@ -258,7 +274,7 @@ CurveResult newtonOnCurve(const EdgeData& edge, const Eigen::Vector3d& q, double
       const double tn = clampTo(t + step, edge.first, edge.last);
       gp_Pnt pn;
       gp_Vec e1, e2;
-      edge.curve->D2(tn, pn, e1, e2);
+      curve.D2(tn, pn, e1, e2);
       const Eigen::Vector3d rn = toEigen(pn) - q;
       const double fn = rn.squaredNorm();
       if (fn <= f * (1 + kRoundOff) + 1e-300) {
@@ -355,6 +371,7 @@ Foot solveOnFace(const Target::Data& data, ThreadContext& context, int faceId, c
   if (insideTrim(context, face, faceId, foot.u, foot.v)) {
     foot.point = newton.point;
     foot.distance = (newton.point - q).norm();
+    foot.normal = newton.normal;
     foot.status = newton.converged ? ProjectionStatus::Ok : ProjectionStatus::Fallback;
     return foot;
   }
@@ -372,6 +389,7 @@ Foot solveOnFace(const Target::Data& data, ThreadContext& context, int faceId, c
       foot.distance = (constrained.point - q).norm();
       foot.u = wrapInto(constrained.u, face.uPeriodic, face.uPeriod, face.u0);
       foot.v = wrapInto(constrained.v, face.vPeriodic, face.vPeriod, face.v0);
+      foot.normal = constrained.normal;
       foot.status = ProjectionStatus::Ok;
       return foot;
     }
@@ -380,7 +398,7 @@ Foot solveOnFace(const Target::Data& data, ThreadContext& context, int faceId, c
     // An edge whose box is farther than the best foot (here or elsewhere) cannot hold a nearer one.
     const double bound = foot.distance >= 0 ? foot.distance : bestSoFar;
     if (bound >= 0 && data.edges[static_cast<std::size_t>(use.edge)].box.squaredDistance(q) > bound * bound) continue;
-    const Foot onEdge = closestOnEdge(data, use.edge, q);
+    const Foot onEdge = closestOnEdge(data, context, use.edge, q, bound);
     if (onEdge.distance < 0 || (bound >= 0 && onEdge.distance >= bound)) continue;
     const gp_Pnt2d uv = use.pcurve->Value(onEdge.t);
     foot.point = onEdge.point;
@@ -410,28 +428,36 @@ Foot closestOnSurface(const Target::Data& data, ThreadContext& context, const Ei
     best = solveOnFace(data, context, hintFace, q, hintU, hintV, -1.0);
     context.anchors.push_back({hintFace, best.point});
   }
+  auto addCandidate = [&](int t) {
+    const TrianglePoint closest = closestOnMeshTriangle(data, t, q);
+    const double distance = (closest.point - q).norm();
+    context.candidates.push_back({t, distance, closest.point, closest.u, closest.v});
+    return distance;
+  };
   if (best.distance >= 0) {
     radius = best.distance + data.margin;
+    data.tree.withinRadius(q, radius, [&](int t) {
+      // A triangle of the warm-start face with a node within half its size of the warm-started
+      // foot lies within 1.5 sizes of it: the loop below would skip it as the same basin.
+      const double size = data.triangleSize[static_cast<std::size_t>(t)];
+      if (data.triangleFaces[t] == hintFace &&
+          (data.nodes.row(data.triangles(t, 0)).transpose() - context.anchors.front().point).squaredNorm() <=
+              0.25 * size * size)
+        return;
+      addCandidate(t);
+    });
   } else {
+    // The triangles within the margin of the nearest one, found in the same traversal.
     double nearestSquared = 0;
     const int nearest = data.tree.nearest(
-        q, [&](int t, const Eigen::Vector3d& p) { return (closestOnMeshTriangle(data, t, p).point - p).squaredNorm(); },
-        nearestSquared);
+        q, [&](int t, const Eigen::Vector3d&) { const double d = addCandidate(t); return d * d; }, nearestSquared,
+        data.margin);
     if (nearest < 0) return best;
     radius = std::sqrt(nearestSquared) + data.margin;
   }
-  data.tree.withinRadius(q, radius, [&](int t) {
-    // A triangle of the warm-start face with a node within half its size of the warm-started
-    // foot lies within 1.5 sizes of it: the loop below would skip it as the same basin.
-    const double size = data.triangleSize[static_cast<std::size_t>(t)];
-    if (hintFace >= 0 && data.triangleFaces[t] == hintFace &&
-        (data.nodes.row(data.triangles(t, 0)).transpose() - context.anchors.front().point).squaredNorm() <=
-            0.25 * size * size)
-      return;
-    const TrianglePoint closest = closestOnMeshTriangle(data, t, q);
-    const double distance = (closest.point - q).norm();
-    if (distance <= radius) context.candidates.push_back({t, distance, closest.point, closest.u, closest.v});
-  });
+  context.candidates.erase(std::remove_if(context.candidates.begin(), context.candidates.end(),
+                                          [&](const ThreadContext::Candidate& c) { return c.distance > radius; }),
+                           context.candidates.end());
   std::sort(context.candidates.begin(), context.candidates.end(),
             [](const ThreadContext::Candidate& a, const ThreadContext::Candidate& b) { return a.distance < b.distance; });
   int solves = 0;
@@ -772,55 +798,70 @@ void storeFoot(const Target::Data& data, ThreadContext& context, const Foot& foo
   result.params(i, 0) = foot.u;
   result.params(i, 1) = foot.v;
   result.normals.row(i) =
-      faceNormal(data.faces[static_cast<std::size_t>(foot.face)], context.surface(foot.face), foot.u, foot.v).transpose();
+      (foot.normal.isZero()
+           ? faceNormal(data.faces[static_cast<std::size_t>(foot.face)], context.surface(foot.face), foot.u, foot.v)
+           : foot.normal)
+          .transpose();
   result.status[static_cast<std::size_t>(i)] = foot.status;
 }
 
 }  // namespace
 
-Foot closestOnEdge(const Target::Data& data, int edgeId, const Eigen::Vector3d& q) {
+Foot closestOnEdge(const Target::Data& data, ThreadContext& context, int edgeId, const Eigen::Vector3d& q, double bound) {
   const EdgeData& edge = data.edges[static_cast<std::size_t>(edgeId)];
   Foot best;
   if (edge.degenerate || edge.polyline.size() < 2) return best;
   // Seeds: local minima of the distance to the polyline's segments within the margin of the
-  // nearest; Newton on the curve from each.
+  // nearest (the curve lies within the margin of its polyline), the kMaxCurveSeeds nearest of
+  // them; Newton on the curve from each. One pass, no storage: keeping the nearest local minima
+  // and dropping those beyond the margin at the end selects the same seeds.
   const std::size_t segments = edge.polyline.size() - 1;
-  double seedDistance[kMaxCurveSeeds];
-  double seedParam[kMaxCurveSeeds];
-  int seeds = 0;
-  double nearest = std::numeric_limits<double>::infinity();
-  double previous = std::numeric_limits<double>::infinity();
-  std::vector<double> distances(segments);
-  std::vector<double> params(segments);
-  for (std::size_t k = 0; k < segments; ++k) {
-    const Eigen::Vector3d a = edge.polyline[k];
+  auto segmentDistance = [&](std::size_t k, double& param) {
+    const Eigen::Vector3d& a = edge.polyline[k];
     const Eigen::Vector3d ab = edge.polyline[k + 1] - a;
     const double length2 = ab.squaredNorm();
     const double w = length2 > 0 ? clampTo((q - a).dot(ab) / length2, 0, 1) : 0;
-    distances[k] = (a + w * ab - q).norm();
-    params[k] = edge.polyParams[k] + w * (edge.polyParams[k + 1] - edge.polyParams[k]);
-    nearest = std::min(nearest, distances[k]);
-  }
+    param = edge.polyParams[k] + w * (edge.polyParams[k + 1] - edge.polyParams[k]);
+    return (a + w * ab - q).norm();
+  };
+  double seedDistance[kMaxCurveSeeds];
+  double seedParam[kMaxCurveSeeds];
+  int seeds = 0;
+  double previous = std::numeric_limits<double>::infinity();
+  double param = 0;
+  double distance = segmentDistance(0, param);
+  double nearest = distance;
   for (std::size_t k = 0; k < segments; ++k) {
-    const double next = k + 1 < segments ? distances[k + 1] : std::numeric_limits<double>::infinity();
-    const bool localMinimum = distances[k] <= previous && distances[k] <= next;
-    previous = distances[k];
-    if (!localMinimum || distances[k] > nearest + data.margin) continue;
-    // Keep the kMaxCurveSeeds nearest local minima.
-    int slot = seeds < kMaxCurveSeeds ? seeds++ : -1;
-    if (slot < 0) {
-      slot = static_cast<int>(std::max_element(seedDistance, seedDistance + seeds) - seedDistance);
-      if (seedDistance[slot] <= distances[k]) continue;
+    double nextParam = 0;
+    const double next = k + 1 < segments ? segmentDistance(k + 1, nextParam) : std::numeric_limits<double>::infinity();
+    nearest = std::min(nearest, next);
+    if (distance <= previous && distance <= next) {
+      int slot = seeds;
+      if (seeds < kMaxCurveSeeds) {
+        ++seeds;
+      } else {
+        slot = static_cast<int>(std::max_element(seedDistance, seedDistance + seeds) - seedDistance);
+        if (seedDistance[slot] <= distance) slot = -1;
+      }
+      if (slot >= 0) {
+        seedDistance[slot] = distance;
+        seedParam[slot] = param;
+      }
     }
-    seedDistance[slot] = distances[k];
-    seedParam[slot] = params[k];
+    previous = distance;
+    distance = next;
+    param = nextParam;
   }
+  // A seed farther than the margin beyond the nearest seed or the bound cannot hold a foot
+  // nearer than either.
+  const double limit = std::min(nearest, bound >= 0 ? bound : std::numeric_limits<double>::infinity()) + data.margin;
   for (int s = 0; s < seeds; ++s) {
-    const CurveResult result = newtonOnCurve(edge, q, seedParam[s], data.convergence);
-    const double distance = (result.point - q).norm();
-    if (best.distance < 0 || distance < best.distance) {
+    if (seedDistance[s] > limit) continue;
+    const CurveResult result = newtonOnCurve(edge, context.curve(edgeId), q, seedParam[s], data.convergence);
+    const double footDistance = (result.point - q).norm();
+    if (best.distance < 0 || footDistance < best.distance) {
       best.point = result.point;
-      best.distance = distance;
+      best.distance = footDistance;
       best.edge = edgeId;
       best.t = result.t;
       best.status = ProjectionStatus::Ok;
@@ -894,7 +935,7 @@ ProjectionResult Target::projectToEdges(const Eigen::Ref<const Points>& points, 
       Foot best;
       for (const auto& [boxSquared, b] : order) {
         if (best.distance >= 0 && boxSquared > best.distance * best.distance) break;
-        const Foot foot = closestOnEdge(*data_, boxEdge[b], q);
+        const Foot foot = closestOnEdge(*data_, context, boxEdge[b], q, best.distance);
         if (foot.distance >= 0 && (best.distance < 0 || foot.distance < best.distance)) best = foot;
       }
       if (best.distance >= 0) {
