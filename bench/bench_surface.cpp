@@ -55,31 +55,18 @@ QuadControlMesh sphere(int n) {
       }
     }
   }
-  QuadControlMesh mesh;
-  mesh.vertices.resize(static_cast<Eigen::Index>(points.size()), 3);
-  for (size_t v = 0; v < points.size(); ++v)
-    mesh.vertices.row(static_cast<Eigen::Index>(v)) = points[v].transpose();
-  mesh.faces.resize(static_cast<Eigen::Index>(quads.size()), 4);
-  for (size_t f = 0; f < quads.size(); ++f) {
-    for (int k = 0; k < 4; ++k)
-      mesh.faces(static_cast<Eigen::Index>(f), k) = quads[f][static_cast<size_t>(k)];
-  }
-  return mesh;
+  return makeQuadControlMesh(points, quads);
 }
 
 QuadControlMesh creasedGrid(int n) {
-  QuadControlMesh mesh;
-  mesh.vertices.resize((n + 1) * (n + 1), 3);
   auto id = [n](int i, int j) { return i * (n + 1) + j; };
+  std::vector<Eigen::Vector3d> points;
   for (int i = 0; i <= n; ++i) {
-    for (int j = 0; j <= n; ++j) {
-      mesh.vertices.row(id(i, j)) << i, j, 2.0 * std::sin(0.11 * i) * std::cos(0.07 * j);
-    }
+    for (int j = 0; j <= n; ++j) points.emplace_back(i, j, 2.0 * std::sin(0.11 * i) * std::cos(0.07 * j));
   }
-  mesh.faces.resize(n * n, 4);
+  std::vector<std::array<int, 4>> quads;
   for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < n; ++j)
-      mesh.faces.row(i * n + j) << id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1);
+    for (int j = 0; j < n; ++j) quads.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
   }
   std::vector<std::array<int, 2>> creases;
   for (int line = 8; line < n; line += 8) {
@@ -88,11 +75,7 @@ QuadControlMesh creasedGrid(int n) {
       creases.push_back({id(k, line), id(k + 1, line)});
     }
   }
-  mesh.creases.resize(static_cast<Eigen::Index>(creases.size()), 2);
-  for (size_t c = 0; c < creases.size(); ++c) {
-    mesh.creases.row(static_cast<Eigen::Index>(c)) << creases[c][0], creases[c][1];
-  }
-  return mesh;
+  return makeQuadControlMesh(points, quads, creases);
 }
 
 struct Row {

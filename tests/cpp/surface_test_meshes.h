@@ -11,26 +11,6 @@
 
 namespace bvmesh::surface::testing {
 
-inline QuadControlMesh fromLists(const std::vector<Eigen::Vector3d>& points,
-                                 const std::vector<std::array<int, 4>>& quads,
-                                 const std::vector<std::array<int, 2>>& creases = {}) {
-  QuadControlMesh mesh;
-  mesh.vertices.resize(static_cast<Eigen::Index>(points.size()), 3);
-  for (size_t v = 0; v < points.size(); ++v)
-    mesh.vertices.row(static_cast<Eigen::Index>(v)) = points[v].transpose();
-  mesh.faces.resize(static_cast<Eigen::Index>(quads.size()), 4);
-  for (size_t f = 0; f < quads.size(); ++f) {
-    for (int k = 0; k < 4; ++k)
-      mesh.faces(static_cast<Eigen::Index>(f), k) = quads[f][static_cast<size_t>(k)];
-  }
-  mesh.creases.resize(static_cast<Eigen::Index>(creases.size()), 2);
-  for (size_t c = 0; c < creases.size(); ++c) {
-    mesh.creases(static_cast<Eigen::Index>(c), 0) = creases[c][0];
-    mesh.creases(static_cast<Eigen::Index>(c), 1) = creases[c][1];
-  }
-  return mesh;
-}
-
 // An (nx x ny)-quad grid over [0, nx] x [0, ny] with height z(x, y), counter-clockwise seen from
 // +z. Vertex (i, j) is i * (ny + 1) + j; faces for which `keep(i, j)` is false are left out and
 // the vertices they leave unused are dropped (later ids shift down).
@@ -57,7 +37,7 @@ inline QuadControlMesh grid(int nx, int ny, const std::function<double(double, d
   for (auto& quad : quads) {
     for (int& v : quad) v = newId[static_cast<size_t>(v)];
   }
-  return fromLists(points, quads);
+  return makeQuadControlMesh(points, quads);
 }
 
 // A regular closed torus mesh of n x m quads (all vertices valence 4), outward oriented.
@@ -77,7 +57,7 @@ inline QuadControlMesh torus(int n, int m, double major = 3.0, double minor = 1.
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < m; ++j) quads.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
   }
-  return fromLists(points, quads);
+  return makeQuadControlMesh(points, quads);
 }
 
 // An open tube of n x m quads around the z axis: two boundary loops, all vertices regular.
@@ -92,7 +72,7 @@ inline QuadControlMesh tube(int n, int m) {
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < m; ++j) quads.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
   }
-  return fromLists(points, quads);
+  return makeQuadControlMesh(points, quads);
 }
 
 // tube(8, 3) with a crease ring at height 1 and the faces listed with a shift of 3 per row, so
@@ -116,7 +96,7 @@ inline QuadControlMesh cube() {
   std::vector<Eigen::Vector3d> points;
   for (int i = 0; i < 8; ++i)
     points.emplace_back(2 * (i & 1) - 1, 2 * ((i >> 1) & 1) - 1, 2 * ((i >> 2) & 1) - 1);
-  return fromLists(points,
+  return makeQuadControlMesh(points,
                    {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}});
 }
 

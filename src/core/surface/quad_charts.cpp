@@ -583,6 +583,24 @@ int QuadChart::sideVertex(ChartSide side, int position) const {
   return -1;
 }
 
+QuadControlMesh makeQuadControlMesh(const std::vector<Eigen::Vector3d>& points,
+                                    const std::vector<std::array<int, 4>>& quads,
+                                    const std::vector<std::array<int, 2>>& creases) {
+  QuadControlMesh mesh;
+  mesh.vertices.resize(static_cast<Eigen::Index>(points.size()), 3);
+  for (size_t v = 0; v < points.size(); ++v) mesh.vertices.row(static_cast<Eigen::Index>(v)) = points[v].transpose();
+  mesh.faces.resize(static_cast<Eigen::Index>(quads.size()), 4);
+  for (size_t f = 0; f < quads.size(); ++f) {
+    for (int k = 0; k < 4; ++k) mesh.faces(static_cast<Eigen::Index>(f), k) = quads[f][static_cast<size_t>(k)];
+  }
+  mesh.creases.resize(static_cast<Eigen::Index>(creases.size()), 2);
+  for (size_t c = 0; c < creases.size(); ++c) {
+    mesh.creases(static_cast<Eigen::Index>(c), 0) = creases[c][0];
+    mesh.creases(static_cast<Eigen::Index>(c), 1) = creases[c][1];
+  }
+  return mesh;
+}
+
 void validateQuadControlMesh(const QuadControlMesh& mesh) {
   const Eigen::Index vertexCount = mesh.vertices.rows();
   for (Eigen::Index v = 0; v < vertexCount; ++v) {

@@ -25,6 +25,11 @@ struct QuadControlMesh {
   std::vector<int> corners;  // vertex ids of sharp corners
 };
 
+// A quad control mesh from point, quad and crease lists (not validated).
+QuadControlMesh makeQuadControlMesh(const std::vector<Eigen::Vector3d>& points,
+                                    const std::vector<std::array<int, 4>>& quads,
+                                    const std::vector<std::array<int, 2>>& creases = {});
+
 // Checks finite coordinates, index ranges, quads with four distinct vertices, manifold edges with
 // consistent orientation, and creases that are edges. Throws InvalidInputError / TopologyError
 // naming the offending element.
