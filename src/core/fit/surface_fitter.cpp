@@ -344,16 +344,7 @@ struct SurfaceFitter::State {
       const auto kind = static_cast<Destination>(key.first);
       const target::ProjectionResult part =
           projectGroup(kind, key.second, points, directions, haveHints ? &groupHints : nullptr);
-      for (Eigen::Index k = 0; k < count; ++k) {
-        const int i = members[static_cast<size_t>(k)];
-        all.points.row(i) = part.points.row(k);
-        all.distances[i] = part.distances[k];
-        all.ids[i] = part.ids[k];
-        all.faces[i] = part.faces[k];
-        all.params.row(i) = part.params.row(k);
-        all.normals.row(i) = part.normals.row(k);
-        all.status[static_cast<size_t>(i)] = part.status[static_cast<size_t>(k)];
-      }
+      for (Eigen::Index k = 0; k < count; ++k) all.setRow(members[static_cast<size_t>(k)], part, k);
     }
     if (!options.projectAlongNormals && options.rejectOpposingFeet) reprojectOpposingFeet(all);
     projections = std::move(all);
@@ -402,13 +393,7 @@ struct SurfaceFitter::State {
           sign * directions.row(k).dot(cast.normals.row(k)) <= 0.0 || cast.distances[k] > 4.0 * all.distances[i]) {
         continue;
       }
-      all.points.row(i) = cast.points.row(k);
-      all.distances[i] = cast.distances[k];
-      all.ids[i] = cast.ids[k];
-      all.faces[i] = cast.faces[k];
-      all.params.row(i) = cast.params.row(k);
-      all.normals.row(i) = cast.normals.row(k);
-      all.status[static_cast<size_t>(i)] = status;
+      all.setRow(i, cast, k);
     }
   }
 

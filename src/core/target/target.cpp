@@ -561,6 +561,16 @@ void ProjectionResult::resize(Eigen::Index count) {
   status.assign(static_cast<std::size_t>(count), ProjectionStatus::Failed);
 }
 
+void ProjectionResult::setRow(Eigen::Index i, const ProjectionResult& from, Eigen::Index k) {
+  points.row(i) = from.points.row(k);
+  distances[i] = from.distances[k];
+  ids[i] = from.ids[k];
+  faces[i] = from.faces[k];
+  params.row(i) = from.params.row(k);
+  normals.row(i) = from.normals.row(k);
+  status[static_cast<std::size_t>(i)] = from.status[static_cast<std::size_t>(k)];
+}
+
 Target::Target(const TopoDS_Shape& shape, const TargetOptions& options) : data_(std::make_unique<Data>()) {
   if (shape.IsNull()) throw InvalidInputError("Target: the shape is null");
   if (!(options.relativeDeflection > 0) || !(options.angularDeflection > 0) || !(options.relativeTolerance > 0))

@@ -82,6 +82,8 @@ struct ProjectionResult {
   std::vector<ProjectionStatus> status;   // #P
 
   void resize(Eigen::Index count);
+  // Row i takes every field of row k of `from`.
+  void setRow(Eigen::Index i, const ProjectionResult& from, Eigen::Index k);
 };
 
 // Previous per-point locations on the surface, for warm starts: faces #P (-1 = no hint),
