@@ -94,6 +94,27 @@ class PlacementTest(unittest.TestCase):
                                   "half_wing at the M6 tip trailing edge", views=((20, -130), (90, -90), (0, -90), (0, 0)),
                                   region=((1141.0, 1194.0, -1.5), (1148.0, 1198.0, 1.5)))
 
+    def test_half_wing_on_the_m6_in_its_flow_domain(self):
+        # The other M6 file: the wing scaled to a unit root chord inside its flow domain (far-field
+        # sphere and symmetry plane are faces 0 and 1), with no root face, so its root is a free
+        # boundary on y = 0. Same template, no parameter, fitted to 1e-5 of the root chord.
+        wing = polyhedra.faces_target(brep("onera-m6-sharp-te.stp"), range(2, 12))
+        placed = polyhedra.place("half_wing", wing)
+        self.assertTrue(placed["complete"], placed["report"])
+        self.assertEqual(placed["parameters"]["tip"], "rounded")
+        self.assertEqual(len([c for c in placed["chains"] if c["kind"] == "crease"]), 4)
+        self.assertEqual(len(placed["corners"]), 5)
+        chord = placed["planform"]["root_chord"]
+        self.assertAlmostEqual(chord, 1.0, delta=1e-3)
+        fitter = bvmesh.SurfaceFitter(wing, placed["mesh"], placed["feature_map"],
+                                      symmetry_plane=placed["symmetry_plane"], tolerance=1e-5 * chord,
+                                      check_samples_per_face=0)
+        result = fitter.run()
+        self.assertEqual(result["reason"], "converged")  # level 4: 6.7e-6 of the root chord
+        self.assertLessEqual(result["history"][-1]["max_distance"], 1e-5 * chord)
+        boundary = np.unique(np.asarray(fitter.mesh.boundary_edges))
+        np.testing.assert_allclose(np.asarray(fitter.mesh.vertices)[boundary, 1], 0.0, atol=1e-12)
+
     def test_placed_half_wing_fits_from_python(self):
         placed = polyhedra.place("half_wing", self.wing)
         fitter = bvmesh.SurfaceFitter(self.wing, placed["mesh"], placed["feature_map"],
