@@ -24,6 +24,7 @@
 #include <cmath>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "core/cad/shape_io.h"
 #include "core/target/target.h"
@@ -163,6 +164,36 @@ TEST_P(TargetCad, TrimClassifierAgreesWithBRepClass) {
 }
 
 INSTANTIATE_TEST_SUITE_P(Files, TargetCad, ::testing::Values("AileM6_with_sharp_TE.stp", "hemisph-cyl.stp"));
+
+TEST(TargetCad, GapsBetweenConsecutivePcurvesDoNotOpenTheTrim) {
+  // On the M6's upper surface (FreeCAD's Face11) the pcurves of the two tip edges meeting at the
+  // vertex (697.74, 1196.3, 9.35) miss each other in v by 5e-7 (0.02668286 / 0.02668337 at u = 1).
+  // Points whose trim test casts its ray through that gap were taken for outside the face and
+  // projected 11.4 mm away onto the leading edge. Points 1e-4 off the surface along the stripe
+  // through the gap, on both sides: the foot is the surface point.
+  const TopoDS_Shape shape = cad::readShapeFile(kDataDir + "/AileM6_with_sharp_TE.stp");
+  TopTools_IndexedMapOfShape faces;
+  TopExp::MapShapes(shape, TopAbs_FACE, faces);
+  const Handle(Geom_Surface) surface = BRep_Tool::Surface(TopoDS::Face(faces(11)));
+  const Target target(shape);
+  const double v = 0.5 * (0.0266828631725 + 0.0266833656468);
+  Points points(0, 3);
+  for (double u : {0.9, 0.95, 0.97, 0.975440971124, 0.98, 0.99, 0.995}) {
+    gp_Pnt p;
+    gp_Vec su, sv;
+    surface->D1(u, v, p, su, sv);
+    const gp_Vec normal = su.Crossed(sv).Normalized();
+    for (double offset : {-1e-4, 1e-4}) {
+      points.conservativeResize(points.rows() + 1, 3);
+      points.row(points.rows() - 1) << p.X() + offset * normal.X(), p.Y() + offset * normal.Y(), p.Z() + offset * normal.Z();
+    }
+  }
+  const ProjectionResult result = target.project(points);
+  for (Eigen::Index i = 0; i < points.rows(); ++i) {
+    EXPECT_NEAR(result.distances[i], 1e-4, 1e-9) << "point " << i;
+    EXPECT_EQ(result.status[static_cast<size_t>(i)], ProjectionStatus::Ok) << "point " << i;
+  }
+}
 
 TEST(TargetCad, OneraM6Report) {
   const Target target(cad::readShapeFile(kDataDir + "/AileM6_with_sharp_TE.stp"));

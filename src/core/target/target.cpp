@@ -3,6 +3,7 @@
 #include <BRepBuilderAPI_Copy.hxx>
 #include <BRepMesh_IncrementalMesh.hxx>
 #include <BRepTools.hxx>
+#include <BRepTools_WireExplorer.hxx>
 #include <BRep_Tool.hxx>
 #include <GCPnts_TangentialDeflection.hxx>
 #include <GeomAdaptor_Curve.hxx>
@@ -14,6 +15,7 @@
 #include <TopTools_IndexedDataMapOfShapeListOfShape.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
+#include <TopoDS_Wire.hxx>
 #include <gp_Vec2d.hxx>
 #include <Geom2d_Curve.hxx>
 
@@ -50,17 +52,40 @@ void samplePcurve(const Geom2d_Curve& pcurve, double t0, const gp_Pnt2d& p0, dou
 }
 
 // The face's boundary pcurves as polylines within a 1e-8 fraction of its parameter box.
+// The face's boundary in its parameter plane: one closed polygon per wire, its edges' pcurves in
+// wire order. The pcurves of consecutive edges may miss each other by up to the vertex's
+// tolerance (5e-7 of the parameter range at an M6 tip vertex); a polygon per edge would leave that
+// gap open, and a ray through it would miss a crossing. Wires the explorer cannot walk in order
+// (non-manifold ones) fall back to one polyline per edge.
 std::vector<std::vector<Eigen::Vector2d>> boundaryPolylines(const FaceData& face) {
   const double deflection = 1e-8 * std::max(face.u1 - face.u0, face.v1 - face.v0);
-  std::vector<std::vector<Eigen::Vector2d>> curves;
-  for (TopExp_Explorer it(face.face, TopAbs_EDGE); it.More(); it.Next()) {
+  const auto sampleEdge = [&](const TopoDS_Edge& edge, std::vector<Eigen::Vector2d>& points) {
     double first = 0, last = 0;
-    const Handle(Geom2d_Curve) pcurve = BRep_Tool::CurveOnSurface(TopoDS::Edge(it.Current()), face.face, first, last);
+    const Handle(Geom2d_Curve) pcurve = BRep_Tool::CurveOnSurface(edge, face.face, first, last);
     if (pcurve.IsNull()) throw TopologyError("Target: an edge of a face has no curve in the face's parameter plane");
+    if (edge.Orientation() == TopAbs_REVERSED) std::swap(first, last);
     const gp_Pnt2d start = pcurve->Value(first);
-    std::vector<Eigen::Vector2d> points{{start.X(), start.Y()}};
+    points.emplace_back(start.X(), start.Y());
     samplePcurve(*pcurve, first, start, last, pcurve->Value(last), deflection, 0, points);
-    curves.push_back(std::move(points));
+  };
+  std::vector<std::vector<Eigen::Vector2d>> curves;
+  for (TopExp_Explorer wires(face.face, TopAbs_WIRE); wires.More(); wires.Next()) {
+    const TopoDS_Wire& wire = TopoDS::Wire(wires.Current());
+    int edgeCount = 0;
+    for (TopExp_Explorer edges(wire, TopAbs_EDGE); edges.More(); edges.Next()) ++edgeCount;
+    std::vector<Eigen::Vector2d> polygon;
+    int walked = 0;
+    for (BRepTools_WireExplorer walk(wire, face.face); walk.More(); walk.Next(), ++walked) sampleEdge(walk.Current(), polygon);
+    if (walked == edgeCount && !polygon.empty()) {
+      polygon.push_back(polygon.front());
+      curves.push_back(std::move(polygon));
+      continue;
+    }
+    for (TopExp_Explorer edges(wire, TopAbs_EDGE); edges.More(); edges.Next()) {
+      std::vector<Eigen::Vector2d> points;
+      sampleEdge(TopoDS::Edge(edges.Current()), points);
+      curves.push_back(std::move(points));
+    }
   }
   return curves;
 }
