@@ -244,7 +244,9 @@ void bindFit(py::module_& module) {
            "Measures the current state (and, with check, the two-sided distance) into the history")
       .def("two_sided_distance", [](const SurfaceFitter& f, int samplesPerFace) {
              const fit::TwoSidedDistance d = released([&] { return f.twoSidedDistance(samplesPerFace); });
-             return py::dict(py::arg("limit_to_target") = d.limitToTarget, py::arg("target_to_limit") = d.targetToLimit);
+             return py::dict(py::arg("limit_to_target") = d.limitToTarget, py::arg("target_to_limit") = d.targetToLimit,
+                             py::arg("limit_to_target_at") = d.limitToTargetAt,
+                             py::arg("target_to_limit_at") = d.targetToLimitAt);
            }, py::arg("samples_per_face") = 4)
       .def_property_readonly("history", [](const SurfaceFitter& f) { return historyToList(f.history()); })
       .def("run", [](SurfaceFitter& f, const py::object& progress, const py::object& cancel, const py::kwargs& kwargs) {

@@ -46,8 +46,10 @@ TwoSidedDistance measureTwoSidedDistance(const ControlMesh& mesh, const Subdivis
   }
   const target::ProjectionResult onTarget = target.project(grid, faceHints != nullptr ? &gridHints : nullptr);
   for (Eigen::Index i = 0; i < onTarget.distances.size(); ++i) {
-    if (onTarget.status[static_cast<size_t>(i)] != target::ProjectionStatus::Failed) {
-      result.limitToTarget = std::max(result.limitToTarget, onTarget.distances[i]);
+    if (onTarget.status[static_cast<size_t>(i)] != target::ProjectionStatus::Failed &&
+        onTarget.distances[i] > result.limitToTarget) {
+      result.limitToTarget = onTarget.distances[i];
+      result.limitToTargetAt = grid.row(i).transpose();
     }
   }
 
@@ -78,7 +80,10 @@ TwoSidedDistance measureTwoSidedDistance(const ControlMesh& mesh, const Subdivis
   for (Eigen::Index i = 0; i < nodes.rows(); ++i) {
     double best = 0.0;
     tree.nearest(nodes.row(i).transpose(), squaredDistance, best);
-    result.targetToLimit = std::max(result.targetToLimit, std::sqrt(best));
+    if (std::sqrt(best) > result.targetToLimit) {
+      result.targetToLimit = std::sqrt(best);
+      result.targetToLimitAt = nodes.row(i).transpose();
+    }
   }
   return result;
 }

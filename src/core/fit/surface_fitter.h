@@ -74,6 +74,8 @@ struct FitOptions {
 struct TwoSidedDistance {
   double limitToTarget = 0.0;  // max over limit surface points of the distance to the target
   double targetToLimit = 0.0;  // max over target tessellation nodes of the distance to the limit surface
+  Eigen::Vector3d limitToTargetAt = Eigen::Vector3d::Zero();  // the limit surface point of that max
+  Eigen::Vector3d targetToLimitAt = Eigen::Vector3d::Zero();  // the target node of that max
 };
 
 // One pass of the iteration: the state after a step, measured.
