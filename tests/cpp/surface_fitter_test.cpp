@@ -245,6 +245,9 @@ TEST(SurfaceFitter, TwoSidedDistanceMatchesTheSphereClosedForm) {
   const RowMatrixX3d points = evaluator.evaluate(fitter.mesh().vertices(), grid).positions;
   const double expected = (points.rowwise().norm().array() - 1.0).abs().maxCoeff();
   EXPECT_NEAR(check.limitToTarget, expected, 1e-9);
+  // Where: the limit point of the maximum, and a target node (on the unit sphere).
+  EXPECT_NEAR(std::abs(check.limitToTargetAt.norm() - 1.0), check.limitToTarget, 1e-9);
+  EXPECT_NEAR(check.targetToLimitAt.norm(), 1.0, 1e-6);
   EXPECT_GT(check.targetToLimit, 0.0);
   const double spacing = 2.0 * kPi / (4.0 * 8.0 * n);  // grid spacing on the sphere at level 3
   EXPECT_LT(check.targetToLimit, expected + spacing * spacing);
