@@ -18,12 +18,14 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <set>
 #include <sstream>
 #include <string>
 
 #include "core/cad/shape_io.h"
 #include "core/common/errors.h"
+#include "core/fit/surface_fitter.h"
 #include "core/polyhedron/placement.h"
 #include "core/polyhedron/target_analysis.h"
 #include "core/subdiv/limit_samples.h"
@@ -212,26 +214,43 @@ TEST(TemplatePlacement, FullWingOnTheMirroredM6) {
   EXPECT_TRUE(placed.mapping.complete()) << placed.mapping.describeUnmapped();
   EXPECT_FALSE(placed.symmetryPlane.has_value());
   EXPECT_EQ(placed.mesh.boundaryEdges().size(), 0u);
-  // One crease chain from tip to tip, following both halves of the trailing edge, and at each tip
-  // three short chains closing the trailing-edge wedge (onto the tip's 2.5-2.6 mm sharp curves).
-  ASSERT_EQ(placed.mapping.chains.size(), 7u);
-  int trailingEdge = 0, closures = 0;
+  // The halves meet at the root with a kink (60 degrees at the leading edge, where the sweeps meet):
+  // a root station lies on it, its ring creased along the kink curve, whose ends (the wedge's
+  // sides at the root) and the root trailing edge (where the trailing edge turns by 31 degrees)
+  // are corners. So: a trailing-edge chain per half, the root kink chain, and at each tip three
+  // short chains closing the trailing-edge wedge (onto the tip's 2.5-2.6 mm sharp curves).
+  int trailingEdges = 0, kinks = 0, closures = 0;
   for (const ChainMapping& chain : placed.mapping.chainMappings) {
-    if (chain.curves.size() == 2u) {
-      ++trailingEdge;
-    } else {
-      ASSERT_EQ(chain.curves.size(), 1u);
-      EXPECT_LT(placed.curves[static_cast<size_t>(chain.curves[0])].length, 3.0);
-      ++closures;
-    }
+    ASSERT_EQ(chain.curves.size(), 1u);
+    const double length = placed.curves[static_cast<size_t>(chain.curves[0])].length;
+    if (length > 1240.0 && length < 1245.0) ++trailingEdges;
+    else if (length > 1600.0 && length < 1700.0) ++kinks;
+    else if (length < 3.0) ++closures;
   }
-  EXPECT_EQ(trailingEdge, 1);
+  EXPECT_EQ(trailingEdges, 2);
+  EXPECT_EQ(kinks, 1);
   EXPECT_EQ(closures, 6);
-  // Corners: the tip trailing edges and the closing curves' far ends, all in the tip planes.
-  EXPECT_EQ(placed.mesh.corners().size(), 8u);
+  EXPECT_EQ(placed.mapping.chains.size(), 9u);
+  // Corners: per tip the trailing edge and the closing curves' far ends, and three at the root.
+  EXPECT_EQ(placed.mesh.corners().size(), 11u);
+  int rootCorners = 0;
   for (int corner : placed.mesh.corners()) {
-    EXPECT_NEAR(std::abs(placed.mesh.vertices()(corner, 1)), 1196.3, 0.35);
+    const double y = std::abs(placed.mesh.vertices()(corner, 1));
+    if (y < 1e-6) ++rootCorners;
+    else EXPECT_NEAR(y, 1196.3, 0.35);
   }
+  EXPECT_EQ(rootCorners, 3);
+
+  // The fit goes on level after level (without the root crease it stagnated at 15 mm at level 2:
+  // the smooth limit surface cut the leading-edge kink by 60 mm).
+  fit::FitOptions options;
+  options.tolerance = 8e-3;
+  options.maxLevel = 3;
+  fit::SurfaceFitter fitter(std::make_shared<const target::Target>(sewing.SewedShape()), placed.mesh,
+                            placed.mapping.map, options);
+  const fit::FitSummary summary = fitter.run();
+  EXPECT_EQ(summary.reason, fit::StopReason::MaxLevel);
+  EXPECT_LT(summary.history.back().maxDistance, 1.0);  // 0.68 mm at level 3
 }
 
 TEST(TemplatePlacement, BadTargetsAreExplained) {

@@ -54,9 +54,12 @@ double maxDihedralDegrees(const TopoDS_Edge& edge, const TopoDS_Face& a, const T
   double last = 0.0;
   BRep_Tool::Range(edge, first, last);
   double maxAngle = 0.0;
-  for (int i = 0; i < samples; ++i) {
-    // Interior points only: at the ends the edge meets other faces and normals may be singular.
-    const double t = first + (last - first) * (i + 0.5) / samples;
+  // Interior points only (at the ends the edge meets other faces and normals may be singular),
+  // evenly spread plus one close to each end, where a kink often peaks (the leading edge of a
+  // swept wing's root section).
+  for (int i = -1; i <= samples; ++i) {
+    const double fraction = i < 0 ? 1e-3 : i == samples ? 1.0 - 1e-3 : (i + 0.5) / samples;
+    const double t = first + (last - first) * fraction;
     gp_Vec na;
     gp_Vec nb;
     if (!faceNormalOnEdge(a, edge, t, na) || !faceNormalOnEdge(b, edge, t, nb)) continue;

@@ -9,6 +9,7 @@
 #include <limits>
 #include <map>
 
+#include "core/common/closest_point.h"
 #include "core/common/errors.h"
 #include "core/polyhedron/target_analysis.h"
 
@@ -406,7 +407,7 @@ Draft buildRevolution(const TemplateValues& values, const target::Target& target
   body.e3 = frame.axes.col(2);
   body.origin = frame.centre;
   if (body.half) {
-    plane = detected;
+    plane.emplace(*detected);  // a half body has a detected plane (checked above)
     body.e2 = plane->normal.normalized();
     body.e1 = (body.e1 - body.e1.dot(body.e2) * body.e2).normalized();
     body.e3 = body.e1.cross(body.e2);
@@ -449,6 +450,7 @@ struct WingFrame {
   double extentLow = 0.0, extentHigh = 0.0;   // span range of the whole target
   std::vector<target::Points> trailingEdges;  // polylines of the sharp spanwise curves
   std::vector<int> trailingEdgeCurves;        // their indices in the feature curve list
+  std::map<double, target::Points> kinks;     // polylines of the sharp curves across the span, by span
 };
 
 // The trailing-edge point at span s: where a trailing-edge polyline crosses the plane.
@@ -563,8 +565,10 @@ std::vector<Vec> sectionRing(const Vec& te, const target::Points& outline, const
 std::vector<Vec> wingRing(const target::Target& target, const WingFrame& w, double s,
                           const std::vector<double>& upper, const std::vector<double>& lower,
                           WingSection* sectionOut = nullptr) {
+  // The section is taken a little inside the tips, and beside a kink section (whose plane holds
+  // tessellation edges, which would make the section degenerate).
   const double inset = 1e-4 * (w.extentHigh - w.extentLow);
-  const double cut = std::clamp(s, w.low + inset, w.high - inset);
+  const double cut = std::clamp(s, w.low + inset, w.high - inset) + (w.kinks.count(s) ? inset : 0.0);
   const PlaneSection section(target, w.origin + cut * w.span, w.span);
   const std::optional<Vec> te = trailingEdgeAt(w, cut);
   if (section.empty() || !te) {
@@ -816,21 +820,79 @@ void addTipCap(Draft& draft, const target::Target& target, const WingFrame& w, c
   draft.corners.push_back(ring[0]);
 }
 
+// Sharp curves across the wing inside its span: each lies in one plane across the span (within
+// 1e-3 of the span extent), away from the tips, and is at least 5 % of the span long, such as the
+// leading-edge kink where the two halves of a swept wing meet at the root. By span coordinate.
+std::map<double, target::Points> kinkSections(const target::Target& target, const std::vector<FeatureCurve>& curves,
+                                              const WingFrame& w) {
+  const double extent = w.extentHigh - w.extentLow;
+  std::map<double, target::Points> kinks;
+  for (size_t c = 0; c < curves.size(); ++c) {
+    if (curves[c].kind != FeatureCurveKind::Sharp || curves[c].length < 0.05 * extent) continue;
+    if (std::find(w.trailingEdgeCurves.begin(), w.trailingEdgeCurves.end(), static_cast<int>(c)) !=
+        w.trailingEdgeCurves.end())
+      continue;
+    const target::Points line = curvePolyline(target, curves[c]);
+    const Eigen::VectorXd s = (line.rowwise() - w.origin.transpose()) * w.span;
+    const double mid = 0.5 * (s.minCoeff() + s.maxCoeff());
+    if (s.maxCoeff() - s.minCoeff() > 1e-3 * extent || std::min(mid - w.low, w.high - mid) < 0.01 * extent) continue;
+    kinks[mid] = line;
+  }
+  return kinks;
+}
+
+// Creases the ring edges that run along a sharp curve (both ends within `tolerance` of its
+// polyline, a tessellation polyline: the tolerance covers its chordal error); the ends of each
+// creased run are corners.
+void creaseAlong(Draft& draft, const std::vector<int>& ring, const target::Points& line, double tolerance) {
+  const auto onLine = [&](int vertex) {
+    const Vec p = draft.vertices[static_cast<size_t>(vertex)];
+    for (Eigen::Index k = 0; k + 1 < line.rows(); ++k) {
+      if ((closestPointOnSegment(p, line.row(k).transpose(), line.row(k + 1).transpose()) - p).norm() <= tolerance)
+        return true;
+    }
+    return false;
+  };
+  const size_t count = ring.size();
+  std::vector<bool> on(count);
+  for (size_t k = 0; k < count; ++k) on[k] = onLine(ring[k]);
+  for (size_t k = 0; k < count; ++k) {
+    const size_t next = (k + 1) % count, previous = (k + count - 1) % count;
+    if (on[k] && on[next]) draft.creases.push_back({ring[k], ring[next]});
+    if (on[k] && on[previous] != on[next]) draft.corners.push_back(ring[k]);  // a run's end
+  }
+}
+
 Draft buildWing(const TemplateValues& values, const target::Target& target,
                 const std::vector<FeatureCurve>& curves, std::optional<fit::SymmetryPlane>& plane,
                 std::map<std::string, std::string>& used, std::optional<WingPlanform>& planform) {
   const int m = values.integer("chordwise");
   const int stations = values.integer("spanwise");
   const bool half = values.choice("span") == "half";
-  const WingFrame w = wingFrame(target, curves, half, plane);
+  WingFrame w = wingFrame(target, curves, half, plane);
+  w.kinks = kinkSections(target, curves, w);
   const bool rounded = roundedTip(values, target, curves, w, w.high, used);
   // Stations dense towards the tips, whose caps and wedge closures are small features, and coarse
   // where a wing's sections change slowly: half-cosine spacing, a half wing's root being no tip.
-  const auto spanAt = [&](int j) {
+  std::vector<double> spans;
+  for (int j = 0; j <= stations; ++j) {
     const double t = static_cast<double>(j) / stations;
-    const double f = half ? std::sin(0.5 * kPi * t) : 0.5 * (1.0 - std::cos(kPi * t));
-    return w.low + (w.high - w.low) * f;
-  };
+    spans.push_back(w.low + (w.high - w.low) * (half ? std::sin(0.5 * kPi * t) : 0.5 * (1.0 - std::cos(kPi * t))));
+  }
+  // A kink section takes the place of the nearest inner station, whose ring is creased along it.
+  std::map<int, target::Points> kinkRings;
+  for (const auto& [span, line] : w.kinks) {
+    int nearest = -1;
+    for (int j = 1; j < stations; ++j) {
+      if (!kinkRings.count(j) && (nearest < 0 || std::abs(spans[static_cast<size_t>(j)] - span) <
+                                                    std::abs(spans[static_cast<size_t>(nearest)] - span)))
+        nearest = j;
+    }
+    if (nearest < 0) continue;
+    spans[static_cast<size_t>(nearest)] = span;
+    kinkRings[nearest] = line;
+  }
+  const auto spanAt = [&](int j) { return spans[static_cast<size_t>(j)]; };
   std::map<int, double> tipSpans{{stations, spanAt(stations)}};  // the far tip, and a full wing's near one
   if (!half) tipSpans[0] = spanAt(0);
   const WingLayout layout = wingLayout(target, curves, w, m, rounded, tipSpans);
@@ -848,6 +910,20 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
     rings.push_back(ids);
   }
   addWingStrips(draft, rings);
+  const double kinkTolerance = 1e-3 * (w.extentHigh - w.extentLow);
+  for (const auto& [j, line] : kinkRings) {
+    const std::vector<int>& ring = rings[static_cast<size_t>(j)];
+    creaseAlong(draft, ring, line, kinkTolerance);
+    // Where the trailing edge ends on the kink section (its two halves meet at an angle there),
+    // its vertex is a corner.
+    bool trailingEdgeEnds = false;
+    for (int c : w.trailingEdgeCurves) {
+      for (int v : {curves[static_cast<size_t>(c)].startVertex, curves[static_cast<size_t>(c)].endVertex})
+        trailingEdgeEnds |= v >= 0 && (target.vertexPosition(v) - draft.vertices[static_cast<size_t>(ring[0])]).norm() <=
+                                          kinkTolerance;
+    }
+    if (trailingEdgeEnds) draft.corners.push_back(ring[0]);
+  }
   planform = measurePlanform(w, rootSection, tipSection);
   addTipCap(draft, target, w, layout, stations, rings.back(), 1.0, rounded);
   if (half) {
