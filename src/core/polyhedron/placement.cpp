@@ -451,6 +451,7 @@ struct WingFrame {
   std::vector<target::Points> trailingEdges;  // polylines of the sharp spanwise curves
   std::vector<int> trailingEdgeCurves;        // their indices in the feature curve list
   std::map<double, target::Points> kinks;     // polylines of the sharp curves across the span, by span
+  double extent() const { return extentHigh - extentLow; }
 };
 
 // The trailing-edge point at span s: where a trailing-edge polyline crosses the plane.
@@ -681,6 +682,30 @@ WingPlanform measurePlanform(const WingFrame& w, const WingSection& root, const 
 }
 
 // The chord fractions of a wing's rings and its tips' wedge closures.
+// A sharp curve other than the trailing edge, at least 5 % of the span long (a tip rim, a kink
+// section): its polyline and the span range it covers.
+struct SpanCurve {
+  target::Points line;
+  double low = 0.0, high = 0.0;
+};
+
+std::vector<SpanCurve> longSharpCurves(const target::Target& target, const std::vector<FeatureCurve>& curves,
+                                       const WingFrame& w) {
+  std::vector<SpanCurve> result;
+  for (size_t c = 0; c < curves.size(); ++c) {
+    if (curves[c].kind != FeatureCurveKind::Sharp || curves[c].length < 0.05 * w.extent()) continue;
+    if (std::find(w.trailingEdgeCurves.begin(), w.trailingEdgeCurves.end(), static_cast<int>(c)) !=
+        w.trailingEdgeCurves.end())
+      continue;
+    SpanCurve curve{curvePolyline(target, curves[c])};
+    const Eigen::VectorXd s = (curve.line.rowwise() - w.origin.transpose()) * w.span;
+    curve.low = s.minCoeff();
+    curve.high = s.maxCoeff();
+    result.push_back(std::move(curve));
+  }
+  return result;
+}
+
 // Resolves the `tip` choice: `auto` is flat when a sharp curve other than the trailing edge, and
 // longer than 5 % of the span, lies within 1 % of the span of the tip's end (a flat tip's rim),
 // else rounded. Records the choice.
@@ -688,17 +713,9 @@ bool roundedTip(const TemplateValues& values, const target::Target& target, cons
                 const WingFrame& w, double tipSpan, std::map<std::string, std::string>& used) {
   std::string tip = values.choice("tip");
   if (tip == "auto") {
-    const double extent = w.extentHigh - w.extentLow;
     bool rim = false;
-    for (size_t c = 0; c < curves.size() && !rim; ++c) {
-      if (curves[c].kind != FeatureCurveKind::Sharp || curves[c].length < 0.05 * extent) continue;
-      if (std::find(w.trailingEdgeCurves.begin(), w.trailingEdgeCurves.end(), static_cast<int>(c)) !=
-          w.trailingEdgeCurves.end())
-        continue;
-      const target::Points line = curvePolyline(target, curves[c]);
-      const Eigen::VectorXd s = (line.rowwise() - w.origin.transpose()) * w.span;
-      rim = (s.array() - tipSpan).abs().maxCoeff() <= 0.01 * extent;
-    }
+    for (const SpanCurve& curve : longSharpCurves(target, curves, w))
+      rim |= std::max(std::abs(curve.low - tipSpan), std::abs(curve.high - tipSpan)) <= 0.01 * w.extent();
     tip = rim ? "flat" : "rounded";
   }
   used["tip"] = tip;
@@ -825,18 +842,11 @@ void addTipCap(Draft& draft, const target::Target& target, const WingFrame& w, c
 // leading-edge kink where the two halves of a swept wing meet at the root. By span coordinate.
 std::map<double, target::Points> kinkSections(const target::Target& target, const std::vector<FeatureCurve>& curves,
                                               const WingFrame& w) {
-  const double extent = w.extentHigh - w.extentLow;
   std::map<double, target::Points> kinks;
-  for (size_t c = 0; c < curves.size(); ++c) {
-    if (curves[c].kind != FeatureCurveKind::Sharp || curves[c].length < 0.05 * extent) continue;
-    if (std::find(w.trailingEdgeCurves.begin(), w.trailingEdgeCurves.end(), static_cast<int>(c)) !=
-        w.trailingEdgeCurves.end())
-      continue;
-    const target::Points line = curvePolyline(target, curves[c]);
-    const Eigen::VectorXd s = (line.rowwise() - w.origin.transpose()) * w.span;
-    const double mid = 0.5 * (s.minCoeff() + s.maxCoeff());
-    if (s.maxCoeff() - s.minCoeff() > 1e-3 * extent || std::min(mid - w.low, w.high - mid) < 0.01 * extent) continue;
-    kinks[mid] = line;
+  for (SpanCurve& curve : longSharpCurves(target, curves, w)) {
+    const double mid = 0.5 * (curve.low + curve.high);
+    if (curve.high - curve.low <= 1e-3 * w.extent() && std::min(mid - w.low, w.high - mid) >= 0.01 * w.extent())
+      kinks[mid] = std::move(curve.line);
   }
   return kinks;
 }
