@@ -29,6 +29,7 @@
 #include <set>
 #include <string>
 
+#include "core/common/bspline_basis.h"
 #include "core/common/errors.h"
 #include "core/common/occt_errors.h"
 
@@ -176,42 +177,16 @@ class FitCache {
   std::map<int, std::unique_ptr<EndConstrainedFit>> fits_;
 };
 
-// Boehm knot insertion of x into a cubic curve given by its full knot vector and poles.
-void insertKnot(std::vector<double>& knots, std::vector<Vector3d>& poles, double x) {
-  size_t k = 3;
-  while (k + 1 < knots.size() && knots[k + 1] <= x) ++k;
-  std::vector<Vector3d> result(poles.size() + 1);
-  for (size_t i = 0; i < result.size(); ++i) {
-    if (i + 3 <= k) {
-      result[i] = poles[i];
-    } else if (i > k) {
-      result[i] = poles[i - 1];
-    } else {
-      const double alpha = (x - knots[i]) / (knots[i + 3] - knots[i]);
-      result[i] = alpha * poles[i] + (1.0 - alpha) * poles[i - 1];
-    }
-  }
-  knots.insert(knots.begin() + static_cast<std::ptrdiff_t>(k + 1), x);
-  poles = std::move(result);
-}
-
 // Poles of the piece [a, b] (integers) of a clamped cubic on [0, spans] with integer knots: the
 // same curve, clamped at a and b, with the knots in between unchanged.
 std::vector<Vector3d> restrictCurve(const std::vector<Vector3d>& poles, int spans, int a, int b) {
   std::vector<double> knots = clampedKnots(spans);
-  std::vector<Vector3d> work = poles;
-  for (int end : {a, b}) {
-    if (end == 0 || end == spans) continue;
-    for (int r = 0; r < 2; ++r) insertKnot(knots, work, end);
-  }
-  size_t start = 0;
-  if (a > 0) {
-    start =
-        static_cast<size_t>(std::find(knots.begin(), knots.end(), static_cast<double>(a)) - knots.begin()) -
-        1;
-  }
-  return std::vector<Vector3d>(work.begin() + static_cast<std::ptrdiff_t>(start),
-                               work.begin() + static_cast<std::ptrdiff_t>(start) + (b - a) + 3);
+  Eigen::MatrixXd rows(static_cast<Eigen::Index>(poles.size()), 3);
+  for (size_t i = 0; i < poles.size(); ++i) rows.row(static_cast<Eigen::Index>(i)) = poles[i].transpose();
+  restrictToInterval(knots, 3, rows, a, b);
+  std::vector<Vector3d> piece(static_cast<size_t>(rows.rows()));
+  for (Eigen::Index i = 0; i < rows.rows(); ++i) piece[static_cast<size_t>(i)] = rows.row(i).transpose();
+  return piece;
 }
 
 // Mesh face location of chart parameters (s, t) in [0, m] x [0, n].
