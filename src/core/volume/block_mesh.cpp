@@ -1,0 +1,248 @@
+#include "core/volume/block_mesh.h"
+
+#include <cmath>
+#include <numeric>
+#include <string>
+
+#include "core/common/errors.h"
+
+namespace bvmesh::volume {
+namespace {
+
+std::array<int, 2> tangentialDirections(int face) {
+  switch (face / 2) {
+    case 0:
+      return {1, 2};
+    case 1:
+      return {0, 2};
+    default:
+      return {0, 1};
+  }
+}
+
+std::string faceText(int block, int face) {
+  return "block " + std::to_string(block) + " face " + blockFaceName(face);
+}
+
+// The knot vector seen backwards, moved back onto the same range.
+std::vector<double> mirrored(const std::vector<double>& knots) {
+  std::vector<double> result(knots.size());
+  for (size_t k = 0; k < knots.size(); ++k) result[k] = knots.front() + knots.back() - knots[knots.size() - 1 - k];
+  return result;
+}
+
+bool sameKnots(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.size() != b.size()) return false;
+  const double scale = std::max(1.0, std::abs(a.back() - a.front()));
+  for (size_t k = 0; k < a.size(); ++k) {
+    if (std::abs(a[k] - b[k]) > 1e-12 * scale) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+const char* boundaryConditionName(BoundaryCondition condition) {
+  switch (condition) {
+    case BoundaryCondition::Connected:
+      return "connected";
+    case BoundaryCondition::Wall:
+      return "wall";
+    case BoundaryCondition::Symmetry:
+      return "symmetry";
+    case BoundaryCondition::Farfield:
+      return "farfield";
+    case BoundaryCondition::Inlet:
+      return "inlet";
+    case BoundaryCondition::Outlet:
+      return "outlet";
+    case BoundaryCondition::Side:
+      return "side";
+  }
+  return "";
+}
+
+const char* blockFaceName(int face) {
+  static const char* names[] = {"u_min", "u_max", "v_min", "v_max", "w_min", "w_max"};
+  return face >= 0 && face < 6 ? names[face] : "(no face)";
+}
+
+std::array<int, 2> BlockMesh::facePoleCounts(const BsplineVolume& volume, int face) {
+  const auto [first, second] = tangentialDirections(face);
+  return {volume.poleCount(first), volume.poleCount(second)};
+}
+
+Eigen::Index BlockMesh::facePole(const BsplineVolume& volume, int face, int a, int b) {
+  const int fixed = face / 2;
+  const int at = face % 2 == 0 ? 0 : volume.poleCount(fixed) - 1;
+  std::array<int, 3> ijk{};
+  const auto [first, second] = tangentialDirections(face);
+  ijk[static_cast<size_t>(fixed)] = at;
+  ijk[static_cast<size_t>(first)] = a;
+  ijk[static_cast<size_t>(second)] = b;
+  return volume.poleIndex(ijk[0], ijk[1], ijk[2]);
+}
+
+std::array<int, 2> BlockMesh::mapFacePosition(const FaceConnection& connection,
+                                              const std::array<int, 2>& neighbourCounts, int a, int b) {
+  std::array<int, 2> mapped = connection.swapped ? std::array<int, 2>{b, a} : std::array<int, 2>{a, b};
+  if (connection.reverseFirst) mapped[0] = neighbourCounts[0] - 1 - mapped[0];
+  if (connection.reverseSecond) mapped[1] = neighbourCounts[1] - 1 - mapped[1];
+  return mapped;
+}
+
+BlockMesh::BlockMesh(std::vector<Block> blocks) : blocks_(std::move(blocks)) {
+  const int count = blockCount();
+  for (int b = 0; b < count; ++b) {
+    for (int f = 0; f < 6; ++f) {
+      const BlockFace& face = blocks_[static_cast<size_t>(b)].faces[static_cast<size_t>(f)];
+      if (face.condition != BoundaryCondition::Connected) continue;
+      const FaceConnection& link = face.neighbour;
+      if (link.block < 0 || link.block >= count || link.face < 0 || link.face >= 6) {
+        throw InvalidInputError(faceText(b, f) + " is connected to block " + std::to_string(link.block) + " face " +
+                                std::to_string(link.face) + ", which does not exist (" + std::to_string(count) +
+                                " blocks)");
+      }
+      if (link.block == b && link.face == f) throw InvalidInputError(faceText(b, f) + " is connected to itself");
+      const Block& other = blocks_[static_cast<size_t>(link.block)];
+      const BlockFace& back = other.faces[static_cast<size_t>(link.face)];
+      const bool firstBack = link.swapped ? link.reverseSecond : link.reverseFirst;
+      const bool secondBack = link.swapped ? link.reverseFirst : link.reverseSecond;
+      if (back.condition != BoundaryCondition::Connected || back.neighbour.block != b || back.neighbour.face != f ||
+          back.neighbour.swapped != link.swapped || back.neighbour.reverseFirst != firstBack ||
+          back.neighbour.reverseSecond != secondBack) {
+        throw InvalidInputError(faceText(b, f) + " is connected to " + faceText(link.block, link.face) +
+                                ", which is not connected back with the inverse orientation");
+      }
+      const BsplineVolume& mine = blocks_[static_cast<size_t>(b)].volume;
+      const BsplineVolume& theirs = other.volume;
+      const std::array<int, 2> counts = facePoleCounts(mine, f);
+      const std::array<int, 2> otherCounts = facePoleCounts(theirs, link.face);
+      const std::array<int, 2> myDirections = tangentialDirections(f);
+      const std::array<int, 2> theirDirections = tangentialDirections(link.face);
+      for (int axis = 0; axis < 2; ++axis) {
+        const int theirAxis = link.swapped ? 1 - axis : axis;
+        const bool reversed = theirAxis == 0 ? link.reverseFirst : link.reverseSecond;
+        if (counts[static_cast<size_t>(axis)] != otherCounts[static_cast<size_t>(theirAxis)]) {
+          throw InvalidInputError(faceText(b, f) + " has " + std::to_string(counts[static_cast<size_t>(axis)]) +
+                                  " poles along its axis " + std::to_string(axis) + ", its neighbour " +
+                                  faceText(link.block, link.face) + " " +
+                                  std::to_string(otherCounts[static_cast<size_t>(theirAxis)]));
+        }
+        const std::vector<double>& myKnots = mine.knots(myDirections[static_cast<size_t>(axis)]);
+        const std::vector<double>& theirKnots = theirs.knots(theirDirections[static_cast<size_t>(theirAxis)]);
+        if (mine.degree(myDirections[static_cast<size_t>(axis)]) !=
+                theirs.degree(theirDirections[static_cast<size_t>(theirAxis)]) ||
+            !sameKnots(reversed ? mirrored(theirKnots) : theirKnots, myKnots)) {
+          throw InvalidInputError(faceText(b, f) + " and " + faceText(link.block, link.face) +
+                                  " have different degrees or knot vectors along the shared face");
+        }
+      }
+      for (int a = 0; a < counts[0]; ++a) {
+        for (int c = 0; c < counts[1]; ++c) {
+          const std::array<int, 2> there = mapFacePosition(link, otherCounts, a, c);
+          const auto p = mine.poles().row(facePole(mine, f, a, c));
+          const auto q = theirs.poles().row(facePole(theirs, link.face, there[0], there[1]));
+          if (p != q) {
+            throw InvalidInputError(faceText(b, f) + " pole (" + std::to_string(a) + ", " + std::to_string(c) +
+                                    ") differs from its neighbour's in " + faceText(link.block, link.face) +
+                                    " by " + std::to_string((p - q).norm()) + " (shared faces must be identical)");
+          }
+        }
+      }
+    }
+  }
+}
+
+VolumeControlMesh volumeControlMesh(const BlockMesh& mesh) {
+  VolumeControlMesh result;
+  const auto& blocks = mesh.blocks();
+  result.blockPointOffset.resize(blocks.size() + 1, 0);
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    result.blockPointOffset[b + 1] =
+        result.blockPointOffset[b] + static_cast<int>(blocks[b].volume.poles().rows());
+  }
+  // Union-find over all poles: connected faces join their poles.
+  std::vector<int> parent(static_cast<size_t>(result.blockPointOffset.back()));
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int x) {
+    while (parent[static_cast<size_t>(x)] != x) {
+      parent[static_cast<size_t>(x)] = parent[static_cast<size_t>(parent[static_cast<size_t>(x)])];
+      x = parent[static_cast<size_t>(x)];
+    }
+    return x;
+  };
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    for (int f = 0; f < 6; ++f) {
+      const BlockFace& face = blocks[b].faces[static_cast<size_t>(f)];
+      if (face.condition != BoundaryCondition::Connected) continue;
+      const BsplineVolume& mine = blocks[b].volume;
+      const BsplineVolume& theirs = blocks[static_cast<size_t>(face.neighbour.block)].volume;
+      const std::array<int, 2> counts = BlockMesh::facePoleCounts(mine, f);
+      const std::array<int, 2> otherCounts = BlockMesh::facePoleCounts(theirs, face.neighbour.face);
+      for (int a = 0; a < counts[0]; ++a) {
+        for (int c = 0; c < counts[1]; ++c) {
+          const std::array<int, 2> there = BlockMesh::mapFacePosition(face.neighbour, otherCounts, a, c);
+          const int p = result.blockPointOffset[b] + static_cast<int>(BlockMesh::facePole(mine, f, a, c));
+          const int q = result.blockPointOffset[static_cast<size_t>(face.neighbour.block)] +
+                        static_cast<int>(BlockMesh::facePole(theirs, face.neighbour.face, there[0], there[1]));
+          const int rp = find(p);
+          const int rq = find(q);
+          if (rp != rq) parent[static_cast<size_t>(std::max(rp, rq))] = std::min(rp, rq);
+        }
+      }
+    }
+  }
+  result.pointOfPole.assign(parent.size(), -1);
+  std::vector<int> pointOfRoot(parent.size(), -1);
+  std::vector<Eigen::Vector3d> points;
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    const RowMatrixX3d& poles = blocks[b].volume.poles();
+    for (Eigen::Index r = 0; r < poles.rows(); ++r) {
+      const int global = result.blockPointOffset[b] + static_cast<int>(r);
+      const int root = find(global);
+      if (pointOfRoot[static_cast<size_t>(root)] < 0) {
+        pointOfRoot[static_cast<size_t>(root)] = static_cast<int>(points.size());
+        points.emplace_back(poles.row(r).transpose());
+      }
+      result.pointOfPole[static_cast<size_t>(global)] = pointOfRoot[static_cast<size_t>(root)];
+    }
+  }
+  result.points.resize(static_cast<Eigen::Index>(points.size()), 3);
+  for (size_t p = 0; p < points.size(); ++p) result.points.row(static_cast<Eigen::Index>(p)) = points[p].transpose();
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    const BsplineVolume& volume = blocks[b].volume;
+    auto point = [&](int i, int j, int k) {
+      return result.pointOfPole[static_cast<size_t>(result.blockPointOffset[b] + volume.poleIndex(i, j, k))];
+    };
+    const int nu = volume.poleCount(0), nv = volume.poleCount(1), nw = volume.poleCount(2);
+    for (int k = 0; k + 1 < nw; ++k) {
+      for (int j = 0; j + 1 < nv; ++j) {
+        for (int i = 0; i + 1 < nu; ++i) {
+          result.cells.push_back({point(i, j, k), point(i + 1, j, k), point(i + 1, j + 1, k), point(i, j + 1, k),
+                                  point(i, j, k + 1), point(i + 1, j, k + 1), point(i + 1, j + 1, k + 1),
+                                  point(i, j + 1, k + 1)});
+          result.cellBlock.push_back(static_cast<int>(b));
+        }
+      }
+    }
+    for (int f = 0; f < 6; ++f) {
+      const BoundaryCondition condition = blocks[b].faces[static_cast<size_t>(f)].condition;
+      if (condition == BoundaryCondition::Connected) continue;
+      const std::array<int, 2> counts = BlockMesh::facePoleCounts(volume, f);
+      for (int a = 0; a + 1 < counts[0]; ++a) {
+        for (int c = 0; c + 1 < counts[1]; ++c) {
+          auto at = [&](int x, int y) {
+            return result.pointOfPole[static_cast<size_t>(result.blockPointOffset[b] +
+                                                          BlockMesh::facePole(volume, f, x, y))];
+          };
+          result.boundaryFaces.push_back({at(a, c), at(a + 1, c), at(a + 1, c + 1), at(a, c + 1)});
+          result.boundaryConditions.push_back(condition);
+        }
+      }
+    }
+  }
+  return result;
+}
+
+}  // namespace bvmesh::volume

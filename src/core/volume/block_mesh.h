@@ -1,0 +1,82 @@
+// The block-structured volume mesh: B-spline volume blocks, the face-to-face connectivity between
+// them (with orientation) and a boundary condition on every other block face; and the volume
+// control mesh, the blocks' control nets merged into one hexahedral mesh.
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "core/volume/bspline_volume.h"
+
+namespace bvmesh::volume {
+
+// Block faces: u = min, u = max, v = min, v = max, w = min, w = max (G+Smo's sides 1..6). A face's
+// pole grid is indexed (a, b) along its two other directions in increasing order: (v, w) on u
+// faces, (u, w) on v faces, (u, v) on w faces.
+enum class BlockFaceSide { UMin = 0, UMax = 1, VMin = 2, VMax = 3, WMin = 4, WMax = 5 };
+
+enum class BoundaryCondition { Connected, Wall, Symmetry, Farfield, Inlet, Outlet, Side };
+
+const char* boundaryConditionName(BoundaryCondition condition);
+const char* blockFaceName(int face);
+
+// Where a connected face continues: face pole (a, b) is neighbour face pole (a', b'), where
+// (a', b') = swapped ? (b, a) : (a, b), then a' -> n'_a - 1 - a' if reverseFirst and
+// b' -> n'_b - 1 - b' if reverseSecond (n' the neighbour face's pole counts).
+struct FaceConnection {
+  int block = -1;
+  int face = -1;
+  bool swapped = false;
+  bool reverseFirst = false;
+  bool reverseSecond = false;
+};
+
+struct BlockFace {
+  BoundaryCondition condition = BoundaryCondition::Farfield;
+  FaceConnection neighbour;  // used when condition == Connected
+};
+
+struct Block {
+  BsplineVolume volume;
+  std::array<BlockFace, 6> faces;
+};
+
+class BlockMesh {
+ public:
+  BlockMesh() = default;
+  // Validates: connections in range and mutual (the neighbour's face points back with the inverse
+  // orientation), matching pole counts and knot vectors (mirrored where reversed) along connected
+  // faces, and connected faces' poles identical bit for bit. Throws InvalidInputError naming the
+  // block and face.
+  explicit BlockMesh(std::vector<Block> blocks);
+
+  const std::vector<Block>& blocks() const { return blocks_; }
+  int blockCount() const { return static_cast<int>(blocks_.size()); }
+
+  // Pole counts of a face's grid (a, b), and the pole row of face position (a, b).
+  static std::array<int, 2> facePoleCounts(const BsplineVolume& volume, int face);
+  static Eigen::Index facePole(const BsplineVolume& volume, int face, int a, int b);
+  // The neighbour face position of face position (a, b) under `connection`.
+  static std::array<int, 2> mapFacePosition(const FaceConnection& connection, const std::array<int, 2>& neighbourCounts,
+                                            int a, int b);
+
+ private:
+  std::vector<Block> blocks_;
+};
+
+// The blocks' control nets as one mesh of hexahedral control cells: poles shared by connected faces
+// merged into one point, every boundary face of a cell tagged with its block face's condition.
+struct VolumeControlMesh {
+  RowMatrixX3d points;                           // #P x 3
+  std::vector<std::array<int, 8>> cells;         // corners (i, j, k) order: 000 100 110 010 001 101 111 011
+  std::vector<int> cellBlock;                    // block of each cell
+  std::vector<std::array<int, 4>> boundaryFaces; // quads of cell corners on block faces that are not connected
+  std::vector<BoundaryCondition> boundaryConditions;
+  std::vector<int> blockPointOffset;             // pole (block b, row r) -> points row pointOfPole[offset[b] + r]
+  std::vector<int> pointOfPole;
+};
+
+VolumeControlMesh volumeControlMesh(const BlockMesh& mesh);
+
+}  // namespace bvmesh::volume

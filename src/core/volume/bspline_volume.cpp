@@ -1,0 +1,257 @@
+#include "core/volume/bspline_volume.h"
+
+#include <cmath>
+#include <string>
+
+#include "core/common/bspline_basis.h"
+#include "core/common/errors.h"
+#include "core/common/parallel.h"
+
+namespace bvmesh::volume {
+namespace {
+
+const char* directionName(int direction) { return direction == 0 ? "u" : direction == 1 ? "v" : "w"; }
+
+// Basis functions of one direction at a list of parameters: span start and degree + 1 values
+// (and derivatives) per parameter.
+struct DirectionBasis {
+  int order = 0;
+  std::vector<int> first;
+  std::vector<double> values;
+  std::vector<double> derivatives;
+};
+
+DirectionBasis directionBasis(const std::vector<double>& knots, int degree, const std::vector<double>& parameters,
+                              const char* name) {
+  DirectionBasis basis;
+  basis.order = degree + 1;
+  basis.first.resize(parameters.size());
+  basis.values.resize(parameters.size() * static_cast<size_t>(basis.order));
+  basis.derivatives.resize(basis.values.size());
+  const double lo = knots.front();
+  const double hi = knots.back();
+  const double slack = 1e-12 * std::max(1.0, hi - lo);
+  for (size_t p = 0; p < parameters.size(); ++p) {
+    const double x = parameters[p];
+    if (!std::isfinite(x) || x < lo - slack || x > hi + slack) {
+      throw InvalidInputError(std::string("parameter ") + name + " = " + std::to_string(x) + " (entry " +
+                              std::to_string(p) + ") is outside the knot range [" + std::to_string(lo) + ", " +
+                              std::to_string(hi) + "]");
+    }
+    const double clamped = std::min(hi, std::max(lo, x));
+    const int span = findKnotSpan(knots, degree, clamped);
+    basis.first[p] = span - degree;
+    basisFunctions(knots, degree, span, clamped, &basis.values[p * static_cast<size_t>(basis.order)],
+                   &basis.derivatives[p * static_cast<size_t>(basis.order)]);
+  }
+  return basis;
+}
+
+}  // namespace
+
+void validateClampedKnots(const std::vector<double>& knots, int degree, int poleCount, const std::string& what) {
+  if (degree < 1 || degree > 7) throw InvalidInputError(what + ": degree " + std::to_string(degree) + " is not in 1..7");
+  if (poleCount < degree + 1) {
+    throw InvalidInputError(what + ": " + std::to_string(poleCount) + " poles, a degree-" + std::to_string(degree) +
+                            " direction needs at least " + std::to_string(degree + 1));
+  }
+  if (static_cast<int>(knots.size()) != poleCount + degree + 1) {
+    throw InvalidInputError(what + ": " + std::to_string(knots.size()) + " knots for " + std::to_string(poleCount) +
+                            " poles of degree " + std::to_string(degree) + " (needs " +
+                            std::to_string(poleCount + degree + 1) + ")");
+  }
+  for (size_t k = 0; k < knots.size(); ++k) {
+    if (!std::isfinite(knots[k])) throw InvalidInputError(what + ": knot " + std::to_string(k) + " is not finite");
+    if (k > 0 && knots[k] < knots[k - 1]) {
+      throw InvalidInputError(what + ": knot " + std::to_string(k) + " (" + std::to_string(knots[k]) +
+                              ") is below the one before it");
+    }
+  }
+  const size_t order = static_cast<size_t>(degree + 1);
+  for (size_t k = 1; k < order; ++k) {
+    if (knots[k] != knots[0] || knots[knots.size() - 1 - k] != knots.back()) {
+      throw InvalidInputError(what + ": not clamped (the first and last " + std::to_string(order) +
+                              " knots must be equal)");
+    }
+  }
+  if (!(knots.back() > knots.front())) throw InvalidInputError(what + ": empty knot range");
+  for (size_t k = order; k + order < knots.size(); ++k) {
+    size_t run = 1;
+    while (k + run + order <= knots.size() - 1 && knots[k + run] == knots[k]) ++run;
+    if (run > static_cast<size_t>(degree)) {
+      throw InvalidInputError(what + ": interior knot " + std::to_string(knots[k]) + " repeated " +
+                              std::to_string(run) + " times (at most the degree, " + std::to_string(degree) + ")");
+    }
+  }
+}
+
+BsplineVolume::BsplineVolume(std::array<int, 3> degrees, std::array<std::vector<double>, 3> knots, RowMatrixX3d poles,
+                             const std::string& name)
+    : degrees_(degrees), knots_(std::move(knots)), poles_(std::move(poles)) {
+  for (int d = 0; d < 3; ++d) {
+    counts_[static_cast<size_t>(d)] =
+        static_cast<int>(knots_[static_cast<size_t>(d)].size()) - degrees_[static_cast<size_t>(d)] - 1;
+    validateClampedKnots(knots_[static_cast<size_t>(d)], degrees_[static_cast<size_t>(d)],
+                         counts_[static_cast<size_t>(d)], name + ", " + directionName(d) + " knots");
+  }
+  const Eigen::Index expected = static_cast<Eigen::Index>(counts_[0]) * counts_[1] * counts_[2];
+  if (poles_.rows() != expected) {
+    throw InvalidInputError(name + ": " + std::to_string(poles_.rows()) + " poles, the knot vectors ask for " +
+                            std::to_string(counts_[0]) + " x " + std::to_string(counts_[1]) + " x " +
+                            std::to_string(counts_[2]) + " = " + std::to_string(expected));
+  }
+  for (Eigen::Index r = 0; r < poles_.rows(); ++r) {
+    if (!poles_.row(r).allFinite()) {
+      const int i = static_cast<int>(r % counts_[0]);
+      const int j = static_cast<int>((r / counts_[0]) % counts_[1]);
+      const int k = static_cast<int>(r / (static_cast<Eigen::Index>(counts_[0]) * counts_[1]));
+      throw InvalidInputError(name + ": pole (" + std::to_string(i) + ", " + std::to_string(j) + ", " +
+                              std::to_string(k) + ") is not finite");
+    }
+  }
+}
+
+void BsplineVolume::evaluate(const RowMatrixX3d& parameters, RowMatrixX3d& points, RowMatrixX3d* du,
+                             RowMatrixX3d* dv, RowMatrixX3d* dw) const {
+  const Eigen::Index count = parameters.rows();
+  points.resize(count, 3);
+  for (RowMatrixX3d* d : {du, dv, dw}) {
+    if (d != nullptr) d->resize(count, 3);
+  }
+  parallelChunks(count, 4096, [&](std::int64_t begin, std::int64_t end) {
+    for (Eigen::Index p = begin; p < end; ++p) {
+      std::array<DirectionBasis, 3> basis;
+      for (int d = 0; d < 3; ++d) {
+        basis[static_cast<size_t>(d)] =
+            directionBasis(knots(d), degree(d), {parameters(p, d)}, directionName(d));
+      }
+      Eigen::Vector3d x = Eigen::Vector3d::Zero();
+      Eigen::Vector3d xu = x, xv = x, xw = x;
+      for (int c = 0; c < basis[2].order; ++c) {
+        for (int b = 0; b < basis[1].order; ++b) {
+          for (int a = 0; a < basis[0].order; ++a) {
+            const Eigen::Vector3d pole =
+                poles_.row(poleIndex(basis[0].first[0] + a, basis[1].first[0] + b, basis[2].first[0] + c)).transpose();
+            const double nu = basis[0].values[static_cast<size_t>(a)];
+            const double nv = basis[1].values[static_cast<size_t>(b)];
+            const double nw = basis[2].values[static_cast<size_t>(c)];
+            x += nu * nv * nw * pole;
+            xu += basis[0].derivatives[static_cast<size_t>(a)] * nv * nw * pole;
+            xv += nu * basis[1].derivatives[static_cast<size_t>(b)] * nw * pole;
+            xw += nu * nv * basis[2].derivatives[static_cast<size_t>(c)] * pole;
+          }
+        }
+      }
+      points.row(p) = x.transpose();
+      if (du != nullptr) du->row(p) = xu.transpose();
+      if (dv != nullptr) dv->row(p) = xv.transpose();
+      if (dw != nullptr) dw->row(p) = xw.transpose();
+    }
+  });
+}
+
+void BsplineVolume::evaluateGrid(const std::vector<double>& u, const std::vector<double>& v,
+                                 const std::vector<double>& w, RowMatrixX3d& points, RowMatrixX3d* du,
+                                 RowMatrixX3d* dv, RowMatrixX3d* dw) const {
+  const DirectionBasis bu = directionBasis(knots(0), degree(0), u, "u");
+  const DirectionBasis bv = directionBasis(knots(1), degree(1), v, "v");
+  const DirectionBasis bw = directionBasis(knots(2), degree(2), w, "w");
+  const bool derivatives = du != nullptr || dv != nullptr || dw != nullptr;
+  const Eigen::Index nu = static_cast<Eigen::Index>(u.size());
+  const Eigen::Index nv = static_cast<Eigen::Index>(v.size());
+  const Eigen::Index nw = static_cast<Eigen::Index>(w.size());
+  points.resize(nu * nv * nw, 3);
+  for (RowMatrixX3d* d : {du, dv, dw}) {
+    if (d != nullptr) d->resize(nu * nv * nw, 3);
+  }
+  const int poleV = counts_[1];
+  const int poleW = counts_[2];
+  // Per chunk of u parameters: sums over u (T: value and d/du at (a, pole j, pole k)), then over
+  // v (S: value, d/du, d/dv at (a, b, pole k)), then over w into the output.
+  parallelChunks(nu, std::max<Eigen::Index>(1, nu / 16), [&](std::int64_t begin, std::int64_t end) {
+    const Eigen::Index chunk = end - begin;
+    const int fields = derivatives ? 2 : 1;
+    std::vector<double> t(static_cast<size_t>(chunk * poleV * poleW * 3 * fields), 0.0);
+    auto tAt = [&](int field, Eigen::Index a, int j, int k) {
+      return &t[static_cast<size_t>((((field * chunk + a) * poleV + j) * poleW + k) * 3)];
+    };
+    for (Eigen::Index a = 0; a < chunk; ++a) {
+      const size_t pa = static_cast<size_t>(begin + a);
+      for (int k = 0; k < poleW; ++k) {
+        for (int j = 0; j < poleV; ++j) {
+          double* value = tAt(0, a, j, k);
+          double* slope = derivatives ? tAt(1, a, j, k) : nullptr;
+          for (int r = 0; r < bu.order; ++r) {
+            const auto row = poles_.row(poleIndex(bu.first[pa] + r, j, k));
+            const double n = bu.values[pa * static_cast<size_t>(bu.order) + static_cast<size_t>(r)];
+            for (int x = 0; x < 3; ++x) value[x] += n * row[x];
+            if (slope != nullptr) {
+              const double dn = bu.derivatives[pa * static_cast<size_t>(bu.order) + static_cast<size_t>(r)];
+              for (int x = 0; x < 3; ++x) slope[x] += dn * row[x];
+            }
+          }
+        }
+      }
+    }
+    const int sFields = derivatives ? 3 : 1;
+    std::vector<double> s(static_cast<size_t>(chunk * nv * poleW * 3 * sFields), 0.0);
+    auto sAt = [&](int field, Eigen::Index a, Eigen::Index b, int k) {
+      return &s[static_cast<size_t>((((field * chunk + a) * nv + b) * poleW + k) * 3)];
+    };
+    for (Eigen::Index a = 0; a < chunk; ++a) {
+      for (Eigen::Index b = 0; b < nv; ++b) {
+        const size_t pb = static_cast<size_t>(b);
+        for (int r = 0; r < bv.order; ++r) {
+          const int j = bv.first[pb] + r;
+          const double n = bv.values[pb * static_cast<size_t>(bv.order) + static_cast<size_t>(r)];
+          const double dn = bv.derivatives[pb * static_cast<size_t>(bv.order) + static_cast<size_t>(r)];
+          for (int k = 0; k < poleW; ++k) {
+            const double* value = tAt(0, a, j, k);
+            double* out = sAt(0, a, b, k);
+            for (int x = 0; x < 3; ++x) out[x] += n * value[x];
+            if (derivatives) {
+              const double* slopeU = tAt(1, a, j, k);
+              double* outU = sAt(1, a, b, k);
+              double* outV = sAt(2, a, b, k);
+              for (int x = 0; x < 3; ++x) {
+                outU[x] += n * slopeU[x];
+                outV[x] += dn * value[x];
+              }
+            }
+          }
+        }
+      }
+    }
+    for (Eigen::Index c = 0; c < nw; ++c) {
+      const size_t pc = static_cast<size_t>(c);
+      for (Eigen::Index b = 0; b < nv; ++b) {
+        for (Eigen::Index a = 0; a < chunk; ++a) {
+          double x[3] = {0, 0, 0}, xu[3] = {0, 0, 0}, xv[3] = {0, 0, 0}, xw[3] = {0, 0, 0};
+          for (int r = 0; r < bw.order; ++r) {
+            const int k = bw.first[pc] + r;
+            const double n = bw.values[pc * static_cast<size_t>(bw.order) + static_cast<size_t>(r)];
+            const double* value = sAt(0, a, b, k);
+            for (int q = 0; q < 3; ++q) x[q] += n * value[q];
+            if (derivatives) {
+              const double dn = bw.derivatives[pc * static_cast<size_t>(bw.order) + static_cast<size_t>(r)];
+              const double* valueU = sAt(1, a, b, k);
+              const double* valueV = sAt(2, a, b, k);
+              for (int q = 0; q < 3; ++q) {
+                xu[q] += n * valueU[q];
+                xv[q] += n * valueV[q];
+                xw[q] += dn * value[q];
+              }
+            }
+          }
+          const Eigen::Index row = (begin + a) + nu * (b + nv * c);
+          points.row(row) << x[0], x[1], x[2];
+          if (du != nullptr) du->row(row) << xu[0], xu[1], xu[2];
+          if (dv != nullptr) dv->row(row) << xv[0], xv[1], xv[2];
+          if (dw != nullptr) dw->row(row) << xw[0], xw[1], xw[2];
+        }
+      }
+    }
+  });
+}
+
+}  // namespace bvmesh::volume

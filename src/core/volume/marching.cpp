@@ -1,0 +1,375 @@
+#include "core/volume/marching.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <string>
+
+#include "core/common/errors.h"
+
+namespace bvmesh::volume {
+namespace {
+
+using Eigen::Vector3d;
+
+int cornerIndex(int i, int j, int k) { return 4 * k + (j == 0 ? i : 3 - i); }
+
+std::vector<std::vector<int>> neighbours(const MarchingFront& front) {
+  std::vector<std::set<int>> sets(static_cast<size_t>(front.points.rows()));
+  for (const auto& quad : front.quads) {
+    for (int e = 0; e < 4; ++e) {
+      const int a = quad[static_cast<size_t>(e)];
+      const int b = quad[static_cast<size_t>((e + 1) % 4)];
+      sets[static_cast<size_t>(a)].insert(b);
+      sets[static_cast<size_t>(b)].insert(a);
+    }
+  }
+  std::vector<std::vector<int>> result(sets.size());
+  for (size_t p = 0; p < sets.size(); ++p) result[p].assign(sets[p].begin(), sets[p].end());
+  return result;
+}
+
+// Rounds of local smoothing before a poor cell is accepted (if positive) or reported.
+constexpr int kRepairs = 30;
+
+class Marcher {
+ public:
+  Marcher(const MarchingFront& front, const MarchingOptions& options)
+      : front_(front), options_(options), neighbours_(neighbours(front)) {}
+
+  MarchingResult run() {
+    checkOptions();
+    MarchingResult result;
+    result.layers.push_back(front_.points);
+    result.layerDistance.push_back(0.0);
+    // Boundary layer: straight lines along the wall normals, geometric growth.
+    const int nBl = options_.boundaryLayerLayers;
+    const double r = options_.boundaryLayerGrowth;
+    double h = r == 1.0 ? options_.boundaryLayerThickness / nBl
+                        : options_.boundaryLayerThickness * (r - 1.0) / (std::pow(r, nBl) - 1.0);
+    std::vector<double> blDistance;
+    for (int k = 1; k <= nBl; ++k) {
+      blDistance.push_back(k == nBl ? options_.boundaryLayerThickness : (k == 1 ? h : blDistance.back() + h));
+      if (k < nBl) h *= r;
+    }
+    // Straight grid lines along the wall normals; where a cell would be poor (a patch smaller
+    // than the boundary layer is thick, next to a sharp edge), the lines' directions are smoothed
+    // there alone, so the wall stays orthogonal everywhere else.
+    RowMatrixX3d lines = front_.normals;
+    std::vector<RowMatrixX3d> blLayers;
+    for (int repair = 0;; ++repair) {
+      blLayers.clear();
+      std::vector<char> bad(front_.quads.size(), 0);
+      double worst = 1.0;
+      int worstQuad = -1;
+      int worstLayer = 1;
+      for (int k = 0; k < nBl; ++k) {
+        RowMatrixX3d layer = front_.points + blDistance[static_cast<size_t>(k)] * lines;
+        keepOnPlane(layer);
+        const RowMatrixX3d& below = k == 0 ? front_.points : blLayers.back();
+        const auto [layerWorst, quad] = markPoorCells(below, layer, bad);
+        if (layerWorst < worst) {
+          worst = layerWorst;
+          worstQuad = quad;
+          worstLayer = k + 1;
+        }
+        blLayers.push_back(std::move(layer));
+      }
+      if (worst >= options_.minScaledJacobian || (repair >= kRepairs && worst > 0.0)) break;
+      if (repair >= kRepairs || options_.smoothing == 0.0) {
+        fold(worstLayer, worst, worstQuad, front_.points,
+             "in the boundary layer: a thinner boundary layer or a finer wall there keeps its grid lines apart");
+      }
+      smoothDirections(lines, 4, markAround(bad));
+    }
+    for (int k = 0; k < nBl; ++k) {
+      result.layers.push_back(std::move(blLayers[static_cast<size_t>(k)]));
+      result.layerDistance.push_back(blDistance[static_cast<size_t>(k)]);
+    }
+    double distance = options_.boundaryLayerThickness;
+    // Far field: layer thicknesses grow by farfieldGrowth from the last boundary-layer one, scaled
+    // so that their sum reaches the domain boundary from the front's mean radius.
+    const RowMatrixX3d& top = result.layers.back();
+    double meanRadius = 0.0;
+    for (Eigen::Index p = 0; p < top.rows(); ++p) meanRadius += (top.row(p).transpose() - options_.domainCentre).norm();
+    meanRadius /= static_cast<double>(std::max<Eigen::Index>(1, top.rows()));
+    const double remaining = options_.farfieldDistance - meanRadius;
+    const double first = h * options_.farfieldGrowth;
+    if (remaining < 4 * first) {
+      throw InvalidInputError("far-field distance " + std::to_string(options_.farfieldDistance) +
+                              " leaves no room outside the boundary layer (its top lies at a mean distance of " +
+                              std::to_string(meanRadius) + " from the domain centre)");
+    }
+    const double g = options_.farfieldGrowth;
+    const int nFar = std::max(2, static_cast<int>(std::ceil(std::log(1.0 + remaining * (g - 1.0) / first) / std::log(g))));
+    if (nBl + nFar > options_.maxLayers) {
+      throw InvalidInputError("the far field needs " + std::to_string(nFar) + " layers at growth " +
+                              std::to_string(g) + ", more than maxLayers (" + std::to_string(options_.maxLayers) +
+                              "): raise the growth or maxLayers");
+    }
+    const double scale = remaining * (g - 1.0) / (first * (std::pow(g, nFar) - 1.0));
+    double step = first * scale;
+    // Marching directions remember the previous layer's: at a sharp convex edge (a trailing edge)
+    // the front's own normal is the near-cancelling sum of both sides' and says little.
+    RowMatrixX3d directions = lines;
+    for (int k = 1; k <= nFar; ++k) {
+      const double progress = static_cast<double>(k) / nFar;
+      RowMatrixX3d next = marchOnce(result.layers.back(), directions, step, progress, nBl + k);
+      distance += step;
+      result.layers.push_back(std::move(next));
+      result.layerDistance.push_back(distance);
+      step *= g;
+    }
+    blendOntoDomain(result, nBl);
+    result.layerMinScaledJacobian.push_back(1.0);
+    for (size_t k = 1; k < result.layers.size(); ++k) {
+      result.layerMinScaledJacobian.push_back(worstCell(result.layers[k - 1], result.layers[k]).first);
+    }
+    return result;
+  }
+
+ private:
+  void checkOptions() const {
+    auto positive = [](double value, const char* name) {
+      if (!(value > 0) || !std::isfinite(value)) {
+        throw InvalidInputError(std::string(name) + " must be positive and finite, got " + std::to_string(value));
+      }
+    };
+    positive(options_.boundaryLayerThickness, "boundary-layer thickness");
+    positive(options_.farfieldDistance, "far-field distance");
+    if (options_.boundaryLayerLayers < 1 || options_.boundaryLayerLayers > 100) {
+      throw InvalidInputError("boundary-layer layers must be in 1..100, got " + std::to_string(options_.boundaryLayerLayers));
+    }
+    if (!(options_.boundaryLayerGrowth >= 1.0 && options_.boundaryLayerGrowth <= 3.0)) {
+      throw InvalidInputError("boundary-layer growth must be in [1, 3], got " + std::to_string(options_.boundaryLayerGrowth));
+    }
+    if (!(options_.farfieldGrowth > 1.0 && options_.farfieldGrowth <= 3.0)) {
+      throw InvalidInputError("far-field growth must be in (1, 3], got " + std::to_string(options_.farfieldGrowth));
+    }
+    if (!(options_.smoothing >= 0.0 && options_.smoothing <= 10.0)) {
+      throw InvalidInputError("smoothing must be in [0, 10], got " + std::to_string(options_.smoothing));
+    }
+    if (!(options_.minScaledJacobian >= 0.0 && options_.minScaledJacobian < 1.0)) {
+      throw InvalidInputError("minimum scaled Jacobian must be in [0, 1), got " + std::to_string(options_.minScaledJacobian));
+    }
+    if (!options_.domainCentre.allFinite()) throw InvalidInputError("domain centre is not finite");
+    if (front_.points.rows() == 0 || front_.quads.empty()) throw InvalidInputError("the wall to march has no cells");
+    if (front_.normals.rows() != front_.points.rows()) throw InvalidInputError("one wall normal per point is needed");
+    for (Eigen::Index p = 0; p < front_.points.rows(); ++p) {
+      if (!front_.points.row(p).allFinite() || !(std::abs(front_.normals.row(p).norm() - 1.0) < 1e-6)) {
+        throw InvalidInputError("wall point " + std::to_string(p) + " has a non-finite position or no unit normal");
+      }
+    }
+  }
+
+  bool onPlane(Eigen::Index p) const {
+    return !front_.onSymmetryPlane.empty() && front_.onSymmetryPlane[static_cast<size_t>(p)] != 0;
+  }
+
+  // Mirrored ghost points: a symmetric stencil across the plane reduces to the projection.
+  void keepOnPlane(RowMatrixX3d& points) const {
+    for (Eigen::Index p = 0; p < points.rows(); ++p) {
+      if (!onPlane(p)) continue;
+      const Vector3d x = points.row(p).transpose();
+      points.row(p) = (x - (x - options_.planePoint).dot(options_.planeNormal) * options_.planeNormal).transpose();
+    }
+  }
+
+  RowMatrixX3d frontNormals(const RowMatrixX3d& points) const {
+    RowMatrixX3d normals = RowMatrixX3d::Zero(points.rows(), 3);
+    for (const auto& q : front_.quads) {
+      const Vector3d a = points.row(q[0]).transpose(), b = points.row(q[1]).transpose();
+      const Vector3d c = points.row(q[2]).transpose(), d = points.row(q[3]).transpose();
+      const Vector3d n = (c - a).cross(d - b);  // twice the area times the unit normal
+      for (int k = 0; k < 4; ++k) normals.row(q[static_cast<size_t>(k)]) += n.transpose();
+    }
+    for (Eigen::Index p = 0; p < normals.rows(); ++p) {
+      Vector3d n = normals.row(p).transpose();
+      if (onPlane(p)) n -= n.dot(options_.planeNormal) * options_.planeNormal;
+      normals.row(p) = n.normalized().transpose();
+    }
+    return normals;
+  }
+
+  // Points of the marked cells and their neighbours.
+  std::vector<char> markAround(const std::vector<char>& cells) const {
+    std::vector<char> marks(static_cast<size_t>(front_.points.rows()), 0);
+    for (size_t q = 0; q < cells.size(); ++q) {
+      if (cells[q] == 0) continue;
+      for (int p : front_.quads[q]) {
+        marks[static_cast<size_t>(p)] = 1;
+        for (int n : neighbours_[static_cast<size_t>(p)]) marks[static_cast<size_t>(n)] = 1;
+      }
+    }
+    return marks;
+  }
+
+  // Marks the cells between two layers below the wanted quality; returns the worst and where.
+  std::pair<double, int> markPoorCells(const RowMatrixX3d& lower, const RowMatrixX3d& upper, std::vector<char>& bad) const {
+    double worst = 1.0;
+    int where = -1;
+    for (size_t q = 0; q < front_.quads.size(); ++q) {
+      const double quality = cellQuality(lower, upper, q);
+      if (quality < options_.minScaledJacobian) bad[q] = 1;
+      if (quality < worst) {
+        worst = quality;
+        where = static_cast<int>(q);
+      }
+    }
+    return {worst, where};
+  }
+
+  // Direction smoothing, at the marked points only when `only` is given.
+  void smoothDirections(RowMatrixX3d& directions, int iterations, const std::vector<char>& only = {}) const {
+    for (int it = 0; it < iterations; ++it) {
+      RowMatrixX3d next = directions;
+      for (Eigen::Index p = 0; p < directions.rows(); ++p) {
+        if (!only.empty() && only[static_cast<size_t>(p)] == 0) continue;
+        const auto& near = neighbours_[static_cast<size_t>(p)];
+        Vector3d mean = Vector3d::Zero();
+        for (int q : near) mean += directions.row(q).transpose();
+        mean /= static_cast<double>(near.size());
+        Vector3d d = directions.row(p).transpose() + 0.5 * (mean - directions.row(p).transpose());
+        if (onPlane(p)) d -= d.dot(options_.planeNormal) * options_.planeNormal;
+        next.row(p) = d.normalized().transpose();
+      }
+      directions = std::move(next);
+    }
+  }
+
+  // Laplacian smoothing in the plane normal to each point's marching direction.
+  void smoothPoints(RowMatrixX3d& points, const RowMatrixX3d& directions, int iterations, double weight,
+                    const std::vector<char>& only = {}) const {
+    for (int it = 0; it < iterations; ++it) {
+      RowMatrixX3d next = points;
+      for (Eigen::Index p = 0; p < points.rows(); ++p) {
+        if (!only.empty() && only[static_cast<size_t>(p)] == 0) continue;
+        const auto& near = neighbours_[static_cast<size_t>(p)];
+        Vector3d mean = Vector3d::Zero();
+        for (int q : near) mean += points.row(q).transpose();
+        mean /= static_cast<double>(near.size());
+        Vector3d move = mean - points.row(p).transpose();
+        const Vector3d d = directions.row(p).transpose();
+        move -= move.dot(d) * d;
+        next.row(p) = points.row(p) + weight * move.transpose();
+      }
+      keepOnPlane(next);
+      points = std::move(next);
+    }
+  }
+
+  double cellQuality(const RowMatrixX3d& lower, const RowMatrixX3d& upper, size_t quad) const {
+    std::array<Vector3d, 8> corners;
+    for (int k = 0; k < 4; ++k) {
+      corners[static_cast<size_t>(k)] = lower.row(front_.quads[quad][static_cast<size_t>(k)]).transpose();
+      corners[static_cast<size_t>(k + 4)] = upper.row(front_.quads[quad][static_cast<size_t>(k)]).transpose();
+    }
+    return hexScaledJacobian(corners);
+  }
+
+  // Worst scaled Jacobian of the cells between two layers, and the quad where it is.
+  std::pair<double, int> worstCell(const RowMatrixX3d& lower, const RowMatrixX3d& upper) const {
+    std::vector<char> ignored(front_.quads.size(), 0);
+    return markPoorCells(lower, upper, ignored);
+  }
+
+  RowMatrixX3d marchOnce(const RowMatrixX3d& points, RowMatrixX3d& previous, double step, double progress,
+                         int layer) const {
+    const RowMatrixX3d normals = frontNormals(points);
+    RowMatrixX3d blended(points.rows(), 3);
+    for (Eigen::Index p = 0; p < points.rows(); ++p) {
+      const Vector3d before = previous.row(p).transpose();
+      const Vector3d normal = normals.row(p).transpose();
+      blended.row(p) = (normal.dot(before) > 0 ? (before + normal).normalized() : before).transpose();
+    }
+    RowMatrixX3d directions = blended;
+    smoothDirections(directions, static_cast<int>(std::lround(options_.smoothing * (2.0 + 20.0 * progress))));
+    const int pointIterations = static_cast<int>(std::lround(options_.smoothing * (1.0 + 10.0 * progress)));
+    const double weight = std::min(0.5, 0.2 + 0.3 * progress);
+    RowMatrixX3d next = points + step * directions;
+    keepOnPlane(next);
+    smoothPoints(next, directions, pointIterations, weight);
+    // Where a cell would be poor, more smoothing there alone.
+    for (int repair = 0;; ++repair) {
+      std::vector<char> bad(front_.quads.size(), 0);
+      const auto [worst, quad] = markPoorCells(points, next, bad);
+      if (worst >= options_.minScaledJacobian || (repair >= kRepairs && worst > 0.0)) {
+        previous = std::move(directions);
+        return next;
+      }
+      if (repair >= kRepairs || options_.smoothing == 0.0) {
+        fold(layer, worst, quad, points, "after local smoothing: raise the smoothing, lower the growth or refine the wall there");
+      }
+      const std::vector<char> marks = markAround(bad);
+      smoothDirections(directions, 4, marks);
+      for (Eigen::Index p = 0; p < points.rows(); ++p) {
+        if (marks[static_cast<size_t>(p)] != 0) next.row(p) = points.row(p) + step * directions.row(p);
+      }
+      keepOnPlane(next);
+      smoothPoints(next, directions, 4, 0.5, marks);
+    }
+  }
+
+  [[noreturn]] void fold(int layer, double worst, int quad, const RowMatrixX3d& points, const std::string& hint) const {
+    const std::string where = quad >= 0 && static_cast<size_t>(quad) < front_.quadNames.size()
+                                  ? front_.quadNames[static_cast<size_t>(quad)]
+                                  : "wall cell " + std::to_string(quad);
+    const Vector3d at = quad >= 0 ? Vector3d(points.row(front_.quads[static_cast<size_t>(quad)][0]).transpose())
+                                  : Vector3d::Zero();
+    throw SolverError("marching folds at layer " + std::to_string(layer) + " above " + where + " at (" +
+                      std::to_string(at.x()) + ", " + std::to_string(at.y()) + ", " + std::to_string(at.z()) +
+                      ") (scaled Jacobian " + std::to_string(worst) + " " + hint + ")");
+  }
+
+  // Moves the outer layers onto the domain boundary: the last layer is projected radially onto it,
+  // and each far-field layer takes the share of that move that its distance gives.
+  void blendOntoDomain(MarchingResult& result, int nBl) const {
+    RowMatrixX3d& last = result.layers.back();
+    RowMatrixX3d move(last.rows(), 3);
+    for (Eigen::Index p = 0; p < last.rows(); ++p) {
+      const Vector3d x = last.row(p).transpose();
+      const Vector3d radial = x - options_.domainCentre;
+      const Vector3d target = options_.domainCentre + options_.farfieldDistance * radial.normalized();
+      move.row(p) = (target - x).transpose();
+    }
+    const double start = result.layerDistance[static_cast<size_t>(nBl)];
+    const double span = result.layerDistance.back() - start;
+    for (size_t k = static_cast<size_t>(nBl) + 1; k < result.layers.size(); ++k) {
+      const double share = (result.layerDistance[k] - start) / span;
+      result.layers[k] += share * move;
+      keepOnPlane(result.layers[k]);
+    }
+  }
+
+  const MarchingFront& front_;
+  const MarchingOptions& options_;
+  std::vector<std::vector<int>> neighbours_;
+};
+
+}  // namespace
+
+double hexScaledJacobian(const std::array<Eigen::Vector3d, 8>& corners) {
+  double worst = 1.0;
+  for (int k = 0; k < 2; ++k) {
+    for (int j = 0; j < 2; ++j) {
+      for (int i = 0; i < 2; ++i) {
+        const Vector3d& x = corners[static_cast<size_t>(cornerIndex(i, j, k))];
+        const Vector3d eu = (corners[static_cast<size_t>(cornerIndex(1 - i, j, k))] - x) * (i == 0 ? 1.0 : -1.0);
+        const Vector3d ev = (corners[static_cast<size_t>(cornerIndex(i, 1 - j, k))] - x) * (j == 0 ? 1.0 : -1.0);
+        const Vector3d ew = (corners[static_cast<size_t>(cornerIndex(i, j, 1 - k))] - x) * (k == 0 ? 1.0 : -1.0);
+        const double lengths = eu.norm() * ev.norm() * ew.norm();
+        const double quality = lengths > 0 ? eu.cross(ev).dot(ew) / lengths : -1.0;
+        worst = std::min(worst, quality);
+      }
+    }
+  }
+  return worst;
+}
+
+MarchingResult marchLayers(const MarchingFront& front, const MarchingOptions& options) {
+  return Marcher(front, options).run();
+}
+
+}  // namespace bvmesh::volume

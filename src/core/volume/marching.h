@@ -1,0 +1,64 @@
+// Marching a closed (or symmetry-bounded) quad surface grid outward, layer by layer: the
+// boundary layer along the wall normals (straight, orthogonal grid lines), then the far field with
+// marching directions and point positions smoothed more and more with distance, and finally the
+// outer layers blended onto the domain boundary. Every layer's cells are checked; a layer that
+// would fold is marched again with more smoothing and, failing that, stops the marching with an
+// error that says where.
+#pragma once
+
+#include <array>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "core/common/types.h"
+
+namespace bvmesh::volume {
+
+// The surface to march: points, quads (counter-clockwise seen from outside, i.e. the side to march
+// to) and, per point, the unit wall normal and whether it lies on the symmetry plane.
+struct MarchingFront {
+  RowMatrixX3d points;
+  std::vector<std::array<int, 4>> quads;
+  RowMatrixX3d normals;
+  std::vector<char> onSymmetryPlane;
+  std::vector<std::string> quadNames;  // per quad, where it is (for error messages), may be empty
+};
+
+enum class DomainShape { Sphere, Box, Cylinder };
+
+struct MarchingOptions {
+  // Boundary layer: total thickness and number of layers (geometric growth).
+  double boundaryLayerThickness = 0.0;
+  int boundaryLayerLayers = 4;
+  double boundaryLayerGrowth = 1.2;
+  // Far field: distance of the outer boundary from the domain centre, and growth of the layer
+  // thickness from one layer to the next.
+  double farfieldDistance = 0.0;
+  double farfieldGrowth = 1.3;
+  Eigen::Vector3d domainCentre = Eigen::Vector3d::Zero();
+  DomainShape domain = DomainShape::Sphere;
+  Eigen::Vector3d flowDirection = Eigen::Vector3d::UnitX();  // box and cylinder axis
+  // Symmetry plane (used when some points are on it): point and unit normal.
+  Eigen::Vector3d planePoint = Eigen::Vector3d::Zero();
+  Eigen::Vector3d planeNormal = Eigen::Vector3d::UnitY();
+  // Far-field smoothing: direction smoothing (explicit, grows with the layer) and point smoothing
+  // in the front's tangent plane (the cell-size equaliser), both scaled by this factor (0: none).
+  double smoothing = 1.0;
+  double minScaledJacobian = 0.05;  // a layer with a cell below this is marched again with more smoothing
+  int maxLayers = 400;
+};
+
+struct MarchingResult {
+  std::vector<RowMatrixX3d> layers;         // layer 0 = the wall
+  std::vector<double> layerDistance;        // mean marched distance of each layer
+  std::vector<double> layerMinScaledJacobian;  // per layer k >= 1: worst cell between layers k-1 and k
+};
+
+MarchingResult marchLayers(const MarchingFront& front, const MarchingOptions& options);
+
+// Scaled Jacobian of the hexahedron with corners 000 100 110 010 001 101 111 011: the minimum
+// over its corners of det(e1, e2, e3) / (|e1| |e2| |e3|) with the three edges leaving each corner.
+double hexScaledJacobian(const std::array<Eigen::Vector3d, 8>& corners);
+
+}  // namespace bvmesh::volume

@@ -1,0 +1,52 @@
+// The wall of the volume mesh as conforming patches: the limit surface's B-spline charts, split
+// where a chart side meets more than one neighbouring side, so that every patch side is shared
+// with exactly one other patch side (or lies on the mesh boundary). Each patch becomes the wall
+// face of one block; splitting a chart is knot insertion, so the patches are exactly the charts'
+// surfaces.
+#pragma once
+
+#include <array>
+#include <vector>
+
+#include "core/surface/limit_bsplines.h"
+
+namespace bvmesh::volume {
+
+// A bicubic patch with clamped knot vectors over [0, m] x [0, n] (one span per control-mesh quad).
+struct PatchSurface {
+  std::vector<double> uKnots;         // full knot vectors
+  std::vector<double> vKnots;
+  int uPoles = 0;
+  int vPoles = 0;
+  std::vector<Eigen::Vector3d> poles;  // pole (i, j) at i * vPoles + j
+
+  const Eigen::Vector3d& pole(int i, int j) const { return poles[static_cast<size_t>(i * vPoles + j)]; }
+  // Point and unit normal (du x dv) at (u, v).
+  Eigen::Vector3d point(double u, double v, Eigen::Vector3d* normal = nullptr) const;
+};
+
+// A patch side in the chart's terms: VMin / VMax run along u, UMin / UMax along v.
+using surface::ChartSide;
+
+struct PatchSideLink {
+  int patch = -1;  // -1: the side lies on the mesh boundary
+  ChartSide side = ChartSide::VMin;
+  bool reversed = false;  // the neighbour runs along the shared side in the opposite direction
+};
+
+struct WallPatch {
+  int chart = -1;
+  std::array<int, 2> uRange{0, 0};  // chart cells [first, last) along u
+  std::array<int, 2> vRange{0, 0};
+  PatchSurface surface;
+  std::array<std::vector<int>, 4> sideVertices;  // control-mesh vertices along each side, by increasing parameter
+  std::array<PatchSideLink, 4> sides;             // per ChartSide
+  std::array<bool, 4> creaseSide{false, false, false, false};  // side on a crease of the control mesh
+};
+
+// Splits the charts of `bsplines` (built from `mesh`) into conforming patches and links their
+// sides. Throws TopologyError when a side has more than one neighbour after splitting.
+std::vector<WallPatch> conformingWallPatches(const surface::LimitBSplines& bsplines,
+                                             const surface::QuadControlMesh& mesh);
+
+}  // namespace bvmesh::volume

@@ -1,0 +1,366 @@
+// The volume stage's core: B-spline volumes against closed forms, block-mesh validation and the
+// block file, and the volume mesh generated around Catmull-Clark limit surfaces.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <random>
+#include <sstream>
+
+#include "core/common/bspline_basis.h"
+#include "core/common/errors.h"
+#include "core/volume/block_mesh_io.h"
+#include "core/volume/volume_blocks.h"
+#include "core/volume/wall_patches.h"
+#include "surface_test_meshes.h"
+
+namespace bvmesh::volume {
+namespace {
+
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+
+// A tricubic volume with poles at the Greville points of an affine map x = A (u, v, w) + b: by
+// linear precision the volume is that map.
+BsplineVolume affineVolume(const Matrix3d& a, const Vector3d& b, std::array<int, 3> spans) {
+  std::array<std::vector<double>, 3> knots;
+  std::array<std::vector<double>, 3> greville;
+  for (int d = 0; d < 3; ++d) {
+    knots[static_cast<size_t>(d)] = uniformClampedKnots(3, spans[static_cast<size_t>(d)]);
+    greville[static_cast<size_t>(d)] = grevilleAbscissae(knots[static_cast<size_t>(d)], 3);
+  }
+  const int nu = spans[0] + 3, nv = spans[1] + 3, nw = spans[2] + 3;
+  RowMatrixX3d poles(nu * nv * nw, 3);
+  for (int k = 0; k < nw; ++k) {
+    for (int j = 0; j < nv; ++j) {
+      for (int i = 0; i < nu; ++i) {
+        const Vector3d x(greville[0][static_cast<size_t>(i)], greville[1][static_cast<size_t>(j)], greville[2][static_cast<size_t>(k)]);
+        poles.row(i + nu * (j + nv * k)) = (a * x + b).transpose();
+      }
+    }
+  }
+  return BsplineVolume({3, 3, 3}, knots, poles);
+}
+
+TEST(BsplineVolume, ReproducesAnAffineMapWithItsDerivatives) {
+  Matrix3d a;
+  a << 2.0, 0.3, -0.1, 0.2, 1.5, 0.4, -0.3, 0.1, 0.7;
+  const Vector3d b(1.0, -2.0, 0.5);
+  const BsplineVolume volume = affineVolume(a, b, {4, 3, 5});
+  std::mt19937 random(7);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  RowMatrixX3d parameters(200, 3);
+  for (int p = 0; p < 200; ++p) parameters.row(p) << 4 * unit(random), 3 * unit(random), 5 * unit(random);
+  parameters.row(0) << 0, 0, 0;
+  parameters.row(1) << 4, 3, 5;
+  RowMatrixX3d points, du, dv, dw;
+  volume.evaluate(parameters, points, &du, &dv, &dw);
+  for (int p = 0; p < 200; ++p) {
+    const Vector3d x = parameters.row(p).transpose();
+    EXPECT_LT((points.row(p).transpose() - (a * x + b)).norm(), 1e-12) << p;
+    EXPECT_LT((du.row(p).transpose() - a.col(0)).norm(), 1e-11);
+    EXPECT_LT((dv.row(p).transpose() - a.col(1)).norm(), 1e-11);
+    EXPECT_LT((dw.row(p).transpose() - a.col(2)).norm(), 1e-11);
+  }
+}
+
+TEST(BsplineVolume, GridEvaluationEqualsPointEvaluation) {
+  Matrix3d a = Matrix3d::Identity();
+  BsplineVolume affine = affineVolume(a, Vector3d::Zero(), {3, 4, 2});
+  // Bend the poles so the volume is not affine.
+  RowMatrixX3d bent = affine.poles();
+  for (Eigen::Index r = 0; r < bent.rows(); ++r) bent(r, 2) += 0.1 * std::sin(bent(r, 0)) * bent(r, 1) * bent(r, 1);
+  const BsplineVolume volume({3, 3, 3}, {affine.knots(0), affine.knots(1), affine.knots(2)}, bent);
+  const std::vector<double> u{0.0, 0.4, 1.5, 2.999, 3.0}, v{0.0, 1.0, 2.2, 4.0}, w{0.0, 0.7, 2.0};
+  RowMatrixX3d grid, gu, gv, gw;
+  volume.evaluateGrid(u, v, w, grid, &gu, &gv, &gw);
+  RowMatrixX3d parameters(static_cast<Eigen::Index>(u.size() * v.size() * w.size()), 3);
+  for (size_t c = 0; c < w.size(); ++c) {
+    for (size_t b = 0; b < v.size(); ++b) {
+      for (size_t i = 0; i < u.size(); ++i) parameters.row(static_cast<Eigen::Index>(i + u.size() * (b + v.size() * c))) << u[i], v[b], w[c];
+    }
+  }
+  RowMatrixX3d points, du, dv, dw;
+  volume.evaluate(parameters, points, &du, &dv, &dw);
+  EXPECT_LT((grid - points).cwiseAbs().maxCoeff(), 1e-14);
+  EXPECT_LT((gu - du).cwiseAbs().maxCoeff(), 1e-13);
+  EXPECT_LT((gv - dv).cwiseAbs().maxCoeff(), 1e-13);
+  EXPECT_LT((gw - dw).cwiseAbs().maxCoeff(), 1e-13);
+  // A clamped face is its boundary pole grid's surface: at w = 0 the corner is the corner pole.
+  EXPECT_EQ(grid.row(0), volume.poles().row(0));
+}
+
+TEST(BsplineVolume, RejectsInconsistentDataByName) {
+  const BsplineVolume good = affineVolume(Matrix3d::Identity(), Vector3d::Zero(), {2, 2, 2});
+  RowMatrixX3d poles = good.poles();
+  EXPECT_THROW(BsplineVolume({3, 3, 3}, {good.knots(0), good.knots(1), good.knots(2)}, poles.topRows(10), "block 4"),
+               InvalidInputError);
+  try {
+    poles(7, 1) = std::nan("");
+    BsplineVolume({3, 3, 3}, {good.knots(0), good.knots(1), good.knots(2)}, poles, "block 4");
+    FAIL();
+  } catch (const InvalidInputError& error) {
+    EXPECT_NE(std::string(error.what()).find("block 4: pole (2, 1, 0) is not finite"), std::string::npos) << error.what();
+  }
+  std::vector<double> unclamped = good.knots(0);
+  unclamped[1] = -0.5;
+  EXPECT_THROW(BsplineVolume({3, 3, 3}, {unclamped, good.knots(1), good.knots(2)}, good.poles()), InvalidInputError);
+  RowMatrixX3d outside(1, 3);
+  outside << 0.5, 0.5, 2.5;
+  RowMatrixX3d out;
+  EXPECT_THROW(good.evaluate(outside, out), InvalidInputError);
+}
+
+// Two affine blocks side by side: block 0 on [0, 1] x [0, 1] x [0, 1], block 1 on [1, 2] x ...,
+// joined through block 0's u_max and block 1's u_min.
+std::vector<Block> twoBlocks() {
+  Matrix3d a = Matrix3d::Identity() / 2.0;
+  std::vector<Block> blocks(2);
+  blocks[0].volume = affineVolume(a, Vector3d::Zero(), {2, 2, 2});
+  blocks[1].volume = affineVolume(a, Vector3d(1, 0, 0), {2, 2, 2});
+  blocks[0].faces[static_cast<size_t>(BlockFaceSide::UMax)] = {BoundaryCondition::Connected, {1, 0, false, false, false}};
+  blocks[1].faces[static_cast<size_t>(BlockFaceSide::UMin)] = {BoundaryCondition::Connected, {0, 1, false, false, false}};
+  blocks[0].faces[static_cast<size_t>(BlockFaceSide::WMin)].condition = BoundaryCondition::Wall;
+  return blocks;
+}
+
+TEST(BlockMesh, ValidatesConnectionsAndSharedPoles) {
+  const BlockMesh mesh(twoBlocks());
+  const VolumeControlMesh control = volumeControlMesh(mesh);
+  EXPECT_EQ(control.points.rows(), 2 * 125 - 25);  // the shared 5 x 5 face once
+  EXPECT_EQ(control.cells.size(), 2u * 64u);
+  EXPECT_EQ(control.boundaryFaces.size(), 2u * 5u * 16u);
+
+  std::vector<Block> moved = twoBlocks();
+  moved[1].volume.setPole(moved[1].volume.poleIndex(0, 2, 3), Vector3d(1.0, 0.5, 0.75 + 1e-9));
+  try {
+    BlockMesh bad(moved);
+    FAIL();
+  } catch (const InvalidInputError& error) {
+    EXPECT_NE(std::string(error.what()).find("block 0 face u_max pole (2, 3) differs"), std::string::npos) << error.what();
+  }
+  std::vector<Block> oneWay = twoBlocks();
+  oneWay[1].faces[static_cast<size_t>(BlockFaceSide::UMin)].condition = BoundaryCondition::Farfield;
+  EXPECT_THROW(BlockMesh{oneWay}, InvalidInputError);
+  std::vector<Block> flipped = twoBlocks();
+  flipped[0].faces[static_cast<size_t>(BlockFaceSide::UMax)].neighbour.reverseFirst = true;
+  flipped[1].faces[static_cast<size_t>(BlockFaceSide::UMin)].neighbour.reverseFirst = true;
+  EXPECT_THROW(BlockMesh{flipped}, InvalidInputError);  // the poles no longer meet
+}
+
+TEST(BlockMeshFile, RoundTripsAndNamesTheBadLine) {
+  const BlockMesh mesh(twoBlocks());
+  std::stringstream text;
+  writeBlockMesh(mesh, text);
+  const BlockMesh back = readBlockMesh(text);
+  ASSERT_EQ(back.blockCount(), 2);
+  for (int b = 0; b < 2; ++b) {
+    EXPECT_EQ(back.blocks()[static_cast<size_t>(b)].volume.poles(), mesh.blocks()[static_cast<size_t>(b)].volume.poles());
+    for (int d = 0; d < 3; ++d) {
+      EXPECT_EQ(back.blocks()[static_cast<size_t>(b)].volume.knots(d), mesh.blocks()[static_cast<size_t>(b)].volume.knots(d));
+    }
+    for (int f = 0; f < 6; ++f) {
+      EXPECT_EQ(back.blocks()[static_cast<size_t>(b)].faces[static_cast<size_t>(f)].condition,
+                mesh.blocks()[static_cast<size_t>(b)].faces[static_cast<size_t>(f)].condition);
+    }
+  }
+  const std::string full = text.str();
+  std::stringstream cut(full.substr(0, full.size() / 2));
+  EXPECT_THROW(readBlockMesh(cut, "cut.blocks"), InvalidInputError);
+  std::string wrong = full;
+  wrong.replace(wrong.find("farfield"), 8, "farfeld");
+  std::stringstream typo(wrong);
+  try {
+    readBlockMesh(typo, "typo.blocks");
+    FAIL();
+  } catch (const InvalidInputError& error) {
+    EXPECT_NE(std::string(error.what()).find("typo.blocks, line "), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("'farfeld'"), std::string::npos);
+  }
+  EXPECT_THROW(writeBlockMeshFile(mesh, "/nonexistent-folder/x.blocks"), InvalidInputError);
+}
+
+// Determinant of the Jacobian over |du| |dv| |dw| at the sample points of every control cell
+// (4 x 4 x 4 per cell), and the wall angles (dw against du x dv at w = 0), per block.
+struct VolumeQuality {
+  double minScaledJacobian = 1.0;
+  std::vector<double> wallAnglesDegrees;
+};
+
+VolumeQuality sampleQuality(const BlockMesh& mesh) {
+  VolumeQuality quality;
+  for (const Block& block : mesh.blocks()) {
+    const BsplineVolume& v = block.volume;
+    std::array<std::vector<double>, 3> at;
+    for (int d = 0; d < 3; ++d) {
+      std::vector<double> knots = v.knots(d);
+      knots.erase(std::unique(knots.begin(), knots.end()), knots.end());
+      for (size_t k = 0; k + 1 < knots.size(); ++k) {
+        for (int s = 0; s < 4; ++s) at[static_cast<size_t>(d)].push_back(knots[k] + (knots[k + 1] - knots[k]) * s / 4.0);
+      }
+      at[static_cast<size_t>(d)].push_back(knots.back());
+    }
+    RowMatrixX3d x, du, dv, dw;
+    v.evaluateGrid(at[0], at[1], at[2], x, &du, &dv, &dw);
+    const Eigen::Index layer = static_cast<Eigen::Index>(at[0].size() * at[1].size());
+    for (Eigen::Index p = 0; p < x.rows(); ++p) {
+      const Vector3d a = du.row(p).transpose(), b = dv.row(p).transpose(), c = dw.row(p).transpose();
+      quality.minScaledJacobian = std::min(quality.minScaledJacobian, a.cross(b).dot(c) / (a.norm() * b.norm() * c.norm()));
+      if (p < layer) {
+        const double cosine = a.cross(b).normalized().dot(c.normalized());
+        quality.wallAnglesDegrees.push_back(std::acos(std::min(1.0, cosine)) * 180.0 / std::acos(-1.0));
+      }
+    }
+  }
+  return quality;
+}
+
+TEST(VolumeMesh, AroundTheLimitSurfaceOfARefinedCube) {
+  const surface::QuadControlMesh wall = surface::testing::subdivide(surface::testing::cube(), 2);
+  VolumeMeshOptions options;
+  options.boundaryLayerThickness = 0.05;
+  options.farfieldDistance = 30.0;
+  const VolumeMesh result = generateVolumeMesh(wall, options);
+  const BlockMesh& mesh = result.blocks;
+  ASSERT_EQ(mesh.blockCount(), 6);  // one chart per cube face: the valence-3 corners split it so
+  // The wall face of every block is its chart surface, pole for pole.
+  const surface::LimitBSplines charts = surface::limitSurfaceToBSplines(wall);
+  for (int b = 0; b < mesh.blockCount(); ++b) {
+    const BsplineVolume& v = mesh.blocks()[static_cast<size_t>(b)].volume;
+    const cad::BSplineSurfaceData& chart = charts.surfaces[static_cast<size_t>(result.blockChart[static_cast<size_t>(b)])];
+    ASSERT_EQ(v.poleCount(0), chart.uPoleCount);
+    for (int i = 0; i < v.poleCount(0); ++i) {
+      for (int j = 0; j < v.poleCount(1); ++j) {
+        const size_t q = 3 * static_cast<size_t>(i * chart.vPoleCount + j);
+        EXPECT_LT((v.poles().row(v.poleIndex(i, j, 0)).transpose() -
+                   Vector3d(chart.poles[q], chart.poles[q + 1], chart.poles[q + 2])).norm(), 1e-12);
+      }
+    }
+    const auto& faces = mesh.blocks()[static_cast<size_t>(b)].faces;
+    EXPECT_EQ(faces[static_cast<size_t>(BlockFaceSide::WMin)].condition, BoundaryCondition::Wall);
+    EXPECT_EQ(faces[static_cast<size_t>(BlockFaceSide::WMax)].condition, BoundaryCondition::Farfield);
+    for (int f = 0; f < 4; ++f) EXPECT_EQ(faces[static_cast<size_t>(f)].condition, BoundaryCondition::Connected);
+    // The outer face interpolates the last layer, which lies on the far-field sphere.
+    const std::vector<double> gu = grevilleAbscissae(v.knots(0), 3), gv = grevilleAbscissae(v.knots(1), 3);
+    RowMatrixX3d outer;
+    v.evaluateGrid(gu, gv, {1.0}, outer);
+    for (Eigen::Index p = 0; p < outer.rows(); ++p) {
+      EXPECT_NEAR((outer.row(p).transpose() - result.domainCentre).norm(), 30.0, 1e-9 * 30.0);
+    }
+  }
+  const VolumeQuality quality = sampleQuality(mesh);
+  EXPECT_GT(quality.minScaledJacobian, 0.3);
+  std::vector<double> angles = quality.wallAnglesDegrees;
+  std::sort(angles.begin(), angles.end());
+  EXPECT_LT(angles[angles.size() * 99 / 100], 2.0);
+  for (double q : result.layerMinScaledJacobian) EXPECT_GT(q, 0.3);
+  // Shared faces meet: block faces evaluated from both sides coincide.
+  for (int b = 0; b < mesh.blockCount(); ++b) {
+    const Block& block = mesh.blocks()[static_cast<size_t>(b)];
+    const BlockFace& face = block.faces[static_cast<size_t>(BlockFaceSide::UMax)];
+    const BsplineVolume& other = mesh.blocks()[static_cast<size_t>(face.neighbour.block)].volume;
+    for (double t : {0.0, 0.3, 0.77, 1.0}) {
+      for (double s : {0.0, 0.5, 1.0}) {
+        RowMatrixX3d mine, theirs;
+        RowMatrixX3d at(1, 3);
+        at << block.volume.upper(0), s * block.volume.upper(1), t;
+        block.volume.evaluate(at, mine);
+        const int along = face.neighbour.face / 2 == 0 ? 1 : 0;
+        const double position = face.neighbour.reverseFirst ? (1 - s) * other.upper(along) : s * other.upper(along);
+        RowMatrixX3d there(1, 3);
+        there(0, 2) = t;
+        there(0, along) = position;
+        there(0, 1 - along) = face.neighbour.face % 2 == 0 ? 0.0 : other.upper(1 - along);
+        other.evaluate(there, theirs);
+        EXPECT_LT((mine - theirs).norm(), 1e-12 * 30.0) << "block " << b;
+      }
+    }
+  }
+}
+
+TEST(VolumeMesh, HalfModelKeepsTheSymmetryPlane) {
+  // The cube cut at z = 0 by keeping its upper half: open on the plane z = 0.
+  const surface::QuadControlMesh whole = surface::testing::subdivide(surface::testing::cube(), 2);
+  std::vector<Vector3d> points;
+  std::vector<std::array<int, 4>> quads;
+  std::vector<int> id(static_cast<size_t>(whole.vertices.rows()), -1);
+  for (Eigen::Index f = 0; f < whole.faces.rows(); ++f) {
+    double z = 0;
+    for (int k = 0; k < 4; ++k) z += whole.vertices(whole.faces(f, k), 2);
+    if (z < 0) continue;
+    std::array<int, 4> quad{};
+    for (int k = 0; k < 4; ++k) {
+      int& v = id[static_cast<size_t>(whole.faces(f, k))];
+      if (v < 0) {
+        v = static_cast<int>(points.size());
+        Vector3d x = whole.vertices.row(whole.faces(f, k)).transpose();
+        if (std::abs(x.z()) < 1e-12) x.z() = 0.0;
+        points.push_back(x);
+      }
+      quad[static_cast<size_t>(k)] = v;
+    }
+    quads.push_back(quad);
+  }
+  const surface::QuadControlMesh half = surface::makeQuadControlMesh(points, quads);
+  VolumeMeshOptions options;
+  options.boundaryLayerThickness = 0.05;
+  options.farfieldDistance = 20.0;
+  EXPECT_THROW(generateVolumeMesh(half, options), InvalidInputError);  // open, and no plane given
+  options.hasSymmetryPlane = true;
+  options.planeNormal = Vector3d::UnitZ();
+  const VolumeMesh result = generateVolumeMesh(half, options);
+  int symmetryFaces = 0;
+  for (const Block& block : result.blocks.blocks()) {
+    for (int f = 0; f < 6; ++f) {
+      if (block.faces[static_cast<size_t>(f)].condition != BoundaryCondition::Symmetry) continue;
+      ++symmetryFaces;
+      const std::array<int, 2> counts = BlockMesh::facePoleCounts(block.volume, f);
+      for (int a = 0; a < counts[0]; ++a) {
+        for (int b = 0; b < counts[1]; ++b) {
+          EXPECT_LT(std::abs(block.volume.poles()(BlockMesh::facePole(block.volume, f, a, b), 2)), 1e-12 * 20.0);
+        }
+      }
+    }
+  }
+  EXPECT_GT(symmetryFaces, 0);
+  EXPECT_GT(sampleQuality(result.blocks).minScaledJacobian, 0.2);
+}
+
+TEST(VolumeMesh, BadWallsAndOptionsGetClearErrors) {
+  surface::QuadControlMesh wall = surface::testing::subdivide(surface::testing::cube(), 1);
+  VolumeMeshOptions options;
+  options.boundaryLayerThickness = 0.05;
+  auto message = [&](const surface::QuadControlMesh& mesh, const VolumeMeshOptions& o) {
+    try {
+      generateVolumeMesh(mesh, o);
+    } catch (const InvalidInputError& error) {
+      return std::string(error.what());
+    }
+    return std::string("no error");
+  };
+  surface::QuadControlMesh inward = wall;
+  for (Eigen::Index f = 0; f < inward.faces.rows(); ++f) std::swap(inward.faces(f, 1), inward.faces(f, 3));
+  EXPECT_NE(message(inward, options).find("oriented inwards"), std::string::npos);
+  VolumeMeshOptions close = options;
+  close.farfieldDistance = 0.04;
+  EXPECT_NE(message(wall, close).find("far-field distance"), std::string::npos);
+  VolumeMeshOptions near = options;
+  near.farfieldDistance = 0.85;
+  EXPECT_NE(message(wall, near).find("leaves no room"), std::string::npos);
+  VolumeMeshOptions growth = options;
+  growth.farfieldGrowth = 1.0;
+  EXPECT_NE(message(wall, growth).find("far-field growth"), std::string::npos);
+  VolumeMeshOptions layers = options;
+  layers.boundaryLayerLayers = 0;
+  EXPECT_NE(message(wall, layers).find("boundary-layer layers"), std::string::npos);
+  VolumeMeshOptions negative = options;
+  negative.boundaryLayerThickness = -1.0;
+  EXPECT_NE(message(wall, negative).find("boundary-layer thickness"), std::string::npos);
+  VolumeMeshOptions nan = options;
+  nan.reynoldsNumber = std::nan("");
+  EXPECT_NE(message(wall, nan).find("Reynolds"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace bvmesh::volume
