@@ -12,5 +12,6 @@ void bindTarget(pybind11::module_& module);
 void bindFit(pybind11::module_& module);
 void bindSurface(pybind11::module_& module);
 void bindPolyhedron(pybind11::module_& module);
+void bindVolume(pybind11::module_& module);
 
 }  // namespace bvmesh::python

@@ -9,4 +9,5 @@ PYBIND11_MODULE(_core, module) {
   bvmesh::python::bindFit(module);
   bvmesh::python::bindSurface(module);
   bvmesh::python::bindPolyhedron(module);
+  bvmesh::python::bindVolume(module);
 }

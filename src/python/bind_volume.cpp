@@ -1,0 +1,236 @@
+// The volume stage: the block mesh around a fitted wall (offset and far field by marching), its
+// B-spline blocks as numpy arrays, their evaluation, and the block file.
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <string>
+
+#include "arrays.h"
+#include "bindings.h"
+#include "core/mesh/control_mesh.h"
+#include "core/surface/limit_points.h"
+#include "core/volume/block_mesh_io.h"
+#include "core/volume/volume_blocks.h"
+
+namespace py = pybind11;
+
+namespace bvmesh::python {
+namespace {
+
+using volume::BlockMesh;
+using volume::BsplineVolume;
+
+const BsplineVolume& blockOf(const BlockMesh& mesh, int block) {
+  if (block < 0 || block >= mesh.blockCount()) {
+    throw py::index_error("block " + std::to_string(block) + " does not exist (" + std::to_string(mesh.blockCount()) +
+                          " blocks)");
+  }
+  return mesh.blocks()[static_cast<size_t>(block)].volume;
+}
+
+// (nu, nv, nw, 3) from rows with u fastest.
+py::array_t<double> gridArray(const RowMatrixX3d& rows, py::ssize_t nu, py::ssize_t nv, py::ssize_t nw) {
+  py::array_t<double> array({nu, nv, nw, py::ssize_t{3}});
+  auto out = array.mutable_unchecked<4>();
+  for (py::ssize_t k = 0; k < nw; ++k) {
+    for (py::ssize_t j = 0; j < nv; ++j) {
+      for (py::ssize_t i = 0; i < nu; ++i) {
+        for (py::ssize_t x = 0; x < 3; ++x) out(i, j, k, x) = rows(i + nu * (j + nv * k), x);
+      }
+    }
+  }
+  return array;
+}
+
+py::array_t<double> rowsArray(const RowMatrixX3d& rows) {
+  py::array_t<double> array({static_cast<py::ssize_t>(rows.rows()), py::ssize_t{3}});
+  std::copy(rows.data(), rows.data() + rows.size(), array.mutable_data());
+  return array;
+}
+
+std::vector<double> parametersOf(const py::object& object, const char* name) {
+  const DoubleArray array = DoubleArray::ensure(object);
+  if (!array || array.ndim() != 1) throw py::value_error(std::string(name) + " must be a 1-D sequence of numbers");
+  return std::vector<double>(array.data(), array.data() + array.size());
+}
+
+py::dict faceDict(const volume::BlockFace& face) {
+  py::dict item;
+  item["condition"] = volume::boundaryConditionName(face.condition);
+  if (face.condition == volume::BoundaryCondition::Connected) {
+    item["block"] = face.neighbour.block;
+    item["face"] = volume::blockFaceName(face.neighbour.face);
+    item["swapped"] = face.neighbour.swapped;
+    item["reverse_first"] = face.neighbour.reverseFirst;
+    item["reverse_second"] = face.neighbour.reverseSecond;
+  }
+  return item;
+}
+
+volume::VolumeMesh generate(const surface::QuadControlMesh& wall, const py::object& symmetryPlane,
+                            const volume::VolumeMeshOptions& base) {
+  volume::VolumeMeshOptions options = base;
+  if (!symmetryPlane.is_none()) {
+    const py::sequence plane = symmetryPlane.cast<py::sequence>();
+    if (plane.size() != 2) throw py::value_error("symmetry_plane must be (point, normal) or None");
+    const RowMatrixXd point = rowsOf(py::array::ensure(plane[0]).reshape({1, 3}), "symmetry_plane point", 3);
+    const RowMatrixXd normal = rowsOf(py::array::ensure(plane[1]).reshape({1, 3}), "symmetry_plane normal", 3);
+    options.hasSymmetryPlane = true;
+    options.planePoint = point.row(0).transpose();
+    options.planeNormal = normal.row(0).transpose();
+  }
+  py::gil_scoped_release release;
+  return volume::generateVolumeMesh(wall, options);
+}
+
+}  // namespace
+
+void bindVolume(py::module_& module) {
+  py::class_<BlockMesh>(module, "BlockMesh",
+                        "Block-structured B-spline volume mesh: tricubic blocks, their face connections and "
+                        "boundary conditions. Faces are named u_min, u_max, v_min, v_max, w_min, w_max; w_min is "
+                        "the wall for blocks made by generate_volume_mesh.")
+      .def_property_readonly("block_count", &BlockMesh::blockCount)
+      .def(
+          "poles", [](const BlockMesh& mesh, int block) {
+            const BsplineVolume& v = blockOf(mesh, block);
+            return gridArray(v.poles(), v.poleCount(0), v.poleCount(1), v.poleCount(2));
+          },
+          py::arg("block"), "The block's poles, shape (n_u, n_v, n_w, 3).")
+      .def(
+          "knots", [](const BlockMesh& mesh, int block) {
+            const BsplineVolume& v = blockOf(mesh, block);
+            return py::make_tuple(v.knots(0), v.knots(1), v.knots(2));
+          },
+          py::arg("block"), "Full knot vectors (u, v, w), clamped.")
+      .def(
+          "degrees", [](const BlockMesh& mesh, int block) {
+            const BsplineVolume& v = blockOf(mesh, block);
+            return py::make_tuple(v.degree(0), v.degree(1), v.degree(2));
+          },
+          py::arg("block"))
+      .def(
+          "faces", [](const BlockMesh& mesh, int block) {
+            blockOf(mesh, block);
+            py::dict faces;
+            for (int f = 0; f < 6; ++f) {
+              faces[volume::blockFaceName(f)] = faceDict(mesh.blocks()[static_cast<size_t>(block)].faces[static_cast<size_t>(f)]);
+            }
+            return faces;
+          },
+          py::arg("block"),
+          "Per face: {'condition': wall / symmetry / farfield / ... / connected} and for connected faces the "
+          "neighbour 'block', 'face' and the orientation flags 'swapped', 'reverse_first', 'reverse_second'.")
+      .def(
+          "evaluate",
+          [](const BlockMesh& mesh, int block, const py::object& parameters, bool derivatives) -> py::object {
+            const BsplineVolume& v = blockOf(mesh, block);
+            const RowMatrixXd uvw = rowsOf(parameters, "parameters", 3);
+            RowMatrixX3d points, du, dv, dw;
+            {
+              py::gil_scoped_release release;
+              v.evaluate(uvw, points, derivatives ? &du : nullptr, derivatives ? &dv : nullptr,
+                         derivatives ? &dw : nullptr);
+            }
+            if (!derivatives) return rowsArray(points);
+            return py::make_tuple(rowsArray(points), rowsArray(du), rowsArray(dv), rowsArray(dw));
+          },
+          py::arg("block"), py::arg("parameters"), py::arg("derivatives") = false,
+          "Points at (n, 3) parameters (u, v, w); with derivatives=True (points, d/du, d/dv, d/dw).")
+      .def(
+          "evaluate_grid",
+          [](const BlockMesh& mesh, int block, const py::object& u, const py::object& v, const py::object& w,
+             bool derivatives) -> py::object {
+            const BsplineVolume& volume = blockOf(mesh, block);
+            const std::vector<double> us = parametersOf(u, "u"), vs = parametersOf(v, "v"), ws = parametersOf(w, "w");
+            RowMatrixX3d points, du, dv, dw;
+            {
+              py::gil_scoped_release release;
+              volume.evaluateGrid(us, vs, ws, points, derivatives ? &du : nullptr, derivatives ? &dv : nullptr,
+                                  derivatives ? &dw : nullptr);
+            }
+            const auto nu = static_cast<py::ssize_t>(us.size()), nv = static_cast<py::ssize_t>(vs.size()),
+                       nw = static_cast<py::ssize_t>(ws.size());
+            if (!derivatives) return gridArray(points, nu, nv, nw);
+            return py::make_tuple(gridArray(points, nu, nv, nw), gridArray(du, nu, nv, nw), gridArray(dv, nu, nv, nw),
+                                  gridArray(dw, nu, nv, nw));
+          },
+          py::arg("block"), py::arg("u"), py::arg("v"), py::arg("w"), py::arg("derivatives") = false,
+          "The tensor grid u x v x w, shape (len(u), len(v), len(w), 3) (and its derivatives).")
+      .def(
+          "control_mesh",
+          [](const BlockMesh& mesh) {
+            const volume::VolumeControlMesh control = volume::volumeControlMesh(mesh);
+            py::dict out;
+            out["points"] = rowsArray(control.points);
+            py::array_t<int> cells({static_cast<py::ssize_t>(control.cells.size()), py::ssize_t{8}});
+            for (size_t c = 0; c < control.cells.size(); ++c) {
+              std::copy(control.cells[c].begin(), control.cells[c].end(), cells.mutable_data() + 8 * c);
+            }
+            out["cells"] = cells;
+            out["cell_block"] = control.cellBlock;
+            py::array_t<int> faces({static_cast<py::ssize_t>(control.boundaryFaces.size()), py::ssize_t{4}});
+            for (size_t f = 0; f < control.boundaryFaces.size(); ++f) {
+              std::copy(control.boundaryFaces[f].begin(), control.boundaryFaces[f].end(), faces.mutable_data() + 4 * f);
+            }
+            out["boundary_faces"] = faces;
+            py::list conditions;
+            for (auto c : control.boundaryConditions) conditions.append(volume::boundaryConditionName(c));
+            out["boundary_conditions"] = conditions;
+            return out;
+          },
+          "The volume control mesh: 'points' (#P, 3) with shared poles merged, 'cells' (#C, 8) hexahedra "
+          "(corners 000 100 110 010 001 101 111 011), 'cell_block', 'boundary_faces' (#B, 4) and their "
+          "'boundary_conditions'.")
+      .def(
+          "write", [](const BlockMesh& mesh, const std::string& path) { volume::writeBlockMeshFile(mesh, path); },
+          py::arg("path"), "Writes the block file (docs/volume.md).");
+  module.def("read_block_mesh", &volume::readBlockMeshFile, py::arg("path"),
+             "Reads a block file written by BlockMesh.write.");
+
+  py::class_<volume::VolumeMesh>(module, "VolumeMesh", "A block mesh made by generate_volume_mesh, with its marching report.")
+      .def_readonly("blocks", &volume::VolumeMesh::blocks)
+      .def_readonly("block_chart", &volume::VolumeMesh::blockChart)
+      .def_readonly("layer_distance", &volume::VolumeMesh::layerDistance)
+      .def_readonly("layer_min_scaled_jacobian", &volume::VolumeMesh::layerMinScaledJacobian)
+      .def_readonly("reference_length", &volume::VolumeMesh::referenceLength)
+      .def_readonly("boundary_layer_thickness", &volume::VolumeMesh::boundaryLayerThickness)
+      .def_readonly("farfield_distance", &volume::VolumeMesh::farfieldDistance)
+      .def_property_readonly("domain_centre",
+                             [](const volume::VolumeMesh& m) { return std::vector<double>{m.domainCentre.x(), m.domainCentre.y(), m.domainCentre.z()}; })
+      .def_readonly("wall_max_deviation", &volume::VolumeMesh::wallMaxDeviation);
+
+  module.def(
+      "generate_volume_mesh",
+      [](const ControlMesh& wall, const py::object& symmetryPlane, double referenceLength, double reynoldsNumber,
+         double boundaryLayerThickness, int boundaryLayerLayers, double boundaryLayerGrowth, double farfieldDistance,
+         double farfieldGrowth, double smoothing, double minScaledJacobian, int maxLayers) {
+        volume::VolumeMeshOptions options;
+        options.referenceLength = referenceLength;
+        options.reynoldsNumber = reynoldsNumber;
+        options.boundaryLayerThickness = boundaryLayerThickness;
+        options.boundaryLayerLayers = boundaryLayerLayers;
+        options.boundaryLayerGrowth = boundaryLayerGrowth;
+        options.farfieldDistance = farfieldDistance;
+        options.farfieldGrowth = farfieldGrowth;
+        options.smoothing = smoothing;
+        options.minScaledJacobian = minScaledJacobian;
+        options.maxLayers = maxLayers;
+        return generate(surface::toQuadControlMesh(wall), symmetryPlane, options);
+      },
+      py::arg("wall"), py::arg("symmetry_plane") = py::none(), py::arg("reference_length") = 0.0,
+      py::arg("reynolds_number") = 5e6, py::arg("boundary_layer_thickness") = 0.0, py::arg("boundary_layer_layers") = 4,
+      py::arg("boundary_layer_growth") = 1.2, py::arg("farfield_distance") = 0.0, py::arg("farfield_growth") = 1.3,
+      py::arg("smoothing") = 1.0, py::arg("min_scaled_jacobian") = 0.05, py::arg("max_layers") = 400,
+      R"doc(The block-structured B-spline volume mesh around the limit surface of a fitted wall.
+
+wall: an all-quad bvmesh.ControlMesh (e.g. SurfaceFitter.mesh), outward oriented, closed or open only
+on symmetry_plane ((point, normal) of a half model). Boundary layer: boundary_layer_layers control
+layers along the wall normals, total thickness boundary_layer_thickness (0: the turbulent flat-plate
+estimate 0.37 L Re^-0.2 with L = reference_length, 0: the wall's largest extent). Far field: marched
+with growing smoothing to a sphere (half sphere) of radius farfield_distance (0: 20 L) around the
+wall's centre, layer thickness growing by farfield_growth. Returns a VolumeMesh; its .blocks is a
+BlockMesh with one block per wall patch.)doc");
+}
+
+}  // namespace bvmesh::python
