@@ -28,6 +28,10 @@ _CORE_NAMES = (
     "ProjectionStatus",
     "SurfaceFitter",
     "limit_surface_to_bsplines",
+    "BlockMesh",
+    "VolumeMesh",
+    "generate_volume_mesh",
+    "read_block_mesh",
 )
 
 
