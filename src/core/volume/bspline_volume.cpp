@@ -1,5 +1,6 @@
 #include "core/volume/bspline_volume.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -244,10 +245,10 @@ void BsplineVolume::evaluateGrid(const std::vector<double>& u, const std::vector
             }
           }
           const Eigen::Index row = (begin + a) + nu * (b + nv * c);
-          points.row(row) << x[0], x[1], x[2];
-          if (du != nullptr) du->row(row) << xu[0], xu[1], xu[2];
-          if (dv != nullptr) dv->row(row) << xv[0], xv[1], xv[2];
-          if (dw != nullptr) dw->row(row) << xw[0], xw[1], xw[2];
+          std::copy(x, x + 3, points.data() + 3 * row);
+          if (du != nullptr) std::copy(xu, xu + 3, du->data() + 3 * row);
+          if (dv != nullptr) std::copy(xv, xv + 3, dv->data() + 3 * row);
+          if (dw != nullptr) std::copy(xw, xw + 3, dw->data() + 3 * row);
         }
       }
     }
