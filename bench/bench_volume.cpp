@@ -63,15 +63,19 @@ int main(int argc, char** argv) {
     largest = std::move(result);
   }
   // Grid evaluation of every block of the largest mesh, positions and first derivatives.
-  long points = 0;
-  const auto start = Clock::now();
-  for (const auto& block : largest.blocks.blocks()) {
+  auto gridOf = [perDirection](const bvmesh::volume::BsplineVolume& volume) {
     std::array<std::vector<double>, 3> at;
     for (int d = 0; d < 3; ++d) {
       for (int s = 0; s < perDirection; ++s) {
-        at[static_cast<size_t>(d)].push_back(block.volume.lower(d) + (block.volume.upper(d) - block.volume.lower(d)) * s / (perDirection - 1));
+        at[static_cast<size_t>(d)].push_back(volume.lower(d) + (volume.upper(d) - volume.lower(d)) * s / (perDirection - 1));
       }
     }
+    return at;
+  };
+  long points = 0;
+  const auto start = Clock::now();
+  for (const auto& block : largest.blocks.blocks()) {
+    const auto at = gridOf(block.volume);
     RowMatrixX3d x, du, dv, dw;
     block.volume.evaluateGrid(at[0], at[1], at[2], x, &du, &dv, &dw);
     points += x.rows();
@@ -80,12 +84,7 @@ int main(int argc, char** argv) {
   long positionPoints = 0;
   const auto positionStart = Clock::now();
   for (const auto& block : largest.blocks.blocks()) {
-    std::array<std::vector<double>, 3> at;
-    for (int d = 0; d < 3; ++d) {
-      for (int s = 0; s < perDirection; ++s) {
-        at[static_cast<size_t>(d)].push_back(block.volume.lower(d) + (block.volume.upper(d) - block.volume.lower(d)) * s / (perDirection - 1));
-      }
-    }
+    const auto at = gridOf(block.volume);
     RowMatrixX3d x;
     block.volume.evaluateGrid(at[0], at[1], at[2], x);
     positionPoints += x.rows();

@@ -57,21 +57,24 @@ int sideLength(const WallPatch& patch, ChartSide side) {
   return side == ChartSide::VMin || side == ChartSide::VMax ? patch.surface.uPoles : patch.surface.vPoles;
 }
 
+// Values of the cubic basis on `knots` (one column per pole) at the parameters (one row each).
+Eigen::MatrixXd collocationMatrix(const std::vector<double>& knots, const std::vector<double>& at) {
+  Eigen::MatrixXd matrix = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(at.size()),
+                                                 static_cast<Eigen::Index>(knots.size()) - 4);
+  for (size_t r = 0; r < at.size(); ++r) {
+    const int span = findKnotSpan(knots, 3, at[r]);
+    double values[4];
+    basisFunctions(knots, 3, span, at[r], values);
+    for (int c = 0; c < 4; ++c) matrix(static_cast<Eigen::Index>(r), span - 3 + c) = values[c];
+  }
+  return matrix;
+}
+
 // Interpolation at the Greville abscissae of a clamped cubic with uniform knots (the patches'
 // knot vectors): the square collocation matrix, factored once.
 struct GrevilleInterpolation {
-  explicit GrevilleInterpolation(const std::vector<double>& knots) {
-    const std::vector<double> at = grevilleAbscissae(knots, 3);
-    const int n = static_cast<int>(at.size());
-    Eigen::MatrixXd matrix = Eigen::MatrixXd::Zero(n, n);
-    for (int r = 0; r < n; ++r) {
-      const int span = findKnotSpan(knots, 3, at[static_cast<size_t>(r)]);
-      double values[4];
-      basisFunctions(knots, 3, span, at[static_cast<size_t>(r)], values);
-      for (int c = 0; c < 4; ++c) matrix(r, span - 3 + c) = values[c];
-    }
-    lu.compute(matrix);
-  }
+  explicit GrevilleInterpolation(const std::vector<double>& knots)
+      : lu(collocationMatrix(knots, grevilleAbscissae(knots, 3))) {}
   // Poles for data rows (one row per abscissa); the end poles are the end data, exactly.
   Eigen::MatrixXd solve(const Eigen::MatrixXd& data) const {
     Eigen::MatrixXd poles = lu.solve(data);
@@ -295,14 +298,7 @@ VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const Volume
   for (int k = 0; k < layerCount; ++k) w[static_cast<size_t>(k)] = layers.layerDistance[static_cast<size_t>(k)] / layers.layerDistance.back();
   w.back() = 1.0;
   const std::vector<double> wKnots = averagingKnots(w);
-  Eigen::MatrixXd wMatrix = Eigen::MatrixXd::Zero(layerCount, layerCount);
-  for (int r = 0; r < layerCount; ++r) {
-    const int span = findKnotSpan(wKnots, 3, w[static_cast<size_t>(r)]);
-    double values[4];
-    basisFunctions(wKnots, 3, span, w[static_cast<size_t>(r)], values);
-    for (int c = 0; c < 4; ++c) wMatrix(r, span - 3 + c) = values[c];
-  }
-  const Eigen::PartialPivLU<Eigen::MatrixXd> wSolver(wMatrix);
+  const Eigen::PartialPivLU<Eigen::MatrixXd> wSolver(collocationMatrix(wKnots, w));
 
   // Per layer and patch: poles interpolating the layer's points at the Greville abscissae. Layer
   // 0 keeps the patch poles. Sides and corners are solved once and shared, so neighbours agree.
