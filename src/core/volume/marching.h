@@ -7,7 +7,6 @@
 #pragma once
 
 #include <array>
-#include <functional>
 #include <string>
 #include <vector>
 
@@ -25,20 +24,16 @@ struct MarchingFront {
   std::vector<std::string> quadNames;  // per quad, where it is (for error messages), may be empty
 };
 
-enum class DomainShape { Sphere, Box, Cylinder };
-
 struct MarchingOptions {
   // Boundary layer: total thickness and number of layers (geometric growth).
   double boundaryLayerThickness = 0.0;
   int boundaryLayerLayers = 4;
   double boundaryLayerGrowth = 1.2;
-  // Far field: distance of the outer boundary from the domain centre, and growth of the layer
-  // thickness from one layer to the next.
+  // Far field: radius of the spherical outer boundary around the domain centre, and growth of the
+  // layer thickness from one layer to the next.
   double farfieldDistance = 0.0;
   double farfieldGrowth = 1.3;
   Eigen::Vector3d domainCentre = Eigen::Vector3d::Zero();
-  DomainShape domain = DomainShape::Sphere;
-  Eigen::Vector3d flowDirection = Eigen::Vector3d::UnitX();  // box and cylinder axis
   // Symmetry plane (used when some points are on it): point and unit normal.
   Eigen::Vector3d planePoint = Eigen::Vector3d::Zero();
   Eigen::Vector3d planeNormal = Eigen::Vector3d::UnitY();
