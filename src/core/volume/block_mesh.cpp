@@ -9,17 +9,6 @@
 namespace bvmesh::volume {
 namespace {
 
-std::array<int, 2> tangentialDirections(int face) {
-  switch (face / 2) {
-    case 0:
-      return {1, 2};
-    case 1:
-      return {0, 2};
-    default:
-      return {0, 1};
-  }
-}
-
 std::string faceText(int block, int face) {
   return "block " + std::to_string(block) + " face " + blockFaceName(face);
 }
@@ -67,19 +56,44 @@ const char* blockFaceName(int face) {
   return face >= 0 && face < 6 ? names[face] : "(no face)";
 }
 
+std::array<int, 2> faceDirections(int face) {
+  switch (face / 2) {
+    case 0:
+      return {1, 2};
+    case 1:
+      return {0, 2};
+    default:
+      return {0, 1};
+  }
+}
+
+std::array<int, 2> faceGridCounts(const std::array<int, 3>& counts, int face) {
+  const auto [first, second] = faceDirections(face);
+  return {counts[static_cast<size_t>(first)], counts[static_cast<size_t>(second)]};
+}
+
+std::array<int, 3> faceGridPosition(const std::array<int, 3>& counts, int face, int a, int b) {
+  const int fixed = face / 2;
+  std::array<int, 3> ijk{};
+  const auto [first, second] = faceDirections(face);
+  ijk[static_cast<size_t>(fixed)] = face % 2 == 0 ? 0 : counts[static_cast<size_t>(fixed)] - 1;
+  ijk[static_cast<size_t>(first)] = a;
+  ijk[static_cast<size_t>(second)] = b;
+  return ijk;
+}
+
+namespace {
+std::array<int, 3> poleCounts(const BsplineVolume& volume) {
+  return {volume.poleCount(0), volume.poleCount(1), volume.poleCount(2)};
+}
+}  // namespace
+
 std::array<int, 2> BlockMesh::facePoleCounts(const BsplineVolume& volume, int face) {
-  const auto [first, second] = tangentialDirections(face);
-  return {volume.poleCount(first), volume.poleCount(second)};
+  return faceGridCounts(poleCounts(volume), face);
 }
 
 Eigen::Index BlockMesh::facePole(const BsplineVolume& volume, int face, int a, int b) {
-  const int fixed = face / 2;
-  const int at = face % 2 == 0 ? 0 : volume.poleCount(fixed) - 1;
-  std::array<int, 3> ijk{};
-  const auto [first, second] = tangentialDirections(face);
-  ijk[static_cast<size_t>(fixed)] = at;
-  ijk[static_cast<size_t>(first)] = a;
-  ijk[static_cast<size_t>(second)] = b;
+  const std::array<int, 3> ijk = faceGridPosition(poleCounts(volume), face, a, b);
   return volume.poleIndex(ijk[0], ijk[1], ijk[2]);
 }
 
@@ -91,21 +105,21 @@ std::array<int, 2> BlockMesh::mapFacePosition(const FaceConnection& connection,
   return mapped;
 }
 
-BlockMesh::BlockMesh(std::vector<Block> blocks) : blocks_(std::move(blocks)) {
-  const int count = blockCount();
-  for (int b = 0; b < count; ++b) {
+void checkFaceConnections(const std::vector<std::array<BlockFace, 6>>& faces,
+                          const std::vector<std::array<int, 3>>& counts, const char* unit) {
+  const int blockCount = static_cast<int>(faces.size());
+  for (int b = 0; b < blockCount; ++b) {
     for (int f = 0; f < 6; ++f) {
-      const BlockFace& face = blocks_[static_cast<size_t>(b)].faces[static_cast<size_t>(f)];
+      const BlockFace& face = faces[static_cast<size_t>(b)][static_cast<size_t>(f)];
       if (face.condition != BoundaryCondition::Connected) continue;
       const FaceConnection& link = face.neighbour;
-      if (link.block < 0 || link.block >= count || link.face < 0 || link.face >= 6) {
+      if (link.block < 0 || link.block >= blockCount || link.face < 0 || link.face >= 6) {
         throw InvalidInputError(faceText(b, f) + " is connected to block " + std::to_string(link.block) + " face " +
-                                std::to_string(link.face) + ", which does not exist (" + std::to_string(count) +
+                                std::to_string(link.face) + ", which does not exist (" + std::to_string(blockCount) +
                                 " blocks)");
       }
       if (link.block == b && link.face == f) throw InvalidInputError(faceText(b, f) + " is connected to itself");
-      const Block& other = blocks_[static_cast<size_t>(link.block)];
-      const BlockFace& back = other.faces[static_cast<size_t>(link.face)];
+      const BlockFace& back = faces[static_cast<size_t>(link.block)][static_cast<size_t>(link.face)];
       const bool firstBack = link.swapped ? link.reverseSecond : link.reverseFirst;
       const bool secondBack = link.swapped ? link.reverseFirst : link.reverseSecond;
       if (back.condition != BoundaryCondition::Connected || back.neighbour.block != b || back.neighbour.face != f ||
@@ -114,21 +128,44 @@ BlockMesh::BlockMesh(std::vector<Block> blocks) : blocks_(std::move(blocks)) {
         throw InvalidInputError(faceText(b, f) + " is connected to " + faceText(link.block, link.face) +
                                 ", which is not connected back with the inverse orientation");
       }
+      const std::array<int, 2> mine = faceGridCounts(counts[static_cast<size_t>(b)], f);
+      const std::array<int, 2> theirs = faceGridCounts(counts[static_cast<size_t>(link.block)], link.face);
+      for (int axis = 0; axis < 2; ++axis) {
+        const int theirAxis = link.swapped ? 1 - axis : axis;
+        if (mine[static_cast<size_t>(axis)] != theirs[static_cast<size_t>(theirAxis)]) {
+          throw InvalidInputError(faceText(b, f) + " has " + std::to_string(mine[static_cast<size_t>(axis)]) + " " +
+                                  unit + " along its axis " + std::to_string(axis) + ", its neighbour " +
+                                  faceText(link.block, link.face) + " " +
+                                  std::to_string(theirs[static_cast<size_t>(theirAxis)]));
+        }
+      }
+    }
+  }
+}
+
+BlockMesh::BlockMesh(std::vector<Block> blocks) : blocks_(std::move(blocks)) {
+  std::vector<std::array<BlockFace, 6>> faces;
+  std::vector<std::array<int, 3>> poleGrids;
+  for (const Block& block : blocks_) {
+    faces.push_back(block.faces);
+    poleGrids.push_back(poleCounts(block.volume));
+  }
+  checkFaceConnections(faces, poleGrids, "poles");
+  const int count = blockCount();
+  for (int b = 0; b < count; ++b) {
+    for (int f = 0; f < 6; ++f) {
+      const BlockFace& face = blocks_[static_cast<size_t>(b)].faces[static_cast<size_t>(f)];
+      if (face.condition != BoundaryCondition::Connected) continue;
+      const FaceConnection& link = face.neighbour;
       const BsplineVolume& mine = blocks_[static_cast<size_t>(b)].volume;
-      const BsplineVolume& theirs = other.volume;
+      const BsplineVolume& theirs = blocks_[static_cast<size_t>(link.block)].volume;
       const std::array<int, 2> counts = facePoleCounts(mine, f);
       const std::array<int, 2> otherCounts = facePoleCounts(theirs, link.face);
-      const std::array<int, 2> myDirections = tangentialDirections(f);
-      const std::array<int, 2> theirDirections = tangentialDirections(link.face);
+      const std::array<int, 2> myDirections = faceDirections(f);
+      const std::array<int, 2> theirDirections = faceDirections(link.face);
       for (int axis = 0; axis < 2; ++axis) {
         const int theirAxis = link.swapped ? 1 - axis : axis;
         const bool reversed = theirAxis == 0 ? link.reverseFirst : link.reverseSecond;
-        if (counts[static_cast<size_t>(axis)] != otherCounts[static_cast<size_t>(theirAxis)]) {
-          throw InvalidInputError(faceText(b, f) + " has " + std::to_string(counts[static_cast<size_t>(axis)]) +
-                                  " poles along its axis " + std::to_string(axis) + ", its neighbour " +
-                                  faceText(link.block, link.face) + " " +
-                                  std::to_string(otherCounts[static_cast<size_t>(theirAxis)]));
-        }
         const std::vector<double>& myKnots = mine.knots(myDirections[static_cast<size_t>(axis)]);
         const std::vector<double>& theirKnots = theirs.knots(theirDirections[static_cast<size_t>(theirAxis)]);
         if (mine.degree(myDirections[static_cast<size_t>(axis)]) !=
@@ -154,53 +191,67 @@ BlockMesh::BlockMesh(std::vector<Block> blocks) : blocks_(std::move(blocks)) {
   }
 }
 
-VolumeControlMesh volumeControlMesh(const BlockMesh& mesh) {
-  VolumeControlMesh result;
-  const auto& blocks = mesh.blocks();
-  result.blockPointOffset.resize(blocks.size() + 1, 0);
-  for (size_t b = 0; b < blocks.size(); ++b) {
-    result.blockPointOffset[b + 1] =
-        result.blockPointOffset[b] + static_cast<int>(blocks[b].volume.poles().rows());
+std::vector<Eigen::Index> sharedGridRoots(const std::vector<std::array<BlockFace, 6>>& faces,
+                                          const std::vector<std::array<int, 3>>& counts) {
+  std::vector<Eigen::Index> offset(counts.size() + 1, 0);
+  for (size_t b = 0; b < counts.size(); ++b) {
+    offset[b + 1] = offset[b] + static_cast<Eigen::Index>(counts[b][0]) * counts[b][1] * counts[b][2];
   }
-  // Union-find over all poles: connected faces join their poles.
-  std::vector<int> parent(static_cast<size_t>(result.blockPointOffset.back()));
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int x) {
+  auto row = [&](size_t b, const std::array<int, 3>& ijk) {
+    return offset[b] + ijk[0] + static_cast<Eigen::Index>(counts[b][0]) * (ijk[1] + static_cast<Eigen::Index>(counts[b][1]) * ijk[2]);
+  };
+  std::vector<Eigen::Index> parent(static_cast<size_t>(offset.back()));
+  std::iota(parent.begin(), parent.end(), Eigen::Index{0});
+  auto find = [&](Eigen::Index x) {
     while (parent[static_cast<size_t>(x)] != x) {
       parent[static_cast<size_t>(x)] = parent[static_cast<size_t>(parent[static_cast<size_t>(x)])];
       x = parent[static_cast<size_t>(x)];
     }
     return x;
   };
-  for (size_t b = 0; b < blocks.size(); ++b) {
+  for (size_t b = 0; b < faces.size(); ++b) {
     for (int f = 0; f < 6; ++f) {
-      const BlockFace& face = blocks[b].faces[static_cast<size_t>(f)];
+      const BlockFace& face = faces[b][static_cast<size_t>(f)];
       if (face.condition != BoundaryCondition::Connected) continue;
-      const BsplineVolume& mine = blocks[b].volume;
-      const BsplineVolume& theirs = blocks[static_cast<size_t>(face.neighbour.block)].volume;
-      const std::array<int, 2> counts = BlockMesh::facePoleCounts(mine, f);
-      const std::array<int, 2> otherCounts = BlockMesh::facePoleCounts(theirs, face.neighbour.face);
-      for (int a = 0; a < counts[0]; ++a) {
-        for (int c = 0; c < counts[1]; ++c) {
-          const std::array<int, 2> there = BlockMesh::mapFacePosition(face.neighbour, otherCounts, a, c);
-          const int p = result.blockPointOffset[b] + static_cast<int>(BlockMesh::facePole(mine, f, a, c));
-          const int q = result.blockPointOffset[static_cast<size_t>(face.neighbour.block)] +
-                        static_cast<int>(BlockMesh::facePole(theirs, face.neighbour.face, there[0], there[1]));
-          const int rp = find(p);
-          const int rq = find(q);
+      const size_t other = static_cast<size_t>(face.neighbour.block);
+      const std::array<int, 2> mine = faceGridCounts(counts[b], f);
+      const std::array<int, 2> theirs = faceGridCounts(counts[other], face.neighbour.face);
+      for (int a = 0; a < mine[0]; ++a) {
+        for (int c = 0; c < mine[1]; ++c) {
+          const std::array<int, 2> there = BlockMesh::mapFacePosition(face.neighbour, theirs, a, c);
+          const Eigen::Index rp = find(row(b, faceGridPosition(counts[b], f, a, c)));
+          const Eigen::Index rq = find(row(other, faceGridPosition(counts[other], face.neighbour.face, there[0], there[1])));
+          // The smaller index becomes the root, so every position's root is the smallest it is shared with.
           if (rp != rq) parent[static_cast<size_t>(std::max(rp, rq))] = std::min(rp, rq);
         }
       }
     }
   }
-  result.pointOfPole.assign(parent.size(), -1);
-  std::vector<int> pointOfRoot(parent.size(), -1);
+  for (Eigen::Index x = 0; x < offset.back(); ++x) parent[static_cast<size_t>(x)] = find(x);
+  return parent;
+}
+
+VolumeControlMesh volumeControlMesh(const BlockMesh& mesh) {
+  VolumeControlMesh result;
+  const auto& blocks = mesh.blocks();
+  result.blockPointOffset.resize(blocks.size() + 1, 0);
+  std::vector<std::array<BlockFace, 6>> faces;
+  std::vector<std::array<int, 3>> poleGrids;
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    result.blockPointOffset[b + 1] =
+        result.blockPointOffset[b] + static_cast<int>(blocks[b].volume.poles().rows());
+    faces.push_back(blocks[b].faces);
+    poleGrids.push_back(poleCounts(blocks[b].volume));
+  }
+  const std::vector<Eigen::Index> roots = sharedGridRoots(faces, poleGrids);
+  result.pointOfPole.assign(roots.size(), -1);
+  std::vector<int> pointOfRoot(roots.size(), -1);
   std::vector<Eigen::Vector3d> points;
   for (size_t b = 0; b < blocks.size(); ++b) {
     const RowMatrixX3d& poles = blocks[b].volume.poles();
     for (Eigen::Index r = 0; r < poles.rows(); ++r) {
       const int global = result.blockPointOffset[b] + static_cast<int>(r);
-      const int root = find(global);
+      const auto root = roots[static_cast<size_t>(global)];
       if (pointOfRoot[static_cast<size_t>(root)] < 0) {
         pointOfRoot[static_cast<size_t>(root)] = static_cast<int>(points.size());
         points.emplace_back(poles.row(r).transpose());

@@ -21,6 +21,12 @@ enum class BoundaryCondition { Connected, Wall, Symmetry, Farfield, Inlet, Outle
 const char* boundaryConditionName(BoundaryCondition condition);
 const char* blockFaceName(int face);
 
+// Face indexing shared by pole grids and point grids of `counts` (per direction): the two
+// directions along a face, the face grid's sizes, and the (i, j, k) of face position (a, b).
+std::array<int, 2> faceDirections(int face);
+std::array<int, 2> faceGridCounts(const std::array<int, 3>& counts, int face);
+std::array<int, 3> faceGridPosition(const std::array<int, 3>& counts, int face, int a, int b);
+
 // Where a connected face continues: face pole (a, b) is neighbour face pole (a', b'), where
 // (a', b') = swapped ? (b, a) : (a, b), then a' -> n'_a - 1 - a' if reverseFirst and
 // b' -> n'_b - 1 - b' if reverseSecond (n' the neighbour face's pole counts).
@@ -41,6 +47,20 @@ struct Block {
   BsplineVolume volume;
   std::array<BlockFace, 6> faces;
 };
+
+// Checks every connected face among blocks with these faces and grid sizes (poles or points per
+// direction): the neighbour exists, links back with the inverse orientation, and has the same
+// number of `unit` ("poles", "points") along the shared face. Throws InvalidInputError naming
+// the block and face.
+void checkFaceConnections(const std::vector<std::array<BlockFace, 6>>& faces,
+                          const std::vector<std::array<int, 3>>& counts, const char* unit);
+
+// Positions of block grids (poles or points; sizes per direction in `counts`) that connected faces
+// join: position r of block b has the global number offset[b] + r (offset: the running sum of the
+// blocks' sizes, row r = i + n_i * (j + n_j * k)). Returns for every global number the smallest
+// global number it is shared with (itself when unshared).
+std::vector<Eigen::Index> sharedGridRoots(const std::vector<std::array<BlockFace, 6>>& faces,
+                                          const std::vector<std::array<int, 3>>& counts);
 
 class BlockMesh {
  public:

@@ -1,0 +1,110 @@
+#include "core/grid/structured_grid.h"
+
+#include <string>
+
+#include "core/common/errors.h"
+
+namespace bvmesh::grid {
+
+Eigen::Index GridBlock::facePoint(int face, int a, int b) const {
+  const std::array<int, 3> ijk = volume::faceGridPosition(size, face, a, b);
+  return index(ijk[0], ijk[1], ijk[2]);
+}
+
+StructuredGrid::StructuredGrid(std::vector<GridBlock> blocks, bool viscousWall)
+    : blocks_(std::move(blocks)), viscousWall_(viscousWall) {
+  std::vector<std::array<volume::BlockFace, 6>> faces;
+  std::vector<std::array<int, 3>> sizes;
+  for (size_t b = 0; b < blocks_.size(); ++b) {
+    const GridBlock& block = blocks_[b];
+    const std::string name = "grid block " + std::to_string(b);
+    for (int d = 0; d < 3; ++d) {
+      if (block.size[static_cast<size_t>(d)] < 2) {
+        throw InvalidInputError(name + " has " + std::to_string(block.size[static_cast<size_t>(d)]) +
+                                " points along direction " + "ijk"[d] + " (at least 2 are needed)");
+      }
+    }
+    if (block.points.rows() != block.pointCount()) {
+      throw InvalidInputError(name + " has " + std::to_string(block.points.rows()) + " points, its size " +
+                              std::to_string(block.size[0]) + " x " + std::to_string(block.size[1]) + " x " +
+                              std::to_string(block.size[2]) + " needs " + std::to_string(block.pointCount()));
+    }
+    if (!block.points.allFinite()) {
+      Eigen::Index row = 0;
+      while (block.points.row(row).allFinite()) ++row;
+      throw InvalidInputError(name + " point " + std::to_string(row) + " is not finite");
+    }
+    faces.push_back(block.faces);
+    sizes.push_back(block.size);
+  }
+  volume::checkFaceConnections(faces, sizes, "points");
+  for (size_t b = 0; b < blocks_.size(); ++b) {
+    const GridBlock& mine = blocks_[b];
+    for (int f = 0; f < 6; ++f) {
+      const volume::BlockFace& face = mine.faces[static_cast<size_t>(f)];
+      if (face.condition != volume::BoundaryCondition::Connected) continue;
+      const GridBlock& theirs = blocks_[static_cast<size_t>(face.neighbour.block)];
+      const std::array<int, 2> counts = volume::faceGridCounts(mine.size, f);
+      const std::array<int, 2> otherCounts = volume::faceGridCounts(theirs.size, face.neighbour.face);
+      for (int a = 0; a < counts[0]; ++a) {
+        for (int c = 0; c < counts[1]; ++c) {
+          const std::array<int, 2> there = volume::BlockMesh::mapFacePosition(face.neighbour, otherCounts, a, c);
+          const auto p = mine.points.row(mine.facePoint(f, a, c));
+          const auto q = theirs.points.row(theirs.facePoint(face.neighbour.face, there[0], there[1]));
+          if (p != q) {
+            throw InvalidInputError("grid block " + std::to_string(b) + " face " + volume::blockFaceName(f) +
+                                    " point (" + std::to_string(a) + ", " + std::to_string(c) +
+                                    ") differs from its neighbour's in block " +
+                                    std::to_string(face.neighbour.block) + " face " +
+                                    volume::blockFaceName(face.neighbour.face) + " by " +
+                                    std::to_string((p - q).norm()) + " (shared faces must be point-matched)");
+          }
+        }
+      }
+    }
+  }
+}
+
+Eigen::Index StructuredGrid::pointCount() const {
+  Eigen::Index total = 0;
+  for (const GridBlock& block : blocks_) total += block.pointCount();
+  return total;
+}
+
+Eigen::Index StructuredGrid::cellCount() const {
+  Eigen::Index total = 0;
+  for (const GridBlock& block : blocks_) total += block.cellCount();
+  return total;
+}
+
+MergedPoints mergePoints(const StructuredGrid& grid) {
+  std::vector<std::array<volume::BlockFace, 6>> faces;
+  std::vector<std::array<int, 3>> sizes;
+  MergedPoints result;
+  result.blockOffset.assign(1, 0);
+  for (const GridBlock& block : grid.blocks()) {
+    faces.push_back(block.faces);
+    sizes.push_back(block.size);
+    result.blockOffset.push_back(result.blockOffset.back() + block.pointCount());
+  }
+  const std::vector<Eigen::Index> roots = volume::sharedGridRoots(faces, sizes);
+  result.pointOf.assign(roots.size(), -1);
+  Eigen::Index distinct = 0;
+  for (size_t global = 0; global < roots.size(); ++global) {
+    const auto root = static_cast<size_t>(roots[global]);
+    // A root is the smallest of its set, so it is met (and numbered) before its other members.
+    if (root == global) result.pointOf[global] = distinct++;
+    else result.pointOf[global] = result.pointOf[root];
+  }
+  result.points.resize(distinct, 3);
+  for (size_t b = 0; b < grid.blocks().size(); ++b) {
+    const RowMatrixX3d& points = grid.blocks()[b].points;
+    for (Eigen::Index r = 0; r < points.rows(); ++r) {
+      const auto global = static_cast<size_t>(result.blockOffset[b] + r);
+      if (static_cast<size_t>(roots[global]) == global) result.points.row(result.pointOf[global]) = points.row(r);
+    }
+  }
+  return result;
+}
+
+}  // namespace bvmesh::grid
