@@ -7,6 +7,7 @@
 #include <limits>
 #include <sstream>
 
+#include "core/common/atomic_file.h"
 #include "core/common/errors.h"
 
 namespace bvmesh::volume {
@@ -125,21 +126,7 @@ void writeBlockMesh(const BlockMesh& mesh, std::ostream& out) {
 }
 
 void writeBlockMeshFile(const BlockMesh& mesh, const std::string& path) {
-  const std::string temporary = path + ".partial";
-  {
-    std::ofstream out(temporary);
-    if (!out) throw InvalidInputError("cannot write the block mesh file \"" + path + "\" (its folder is missing or not writable)");
-    writeBlockMesh(mesh, out);
-    out.flush();
-    if (!out) {
-      std::remove(temporary.c_str());
-      throw InvalidInputError("writing the block mesh file \"" + path + "\" failed (disk full?)");
-    }
-  }
-  if (std::rename(temporary.c_str(), path.c_str()) != 0) {
-    std::remove(temporary.c_str());
-    throw InvalidInputError("cannot move the block mesh into place at \"" + path + "\"");
-  }
+  writeFileAtomically(path, "the block mesh file", [&](std::ostream& out) { writeBlockMesh(mesh, out); });
 }
 
 BlockMesh readBlockMesh(std::istream& in, const std::string& name) {
