@@ -15,6 +15,7 @@ PACKAGES=(
   libocct-data-exchange-dev libeigen3-dev libosd-dev libtbb-dev libsuitesparse-dev pybind11-dev python3-dev
   libgtest-dev
   python3-numpy python3-scipy python3-matplotlib xvfb xauth imagemagick
+  libcgns-dev libhdf5-dev cgns-convert openfoam python3-vtk9 python3-h5py
 )
 
 say() { printf '[bvmesh] %s\n' "$*"; }
