@@ -42,4 +42,29 @@ inline std::vector<int> intsOf(const pybind11::object& object, const char* name)
   return std::vector<int>(array.data(), array.data() + array.size());
 }
 
+// (n, 3) rows as a new numpy array.
+template <class Rows>
+pybind11::array_t<double> rowsArray(const Rows& rows) {
+  pybind11::array_t<double> array({static_cast<pybind11::ssize_t>(rows.rows()), pybind11::ssize_t{3}});
+  for (Eigen::Index r = 0; r < rows.rows(); ++r) {
+    for (Eigen::Index x = 0; x < 3; ++x) array.mutable_at(r, x) = rows(r, x);
+  }
+  return array;
+}
+
+// (ni, nj, nk, 3) from rows of a structured block with i fastest (row i + ni (j + nj k)).
+template <class Rows>
+pybind11::array_t<double> gridArray(const Rows& rows, pybind11::ssize_t ni, pybind11::ssize_t nj, pybind11::ssize_t nk) {
+  pybind11::array_t<double> array({ni, nj, nk, pybind11::ssize_t{3}});
+  auto out = array.template mutable_unchecked<4>();
+  for (pybind11::ssize_t k = 0; k < nk; ++k) {
+    for (pybind11::ssize_t j = 0; j < nj; ++j) {
+      for (pybind11::ssize_t i = 0; i < ni; ++i) {
+        for (pybind11::ssize_t x = 0; x < 3; ++x) out(i, j, k, x) = rows(i + ni * (j + nj * k), x);
+      }
+    }
+  }
+  return array;
+}
+
 }  // namespace bvmesh::python

@@ -7,6 +7,7 @@
 
 #include "arrays.h"
 #include "bindings.h"
+#include "block_faces.h"
 #include "core/mesh/control_mesh.h"
 #include "core/surface/limit_points.h"
 #include "core/volume/block_mesh_io.h"
@@ -28,43 +29,10 @@ const BsplineVolume& blockOf(const BlockMesh& mesh, int block) {
   return mesh.blocks()[static_cast<size_t>(block)].volume;
 }
 
-// (nu, nv, nw, 3) from rows with u fastest.
-py::array_t<double> gridArray(const RowMatrixX3d& rows, py::ssize_t nu, py::ssize_t nv, py::ssize_t nw) {
-  py::array_t<double> array({nu, nv, nw, py::ssize_t{3}});
-  auto out = array.mutable_unchecked<4>();
-  for (py::ssize_t k = 0; k < nw; ++k) {
-    for (py::ssize_t j = 0; j < nv; ++j) {
-      for (py::ssize_t i = 0; i < nu; ++i) {
-        for (py::ssize_t x = 0; x < 3; ++x) out(i, j, k, x) = rows(i + nu * (j + nv * k), x);
-      }
-    }
-  }
-  return array;
-}
-
-py::array_t<double> rowsArray(const RowMatrixX3d& rows) {
-  py::array_t<double> array({static_cast<py::ssize_t>(rows.rows()), py::ssize_t{3}});
-  std::copy(rows.data(), rows.data() + rows.size(), array.mutable_data());
-  return array;
-}
-
 std::vector<double> parametersOf(const py::object& object, const char* name) {
   const DoubleArray array = DoubleArray::ensure(object);
   if (!array || array.ndim() != 1) throw py::value_error(std::string(name) + " must be a 1-D sequence of numbers");
   return std::vector<double>(array.data(), array.data() + array.size());
-}
-
-py::dict faceDict(const volume::BlockFace& face) {
-  py::dict item;
-  item["condition"] = volume::boundaryConditionName(face.condition);
-  if (face.condition == volume::BoundaryCondition::Connected) {
-    item["block"] = face.neighbour.block;
-    item["face"] = volume::blockFaceName(face.neighbour.face);
-    item["swapped"] = face.neighbour.swapped;
-    item["reverse_first"] = face.neighbour.reverseFirst;
-    item["reverse_second"] = face.neighbour.reverseSecond;
-  }
-  return item;
 }
 
 volume::VolumeMesh generate(const surface::QuadControlMesh& wall, const py::object& symmetryPlane,
@@ -112,11 +80,7 @@ void bindVolume(py::module_& module) {
       .def(
           "faces", [](const BlockMesh& mesh, int block) {
             blockOf(mesh, block);
-            py::dict faces;
-            for (int f = 0; f < 6; ++f) {
-              faces[volume::blockFaceName(f)] = faceDict(mesh.blocks()[static_cast<size_t>(block)].faces[static_cast<size_t>(f)]);
-            }
-            return faces;
+            return facesDict(mesh.blocks()[static_cast<size_t>(block)].faces);
           },
           py::arg("block"),
           "Per face: {'condition': wall / symmetry / farfield / ... / connected} and for connected faces the "

@@ -13,5 +13,6 @@ void bindFit(pybind11::module_& module);
 void bindSurface(pybind11::module_& module);
 void bindPolyhedron(pybind11::module_& module);
 void bindVolume(pybind11::module_& module);
+void bindGrid(pybind11::module_& module);
 
 }  // namespace bvmesh::python

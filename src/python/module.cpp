@@ -10,4 +10,5 @@ PYBIND11_MODULE(_core, module) {
   bvmesh::python::bindSurface(module);
   bvmesh::python::bindPolyhedron(module);
   bvmesh::python::bindVolume(module);
+  bvmesh::python::bindGrid(module);
 }

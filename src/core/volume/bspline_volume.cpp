@@ -151,6 +151,30 @@ void BsplineVolume::evaluate(const RowMatrixX3d& parameters, RowMatrixX3d& point
   });
 }
 
+BsplineCurve BsplineVolume::isoCurve(int direction, double a, double b) const {
+  const int first = direction == 0 ? 1 : 0;
+  const int second = direction == 2 ? 1 : 2;
+  const DirectionBasis ba = directionBasis(knots(first), degree(first), {a}, directionName(first));
+  const DirectionBasis bb = directionBasis(knots(second), degree(second), {b}, directionName(second));
+  BsplineCurve curve;
+  curve.degree = degree(direction);
+  curve.knots = knots(direction);
+  curve.poles = RowMatrixX3d::Zero(poleCount(direction), 3);
+  std::array<int, 3> ijk{};
+  for (int along = 0; along < poleCount(direction); ++along) {
+    ijk[static_cast<size_t>(direction)] = along;
+    for (int y = 0; y < bb.order; ++y) {
+      ijk[static_cast<size_t>(second)] = bb.first[0] + y;
+      for (int x = 0; x < ba.order; ++x) {
+        ijk[static_cast<size_t>(first)] = ba.first[0] + x;
+        curve.poles.row(along) += ba.values[static_cast<size_t>(x)] * bb.values[static_cast<size_t>(y)] *
+                                  poles_.row(poleIndex(ijk[0], ijk[1], ijk[2]));
+      }
+    }
+  }
+  return curve;
+}
+
 void BsplineVolume::evaluateGrid(const std::vector<double>& u, const std::vector<double>& v,
                                  const std::vector<double>& w, RowMatrixX3d& points, RowMatrixX3d* du,
                                  RowMatrixX3d* dv, RowMatrixX3d* dw) const {

@@ -1,0 +1,234 @@
+#include "core/grid/distribution.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "core/common/errors.h"
+
+namespace bvmesh::grid {
+namespace {
+
+// The root of an increasing function on [lo, hi] (f(lo) < 0 < f(hi)) by bisection to the last bit.
+template <class F>
+double increasingRoot(F f, double lo, double hi) {
+  for (int iteration = 0; iteration < 200 && hi - lo > 1e-15 * std::max(1.0, std::abs(hi)); ++iteration) {
+    const double mid = 0.5 * (lo + hi);
+    (f(mid) < 0.0 ? lo : hi) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+// delta with sinh(delta) / delta = b (b > 1) or sin(delta) / delta = b (b < 1).
+double stretchingParameter(double b) {
+  if (b > 1.0) return increasingRoot([b](double d) { return std::sinh(d) / d - b; }, 1e-9, 800.0);
+  return increasingRoot([b](double d) { return b - std::sin(d) / d; }, 1e-9, M_PI - 1e-12);
+}
+
+void checkPoints(int points, const char* what) {
+  if (points < 2) throw InvalidInputError(std::string(what) + ": " + std::to_string(points) + " points (at least 2)");
+}
+
+// (r^n - 1) / (r - 1) without cancellation near r = 1.
+double geometricSum(double growth, int intervals) {
+  const double excess = growth - 1.0;
+  if (std::abs(excess) < 1e-300) return intervals;
+  return std::expm1(intervals * std::log1p(excess)) / excess;
+}
+
+}  // namespace
+
+std::vector<double> vinokurFractions(int points, double firstSpacing, double lastSpacing) {
+  checkPoints(points, "a stretched distribution");
+  if (!(firstSpacing >= 0.0 && firstSpacing < 1.0 && lastSpacing >= 0.0 && lastSpacing < 1.0)) {
+    throw InvalidInputError("end spacings " + std::to_string(firstSpacing) + ", " + std::to_string(lastSpacing) +
+                            " are not fractions in [0, 1) of the line's length");
+  }
+  const int intervals = points - 1;
+  std::vector<double> x(static_cast<size_t>(points));
+  const bool atStart = firstSpacing > 0.0;
+  const bool atEnd = lastSpacing > 0.0;
+  for (int i = 0; i <= intervals; ++i) {
+    const double xi = static_cast<double>(i) / intervals;
+    double value = xi;
+    if (atStart && atEnd) {
+      const double a = std::sqrt(lastSpacing / firstSpacing);
+      const double b = 1.0 / (intervals * std::sqrt(firstSpacing * lastSpacing));
+      if (b != 1.0) {
+        const double d = stretchingParameter(b);
+        const double u = b > 1.0 ? 0.5 * (1.0 + std::tanh(d * (xi - 0.5)) / std::tanh(0.5 * d))
+                                 : 0.5 * (1.0 + std::tan(d * (xi - 0.5)) / std::tan(0.5 * d));
+        value = u / (a + (1.0 - a) * u);
+      }
+    } else if (atStart || atEnd) {
+      const double spacing = atStart ? firstSpacing : lastSpacing;
+      const double eta = atStart ? xi : 1.0 - xi;
+      const double b = 1.0 / (intervals * spacing);
+      double clustered = eta;
+      if (b != 1.0) {
+        const double d = stretchingParameter(b);
+        clustered = b > 1.0 ? 1.0 + std::tanh(0.5 * d * (eta - 1.0)) / std::tanh(0.5 * d)
+                            : 1.0 + std::tan(0.5 * d * (eta - 1.0)) / std::tan(0.5 * d);
+      }
+      value = atStart ? clustered : 1.0 - clustered;
+    }
+    x[static_cast<size_t>(i)] = value;
+  }
+  x.front() = 0.0;
+  x.back() = 1.0;
+  return x;
+}
+
+std::vector<double> tanhWallFractions(int points, double firstSpacing) {
+  checkPoints(points, "a wall distribution");
+  const int intervals = points - 1;
+  if (!(firstSpacing > 0.0 && firstSpacing < 1.0 / intervals)) {
+    throw InvalidInputError("a first spacing of " + std::to_string(firstSpacing) + " of the line's length with " +
+                            std::to_string(points) + " points cannot cluster at the wall (it must be below 1/" +
+                            std::to_string(intervals) + ")");
+  }
+  // x(xi) = 1 - tanh(d (1 - xi) / 2) / tanh(d / 2), written without cancellation for large d.
+  auto fraction = [](double d, double xi) {
+    return std::sinh(0.5 * d * xi) / (std::sinh(0.5 * d) * std::cosh(0.5 * d * (1.0 - xi)));
+  };
+  const double xi1 = 1.0 / intervals;
+  const double d = increasingRoot([&](double delta) { return firstSpacing - fraction(delta, xi1); }, 1e-9, 1400.0);
+  std::vector<double> x(static_cast<size_t>(points));
+  for (int i = 0; i <= intervals; ++i) x[static_cast<size_t>(i)] = fraction(d, static_cast<double>(i) / intervals);
+  x.front() = 0.0;
+  x.back() = 1.0;
+  return x;
+}
+
+double geometricGrowth(int points, double firstSpacing, double length) {
+  checkPoints(points, "a geometric distribution");
+  const int intervals = points - 1;
+  if (!(firstSpacing > 0.0) || !(length > 0.0)) {
+    throw InvalidInputError("a geometric distribution needs a positive first spacing and length (got " +
+                            std::to_string(firstSpacing) + " and " + std::to_string(length) + ")");
+  }
+  if (firstSpacing * intervals >= length) {
+    throw InvalidInputError("a first spacing of " + std::to_string(firstSpacing) + " times " +
+                            std::to_string(intervals) + " intervals already exceeds the line's length " +
+                            std::to_string(length) + ": use fewer points or a smaller first spacing");
+  }
+  auto excess = [&](double growth) { return firstSpacing * geometricSum(growth, intervals) - length; };
+  double hi = 2.0;
+  while (excess(hi) < 0.0) hi *= 2.0;
+  return increasingRoot(excess, 1.0, hi);
+}
+
+std::vector<double> geometricDistances(int points, double firstSpacing, double growth, double length) {
+  std::vector<double> distance(static_cast<size_t>(points), 0.0);
+  for (int k = 1; k < points; ++k) distance[static_cast<size_t>(k)] = firstSpacing * geometricSum(growth, k);
+  distance.back() = length;
+  return distance;
+}
+
+int geometricPointsNeeded(double firstSpacing, double maxGrowth, double length) {
+  if (!(maxGrowth > 1.0)) throw InvalidInputError("the maximum growth ratio must be above 1");
+  const double intervals = std::ceil(std::log1p(length * (maxGrowth - 1.0) / firstSpacing) / std::log(maxGrowth));
+  return static_cast<int>(intervals) + 1;
+}
+
+double flatPlateFirstCellHeight(double yPlus, double reynoldsNumber, double referenceLength) {
+  if (!(yPlus > 0.0) || !(reynoldsNumber > 0.0) || !(referenceLength > 0.0)) {
+    throw InvalidInputError("a y+ target needs a positive y+, Reynolds number and reference length (got " +
+                            std::to_string(yPlus) + ", " + std::to_string(reynoldsNumber) + ", " +
+                            std::to_string(referenceLength) + ")");
+  }
+  const double skinFriction = 0.026 * std::pow(reynoldsNumber, -1.0 / 7.0);
+  return yPlus * referenceLength / (reynoldsNumber * std::sqrt(0.5 * skinFriction));
+}
+
+double flatPlateYPlus(double firstCellHeight, double reynoldsNumber, double referenceLength) {
+  return firstCellHeight / flatPlateFirstCellHeight(1.0, reynoldsNumber, referenceLength);
+}
+
+ArcLength::ArcLength(const BsplineCurve& curve, int intervalsPerSpan) : curve_(curve) {
+  // Samples inside each knot span, where the curve is one polynomial: Simpson's rule and the
+  // Hermite inversion keep their order there, and dense knots (at a wall) get dense samples.
+  for (size_t k = 0; k + 1 < curve.knots.size(); ++k) {
+    const double a = curve.knots[k], b = curve.knots[k + 1];
+    if (!(b > a)) continue;
+    for (int m = 0; m < intervalsPerSpan; ++m) parameter_.push_back(a + (b - a) * m / intervalsPerSpan);
+  }
+  parameter_.push_back(curve.upper());
+  const size_t count = parameter_.size();
+  arc_.assign(count, 0.0);
+  slope_.resize(count);
+  std::vector<double> speed(count);
+  Eigen::Vector3d tangent;
+  for (size_t m = 0; m < count; ++m) {
+    curve.point(parameter_[m], &tangent);
+    speed[m] = tangent.norm();
+  }
+  for (size_t m = 1; m < count; ++m) {
+    curve.point(0.5 * (parameter_[m - 1] + parameter_[m]), &tangent);
+    arc_[m] = arc_[m - 1] + (parameter_[m] - parameter_[m - 1]) / 6.0 * (speed[m - 1] + 4.0 * tangent.norm() + speed[m]);
+  }
+  // Where the curve stops (zero speed), dt/ds is unbounded: fall back to the chord's slope.
+  for (size_t m = 0; m < count; ++m) {
+    const size_t a = m == 0 ? 0 : m - 1;
+    const size_t b = m + 1 == count ? m : m + 1;
+    const double chord = arc_[b] - arc_[a];
+    const double fallback = chord > 0.0 ? (parameter_[b] - parameter_[a]) / chord : 0.0;
+    slope_[m] = speed[m] > 1e-9 * (arc_.back() / (curve.upper() - curve.lower())) ? 1.0 / speed[m] : fallback;
+  }
+}
+
+double ArcLength::parameterAt(double s) const {
+  if (s <= 0.0) return parameter_.front();
+  if (s >= arc_.back()) return parameter_.back();
+  const size_t m = static_cast<size_t>(std::upper_bound(arc_.begin(), arc_.end(), s) - arc_.begin()) - 1;
+  const double h = arc_[m + 1] - arc_[m];
+  if (!(h > 0.0)) return parameter_[m];
+  const double tau = (s - arc_[m]) / h;
+  const double tau2 = tau * tau, tau3 = tau2 * tau;
+  const double lo = parameter_[m], hi = parameter_[m + 1];
+  double t = (2 * tau3 - 3 * tau2 + 1) * lo + (tau3 - 2 * tau2 + tau) * h * slope_[m] + (-2 * tau3 + 3 * tau2) * hi +
+             (tau3 - tau2) * h * slope_[m + 1];
+  t = std::min(hi, std::max(lo, t));
+  // Newton on s(t) = s_m + the Gauss-Legendre integral of |C'| from t_m: exact to rounding.
+  static constexpr double kNodes[3] = {-0.7745966692414834, 0.0, 0.7745966692414834};
+  static constexpr double kWeights[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
+  for (int iteration = 0; iteration < 3; ++iteration) {
+    double integral = 0.0;
+    Eigen::Vector3d tangent;
+    for (int q = 0; q < 3; ++q) {
+      curve_.point(lo + 0.5 * (t - lo) * (1.0 + kNodes[q]), &tangent);
+      integral += 0.5 * (t - lo) * kWeights[q] * tangent.norm();
+    }
+    curve_.point(t, &tangent);
+    const double speed = tangent.norm();
+    if (!(speed > 0.0)) break;
+    t = std::min(hi, std::max(lo, t - (arc_[m] + integral - s) / speed));
+  }
+  return t;
+}
+
+double parameterAtDistance(const BsplineCurve& curve, double t0, int direction, double distance, double guess) {
+  const Eigen::Vector3d origin = curve.point(t0);
+  double lo = std::min(t0, direction > 0 ? curve.upper() : curve.lower());
+  double hi = std::max(t0, direction > 0 ? curve.upper() : curve.lower());
+  double t = std::min(hi, std::max(lo, guess));
+  // g(t) = |C(t) - C(t0)| - distance grows away from t0; keep [lo, hi] bracketing its root.
+  for (int iteration = 0; iteration < 60; ++iteration) {
+    Eigen::Vector3d tangent;
+    const Eigen::Vector3d offset = curve.point(t, &tangent) - origin;
+    const double r = offset.norm();
+    const double g = r - distance;
+    if (std::abs(g) <= 1e-14 * distance) break;
+    const bool past = g > 0.0;
+    if ((direction > 0) == past) hi = t;
+    else lo = t;
+    const double slope = r > 0.0 ? offset.dot(tangent) / r : 0.0;
+    double next = slope != 0.0 ? t - g / slope : 0.5 * (lo + hi);
+    if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+    if (next == t) break;
+    t = next;
+  }
+  return t;
+}
+
+}  // namespace bvmesh::grid

@@ -1,0 +1,463 @@
+#include "core/grid/refinement.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <mutex>
+#include <numeric>
+#include <string>
+
+#include "core/common/errors.h"
+#include "core/common/parallel.h"
+#include "core/grid/distribution.h"
+
+namespace bvmesh::grid {
+namespace {
+
+using volume::BlockMesh;
+using volume::BoundaryCondition;
+using volume::BsplineVolume;
+
+// Arc-length tables sample each knot span this often (Simpson + Hermite on polynomial pieces:
+// growth ratios come out as asked to about 1e-6).
+constexpr int kIntervalsPerSpan = 8;
+
+// The other two directions of `direction`, in increasing order.
+std::array<int, 2> otherDirections(int direction) {
+  return direction == 0 ? std::array<int, 2>{1, 2} : direction == 1 ? std::array<int, 2>{0, 2} : std::array<int, 2>{0, 1};
+}
+
+// Block directions (node 3 b + d) joined through connected faces, with the orientation of each
+// relative to its set's root (parity 1: reversed).
+class DirectionSets {
+ public:
+  explicit DirectionSets(int nodes) : parent_(static_cast<size_t>(nodes)), parity_(static_cast<size_t>(nodes), 0) {
+    std::iota(parent_.begin(), parent_.end(), 0);
+  }
+  std::pair<int, int> find(int x) {
+    int parity = 0;
+    while (parent_[static_cast<size_t>(x)] != x) {
+      parity ^= parity_[static_cast<size_t>(x)];
+      x = parent_[static_cast<size_t>(x)];
+    }
+    return {x, parity};
+  }
+  // Joins a and b, b reversed relative to a if `reversed`. False if that contradicts an earlier join.
+  bool join(int a, int b, bool reversed) {
+    const auto [ra, pa] = find(a);
+    const auto [rb, pb] = find(b);
+    const int wanted = pa ^ pb ^ (reversed ? 1 : 0);
+    if (ra == rb) return wanted == 0;
+    parent_[static_cast<size_t>(rb)] = ra;
+    parity_[static_cast<size_t>(rb)] = wanted;
+    return true;
+  }
+
+ private:
+  std::vector<int> parent_;
+  std::vector<int> parity_;
+};
+
+struct BlockPlan {
+  std::array<int, 3> size{0, 0, 0};
+  int normalDirection = -1;  // the wall-normal (column) direction, or -1
+  int wallEnd = 0;           // 0: clustered at its lower end, 1: at its upper end
+  // Per direction the parameters along its four edges; edge e = s1 + 2 s2 at the ends s1, s2 of
+  // the two other directions (in increasing order).
+  std::array<std::array<std::vector<double>, 4>, 3> edgeParameters;
+};
+
+double parameterAtEnd(const BsplineVolume& volume, int direction, int end) {
+  return end == 0 ? volume.lower(direction) : volume.upper(direction);
+}
+
+BsplineCurve edgeCurve(const BsplineVolume& volume, int direction, int edge) {
+  const auto [first, second] = otherDirections(direction);
+  return volume.isoCurve(direction, parameterAtEnd(volume, first, edge & 1), parameterAtEnd(volume, second, edge >> 1));
+}
+
+// The parameter along `direction` at fractions (f1, f2) of the two other directions' index ranges:
+// the bilinear blend of the four edges' parameters at index i.
+double blendedParameter(const BlockPlan& plan, int direction, int i, double f1, double f2) {
+  const auto& edges = plan.edgeParameters[static_cast<size_t>(direction)];
+  const size_t at = static_cast<size_t>(i);
+  return (1 - f1) * (1 - f2) * edges[0][at] + f1 * (1 - f2) * edges[1][at] + (1 - f1) * f2 * edges[2][at] +
+         f1 * f2 * edges[3][at];
+}
+
+// Index fraction along `direction`, or the clustered end when that is the wall-normal direction.
+double fraction(const BlockPlan& plan, int direction, int index) {
+  if (direction == plan.normalDirection) return plan.wallEnd;
+  return static_cast<double>(index) / (plan.size[static_cast<size_t>(direction)] - 1);
+}
+
+// The parameter along `direction` of grid point ijk: its edges blended by the index fractions of
+// the other two directions (the wall-normal one held at its wall end).
+double pointParameter(const BlockPlan& plan, int direction, const std::array<int, 3>& ijk) {
+  const auto [first, second] = otherDirections(direction);
+  return blendedParameter(plan, direction, ijk[static_cast<size_t>(direction)],
+                          fraction(plan, first, ijk[static_cast<size_t>(first)]),
+                          fraction(plan, second, ijk[static_cast<size_t>(second)]));
+}
+
+void checkOptions(const RefinementOptions& options) {
+  auto positiveOrZero = [](double value, const char* name) {
+    if (!std::isfinite(value) || value < 0.0) {
+      throw InvalidInputError(std::string(name) + " must be a finite number >= 0 (got " + std::to_string(value) + ")");
+    }
+  };
+  positiveOrZero(options.firstCellHeight, "first_cell_height");
+  positiveOrZero(options.yPlus, "y_plus");
+  positiveOrZero(options.reynoldsNumber, "reynolds_number");
+  positiveOrZero(options.referenceLength, "reference_length");
+  positiveOrZero(options.tangentialSpacing, "tangential_spacing");
+  positiveOrZero(options.edgeEndSpacing, "edge_end_spacing");
+  if (!std::isfinite(options.growth) || options.growth <= 1.0 || options.growth > 3.0) {
+    throw InvalidInputError("growth must be in (1, 3] (got " + std::to_string(options.growth) + ")");
+  }
+  if (options.normalPoints != 0 && (options.normalPoints < 2 || options.normalPoints > 100000)) {
+    throw InvalidInputError("normal_points must be 0 (automatic) or 2 .. 100000 (got " +
+                            std::to_string(options.normalPoints) + ")");
+  }
+  if (options.edgePoints < 2 || options.edgePoints > 100000) {
+    throw InvalidInputError("edge_points must be 2 .. 100000 (got " + std::to_string(options.edgePoints) + ")");
+  }
+  if (options.targetCells < 0) throw InvalidInputError("target_cells must be >= 0");
+  if (options.normalPoints == 0 && options.firstCellHeight == 0.0 && options.yPlus == 0.0) {
+    throw InvalidInputError("automatic normal_points (0) needs a first cell height or a y+ target");
+  }
+}
+
+std::string blockText(size_t b) { return "block " + std::to_string(b); }
+
+}  // namespace
+
+RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& options) {
+  checkOptions(options);
+  const auto& blocks = mesh.blocks();
+  const size_t blockCount = blocks.size();
+  if (blockCount == 0) throw InvalidInputError("the block mesh has no blocks to refine");
+
+  // Directions linked through connected faces share their point count (and orientation).
+  DirectionSets sets(static_cast<int>(3 * blockCount));
+  for (size_t b = 0; b < blockCount; ++b) {
+    for (int f = 0; f < 6; ++f) {
+      const volume::BlockFace& face = blocks[b].faces[static_cast<size_t>(f)];
+      if (face.condition != BoundaryCondition::Connected) continue;
+      const std::array<int, 2> mine = volume::faceDirections(f);
+      const std::array<int, 2> theirs = volume::faceDirections(face.neighbour.face);
+      for (int axis = 0; axis < 2; ++axis) {
+        const int theirAxis = face.neighbour.swapped ? 1 - axis : axis;
+        const bool reversed = theirAxis == 0 ? face.neighbour.reverseFirst : face.neighbour.reverseSecond;
+        if (!sets.join(static_cast<int>(3 * b) + mine[static_cast<size_t>(axis)],
+                       3 * face.neighbour.block + theirs[static_cast<size_t>(theirAxis)], reversed)) {
+          throw InvalidInputError(blockText(b) + " face " + volume::blockFaceName(f) +
+                                  ": the block connections orient a grid direction both ways round");
+        }
+      }
+    }
+  }
+  // Wall-normal sets: those holding a direction with a wall at one end; wallParity per set root.
+  std::vector<int> wallParity(3 * blockCount, -1);
+  for (size_t b = 0; b < blockCount; ++b) {
+    for (int d = 0; d < 3; ++d) {
+      const bool atLower = blocks[b].faces[static_cast<size_t>(2 * d)].condition == BoundaryCondition::Wall;
+      const bool atUpper = blocks[b].faces[static_cast<size_t>(2 * d + 1)].condition == BoundaryCondition::Wall;
+      if (!atLower && !atUpper) continue;
+      if (atLower && atUpper) {
+        throw InvalidInputError(blockText(b) + " has walls at both ends of direction " + "uvw"[d] +
+                                " (wall clustering from both ends is not supported)");
+      }
+      const auto [root, parity] = sets.find(static_cast<int>(3 * b) + d);
+      const int wanted = parity ^ (atUpper ? 1 : 0);
+      int& known = wallParity[static_cast<size_t>(root)];
+      if (known >= 0 && known != wanted) {
+        throw InvalidInputError(blockText(b) + " direction " + "uvw"[d] +
+                                ": linked wall-normal lines start at walls at both ends");
+      }
+      known = wanted;
+    }
+  }
+  std::vector<BlockPlan> plans(blockCount);
+  for (size_t b = 0; b < blockCount; ++b) {
+    for (int d = 0; d < 3; ++d) {
+      const auto [root, parity] = sets.find(static_cast<int>(3 * b) + d);
+      const int wall = wallParity[static_cast<size_t>(root)];
+      if (wall < 0) continue;
+      if (plans[b].normalDirection >= 0) {
+        throw InvalidInputError(blockText(b) + " has wall-normal lines in two directions (walls on two sides)");
+      }
+      plans[b].normalDirection = d;
+      plans[b].wallEnd = wall ^ parity;
+    }
+  }
+
+  // Tangential point counts: per set, from the longest of its edges.
+  std::vector<double> longestEdge(3 * blockCount, 0.0);
+  std::vector<std::array<std::array<double, 4>, 3>> edgeLength(blockCount);
+  for (size_t b = 0; b < blockCount; ++b) {
+    for (int d = 0; d < 3; ++d) {
+      for (int e = 0; e < 4; ++e) {
+        const double length =
+            ArcLength(edgeCurve(blocks[b].volume, d, e), kIntervalsPerSpan).length();
+        edgeLength[b][static_cast<size_t>(d)][static_cast<size_t>(e)] = length;
+        const auto root = static_cast<size_t>(sets.find(static_cast<int>(3 * b) + d).first);
+        longestEdge[root] = std::max(longestEdge[root], length);
+      }
+    }
+  }
+  const double firstHeight = options.firstCellHeight > 0.0 ? options.firstCellHeight
+                             : options.yPlus > 0.0
+                                 ? flatPlateFirstCellHeight(options.yPlus, options.reynoldsNumber, options.referenceLength)
+                                 : 0.0;
+  auto countsFor = [&](double spacing, int normalPoints) {
+    std::vector<int> count(3 * blockCount, 0);
+    for (size_t node = 0; node < count.size(); ++node) {
+      const auto root = static_cast<size_t>(sets.find(static_cast<int>(node)).first);
+      if (wallParity[root] >= 0) count[node] = normalPoints;
+      else if (spacing > 0.0) count[node] = std::max(2, static_cast<int>(std::ceil(longestEdge[root] / spacing)) + 1);
+      else count[node] = options.edgePoints;
+    }
+    return count;
+  };
+  // Normal points before the columns are known (for the cell target): from the wall blocks' edges.
+  int normalPoints = options.normalPoints;
+  if (normalPoints == 0) {
+    for (size_t b = 0; b < blockCount; ++b) {
+      const int n = plans[b].normalDirection;
+      if (n < 0) continue;
+      for (double length : edgeLength[b][static_cast<size_t>(n)]) {
+        normalPoints = std::max(normalPoints, geometricPointsNeeded(firstHeight, options.growth, length));
+      }
+    }
+    normalPoints = std::max(normalPoints, 2);
+  }
+  double spacing = options.tangentialSpacing;
+  if (options.targetCells > 0) {
+    auto cells = [&](double h) {
+      const std::vector<int> count = countsFor(h, normalPoints);
+      double total = 0.0;
+      for (size_t b = 0; b < blockCount; ++b) {
+        total += static_cast<double>(count[3 * b] - 1) * (count[3 * b + 1] - 1) * (count[3 * b + 2] - 1);
+      }
+      return total;
+    };
+    const double longest = *std::max_element(longestEdge.begin(), longestEdge.end());
+    double lo = longest * 1e-5, hi = 2.0 * longest;  // cells(lo) large, cells(hi) small
+    for (int iteration = 0; iteration < 80; ++iteration) {
+      const double mid = std::sqrt(lo * hi);
+      (cells(mid) > static_cast<double>(options.targetCells) ? lo : hi) = mid;
+    }
+    spacing = hi;
+  }
+  const std::vector<int> tangentialCounts = countsFor(spacing, normalPoints);
+
+  // Edge parameters of every direction but the wall-normal one: uniform in arc length, or
+  // clustered at both ends, which keeps a distribution the same seen from either end.
+  for (size_t b = 0; b < blockCount; ++b) {
+    BlockPlan& plan = plans[b];
+    for (int d = 0; d < 3; ++d) plan.size[static_cast<size_t>(d)] = tangentialCounts[3 * b + static_cast<size_t>(d)];
+    for (int d = 0; d < 3; ++d) {
+      if (d == plan.normalDirection) continue;
+      const int points = plan.size[static_cast<size_t>(d)];
+      for (int e = 0; e < 4; ++e) {
+        const ArcLength arc(edgeCurve(blocks[b].volume, d, e), kIntervalsPerSpan);
+        if (!(arc.length() > 0.0)) {
+          throw InvalidInputError(blockText(b) + " has an edge of zero length along " + "uvw"[d] +
+                                  " (collapsed edges cannot be refined)");
+        }
+        const double end = options.edgeEndSpacing / arc.length();
+        const double uniform = 1.0 / (points - 1);
+        const std::vector<double> fractions =
+            end > 0.0 && end < uniform ? vinokurFractions(points, end, end) : vinokurFractions(points, 0.0, 0.0);
+        auto& parameters = plan.edgeParameters[static_cast<size_t>(d)][static_cast<size_t>(e)];
+        parameters.resize(static_cast<size_t>(points));
+        for (int i = 0; i < points; ++i) {
+          parameters[static_cast<size_t>(i)] = arc.parameterAt(fractions[static_cast<size_t>(i)] * arc.length());
+        }
+        parameters.front() = blocks[b].volume.lower(d);
+        parameters.back() = blocks[b].volume.upper(d);
+      }
+    }
+  }
+
+  // Wall-normal lines: per column the line along the normal direction through the tangential
+  // parameters blended at the wall end; points at the wall law's distances along its arc length.
+  std::vector<GridBlock> gridBlocks(blockCount);
+  std::vector<int> columnNormalPoints(blockCount, 0);
+  const bool automaticNormal = options.normalPoints == 0;
+  if (automaticNormal) normalPoints = 2;
+  struct Column {
+    BsplineCurve curve;
+    ArcLength arc;
+  };
+  auto column = [&](size_t b, const std::array<int, 3>& ijk) {
+    const BlockPlan& plan = plans[b];
+    const auto [t1, t2] = otherDirections(plan.normalDirection);
+    const BsplineCurve curve =
+        blocks[b].volume.isoCurve(plan.normalDirection, pointParameter(plan, t1, ijk), pointParameter(plan, t2, ijk));
+    const ArcLength arc(curve, kIntervalsPerSpan);
+    if (!(arc.length() > 0.0)) {
+      throw InvalidInputError(blockText(b) + " has a wall-normal line of zero length at (" + std::to_string(ijk[0]) +
+                              ", " + std::to_string(ijk[1]) + ", " + std::to_string(ijk[2]) + ")");
+    }
+    return Column{curve, arc};
+  };
+  auto forEachColumn = [&](size_t b, auto&& work) {
+    const BlockPlan& plan = plans[b];
+    const auto [t1, t2] = otherDirections(plan.normalDirection);
+    const int n1 = plan.size[static_cast<size_t>(t1)];
+    const int n2 = plan.size[static_cast<size_t>(t2)];
+    parallelChunks(static_cast<std::int64_t>(n1) * n2, 64, [&](std::int64_t begin, std::int64_t end) {
+      for (std::int64_t c = begin; c < end; ++c) {
+        std::array<int, 3> ijk{0, 0, 0};
+        ijk[static_cast<size_t>(t1)] = static_cast<int>(c % n1);
+        ijk[static_cast<size_t>(t2)] = static_cast<int>(c / n1);
+        work(ijk);
+      }
+    });
+  };
+  if (automaticNormal) {
+    // The fewest points that keep every line's growth within the maximum.
+    for (size_t b = 0; b < blockCount; ++b) {
+      if (plans[b].normalDirection < 0) continue;
+      std::mutex guard;
+      forEachColumn(b, [&](const std::array<int, 3>& ijk) {
+        const int needed = geometricPointsNeeded(firstHeight, options.growth, column(b, ijk).arc.length());
+        const std::lock_guard<std::mutex> lock(guard);
+        normalPoints = std::max(normalPoints, needed);
+      });
+    }
+  }
+  for (size_t b = 0; b < blockCount; ++b) {
+    BlockPlan& plan = plans[b];
+    if (plan.normalDirection >= 0) plan.size[static_cast<size_t>(plan.normalDirection)] = normalPoints;
+    GridBlock& grid = gridBlocks[b];
+    grid.size = plan.size;
+    grid.faces = blocks[b].faces;
+    grid.points.resize(grid.pointCount(), 3);
+  }
+  for (size_t b = 0; b < blockCount; ++b) {
+    const BlockPlan& plan = plans[b];
+    GridBlock& grid = gridBlocks[b];
+    if (plan.normalDirection < 0) {
+      // No wall-normal direction: every parameter blended from the block's edges.
+      RowMatrixX3d parameters(grid.pointCount(), 3);
+      for (int k = 0; k < grid.size[2]; ++k) {
+        for (int j = 0; j < grid.size[1]; ++j) {
+          for (int i = 0; i < grid.size[0]; ++i) {
+            const std::array<int, 3> ijk{i, j, k};
+            for (int d = 0; d < 3; ++d) parameters(grid.index(i, j, k), d) = pointParameter(plan, d, ijk);
+          }
+        }
+      }
+      blocks[b].volume.evaluate(parameters, grid.points);
+      continue;
+    }
+    const int n = plan.normalDirection;
+    const int points = plan.size[static_cast<size_t>(n)];
+    forEachColumn(b, [&](const std::array<int, 3>& base) {
+      const Column line = column(b, base);
+      const double length = line.arc.length();
+      const double height = firstHeight > 0.0 ? firstHeight
+                                              : length * (options.growth - 1.0) /
+                                                    std::expm1((points - 1) * std::log(options.growth));
+      std::vector<double> distance;
+      if (firstHeight > 0.0 && options.distribution == WallDistribution::Tanh) {
+        distance = tanhWallFractions(points, height / length);
+        for (double& x : distance) x *= length;
+      } else {
+        const double growth = firstHeight > 0.0 ? geometricGrowth(points, height, length) : options.growth;
+        if (growth > options.growth * (1.0 + 1e-12)) {
+          throw InvalidInputError(blockText(b) + ": a first cell height of " + std::to_string(height) + " over " +
+                                  std::to_string(length) + " with " + std::to_string(points) +
+                                  " wall-normal points needs a growth ratio of " + std::to_string(growth) +
+                                  ", above the maximum " + std::to_string(options.growth) + "; at least " +
+                                  std::to_string(geometricPointsNeeded(height, options.growth, length)) +
+                                  " points are needed (normal_points = 0 picks them)");
+        }
+        distance = geometricDistances(points, height, growth, length);
+      }
+      const int step = plan.wallEnd == 0 ? 1 : -1;
+      const double wallParameter = parameterAtEnd(blocks[b].volume, n, plan.wallEnd);
+      std::array<int, 3> ijk = base;
+      for (int k = 0; k < points; ++k) {
+        const double s = distance[static_cast<size_t>(k)];
+        double t = line.arc.parameterAt(plan.wallEnd == 0 ? s : length - s);
+        if (k == 0) t = wallParameter;
+        else if (k == 1) t = parameterAtDistance(line.curve, wallParameter, step, height, t);  // exact first height
+        else if (k == points - 1) t = parameterAtEnd(blocks[b].volume, n, 1 - plan.wallEnd);
+        ijk[static_cast<size_t>(n)] = plan.wallEnd == 0 ? k : points - 1 - k;
+        grid.points.row(grid.index(ijk[0], ijk[1], ijk[2])) = line.curve.point(t).transpose();
+      }
+    });
+  }
+
+  // Shared points made identical (the first block's copy wins), after checking they agree.
+  std::vector<std::array<volume::BlockFace, 6>> faces;
+  std::vector<std::array<int, 3>> sizes;
+  std::vector<Eigen::Index> offset{0};
+  double extent = 0.0;
+  for (const GridBlock& grid : gridBlocks) {
+    faces.push_back(grid.faces);
+    sizes.push_back(grid.size);
+    offset.push_back(offset.back() + grid.pointCount());
+    extent = std::max(extent, (grid.points.colwise().maxCoeff() - grid.points.colwise().minCoeff()).norm());
+  }
+  const std::vector<Eigen::Index> roots = volume::sharedGridRoots(faces, sizes);
+  auto locate = [&](Eigen::Index global) {
+    const size_t b = static_cast<size_t>(std::upper_bound(offset.begin(), offset.end(), global) - offset.begin()) - 1;
+    return std::pair<size_t, Eigen::Index>{b, global - offset[b]};
+  };
+  for (Eigen::Index global = 0; global < offset.back(); ++global) {
+    const Eigen::Index root = roots[static_cast<size_t>(global)];
+    if (root == global) continue;
+    const auto [b, row] = locate(global);
+    const auto [rb, rrow] = locate(root);
+    const double gap = (gridBlocks[b].points.row(row) - gridBlocks[rb].points.row(rrow)).norm();
+    if (gap > 1e-9 * extent) {
+      throw SolverError(blockText(b) + " point " + std::to_string(row) + " and " + blockText(rb) + " point " +
+                        std::to_string(rrow) + " are shared but " + std::to_string(gap) +
+                        " apart: the distributions disagree across a shared face (block layout not supported)");
+    }
+    gridBlocks[b].points.row(row) = gridBlocks[rb].points.row(rrow);
+  }
+
+  RefinedGrid result;
+  result.normalPoints = normalPoints;
+  result.firstCellHeightAsked = firstHeight;
+  result.firstCellHeightMin = std::numeric_limits<double>::infinity();
+  bool anyWall = false;
+  for (size_t b = 0; b < blockCount; ++b) {
+    const BlockPlan& plan = plans[b];
+    if (plan.normalDirection < 0) continue;
+    anyWall = true;
+    const GridBlock& grid = gridBlocks[b];
+    const int n = plan.normalDirection;
+    const auto [t1, t2] = otherDirections(n);
+    for (int i2 = 0; i2 < grid.size[static_cast<size_t>(t2)]; ++i2) {
+      for (int i1 = 0; i1 < grid.size[static_cast<size_t>(t1)]; ++i1) {
+        auto at = [&](int k) {
+          std::array<int, 3> ijk{};
+          ijk[static_cast<size_t>(t1)] = i1;
+          ijk[static_cast<size_t>(t2)] = i2;
+          ijk[static_cast<size_t>(n)] = plan.wallEnd == 0 ? k : grid.size[static_cast<size_t>(n)] - 1 - k;
+          return grid.points.row(grid.index(ijk[0], ijk[1], ijk[2]));
+        };
+        double previous = (at(1) - at(0)).norm();
+        result.firstCellHeightMin = std::min(result.firstCellHeightMin, previous);
+        result.firstCellHeightMax = std::max(result.firstCellHeightMax, previous);
+        for (int k = 2; k < grid.size[static_cast<size_t>(n)]; ++k) {
+          const double step = (at(k) - at(k - 1)).norm();
+          result.growthMax = std::max(result.growthMax, step / previous);
+          previous = step;
+        }
+      }
+    }
+  }
+  if (!anyWall) result.firstCellHeightMin = 0.0;
+  result.grid = StructuredGrid(std::move(gridBlocks), firstHeight > 0.0);
+  return result;
+}
+
+}  // namespace bvmesh::grid

@@ -1,0 +1,58 @@
+// Refinement by evaluation: the B-spline blocks evaluated on stretched, point-matched grids.
+// Point counts are shared by every block direction that a connected face links (so opposite edges
+// of a block and shared edges of neighbours agree); distributions are computed from the physical
+// grid lines themselves (block edges, wall-normal lines), which neighbours share, so both sides
+// of a shared face place the same points; shared points are then made identical bit for bit.
+#pragma once
+
+#include <vector>
+
+#include "core/grid/structured_grid.h"
+#include "core/volume/block_mesh.h"
+
+namespace bvmesh::grid {
+
+enum class WallDistribution { Geometric, Tanh };
+
+struct RefinementOptions {
+  // Wall-normal lines (the direction whose end face is a wall, and every direction a connected
+  // face links to it): `normalPoints` points (0: the fewest that keep the growth ratio at most
+  // `growth` with the first cell height asked).
+  int normalPoints = 49;
+  // First cell height at the wall: absolute if > 0; else from yPlus (> 0) with reynoldsNumber and
+  // referenceLength by the flat-plate estimate; else none, and every wall-normal line grows by
+  // exactly `growth` (the Euler grid: no clustering beyond the far field's own growth).
+  double firstCellHeight = 0.0;
+  double yPlus = 0.0;
+  double reynoldsNumber = 0.0;
+  double referenceLength = 0.0;
+  // Maximum growth ratio of wall-normal spacings (with a first cell height), or the growth itself.
+  double growth = 1.2;
+  WallDistribution distribution = WallDistribution::Geometric;
+  // Tangential lines: `edgePoints` points on every block edge, or, if tangentialSpacing > 0, as
+  // many as that spacing needs on the longest edge of each linked set; if targetCells > 0, the
+  // spacing that gives about that many cells in all.
+  int edgePoints = 17;
+  double tangentialSpacing = 0.0;
+  long long targetCells = 0;
+  // Spacing at both ends of every tangential block edge (0: uniform in arc length); block edges
+  // run along the wing's leading and trailing edges and tip, where clustering pays.
+  double edgeEndSpacing = 0.0;
+};
+
+struct RefinedGrid {
+  StructuredGrid grid;
+  int normalPoints = 0;
+  double firstCellHeightAsked = 0.0;  // 0 when the growth was fixed instead
+  // Measured over every wall-normal line: the first point's distance from the wall, the largest
+  // ratio of consecutive spacings.
+  double firstCellHeightMin = 0.0;
+  double firstCellHeightMax = 0.0;
+  double growthMax = 0.0;
+};
+
+// Throws InvalidInputError for bad options (naming them) or a first cell height the lines
+// cannot take with the points and growth allowed (saying how many points would).
+RefinedGrid refineBlockMesh(const volume::BlockMesh& blocks, const RefinementOptions& options);
+
+}  // namespace bvmesh::grid

@@ -1,0 +1,249 @@
+#include "core/quality/cell_quality.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/common/errors.h"
+#include "core/common/parallel.h"
+#include "core/volume/marching.h"
+
+namespace bvmesh::quality {
+namespace {
+
+using Eigen::Vector3d;
+constexpr double kRootVSmall = 1e-150;  // OpenFOAM's ROOTVSMALL
+constexpr double kDegrees = 180.0 / M_PI;
+
+struct FaceGeometry {
+  Vector3d centre;
+  Vector3d area;  // area vector, along the face's normal
+};
+
+// OpenFOAM's face centre and area: triangles from each edge to the points' average, the centre
+// weighted by triangle area.
+FaceGeometry faceGeometry(const RowMatrixX3d& points, const std::array<Eigen::Index, 4>& face) {
+  Vector3d average = Vector3d::Zero();
+  for (Eigen::Index p : face) average += points.row(p).transpose();
+  average /= 4.0;
+  Vector3d sumN = Vector3d::Zero(), sumAc = Vector3d::Zero();
+  double sumA = 0.0;
+  for (size_t v = 0; v < 4; ++v) {
+    const Vector3d a = points.row(face[v]).transpose();
+    const Vector3d b = points.row(face[(v + 1) % 4]).transpose();
+    const Vector3d n = (b - a).cross(average - a);
+    const double area = n.norm();
+    sumN += n;
+    sumA += area;
+    sumAc += area * (a + b + average);
+  }
+  return {sumA > kRootVSmall ? Vector3d(sumAc / (3.0 * sumA)) : average, 0.5 * sumN};
+}
+
+struct CellGeometry {
+  Vector3d centre;
+  double volume;
+  std::array<FaceGeometry, 6> faces;
+};
+
+// OpenFOAM's cell centre and volume: pyramids from the faces to the face centres' average.
+CellGeometry cellGeometry(const RowMatrixX3d& points, const std::array<Eigen::Index, 8>& corners) {
+  static constexpr std::array<std::array<int, 4>, 6> kFaces{{
+      {0, 4, 7, 3}, {1, 2, 6, 5}, {0, 1, 5, 4}, {3, 7, 6, 2}, {0, 3, 2, 1}, {4, 5, 6, 7}}};
+  CellGeometry cell{};
+  Vector3d estimate = Vector3d::Zero();
+  for (size_t f = 0; f < 6; ++f) {
+    std::array<Eigen::Index, 4> face{};
+    for (size_t v = 0; v < 4; ++v) face[v] = corners[static_cast<size_t>(kFaces[f][v])];
+    cell.faces[f] = faceGeometry(points, face);
+    estimate += cell.faces[f].centre;
+  }
+  estimate /= 6.0;
+  Vector3d weighted = Vector3d::Zero();
+  double volume3 = 0.0;
+  for (const FaceGeometry& face : cell.faces) {
+    const double pyramid = std::max(face.area.dot(face.centre - estimate), kRootVSmall);
+    weighted += pyramid * (0.75 * face.centre + 0.25 * estimate);
+    volume3 += pyramid;
+  }
+  cell.centre = weighted / volume3;
+  cell.volume = volume3 / 3.0;
+  return cell;
+}
+
+// OpenFOAM's skewness of a face between a cell centre and a point (the neighbour's centre, or
+// the face centre pushed out along the normal on a boundary).
+double faceSkewness(const RowMatrixX3d& points, const std::array<Eigen::Index, 4>& face, const FaceGeometry& geometry,
+                    const Vector3d& ownerCentre, const Vector3d& d) {
+  const Vector3d toFace = geometry.centre - ownerCentre;
+  const Vector3d offset = toFace - (geometry.area.dot(toFace) / (geometry.area.dot(d) + kRootVSmall)) * d;
+  const Vector3d direction = offset / (offset.norm() + kRootVSmall);
+  double reach = 0.2 * d.norm() + kRootVSmall;
+  for (Eigen::Index p : face) reach = std::max(reach, std::abs(direction.dot(points.row(p).transpose() - geometry.centre)));
+  return offset.norm() / reach;
+}
+
+double percentile(std::vector<double>& sorted, double q) {
+  const double position = q * static_cast<double>(sorted.size() - 1);
+  const size_t below = static_cast<size_t>(std::floor(position));
+  const size_t above = std::min(sorted.size() - 1, below + 1);
+  return sorted[below] + (position - static_cast<double>(below)) * (sorted[above] - sorted[below]);
+}
+
+MetricSummary summary(const std::string& name, std::vector<double> values) {
+  MetricSummary result;
+  result.name = name;
+  result.count = static_cast<Eigen::Index>(values.size());
+  if (values.empty()) return result;
+  std::sort(values.begin(), values.end());
+  result.min = values.front();
+  result.p01 = percentile(values, 0.01);
+  result.median = percentile(values, 0.5);
+  result.p99 = percentile(values, 0.99);
+  result.max = values.back();
+  return result;
+}
+
+}  // namespace
+
+CellQuality measureCellQuality(const grid::HexTopology& topology) {
+  const RowMatrixX3d& points = topology.points().points;
+  const Eigen::Index cells = topology.cellCount();
+  CellQuality quality;
+  quality.scaledJacobian = cellScaledJacobians(topology);
+  quality.aspectRatio.resize(static_cast<size_t>(cells));
+  quality.volume.resize(static_cast<size_t>(cells));
+  quality.nonOrthogonality.assign(static_cast<size_t>(cells), 0.0);
+  quality.skewness.assign(static_cast<size_t>(cells), 0.0);
+  quality.growthRatio.assign(static_cast<size_t>(cells), 1.0);
+  std::vector<Vector3d> centres(static_cast<size_t>(cells));
+  parallelChunks(cells, 4096, [&](std::int64_t begin, std::int64_t end) {
+    for (Eigen::Index c = begin; c < end; ++c) {
+      const std::array<Eigen::Index, 8> corners = topology.cellCorners(c);
+      std::array<Vector3d, 8> x;
+      for (size_t v = 0; v < 8; ++v) x[v] = points.row(corners[v]).transpose();
+      // Mean edge length per direction: i edges 0-1 3-2 4-5 7-6, j edges 0-3 1-2 4-7 5-6, k edges 0-4 1-5 2-6 3-7.
+      const double edgeI = (x[1] - x[0]).norm() + (x[2] - x[3]).norm() + (x[5] - x[4]).norm() + (x[6] - x[7]).norm();
+      const double edgeJ = (x[3] - x[0]).norm() + (x[2] - x[1]).norm() + (x[7] - x[4]).norm() + (x[6] - x[5]).norm();
+      const double edgeK = (x[4] - x[0]).norm() + (x[5] - x[1]).norm() + (x[6] - x[2]).norm() + (x[7] - x[3]).norm();
+      const double shortest = std::min({edgeI, edgeJ, edgeK});
+      quality.aspectRatio[static_cast<size_t>(c)] =
+          shortest > 0.0 ? std::max({edgeI, edgeJ, edgeK}) / shortest : std::numeric_limits<double>::infinity();
+      const CellGeometry geometry = cellGeometry(points, corners);
+      centres[static_cast<size_t>(c)] = geometry.centre;
+      quality.volume[static_cast<size_t>(c)] = geometry.volume;
+    }
+  });
+  auto worsen = [](double& slot, double value) { slot = std::max(slot, value); };
+  topology.forEachInternalFace([&](const grid::HexFace& face) {
+    const FaceGeometry geometry = faceGeometry(points, face.points);
+    const Vector3d& own = centres[static_cast<size_t>(face.owner)];
+    const Vector3d d = centres[static_cast<size_t>(face.neighbour)] - own;
+    const double cosine = geometry.area.dot(d) / (geometry.area.norm() * d.norm() + kRootVSmall);
+    const double angle = std::acos(std::min(1.0, std::max(-1.0, cosine))) * kDegrees;
+    const double skew = faceSkewness(points, face.points, geometry, own, d);
+    const double v0 = quality.volume[static_cast<size_t>(face.owner)];
+    const double v1 = quality.volume[static_cast<size_t>(face.neighbour)];
+    const double growth = std::max(v0, v1) / std::max(std::min(v0, v1), kRootVSmall);
+    for (Eigen::Index cell : {face.owner, face.neighbour}) {
+      worsen(quality.nonOrthogonality[static_cast<size_t>(cell)], angle);
+      worsen(quality.skewness[static_cast<size_t>(cell)], skew);
+      worsen(quality.growthRatio[static_cast<size_t>(cell)], growth);
+    }
+  });
+  topology.forEachBoundaryFace([&](size_t, const grid::HexFace& face) {
+    const FaceGeometry geometry = faceGeometry(points, face.points);
+    const Vector3d& own = centres[static_cast<size_t>(face.owner)];
+    const Vector3d normal = geometry.area / (geometry.area.norm() + kRootVSmall);
+    const Vector3d d = 2.0 * normal * normal.dot(geometry.centre - own);  // to the mirrored centre
+    worsen(quality.skewness[static_cast<size_t>(face.owner)], faceSkewness(points, face.points, geometry, own, d));
+  });
+  // The wall, block face by block face: per wall cell the angle between the wall face's normal
+  // and the mean of the cell's four edges off the wall; per wall point the first edge's length.
+  for (const grid::GridBlock& block : topology.grid().blocks()) {
+    for (int side = 0; side < 6; ++side) {
+      if (block.faces[static_cast<size_t>(side)].condition != volume::BoundaryCondition::Wall) continue;
+      const int normal = side / 2;
+      const int inward = side % 2 == 0 ? 1 : -1;
+      const std::array<int, 2> counts = volume::faceGridCounts(block.size, side);
+      // The wall point at face position (a, b) and the one above it.
+      auto pair = [&](int a, int b) {
+        std::array<int, 3> ijk = volume::faceGridPosition(block.size, side, a, b);
+        const Vector3d wall = block.points.row(block.index(ijk[0], ijk[1], ijk[2])).transpose();
+        ijk[static_cast<size_t>(normal)] += inward;
+        return std::pair<Vector3d, Vector3d>{wall, block.points.row(block.index(ijk[0], ijk[1], ijk[2])).transpose()};
+      };
+      for (int b = 0; b < counts[1]; ++b) {
+        for (int a = 0; a < counts[0]; ++a) {
+          const auto [wall, above] = pair(a, b);
+          quality.firstCellHeight.push_back((above - wall).norm());
+          if (a + 1 == counts[0] || b + 1 == counts[1]) continue;
+          const auto [p00, q00] = pair(a, b);
+          const auto [p10, q10] = pair(a + 1, b);
+          const auto [p11, q11] = pair(a + 1, b + 1);
+          const auto [p01, q01] = pair(a, b + 1);
+          const Vector3d faceNormal = (p11 - p00).cross(p01 - p10);
+          const Vector3d meanEdge = (q00 - p00) + (q10 - p10) + (q11 - p11) + (q01 - p01);
+          const double cosine = std::abs(faceNormal.dot(meanEdge)) / (faceNormal.norm() * meanEdge.norm() + kRootVSmall);
+          quality.wallAngle.push_back(std::acos(std::min(1.0, cosine)) * kDegrees);
+        }
+      }
+    }
+  }
+  return quality;
+}
+
+std::vector<MetricSummary> summarizeQuality(const grid::HexTopology& topology, const CellQuality& quality, int block) {
+  const bool all = block < 0;
+  const Eigen::Index begin = all ? 0 : topology.cellOffset(static_cast<size_t>(block));
+  const Eigen::Index end = all ? topology.cellCount() : topology.cellOffset(static_cast<size_t>(block) + 1);
+  auto slice = [&](const std::vector<double>& values) {
+    return std::vector<double>(values.begin() + begin, values.begin() + end);
+  };
+  std::vector<MetricSummary> result{summary("scaled_jacobian", slice(quality.scaledJacobian)),
+                                    summary("non_orthogonality", slice(quality.nonOrthogonality)),
+                                    summary("skewness", slice(quality.skewness)),
+                                    summary("aspect_ratio", slice(quality.aspectRatio)),
+                                    summary("growth_ratio", slice(quality.growthRatio))};
+  if (all && !quality.wallAngle.empty()) {
+    result.push_back(summary("wall_angle", quality.wallAngle));
+    result.push_back(summary("first_cell_height", quality.firstCellHeight));
+  }
+  return result;
+}
+
+std::vector<double> cellScaledJacobians(const grid::HexTopology& topology) {
+  const RowMatrixX3d& points = topology.points().points;
+  std::vector<double> jacobians(static_cast<size_t>(topology.cellCount()));
+  parallelChunks(topology.cellCount(), 4096, [&](std::int64_t begin, std::int64_t end) {
+    for (Eigen::Index c = begin; c < end; ++c) {
+      const std::array<Eigen::Index, 8> corners = topology.cellCorners(c);
+      std::array<Vector3d, 8> x;
+      for (size_t v = 0; v < 8; ++v) x[v] = points.row(corners[v]).transpose();
+      jacobians[static_cast<size_t>(c)] = volume::hexScaledJacobian(x);
+    }
+  });
+  return jacobians;
+}
+
+void requirePositiveCells(const grid::HexTopology& topology) {
+  const std::vector<double> jacobians = cellScaledJacobians(topology);
+  const auto first = std::find_if(jacobians.begin(), jacobians.end(), [](double value) { return !(value > 0.0); });
+  if (first == jacobians.end()) return;
+  const Eigen::Index cell = first - jacobians.begin();
+  size_t b = 0;
+  while (topology.cellOffset(b + 1) <= cell) ++b;
+  const grid::GridBlock& block = topology.grid().blocks()[b];
+  const Eigen::Index local = cell - topology.cellOffset(b);
+  const Eigen::Index ni = block.size[0] - 1, nj = block.size[1] - 1;
+  const auto inverted = std::count_if(jacobians.begin(), jacobians.end(),
+                                      [](double value) { return !(value > 0.0); });
+  throw InvalidInputError("the grid has " + std::to_string(inverted) + " cells with a non-positive Jacobian, the first in block " +
+                          std::to_string(b) + " at cell (" + std::to_string(local % ni) + ", " +
+                          std::to_string((local / ni) % nj) + ", " + std::to_string(local / (ni * nj)) +
+                          ") (scaled Jacobian " + std::to_string(*first) + "); it is not written unless forced");
+}
+
+}  // namespace bvmesh::quality

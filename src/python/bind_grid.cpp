@@ -1,0 +1,187 @@
+// The volume grid: refinement of the B-spline blocks into stretched point-matched grids, cell
+// quality, and the OpenFOAM polyMesh writer.
+#include <pybind11/numpy.h>
+#include <pybind11/stl.h>
+
+#include <optional>
+#include <string>
+
+#include "arrays.h"
+#include "bindings.h"
+#include "block_faces.h"
+#include "core/grid/refinement.h"
+#include "core/io/openfoam_writer.h"
+#include "core/quality/cell_quality.h"
+
+namespace py = pybind11;
+
+namespace bvmesh::python {
+namespace {
+
+using grid::GridBlock;
+using grid::StructuredGrid;
+
+const GridBlock& gridBlockOf(const StructuredGrid& grid, int block) {
+  if (block < 0 || block >= grid.blockCount()) {
+    throw py::index_error("block " + std::to_string(block) + " does not exist (" + std::to_string(grid.blockCount()) +
+                          " blocks)");
+  }
+  return grid.blocks()[static_cast<size_t>(block)];
+}
+
+py::array_t<double> valuesArray(const std::vector<double>& values) {
+  py::array_t<double> array(static_cast<py::ssize_t>(values.size()));
+  std::copy(values.begin(), values.end(), array.mutable_data());
+  return array;
+}
+
+py::dict summaryDict(const quality::MetricSummary& s) {
+  py::dict item;
+  item["count"] = s.count;
+  item["min"] = s.min;
+  item["p01"] = s.p01;
+  item["median"] = s.median;
+  item["p99"] = s.p99;
+  item["max"] = s.max;
+  return item;
+}
+
+py::dict summariesDict(const std::vector<quality::MetricSummary>& summaries) {
+  py::dict result;
+  for (const quality::MetricSummary& s : summaries) result[s.name.c_str()] = summaryDict(s);
+  return result;
+}
+
+grid::WallDistribution distributionOf(const std::string& name) {
+  if (name == "geometric") return grid::WallDistribution::Geometric;
+  if (name == "tanh") return grid::WallDistribution::Tanh;
+  throw py::value_error("distribution must be 'geometric' or 'tanh', got '" + name + "'");
+}
+
+}  // namespace
+
+void bindGrid(py::module_& module) {
+  py::class_<StructuredGrid>(module, "StructuredGrid",
+                             "A multi-block structured grid: per block (ni, nj, nk) points, faces point-matched "
+                             "(shared points identical) with the block mesh's connections and boundary conditions.")
+      .def_property_readonly("block_count", &StructuredGrid::blockCount)
+      .def_property_readonly("cell_count", &StructuredGrid::cellCount)
+      .def_property_readonly("point_count", &StructuredGrid::pointCount,
+                             "Points over all blocks (shared points once per block).")
+      .def_property_readonly("viscous_wall", &StructuredGrid::viscousWall,
+                             "True when the wall spacing resolves the boundary layer (a y+ or first-height grid).")
+      .def(
+          "size", [](const StructuredGrid& g, int block) {
+            const GridBlock& b = gridBlockOf(g, block);
+            return py::make_tuple(b.size[0], b.size[1], b.size[2]);
+          },
+          py::arg("block"), "(ni, nj, nk) points.")
+      .def(
+          "points", [](const StructuredGrid& g, int block) {
+            const GridBlock& b = gridBlockOf(g, block);
+            return gridArray(b.points, b.size[0], b.size[1], b.size[2]);
+          },
+          py::arg("block"), "The block's points, shape (ni, nj, nk, 3).")
+      .def(
+          "faces", [](const StructuredGrid& g, int block) { return facesDict(gridBlockOf(g, block).faces); },
+          py::arg("block"), "Per face its condition or connection, as BlockMesh.faces.")
+      .def(
+          "merged_points", [](const StructuredGrid& g) { return rowsArray(grid::mergePoints(g).points); },
+          "Every distinct point once (shared faces merged), in the order OpenFOAM's points file has them.");
+
+  py::class_<grid::RefinedGrid>(module, "RefinedGrid", "A grid made by refine_blocks, with what its wall lines measure.")
+      .def_readonly("grid", &grid::RefinedGrid::grid)
+      .def_readonly("normal_points", &grid::RefinedGrid::normalPoints)
+      .def_readonly("first_cell_height_asked", &grid::RefinedGrid::firstCellHeightAsked)
+      .def_readonly("first_cell_height_min", &grid::RefinedGrid::firstCellHeightMin)
+      .def_readonly("first_cell_height_max", &grid::RefinedGrid::firstCellHeightMax)
+      .def_readonly("growth_max", &grid::RefinedGrid::growthMax);
+
+  module.def(
+      "refine_blocks",
+      [](const volume::BlockMesh& blocks, int normalPoints, double firstCellHeight, double yPlus, double reynoldsNumber,
+         double referenceLength, double growth, const std::string& distribution, int edgePoints,
+         double tangentialSpacing, long long targetCells, double edgeEndSpacing) {
+        grid::RefinementOptions options;
+        options.normalPoints = normalPoints;
+        options.firstCellHeight = firstCellHeight;
+        options.yPlus = yPlus;
+        options.reynoldsNumber = reynoldsNumber;
+        options.referenceLength = referenceLength;
+        options.growth = growth;
+        options.distribution = distributionOf(distribution);
+        options.edgePoints = edgePoints;
+        options.tangentialSpacing = tangentialSpacing;
+        options.targetCells = targetCells;
+        options.edgeEndSpacing = edgeEndSpacing;
+        py::gil_scoped_release release;
+        return grid::refineBlockMesh(blocks, options);
+      },
+      py::arg("blocks"), py::arg("normal_points") = 49, py::arg("first_cell_height") = 0.0, py::arg("y_plus") = 0.0,
+      py::arg("reynolds_number") = 0.0, py::arg("reference_length") = 0.0, py::arg("growth") = 1.2,
+      py::arg("distribution") = "geometric", py::arg("edge_points") = 17, py::arg("tangential_spacing") = 0.0,
+      py::arg("target_cells") = 0, py::arg("edge_end_spacing") = 0.0,
+      R"doc(Evaluates a BlockMesh on stretched, point-matched grids.
+
+Wall-normal lines (from wall faces, and every direction a connection links to them): normal_points
+points (0: the fewest keeping the growth ratio <= growth), first point at first_cell_height from the
+wall (or from y_plus, reynolds_number, reference_length by the flat-plate estimate); with neither,
+every line grows by exactly `growth`. distribution: 'geometric' or 'tanh'. Tangential lines:
+edge_points per block edge, or the count tangential_spacing needs, or the spacing that gives about
+target_cells cells; uniform in arc length, clustered to edge_end_spacing at block corners if > 0.
+Returns a RefinedGrid.)doc");
+
+  module.def(
+      "grid_quality",
+      [](const StructuredGrid& g) {
+        std::optional<grid::HexTopology> topology;
+        quality::CellQuality cells;
+        std::vector<quality::MetricSummary> overall;
+        py::list perBlock;
+        std::vector<std::vector<quality::MetricSummary>> blockSummaries;
+        {
+          py::gil_scoped_release release;
+          topology.emplace(g);
+          cells = quality::measureCellQuality(*topology);
+          overall = quality::summarizeQuality(*topology, cells);
+          for (int b = 0; b < g.blockCount(); ++b) blockSummaries.push_back(quality::summarizeQuality(*topology, cells, b));
+        }
+        py::dict result;
+        result["scaled_jacobian"] = valuesArray(cells.scaledJacobian);
+        result["non_orthogonality"] = valuesArray(cells.nonOrthogonality);
+        result["skewness"] = valuesArray(cells.skewness);
+        result["aspect_ratio"] = valuesArray(cells.aspectRatio);
+        result["growth_ratio"] = valuesArray(cells.growthRatio);
+        result["volume"] = valuesArray(cells.volume);
+        result["wall_angle"] = valuesArray(cells.wallAngle);
+        result["first_cell_height"] = valuesArray(cells.firstCellHeight);
+        std::vector<int> cellBlock;
+        for (int b = 0; b < g.blockCount(); ++b) {
+          cellBlock.insert(cellBlock.end(), static_cast<size_t>(g.blocks()[static_cast<size_t>(b)].cellCount()), b);
+        }
+        result["cell_block"] = cellBlock;
+        result["summary"] = summariesDict(overall);
+        for (const auto& s : blockSummaries) perBlock.append(summariesDict(s));
+        result["block_summary"] = perBlock;
+        result["internal_faces"] = topology->internalFaceCount();
+        return result;
+      },
+      py::arg("grid"),
+      "Cell quality: per cell (block by block, i fastest) scaled_jacobian, non_orthogonality (degrees, "
+      "OpenFOAM's), skewness (OpenFOAM's), aspect_ratio, growth_ratio, volume; per wall point wall_angle "
+      "(degrees) and first_cell_height; 'summary' and 'block_summary' (min / p01 / median / p99 / max).");
+
+  module.def(
+      "write_openfoam",
+      [](const StructuredGrid& g, const std::string& caseDirectory, bool force) {
+        py::gil_scoped_release release;
+        const grid::HexTopology topology(g);
+        if (!force) quality::requirePositiveCells(topology);
+        io::writeOpenFoamCase(topology, caseDirectory);
+      },
+      py::arg("grid"), py::arg("case_directory"), py::arg("force") = false,
+      "Writes constant/polyMesh (and a minimal system/ if missing) of an OpenFOAM case. Refuses a grid "
+      "with a non-positive cell (naming it) unless force=True.");
+}
+
+}  // namespace bvmesh::python
