@@ -32,6 +32,11 @@ _CORE_NAMES = (
     "VolumeMesh",
     "generate_volume_mesh",
     "read_block_mesh",
+    "StructuredGrid",
+    "RefinedGrid",
+    "refine_blocks",
+    "grid_quality",
+    "write_openfoam",
 )
 
 

@@ -1,0 +1,119 @@
+"""The volume grid, headless: the B-spline blocks refined into a solver grid, its quality, and
+the files flow solvers read.
+
+    import bvmesh.grid
+    refined = bvmesh.grid.refine(volume_mesh, preset="rans", reynolds_number=11.72e6)
+    report = bvmesh.grid.quality(refined)
+    print(bvmesh.grid.quality_table(report))
+    bvmesh.grid.write_openfoam(refined, "M6_openfoam")
+
+One B-spline mesh serves both presets: `euler` (no wall clustering, every wall-normal line grows
+by the same ratio) and `rans` (first cell height for y+ ~ 1 by the flat-plate estimate, as many
+wall-normal points as keep the growth ratio at most 1.2).
+"""
+
+from . import load_core
+
+PRESETS = {
+    "euler": dict(normal_points=49, growth=1.2),
+    "rans": dict(normal_points=0, y_plus=1.0, growth=1.2),
+}
+
+METRICS = ("scaled_jacobian", "non_orthogonality", "skewness", "aspect_ratio", "growth_ratio",
+           "wall_angle", "first_cell_height")
+
+
+def _grid_of(grid):
+    core = load_core()
+    if isinstance(grid, core.RefinedGrid):
+        return grid.grid
+    if isinstance(grid, core.StructuredGrid):
+        return grid
+    raise TypeError("expected a bvmesh grid (refine's result or a StructuredGrid), got {}".format(type(grid).__name__))
+
+
+def refine(blocks, preset="euler", **options):
+    """Evaluates the blocks on a stretched, point-matched grid.
+
+    blocks: a VolumeMesh (offset_and_farfield's result; its reference length is used) or a
+    BlockMesh. preset: 'euler' or 'rans' (see the module doc), or None for options alone. options:
+    those of bvmesh._core.refine_blocks (normal_points, first_cell_height, y_plus,
+    reynolds_number, reference_length, growth, distribution, edge_points, tangential_spacing,
+    target_cells, edge_end_spacing), overriding the preset's. Returns a RefinedGrid (.grid, and
+    the measured first cell heights and growth)."""
+    core = load_core()
+    settings = {}
+    if preset is not None:
+        if preset not in PRESETS:
+            raise ValueError("preset must be one of {} or None, got {!r}".format(", ".join(sorted(PRESETS)), preset))
+        settings.update(PRESETS[preset])
+    settings.update(options)
+    if isinstance(blocks, core.VolumeMesh):
+        settings.setdefault("reference_length", blocks.reference_length)
+        blocks = blocks.blocks
+    elif not isinstance(blocks, core.BlockMesh):
+        raise TypeError("refine takes a VolumeMesh or a BlockMesh, got {}".format(type(blocks).__name__))
+    if settings.get("y_plus", 0.0) > 0.0 and not settings.get("first_cell_height", 0.0):
+        if not settings.get("reynolds_number", 0.0) > 0.0:
+            raise ValueError("a y+ target (the rans preset) needs reynolds_number (based on reference_length)")
+    return core.refine_blocks(blocks, **settings)
+
+
+def quality(grid):
+    """Cell quality of a grid: per-cell numpy arrays (scaled_jacobian, non_orthogonality, skewness,
+    aspect_ratio, growth_ratio, volume, cell_block), wall_angle per wall cell, first_cell_height per
+    wall point, and 'summary' / 'block_summary' (count, min, p01, median, p99, max per metric)."""
+    return load_core().grid_quality(_grid_of(grid))
+
+
+def quality_table(report, blocks=False):
+    """The summary as a Markdown table (one row per metric; with blocks=True also per block)."""
+    lines = ["| metric | min | 1 % | median | 99 % | max |", "|---|---|---|---|---|---|"]
+
+    def rows(summary, prefix=""):
+        for name in METRICS:
+            if name in summary and summary[name]["count"]:
+                s = summary[name]
+                lines.append("| {}{} | {:.4g} | {:.4g} | {:.4g} | {:.4g} | {:.4g} |".format(
+                    prefix, name, s["min"], s["p01"], s["median"], s["p99"], s["max"]))
+
+    rows(report["summary"])
+    if blocks:
+        for b, summary in enumerate(report["block_summary"]):
+            rows(summary, "block {} ".format(b))
+    return "\n".join(lines) + "\n"
+
+
+def write_histograms(report, path):
+    """Histograms of the quality metrics as one PNG (matplotlib, no display needed)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+
+    names = [name for name in METRICS if len(report[name])]
+    columns = 3
+    rows = (len(names) + columns - 1) // columns
+    figure, axes = plt.subplots(rows, columns, figsize=(4.2 * columns, 3.2 * rows), squeeze=False)
+    for axis, name in zip(axes.flat, names):
+        values = np.asarray(report[name])
+        logarithmic = name in ("aspect_ratio", "first_cell_height") and values.min() > 0
+        bins = np.geomspace(values.min(), values.max(), 40) if logarithmic and values.max() > values.min() else 40
+        axis.hist(values, bins=bins, color="#3a6ea5")
+        axis.set_yscale("log")
+        if logarithmic:
+            axis.set_xscale("log")
+        axis.set_title(name.replace("_", " "))
+        axis.set_ylabel("count")
+    for axis in list(axes.flat)[len(names):]:
+        axis.axis("off")
+    figure.tight_layout()
+    figure.savefig(path, dpi=110)
+    plt.close(figure)
+
+
+def write_openfoam(grid, case_directory, force=False):
+    """An OpenFOAM case's constant/polyMesh (and a minimal system/ when it has none). Patches:
+    wall (wall), symmetry (symmetryPlane), farfield (patch). Refuses a grid with a non-positive
+    cell unless force=True."""
+    load_core().write_openfoam(_grid_of(grid), str(case_directory), force)

@@ -1,0 +1,180 @@
+"""bvmesh.grid from Python: the volume mesh around a fitted sphere refined into euler and rans
+grids, judged as a CFD engineer judges them: OpenFOAM's checkMesh on the written polyMesh, the
+first cell height against the flat-plate formula, growth ratios along the wall-normal lines, and
+errors that name the problem."""
+
+import math
+import os
+import re
+import subprocess
+import tempfile
+import unittest
+
+import numpy as np
+
+import FreeCAD  # noqa: F401  -- Part needs it loaded first
+import Part
+
+import bvmesh
+import bvmesh.grid
+import bvmesh.volume
+
+A = 1.0 / np.sqrt(3.0)
+CUBE_VERTICES = A * np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
+                              [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], dtype=float)
+CUBE_FACES = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]
+OPENFOAM = dict(os.environ, WM_PROJECT_DIR="/usr/share/openfoam")
+# checkMesh -allGeometry flags every cell of a large aspect ratio three ways: the aspect ratio
+# itself, the cell determinant (which scales as (h / a)^4) and flat decomposition tets (whose
+# quality scales likewise). A y+ ~ 1 grid has them by design; no other check may fail.
+ASPECT_RATIO_CHECKS = ("aspect ratio", "small determinant", "face tets")
+
+
+def check_mesh(case):
+    """checkMesh's output; it exits 0 whatever it finds, so callers parse it."""
+    result = subprocess.run(["checkMesh", "-allGeometry", "-allTopology", "-case", case], env=OPENFOAM,
+                            capture_output=True, text=True, timeout=600)
+    return result.stdout + result.stderr
+
+
+def failed_checks(output):
+    return [line.strip() for line in output.splitlines() if line.strip().startswith("***")]
+
+
+def flat_plate_height(y_plus, reynolds, length):
+    # White's turbulent flat plate: Cf = 0.026 Re^(-1/7); y = y+ nu / u_tau, u_tau = U sqrt(Cf / 2).
+    return y_plus * length / (reynolds * math.sqrt(0.013 * reynolds ** (-1.0 / 7.0)))
+
+
+class SphereGrids(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        target = bvmesh.Target.from_brep(Part.makeSphere(1.0).exportBrepToString())
+        fitter = bvmesh.SurfaceFitter(target, bvmesh.ControlMesh(CUBE_VERTICES, CUBE_FACES), max_level=3,
+                                      tolerance=1e-9)
+        fitter.run()
+        cls.volume = bvmesh.volume.offset_and_farfield(fitter, boundary_layer_thickness=0.05,
+                                                       farfield_distance=20.0, reference_length=1.0)
+        cls.euler = bvmesh.grid.refine(cls.volume, "euler", edge_points=9, normal_points=33)
+        cls.rans = bvmesh.grid.refine(cls.volume, "rans", edge_points=9, reynolds_number=1e6)
+        cls.folder = tempfile.TemporaryDirectory()
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.folder.cleanup()
+
+    def wall_lines(self, refined):
+        """Per block the wall-normal lines (w = 0 is the wall for these blocks): (ni, nj, nk, 3)."""
+        return [refined.grid.points(b) for b in range(refined.grid.block_count)]
+
+    def test_euler_grid_passes_checkmesh(self):
+        case = os.path.join(self.folder.name, "euler")
+        bvmesh.grid.write_openfoam(self.euler, case)
+        output = check_mesh(case)
+        self.assertIn("Mesh OK.", output, failed_checks(output))
+        cells = int(re.search(r"^\s*cells:\s+(\d+)", output, re.M).group(1))
+        self.assertEqual(cells, self.euler.grid.cell_count)
+        self.assertEqual(cells, 6 * 8 * 8 * 32)
+        points = int(re.search(r"^\s*points:\s+(\d+)", output, re.M).group(1))
+        self.assertEqual(points, len(self.euler.grid.merged_points()))
+        patches = open(os.path.join(case, "constant", "polyMesh", "boundary")).read()
+        self.assertNotIn("defaultFaces", patches)
+        self.assertRegex(patches, r"wall\s*\{\s*type\s+wall;")
+        self.assertRegex(patches, r"farfield\s*\{\s*type\s+patch;")
+        non_orthogonality = float(re.search(r"non-orthogonality Max:\s*([0-9.eE+-]+)", output).group(1))
+        self.assertLess(non_orthogonality, 70.0)
+
+    def test_euler_lines_grow_by_the_asked_ratio(self):
+        # No first height: every wall-normal line grows by exactly 1.2 in arc length. Point spacings
+        # (chords) agree where the lines are straight, to 0.5 % where the marched lines bend (next to
+        # the cube's corner vertices).
+        ratios = []
+        for points in self.wall_lines(self.euler):
+            spacing = np.linalg.norm(np.diff(points, axis=2), axis=3)
+            ratios.append((spacing[:, :, 1:] / spacing[:, :, :-1]).ravel())
+        ratios = np.concatenate(ratios)
+        self.assertAlmostEqual(np.median(ratios), 1.2, places=6)
+        np.testing.assert_allclose(ratios, 1.2, rtol=5e-3)
+        self.assertFalse(self.euler.grid.viscous_wall)
+
+    def test_rans_first_cell_height_is_the_flat_plate_value_everywhere(self):
+        asked = flat_plate_height(1.0, 1e6, 1.0)
+        self.assertAlmostEqual(self.rans.first_cell_height_asked / asked, 1.0, places=12)
+        report = bvmesh.grid.quality(self.rans)
+        heights = np.asarray(report["first_cell_height"])
+        self.assertEqual(len(heights), 6 * 9 * 9)
+        np.testing.assert_allclose(heights, asked, rtol=1e-3)
+        for points in self.wall_lines(self.rans):
+            first = np.linalg.norm(points[:, :, 1] - points[:, :, 0], axis=2)
+            np.testing.assert_allclose(first, asked, rtol=1e-9)
+        self.assertTrue(self.rans.grid.viscous_wall)
+
+    def test_rans_growth_stays_within_the_maximum(self):
+        # The fewest points that keep growth <= 1.2 on the longest line: the ratio along every line
+        # (measured on point spacings) is at most 1.2, and one point fewer would need more.
+        self.assertLessEqual(self.rans.growth_max, 1.2 * (1 + 1e-6))
+        for points in self.wall_lines(self.rans):
+            spacing = np.linalg.norm(np.diff(points, axis=2), axis=3)
+            self.assertLessEqual((spacing[:, :, 1:] / spacing[:, :, :-1]).max(), 1.2 * (1 + 1e-6))
+        fewer = bvmesh.refine_blocks(self.volume.blocks, normal_points=self.rans.normal_points - 1, y_plus=1.0,
+                                     reynolds_number=1e6, reference_length=1.0, edge_points=9, growth=1.25)
+        self.assertGreater(fewer.growth_max, 1.2)
+        with self.assertRaisesRegex(ValueError, r"growth ratio of .* above the maximum 1\.2.* at least \d+ points"):
+            bvmesh.refine_blocks(self.volume.blocks, normal_points=self.rans.normal_points - 1, y_plus=1.0,
+                                 reynolds_number=1e6, reference_length=1.0, edge_points=9)
+
+    def test_rans_grid_fails_only_the_aspect_ratio_checks(self):
+        case = os.path.join(self.folder.name, "rans")
+        bvmesh.grid.write_openfoam(self.rans, case)
+        output = check_mesh(case)
+        failed = failed_checks(output)
+        unexpected = [line for line in failed if not any(name in line for name in ASPECT_RATIO_CHECKS)]
+        self.assertEqual(unexpected, [], output)
+        self.assertIn("Cell volumes OK.", output)
+        self.assertIn("Face pyramids OK.", output)
+        self.assertIn("Non-orthogonality check OK.", output)
+
+    def test_quality_report_and_histograms(self):
+        report = bvmesh.grid.quality(self.euler)
+        summary = report["summary"]
+        self.assertGreater(summary["scaled_jacobian"]["min"], 0.8)
+        self.assertLess(summary["non_orthogonality"]["max"], 20.0)
+        self.assertLess(summary["wall_angle"]["p99"], 2.0)
+        self.assertEqual(len(report["scaled_jacobian"]), self.euler.grid.cell_count)
+        self.assertEqual(len(report["block_summary"]), self.euler.grid.block_count)
+        table = bvmesh.grid.quality_table(report)
+        self.assertIn("| scaled_jacobian |", table)
+        path = os.path.join(self.folder.name, "quality.png")
+        bvmesh.grid.write_histograms(report, path)
+        with open(path, "rb") as image:
+            self.assertEqual(image.read(8), b"\x89PNG\r\n\x1a\n")
+
+    def test_shared_faces_are_point_matched(self):
+        # Six blocks around the sphere: merged points = all points minus the duplicates on the 12
+        # shared faces (block edges shared by three faces counted once).
+        grid = self.euler.grid
+        ni, nj, nk = grid.size(0)
+        total = grid.block_count * ni * nj * nk
+        merged = len(grid.merged_points())
+        # 12 shared faces of ni x nk points, minus the 8 corner lines counted three times over.
+        self.assertEqual(total - merged, 12 * ni * nk - 8 * nk)
+
+    def test_errors_name_the_problem(self):
+        with self.assertRaisesRegex(ValueError, "preset"):
+            bvmesh.grid.refine(self.volume, "navier")
+        with self.assertRaisesRegex(ValueError, "reynolds_number"):
+            bvmesh.grid.refine(self.volume, "rans")
+        with self.assertRaisesRegex(ValueError, "growth"):
+            bvmesh.grid.refine(self.volume, "euler", growth=0.9)
+        with self.assertRaisesRegex(ValueError, "distribution"):
+            bvmesh.grid.refine(self.volume, "euler", distribution="cubic")
+        with self.assertRaisesRegex(TypeError, "VolumeMesh or a BlockMesh"):
+            bvmesh.grid.refine("mesh.cgns")
+        missing = os.path.join(self.folder.name, "file", "in", "the", "way")
+        open(os.path.join(self.folder.name, "file"), "w").close()
+        with self.assertRaisesRegex(ValueError, "cannot create the OpenFOAM case folder"):
+            bvmesh.grid.write_openfoam(self.euler, missing)
+
+
+if __name__ == "__main__":
+    unittest.main()
