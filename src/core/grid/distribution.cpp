@@ -36,14 +36,8 @@ double geometricSum(double growth, int intervals) {
   return std::expm1(intervals * std::log1p(excess)) / excess;
 }
 
-}  // namespace
-
-std::vector<double> vinokurFractions(int points, double firstSpacing, double lastSpacing) {
-  checkPoints(points, "a stretched distribution");
-  if (!(firstSpacing >= 0.0 && firstSpacing < 1.0 && lastSpacing >= 0.0 && lastSpacing < 1.0)) {
-    throw InvalidInputError("end spacings " + std::to_string(firstSpacing) + ", " + std::to_string(lastSpacing) +
-                            " are not fractions in [0, 1) of the line's length");
-  }
+// Vinokur's formula as published.
+std::vector<double> vinokurFormula(int points, double firstSpacing, double lastSpacing) {
   const int intervals = points - 1;
   std::vector<double> x(static_cast<size_t>(points));
   const bool atStart = firstSpacing > 0.0;
@@ -76,6 +70,28 @@ std::vector<double> vinokurFractions(int points, double firstSpacing, double las
   }
   x.front() = 0.0;
   x.back() = 1.0;
+  return x;
+}
+
+}  // namespace
+
+std::vector<double> vinokurFractions(int points, double firstSpacing, double lastSpacing) {
+  checkPoints(points, "a stretched distribution");
+  if (!(firstSpacing >= 0.0 && firstSpacing < 1.0 && lastSpacing >= 0.0 && lastSpacing < 1.0)) {
+    throw InvalidInputError("end spacings " + std::to_string(firstSpacing) + ", " + std::to_string(lastSpacing) +
+                            " are not fractions in [0, 1) of the line's length");
+  }
+  // The formula meets the end spacings to first order only: rescale its inputs until the
+  // spacings it gives are the ones asked (a few fixed-point steps).
+  double first = firstSpacing, last = lastSpacing;
+  std::vector<double> x = vinokurFormula(points, first, last);
+  for (int iteration = 0; iteration < 50; ++iteration) {
+    const double gotFirst = x[1], gotLast = 1.0 - x[x.size() - 2];
+    if (std::abs(gotFirst - firstSpacing) <= 1e-10 * firstSpacing && std::abs(gotLast - lastSpacing) <= 1e-10 * lastSpacing) break;
+    if (first > 0.0) first = std::min(0.999, first * firstSpacing / gotFirst);
+    if (last > 0.0) last = std::min(0.999, last * lastSpacing / gotLast);
+    x = vinokurFormula(points, first, last);
+  }
   return x;
 }
 

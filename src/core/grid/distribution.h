@@ -11,7 +11,7 @@ namespace bvmesh::grid {
 
 // Fractions 0 = x_0 < ... < x_{n-1} = 1 of Vinokur's two-sided tanh stretching (J. Comput. Phys.
 // 50, 1983) with end spacings firstSpacing and lastSpacing as fractions of the length; both 0:
-// uniform; one 0: one-sided. The end spacings are met to the formula's first-order accuracy.
+// uniform; one 0: one-sided. The end spacings are met to 1e-10 relative.
 std::vector<double> vinokurFractions(int points, double firstSpacing, double lastSpacing);
 
 // One-sided tanh stretching whose first spacing is exactly firstSpacing (fraction of the length).

@@ -29,7 +29,9 @@ struct BoundaryPatch {
 
 class HexTopology {
  public:
+  // Refers to `grid`, which must outlive it (a temporary grid is refused at compile time).
   explicit HexTopology(const StructuredGrid& grid);
+  explicit HexTopology(StructuredGrid&&) = delete;
 
   const StructuredGrid& grid() const { return grid_; }
   const MergedPoints& points() const { return merged_; }

@@ -189,6 +189,15 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
       }
       plans[b].normalDirection = d;
       plans[b].wallEnd = wall ^ parity;
+      // A wall-normal line keeps its wall's tangential parameters up to its far end; a block
+      // stacked on that end would take its own from its edges there, and the points would differ.
+      const volume::BlockFace& far = blocks[b].faces[static_cast<size_t>(2 * d + 1 - plans[b].wallEnd)];
+      if (far.condition == BoundaryCondition::Connected) {
+        throw InvalidInputError(blockText(b) + "'s wall-normal lines end on " + blockText(static_cast<size_t>(far.neighbour.block)) +
+                                " face " + volume::blockFaceName(far.neighbour.face) +
+                                ": blocks stacked along the wall-normal direction are not supported (each wall-normal "
+                                "line must run from the wall to the outer boundary in one block)");
+      }
     }
   }
 

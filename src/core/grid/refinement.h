@@ -51,8 +51,10 @@ struct RefinedGrid {
   double growthMax = 0.0;
 };
 
-// Throws InvalidInputError for bad options (naming them) or a first cell height the lines
-// cannot take with the points and growth allowed (saying how many points would).
+// Each wall-normal line runs in one block from the wall to the outer boundary (blocks stacked on
+// a wall block along its wall-normal direction are refused, naming them). Throws
+// InvalidInputError for bad options (naming them) or a first cell height the lines cannot take
+// with the points and growth allowed (saying how many points would).
 RefinedGrid refineBlockMesh(const volume::BlockMesh& blocks, const RefinementOptions& options);
 
 }  // namespace bvmesh::grid

@@ -1,0 +1,127 @@
+// Hand-made block meshes for the grid, quality and writer tests: the box [0, 2]^3 as 2 x 2 x 2
+// blocks, each a tricubic B-spline whose (u, v, w) axes are turned (and in one block mirrored)
+// relative to x, y, z, so that connections need every orientation flag. Poles sit on a global
+// integer lattice (Greville points of the blocks' knots, in sixths), mapped through a smooth
+// warp, so shared faces are identical bit for bit; connections are found by matching lattice
+// points, independently of the code under test.
+#pragma once
+
+#include <Eigen/Core>
+
+#include <array>
+#include <cmath>
+#include <map>
+#include <vector>
+
+#include "core/common/bspline_basis.h"
+#include "core/volume/block_mesh.h"
+
+namespace bvmesh::test {
+
+using Lattice = std::array<int, 3>;
+
+// Signed axis permutations: column d is where parameter direction d points (+-x, +-y, +-z).
+inline std::array<Lattice, 3> blockAxes(int block) {
+  static const std::array<std::array<Lattice, 3>, 8> axes{{
+      {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}},
+      {{{0, 1, 0}, {-1, 0, 0}, {0, 0, 1}}},    // turned about z
+      {{{-1, 0, 0}, {0, -1, 0}, {0, 0, 1}}},   // turned half round
+      {{{0, 0, 1}, {1, 0, 0}, {0, 1, 0}}},     // axes cycled
+      {{{1, 0, 0}, {0, 0, -1}, {0, 1, 0}}},    // turned about x
+      {{{-1, 0, 0}, {0, 1, 0}, {0, 0, 1}}},    // mirrored (left-handed)
+      {{{0, -1, 0}, {1, 0, 0}, {0, 0, 1}}},
+      {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}},
+  }};
+  return axes[static_cast<size_t>(block)];
+}
+
+// The warp applied to lattice positions (identity when `amplitude` is 0); it keeps the box's
+// faces planar (a symmetry plane must be).
+inline Eigen::Vector3d warp(const Eigen::Vector3d& x, double amplitude) {
+  const double h = M_PI / 2.0;
+  return x + amplitude * Eigen::Vector3d(std::sin(h * x.x()) * std::cos(2.0 * x.y()), std::sin(h * x.y()) * std::cos(1.5 * x.z()),
+                                         std::sin(h * x.z()) * std::cos(x.x()));
+}
+
+struct BoxBlocks {
+  volume::BlockMesh mesh;
+  std::vector<std::vector<Lattice>> lattice;  // per block, per pole row: its lattice point
+};
+
+// The box [0, 2] x [0, 2] x [0, layers] as 2 x 2 x layers blocks (layers 1 or 2). Faces of the
+// box: z = 0 wall, x = 0 symmetry, the others far field (or all far field).
+inline BoxBlocks boxBlocks(double warpAmplitude, bool withWall = true, int layers = 2) {
+  const std::vector<double> knots = uniformClampedKnots(3, 2);  // 0 0 0 0 1 2 2 2 2
+  const std::array<int, 5> greville{0, 1, 3, 5, 6};             // Greville points 0 1/3 1 5/3 2, in sixths of a block
+  BoxBlocks result;
+  std::vector<volume::Block> blocks;
+  const int blockCount = 4 * layers;
+  for (int b = 0; b < blockCount; ++b) {
+    const Lattice origin{6 * (b % 2), 6 * ((b / 2) % 2), 6 * (b / 4)};
+    const std::array<Lattice, 3> axes = blockAxes(b);
+    RowMatrixX3d poles(125, 3);
+    std::vector<Lattice> points(125);
+    for (int k = 0; k < 5; ++k) {
+      for (int j = 0; j < 5; ++j) {
+        for (int i = 0; i < 5; ++i) {
+          const std::array<int, 3> local{greville[static_cast<size_t>(i)] - 3, greville[static_cast<size_t>(j)] - 3,
+                                         greville[static_cast<size_t>(k)] - 3};
+          Lattice global{};
+          for (int x = 0; x < 3; ++x) {
+            global[static_cast<size_t>(x)] = origin[static_cast<size_t>(x)] + 3;
+            for (int d = 0; d < 3; ++d) {
+              global[static_cast<size_t>(x)] += axes[static_cast<size_t>(d)][static_cast<size_t>(x)] * local[static_cast<size_t>(d)];
+            }
+          }
+          const int row = i + 5 * (j + 5 * k);
+          points[static_cast<size_t>(row)] = global;
+          const Eigen::Vector3d position(global[0] / 6.0, global[1] / 6.0, global[2] / 6.0);
+          poles.row(row) = warp(position, warpAmplitude).transpose();
+        }
+      }
+    }
+    volume::Block block;
+    block.volume = volume::BsplineVolume({3, 3, 3}, {knots, knots, knots}, poles);
+    result.lattice.push_back(points);
+    blocks.push_back(block);
+  }
+  // Faces: on the box boundary a condition, else the neighbour face with the same corner points.
+  auto corner = [&](int b, int face, int a, int c) {
+    const std::array<int, 3> ijk = volume::faceGridPosition({5, 5, 5}, face, a, c);
+    return result.lattice[static_cast<size_t>(b)][static_cast<size_t>(ijk[0] + 5 * (ijk[1] + 5 * ijk[2]))];
+  };
+  for (int b = 0; b < blockCount; ++b) {
+    for (int f = 0; f < 6; ++f) {
+      volume::BlockFace& face = blocks[static_cast<size_t>(b)].faces[static_cast<size_t>(f)];
+      const Lattice p = corner(b, f, 2, 2);  // the face's middle point
+      if (p[2] == 0) face.condition = withWall ? volume::BoundaryCondition::Wall : volume::BoundaryCondition::Farfield;
+      else if (p[0] == 0) face.condition = withWall ? volume::BoundaryCondition::Symmetry : volume::BoundaryCondition::Farfield;
+      else if (p[0] == 12 || p[1] == 0 || p[1] == 12 || p[2] == 6 * layers) face.condition = volume::BoundaryCondition::Farfield;
+      else {
+        face.condition = volume::BoundaryCondition::Connected;
+        for (int o = 0; o < blockCount; ++o) {
+          for (int g = 0; g < 6; ++g) {
+            if ((o == b && g == f) || corner(o, g, 2, 2) != p) continue;
+            // Where my face's (4, 0) and (0, 4) corners are on theirs gives the orientation.
+            std::map<Lattice, std::array<int, 2>> theirs;
+            for (int a = 0; a < 5; a += 4) {
+              for (int c = 0; c < 5; c += 4) theirs[corner(o, g, a, c)] = {a, c};
+            }
+            const std::array<int, 2> origin = theirs.at(corner(b, f, 0, 0));
+            const std::array<int, 2> alongFirst = theirs.at(corner(b, f, 4, 0));
+            face.neighbour.block = o;
+            face.neighbour.face = g;
+            face.neighbour.swapped = alongFirst[0] == origin[0];
+            const std::array<int, 2> alongSecond = theirs.at(corner(b, f, 0, 4));
+            face.neighbour.reverseFirst = face.neighbour.swapped ? alongSecond[0] < origin[0] : alongFirst[0] < origin[0];
+            face.neighbour.reverseSecond = face.neighbour.swapped ? alongFirst[1] < origin[1] : alongSecond[1] < origin[1];
+          }
+        }
+      }
+    }
+  }
+  result.mesh = volume::BlockMesh(std::move(blocks));
+  return result;
+}
+
+}  // namespace bvmesh::test

@@ -1,0 +1,355 @@
+// The volume grid: distributions against closed forms, refinement of hand-made block meshes (every
+// connection orientation, a mirrored block) against the affine map they represent, point matching,
+// quality metrics of hand-computed cells, and the OpenFOAM numbering checked on the files.
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "block_fixtures.h"
+#include "core/common/errors.h"
+#include "core/grid/distribution.h"
+#include "core/grid/hex_topology.h"
+#include "core/grid/refinement.h"
+#include "core/io/openfoam_writer.h"
+#include "core/quality/cell_quality.h"
+
+namespace bvmesh::grid {
+namespace {
+
+using Eigen::Vector3d;
+
+TEST(GridDistribution, VinokurEndsAndMonotone) {
+  const std::vector<double> x = vinokurFractions(41, 0.002, 0.002);
+  ASSERT_EQ(x.size(), 41u);
+  EXPECT_EQ(x.front(), 0.0);
+  EXPECT_EQ(x.back(), 1.0);
+  for (size_t i = 1; i < x.size(); ++i) EXPECT_GT(x[i], x[i - 1]);
+  // Symmetric, with the end spacings asked.
+  for (size_t i = 0; i < x.size(); ++i) EXPECT_NEAR(x[i] + x[x.size() - 1 - i], 1.0, 1e-12);
+  EXPECT_NEAR(x[1] / 0.002, 1.0, 1e-9);
+  const std::vector<double> oneSided = vinokurFractions(30, 0.0, 0.01);
+  EXPECT_NEAR((1.0 - oneSided[28]) / 0.01, 1.0, 1e-9);
+  for (size_t i = 1; i < oneSided.size(); ++i) EXPECT_GT(oneSided[i], oneSided[i - 1]);
+  const std::vector<double> uniform = vinokurFractions(5, 0.0, 0.0);
+  EXPECT_DOUBLE_EQ(uniform[1], 0.25);
+  EXPECT_THROW(vinokurFractions(5, 1.5, 0.0), InvalidInputError);
+}
+
+TEST(GridDistribution, TanhWallFirstSpacingIsExact) {
+  const std::vector<double> x = tanhWallFractions(60, 1e-7);
+  EXPECT_NEAR(x[1] / 1e-7, 1.0, 1e-9);
+  for (size_t i = 1; i < x.size(); ++i) EXPECT_GT(x[i], x[i - 1]);
+  EXPECT_EQ(x.back(), 1.0);
+  EXPECT_THROW(tanhWallFractions(10, 0.5), InvalidInputError);
+}
+
+TEST(GridDistribution, GeometricLawClosedForms) {
+  // Three points, first spacing 1, length 1 + r: r = length - 1.
+  EXPECT_NEAR(geometricGrowth(3, 1.0, 2.44), 1.44, 1e-13);
+  const double r = geometricGrowth(50, 1e-6, 1.0);
+  const std::vector<double> d = geometricDistances(50, 1e-6, r, 1.0);
+  EXPECT_DOUBLE_EQ(d[1], 1e-6);
+  for (size_t k = 2; k < d.size(); ++k) EXPECT_NEAR((d[k] - d[k - 1]) / (d[k - 1] - d[k - 2]), r, 1e-9 * r);
+  EXPECT_DOUBLE_EQ(d.back(), 1.0);
+  // Points needed: 1e-6 (1.2^n - 1) / 0.2 >= 1 first at n = 67 intervals.
+  EXPECT_EQ(geometricPointsNeeded(1e-6, 1.2, 1.0), 68);
+  EXPECT_THROW(geometricGrowth(11, 0.1, 1.0), InvalidInputError);  // 10 spacings of 0.1 fill it already
+}
+
+TEST(GridDistribution, FlatPlateFirstCellHeight) {
+  // White: Cf = 0.026 Re^(-1/7); at Re = 1e6, L = 1: Cf = 3.6127e-3, y(y+ = 1) = 2.3529e-5.
+  EXPECT_NEAR(flatPlateFirstCellHeight(1.0, 1e6, 1.0), 2.3529e-5, 1e-9);
+  EXPECT_NEAR(flatPlateYPlus(flatPlateFirstCellHeight(2.5, 3e6, 0.8), 3e6, 0.8), 2.5, 1e-12);
+  EXPECT_THROW(flatPlateFirstCellHeight(1.0, 0.0, 1.0), InvalidInputError);
+}
+
+TEST(GridDistribution, ArcLengthOfAnUnevenlyParameterisedLine) {
+  // A cubic B-spline with poles bunched on a straight line: arc length is distance along it.
+  BsplineCurve line;
+  line.degree = 3;
+  line.knots = {0, 0, 0, 0, 0.1, 0.5, 1, 1, 1, 1};
+  line.poles.resize(6, 3);
+  const double at[6] = {0.0, 0.01, 0.05, 0.4, 2.0, 3.0};
+  for (int p = 0; p < 6; ++p) line.poles.row(p) = (at[p] * Vector3d(1, 2, 2) / 3.0).transpose();
+  const ArcLength arc(line, 8);
+  EXPECT_NEAR(arc.length(), 3.0, 1e-12);
+  for (double s : {1e-7, 0.003, 0.5, 1.7, 2.9999}) {
+    EXPECT_NEAR(line.point(arc.parameterAt(s)).norm(), s, 1e-12 * std::max(1.0, s));
+  }
+  const double t = parameterAtDistance(line, 0.0, 1, 1e-6, 1e-3);
+  EXPECT_NEAR(line.point(t).norm(), 1e-6, 1e-18);
+}
+
+TEST(GridRefinement, AffineBoxGivesTheExactLattice) {
+  // Unwarped, every block is an affine map: uniform arc length along x and y is a uniform
+  // lattice, and the wall-normal lines from the wall at z = 0 follow the geometric law exactly.
+  const test::BoxBlocks box = test::boxBlocks(0.0, true, 1);
+  RefinementOptions options;
+  options.edgePoints = 5;
+  options.normalPoints = 9;
+  options.firstCellHeight = 0.01;
+  options.growth = 1.8;
+  const RefinedGrid refined = refineBlockMesh(box.mesh, options);
+  const StructuredGrid& grid = refined.grid;
+  ASSERT_EQ(grid.blockCount(), 4);
+  EXPECT_TRUE(grid.viscousWall());
+  EXPECT_EQ(grid.cellCount(), 4 * 4 * 4 * 8);
+  const double growth = geometricGrowth(9, 0.01, 1.0);
+  const std::vector<double> law = geometricDistances(9, 0.01, growth, 1.0);
+  for (const GridBlock& block : grid.blocks()) {
+    for (Eigen::Index r = 0; r < block.points.rows(); ++r) {
+      const Vector3d x = block.points.row(r).transpose();
+      for (int axis = 0; axis < 2; ++axis) EXPECT_NEAR(std::remainder(x[axis] * 4.0, 1.0), 0.0, 1e-9) << x.transpose();
+      EXPECT_TRUE(std::any_of(law.begin(), law.end(), [&](double d) { return std::abs(d - x.z()) < 1e-9; }))
+          << x.transpose();
+    }
+  }
+  EXPECT_NEAR(refined.firstCellHeightMin, 0.01, 1e-12);
+  EXPECT_NEAR(refined.firstCellHeightMax, 0.01, 1e-12);
+  EXPECT_NEAR(refined.growthMax, growth, 1e-9);
+}
+
+TEST(GridRefinement, WarpedBoxIsPointMatchedWithExactWallSpacing) {
+  const test::BoxBlocks box = test::boxBlocks(0.08, true, 1);
+  RefinementOptions options;
+  options.tangentialSpacing = 0.09;
+  options.normalPoints = 0;
+  options.firstCellHeight = 1e-5;
+  options.edgeEndSpacing = 0.02;
+  const RefinedGrid refined = refineBlockMesh(box.mesh, options);  // the grid's constructor checks matching bit for bit
+  EXPECT_GE(refined.grid.blocks()[0].size[0], 13);
+  EXPECT_NEAR(refined.firstCellHeightMin / 1e-5, 1.0, 1e-9);
+  EXPECT_NEAR(refined.firstCellHeightMax / 1e-5, 1.0, 1e-9);
+  EXPECT_LE(refined.growthMax, 1.2 * (1 + 1e-6));
+  // One point fewer than chosen would need a larger growth.
+  options.normalPoints = refined.normalPoints - 1;
+  EXPECT_THROW(refineBlockMesh(box.mesh, options), InvalidInputError);
+  // A cell target: within a block's worth of the asked count.
+  options.normalPoints = 17;
+  options.firstCellHeight = 0.0;
+  options.tangentialSpacing = 0.0;
+  options.targetCells = 20000;
+  const RefinedGrid target = refineBlockMesh(box.mesh, options);
+  EXPECT_NEAR(static_cast<double>(target.grid.cellCount()), 20000.0, 0.3 * 20000.0);
+}
+
+TEST(GridRefinement, EveryOrientationAndAMirroredBlockArePointMatched) {
+  // No wall: every direction from its block's edges, blended; the warped 2 x 2 x 2 box with its
+  // turned and mirrored blocks comes out point-matched (checked bit for bit by StructuredGrid).
+  const test::BoxBlocks box = test::boxBlocks(0.08, false, 2);
+  RefinementOptions options;
+  options.edgePoints = 7;
+  options.edgeEndSpacing = 0.05;
+  const RefinedGrid refined = refineBlockMesh(box.mesh, options);
+  EXPECT_EQ(refined.grid.cellCount(), 8 * 6 * 6 * 6);
+  EXPECT_FALSE(refined.grid.viscousWall());
+}
+
+TEST(GridRefinement, BlocksStackedOnAWallBlockAreRefused) {
+  const test::BoxBlocks box = test::boxBlocks(0.0, true, 2);
+  RefinementOptions options;
+  options.firstCellHeight = 0.01;
+  try {
+    refineBlockMesh(box.mesh, options);
+    FAIL();
+  } catch (const InvalidInputError& error) {
+    EXPECT_NE(std::string(error.what()).find("stacked along the wall-normal direction"), std::string::npos) << error.what();
+  }
+}
+
+TEST(GridRefinement, BadOptionsAreNamed) {
+  const test::BoxBlocks box = test::boxBlocks(0.0);
+  RefinementOptions options;
+  options.growth = 0.9;
+  EXPECT_THROW(refineBlockMesh(box.mesh, options), InvalidInputError);
+  options = {};
+  options.edgePoints = 1;
+  EXPECT_THROW(refineBlockMesh(box.mesh, options), InvalidInputError);
+  options = {};
+  options.normalPoints = 0;  // automatic needs a first height
+  try {
+    refineBlockMesh(box.mesh, options);
+    FAIL();
+  } catch (const InvalidInputError& error) {
+    EXPECT_NE(std::string(error.what()).find("normal_points"), std::string::npos);
+  }
+}
+
+// A single-block grid from corner points (2 x 2 x 2 points, or a stack of cells along k).
+StructuredGrid cellGrid(const std::vector<Vector3d>& points, std::array<int, 3> size) {
+  GridBlock block;
+  block.size = size;
+  block.points.resize(static_cast<Eigen::Index>(points.size()), 3);
+  for (size_t p = 0; p < points.size(); ++p) block.points.row(static_cast<Eigen::Index>(p)) = points[p].transpose();
+  for (auto& face : block.faces) face.condition = volume::BoundaryCondition::Farfield;
+  block.faces[4].condition = volume::BoundaryCondition::Wall;
+  return StructuredGrid({block});
+}
+
+// Points i fastest of the unit cells [0,1]^2 x [0, cells] with x += shear * z.
+std::vector<Vector3d> shearedStack(double shear, int cells) {
+  std::vector<Vector3d> points;
+  for (int k = 0; k <= cells; ++k) {
+    for (int j = 0; j < 2; ++j) {
+      for (int i = 0; i < 2; ++i) points.emplace_back(i + shear * k, j, k);
+    }
+  }
+  return points;
+}
+
+TEST(CellQuality, UnitCubesAndShearedCellsAgainstHandValues) {
+  const StructuredGrid cubes = cellGrid(shearedStack(0.0, 2), {2, 2, 3});
+  const HexTopology cubeTopology(cubes);
+  const quality::CellQuality cube = quality::measureCellQuality(cubeTopology);
+  for (int c = 0; c < 2; ++c) {
+    EXPECT_NEAR(cube.scaledJacobian[static_cast<size_t>(c)], 1.0, 1e-15);
+    EXPECT_NEAR(cube.aspectRatio[static_cast<size_t>(c)], 1.0, 1e-15);
+    EXPECT_NEAR(cube.nonOrthogonality[static_cast<size_t>(c)], 0.0, 1e-6);
+    EXPECT_NEAR(cube.skewness[static_cast<size_t>(c)], 0.0, 1e-12);
+    EXPECT_NEAR(cube.volume[static_cast<size_t>(c)], 1.0, 1e-15);
+    EXPECT_NEAR(cube.growthRatio[static_cast<size_t>(c)], 1.0, 1e-15);
+  }
+  ASSERT_EQ(cube.wallAngle.size(), 1u);
+  EXPECT_NEAR(cube.wallAngle[0], 0.0, 1e-6);
+  for (double h : cube.firstCellHeight) EXPECT_NEAR(h, 1.0, 1e-15);
+
+  // Shear x += s z: every corner's unit edges span 1 / sqrt(1 + s^2); the centres of the two
+  // stacked cells are joined by (s, 0, 1), atan(s) off the face normal; the wall cell's edges lean
+  // by the same angle.
+  const double s = 0.4;
+  const StructuredGrid sheared = cellGrid(shearedStack(s, 2), {2, 2, 3});
+  const HexTopology shearedTopology(sheared);
+  const quality::CellQuality q = quality::measureCellQuality(shearedTopology);
+  const double lean = std::atan(s) * 180.0 / M_PI;
+  for (int c = 0; c < 2; ++c) {
+    EXPECT_NEAR(q.scaledJacobian[static_cast<size_t>(c)], 1.0 / std::sqrt(1.0 + s * s), 1e-14);
+    EXPECT_NEAR(q.nonOrthogonality[static_cast<size_t>(c)], lean, 1e-9);
+    EXPECT_NEAR(q.aspectRatio[static_cast<size_t>(c)], std::sqrt(1.0 + s * s), 1e-14);
+  }
+  EXPECT_NEAR(q.wallAngle[0], lean, 1e-9);
+  const auto summary = quality::summarizeQuality(shearedTopology, q);
+  EXPECT_EQ(summary[0].name, "scaled_jacobian");
+  EXPECT_NEAR(summary[1].max, lean, 1e-9);
+}
+
+TEST(CellQuality, InvertedCellIsRefusedWithItsPlace) {
+  std::vector<Vector3d> points = shearedStack(0.0, 2);
+  points[9] = Vector3d(0.5, 0.0, -0.5);  // corner (1, 0, 2) pulled down through the first cell's top
+  const StructuredGrid grid = cellGrid(points, {2, 2, 3});
+  const HexTopology topology(grid);
+  try {
+    quality::requirePositiveCells(topology);
+    FAIL() << "an inverted cell was accepted";
+  } catch (const InvalidInputError& error) {
+    EXPECT_NE(std::string(error.what()).find("block 0 at cell (0, 0, 1)"), std::string::npos) << error.what();
+  }
+  // A consistently mirrored block is not inverted: its cells are taken with i reversed.
+  std::vector<Vector3d> mirrored = shearedStack(0.0, 2);
+  for (Vector3d& x : mirrored) x.x() = -x.x();
+  const StructuredGrid mirror = cellGrid(mirrored, {2, 2, 3});
+  const HexTopology mirrorTopology(mirror);
+  EXPECT_TRUE(mirrorTopology.mirrored(0));
+  EXPECT_NO_THROW(quality::requirePositiveCells(mirrorTopology));
+  EXPECT_NEAR(quality::measureCellQuality(mirrorTopology).volume[0], 1.0, 1e-15);
+}
+
+std::vector<long> readLabels(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const size_t body = text.find('(', text.find("}"));
+  std::istringstream numbers(text.substr(body + 1));
+  std::vector<long> labels;
+  long value;
+  while (numbers >> value) labels.push_back(value);
+  return labels;
+}
+
+std::string checkMesh(const std::filesystem::path& root) {
+  const std::string command = "WM_PROJECT_DIR=/usr/share/openfoam checkMesh -allGeometry -allTopology -case '" +
+                              root.string() + "' 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return "";
+  std::string output;
+  char buffer[4096];
+  while (fgets(buffer, sizeof(buffer), pipe) != nullptr) output += buffer;
+  pclose(pipe);
+  return output;
+}
+
+bool haveCheckMesh() { return std::system("command -v checkMesh > /dev/null 2>&1") == 0; }
+
+TEST(OpenFoamWriter, MirroredAndTurnedBlocksPassCheckMesh) {
+  const test::BoxBlocks box = test::boxBlocks(0.08, false, 2);
+  RefinementOptions options;
+  options.edgePoints = 6;
+  const RefinedGrid refined = refineBlockMesh(box.mesh, options);
+  const HexTopology topology(refined.grid);
+  EXPECT_TRUE(topology.mirrored(5));
+  const std::filesystem::path root = std::filesystem::path(BVMESH_TEST_OUTPUT_DIR) / "grid_openfoam_turned";
+  std::filesystem::remove_all(root);
+  io::writeOpenFoamCase(topology, root.string());
+  if (!haveCheckMesh()) GTEST_SKIP() << "checkMesh is not installed";
+  const std::string output = checkMesh(root);
+  EXPECT_NE(output.find("Mesh OK."), std::string::npos) << output;
+  EXPECT_NE(output.find("cells:            1000"), std::string::npos) << output;
+}
+
+TEST(OpenFoamWriter, BoxCaseIsUpperTriangularAndPassesCheckMesh) {
+  const test::BoxBlocks box = test::boxBlocks(0.08, true, 1);
+  RefinementOptions options;
+  options.edgePoints = 6;
+  options.normalPoints = 7;
+  const RefinedGrid refined = refineBlockMesh(box.mesh, options);
+  const HexTopology topology(refined.grid);
+  // The box: 10 x 10 x 6 cells.
+  EXPECT_EQ(topology.cellCount(), 10 * 10 * 6);
+  EXPECT_EQ(topology.internalFaceCount(), 9 * 10 * 6 + 10 * 9 * 6 + 10 * 10 * 5);
+  ASSERT_EQ(topology.patches().size(), 3u);
+  EXPECT_EQ(topology.patches()[0].name, "wall");
+  EXPECT_EQ(topology.patches()[0].size, 100);
+  EXPECT_EQ(topology.patches()[1].name, "symmetry");
+  EXPECT_EQ(topology.patches()[1].size, 60);
+  const std::filesystem::path root = std::filesystem::path(BVMESH_TEST_OUTPUT_DIR) / "grid_openfoam_box";
+  std::filesystem::remove_all(root);
+  io::writeOpenFoamCase(topology, root.string());
+  const std::vector<long> owner = readLabels(root / "constant/polyMesh/owner");
+  const std::vector<long> neighbour = readLabels(root / "constant/polyMesh/neighbour");
+  ASSERT_EQ(static_cast<Eigen::Index>(neighbour.size()), topology.internalFaceCount());
+  for (size_t f = 0; f < neighbour.size(); ++f) {
+    EXPECT_LT(owner[f], neighbour[f]);
+    if (f > 0) {
+      EXPECT_TRUE(owner[f - 1] < owner[f] || (owner[f - 1] == owner[f] && neighbour[f - 1] < neighbour[f]));
+    }
+  }
+  EXPECT_FALSE(std::filesystem::exists(root / "constant/polyMesh/owner.partial"));
+  if (!haveCheckMesh()) GTEST_SKIP() << "checkMesh is not installed";
+  const std::string output = checkMesh(root);
+  EXPECT_NE(output.find("Mesh OK."), std::string::npos) << output;
+  EXPECT_NE(output.find("cells:            600"), std::string::npos) << output;
+}
+
+TEST(OpenFoamWriter, UnwritablePathIsNamed) {
+  const test::BoxBlocks box = test::boxBlocks(0.0, true, 1);
+  RefinementOptions options;
+  options.edgePoints = 3;
+  options.normalPoints = 3;
+  const RefinedGrid refined = refineBlockMesh(box.mesh, options);
+  const HexTopology topology(refined.grid);
+  const std::filesystem::path blocker = std::filesystem::path(BVMESH_TEST_OUTPUT_DIR) / "grid_openfoam_blocker";
+  std::ofstream(blocker.string()) << "a file, not a folder";
+  try {
+    io::writeOpenFoamCase(topology, (blocker / "case").string());
+    FAIL();
+  } catch (const InvalidInputError& error) {
+    EXPECT_NE(std::string(error.what()).find("grid_openfoam_blocker"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace bvmesh::grid
