@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <regex>
 #include <sstream>
@@ -17,6 +18,7 @@
 #include "core/common/errors.h"
 #include "core/io/cgns_writer.h"
 #include "core/io/io_common.h"
+#include "core/io/plot3d_io.h"
 
 namespace bvmesh::io {
 namespace {
@@ -28,6 +30,11 @@ using volume::BlockFace;
 using volume::BoundaryCondition;
 
 std::string outputPath(const std::string& name) { return std::string(BVMESH_TEST_OUTPUT_DIR) + "/" + name; }
+
+std::string readText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
 
 // ---------------------------------------------------------------------------------------------
 // The box: lattice cell (cx, cy, cz) holds one block whose local direction l runs along global
@@ -426,6 +433,75 @@ TEST(IoCgns, CgnscheckFindsNoErrorsOrWarnings) {
   const CheckReport broken = cgnscheck(path);
   EXPECT_TRUE(broken.complete) << broken.text;
   EXPECT_GE(broken.errors, 1) << broken.text;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Plot3D
+
+void expectSameBlocks(const StructuredGrid& grid, const std::vector<Plot3dBlock>& blocks) {
+  ASSERT_EQ(blocks.size(), grid.blocks().size());
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    EXPECT_EQ(blocks[b].size, grid.blocks()[b].size) << b;
+    EXPECT_TRUE(blocks[b].points == grid.blocks()[b].points) << b;
+  }
+}
+
+void expectErrorNaming(const std::string& path, const std::string& words) {
+  try {
+    readPlot3d(path);
+    ADD_FAILURE() << "no error for " << path;
+  } catch (const InvalidInputError& error) {
+    const std::string message = error.what();
+    EXPECT_NE(message.find(path), std::string::npos) << message;
+    EXPECT_NE(message.find(words), std::string::npos) << message;
+  }
+}
+
+TEST(IoPlot3d, BothFormatsRoundTripBitForBit) {
+  const StructuredGrid grid = boxGrid();
+  const std::string binary = outputPath("io_box.xyz"), ascii = outputPath("io_box_ascii.xyz");
+  writePlot3d(grid, binary, Plot3dFormat::Binary);
+  writePlot3d(grid, ascii, Plot3dFormat::Ascii);
+  expectSameBlocks(grid, readPlot3d(binary));
+  expectSameBlocks(grid, readPlot3d(ascii));
+  // The Fortran layout: record markers around nblocks, the dimensions and each block.
+  const std::string bytes = readText(binary);
+  const auto* data = reinterpret_cast<const unsigned char*>(bytes.data());
+  EXPECT_EQ(readLittleEndian(data, 4), 4u);
+  EXPECT_EQ(readLittleEndian(data + 4, 4), 8u);
+  EXPECT_EQ(readLittleEndian(data + 12, 4), 96u);
+  size_t expectedSize = 12 + 8 + 96;
+  for (const GridBlock& block : grid.blocks()) expectedSize += 8 + 24 * static_cast<size_t>(block.pointCount());
+  EXPECT_EQ(bytes.size(), expectedSize);
+  std::istringstream text(readText(ascii));
+  int count = 0, ni = 0, nj = 0, nk = 0;
+  text >> count >> ni >> nj >> nk;
+  EXPECT_EQ(count, 8);
+  EXPECT_EQ((std::array<int, 3>{ni, nj, nk}), grid.blocks()[0].size);
+}
+
+TEST(IoPlot3d, DamagedFilesGetErrorsNamingThem) {
+  const StructuredGrid grid = boxGrid();
+  const std::string binary = outputPath("io_box.xyz"), ascii = outputPath("io_box_ascii.xyz");
+  writePlot3d(grid, binary, Plot3dFormat::Binary);
+  writePlot3d(grid, ascii, Plot3dFormat::Ascii);
+  const std::string cutBinary = outputPath("io_cut.xyz"), cutAscii = outputPath("io_cut_ascii.xyz");
+  const std::string bytes = readText(binary), text = readText(ascii);
+  std::ofstream(cutBinary, std::ios::binary) << bytes.substr(0, bytes.size() - 100);
+  expectErrorNaming(cutBinary, "truncated");
+  std::ofstream(cutAscii, std::ios::binary) << text.substr(0, text.size() / 2);
+  expectErrorNaming(cutAscii, "truncated");
+  // A header that disagrees with the dimension record.
+  std::string recount = bytes;
+  recount[4] = 9;
+  const std::string badCount = outputPath("io_bad_count.xyz");
+  std::ofstream(badCount, std::ios::binary) << recount;
+  expectErrorNaming(badCount, "the block sizes");
+  std::ofstream(badCount, std::ios::binary) << "2\n3 3 3\n-1 2 2\n";
+  expectErrorNaming(badCount, "block 1 has a bad size -1");
+  std::ofstream(badCount, std::ios::binary) << text << "1.5\n";
+  expectErrorNaming(badCount, "after the last block");
+  expectErrorNaming(outputPath("io_missing.xyz"), "cannot open");
 }
 
 }  // namespace
