@@ -19,6 +19,7 @@
 #include "core/io/cgns_writer.h"
 #include "core/io/io_common.h"
 #include "core/io/plot3d_io.h"
+#include "core/io/vtk_writer.h"
 
 namespace bvmesh::io {
 namespace {
@@ -502,6 +503,104 @@ TEST(IoPlot3d, DamagedFilesGetErrorsNamingThem) {
   std::ofstream(badCount, std::ios::binary) << text << "1.5\n";
   expectErrorNaming(badCount, "after the last block");
   expectErrorNaming(outputPath("io_missing.xyz"), "cannot open");
+}
+
+// ---------------------------------------------------------------------------------------------
+// VTK
+
+// The attribute `name` of the first element of `tag` in `xml` after `from`.
+std::string attribute(const std::string& xml, const std::string& tag, const std::string& name, size_t from = 0) {
+  const size_t start = xml.find("<" + tag + " ", from);
+  if (start == std::string::npos) return "";
+  const size_t stop = xml.find('>', start);
+  const std::string element = xml.substr(start, stop - start);
+  const size_t at = element.find(" " + name + "=\"");
+  if (at == std::string::npos) return "";
+  const size_t begin = at + name.size() + 3;
+  return element.substr(begin, element.find('"', begin) - begin);
+}
+
+// Float64 values of the appended array at `offset` (UInt64 byte count first).
+std::vector<double> appendedArray(const std::string& vts, size_t offset) {
+  const size_t data = vts.find("<AppendedData encoding=\"raw\">");
+  const size_t start = vts.find('_', data) + 1 + offset;
+  const auto* bytes = reinterpret_cast<const unsigned char*>(vts.data() + start);
+  const auto count = static_cast<size_t>(readLittleEndian(bytes, 8) / 8);
+  std::vector<double> values(count);
+  for (size_t v = 0; v < count; ++v) values[v] = readFloat64(bytes + 8 + 8 * v);
+  return values;
+}
+
+std::vector<CellField> boxFields(const StructuredGrid& grid) {
+  CellField block{"block", {}}, skew{"skew \"<&>\"", {}};
+  for (size_t b = 0; b < grid.blocks().size(); ++b) {
+    const auto cells = static_cast<size_t>(grid.blocks()[b].cellCount());
+    block.perBlock.emplace_back(cells, static_cast<double>(b));
+    std::vector<double> values(cells);
+    for (size_t c = 0; c < cells; ++c) values[c] = std::sin(0.1 * static_cast<double>(c + 100 * b));
+    skew.perBlock.push_back(values);
+  }
+  return {block, skew};
+}
+
+TEST(IoVtk, MultiblockListsEveryBlockWithExtentsPointsAndFields) {
+  const StructuredGrid grid = boxGrid();
+  const std::string path = outputPath("io_box.vtm");
+  const std::vector<CellField> fields = boxFields(grid);
+  writeVtk(grid, path, fields);
+  const std::string vtm = readText(path);
+  EXPECT_NE(vtm.find("type=\"vtkMultiBlockDataSet\""), std::string::npos);
+  size_t at = 0;
+  for (int b = 0; b < grid.blockCount(); ++b) {
+    at = vtm.find("<DataSet ", at);
+    ASSERT_NE(at, std::string::npos) << b;
+    EXPECT_EQ(attribute(vtm, "DataSet", "index", at), std::to_string(b));
+    const std::string file = attribute(vtm, "DataSet", "file", at);
+    EXPECT_EQ(file, "io_box_blocks/" + blockName(b) + ".vts");
+    ++at;
+    const std::string vts = readText(outputPath(file));
+    const GridBlock& block = grid.blocks()[static_cast<size_t>(b)];
+    const std::string extent = "0 " + std::to_string(block.size[0] - 1) + " 0 " + std::to_string(block.size[1] - 1) +
+                               " 0 " + std::to_string(block.size[2] - 1);
+    EXPECT_EQ(attribute(vts, "StructuredGrid", "WholeExtent"), extent);
+    EXPECT_EQ(attribute(vts, "Piece", "Extent"), extent);
+    const size_t cellData = vts.find("<CellData>");
+    EXPECT_EQ(attribute(vts, "DataArray", "Name", cellData), "block");
+    const size_t second = vts.find("<DataArray", cellData) + 1;
+    EXPECT_EQ(attribute(vts, "DataArray", "Name", second), "skew &quot;&lt;&amp;&gt;&quot;");
+    for (size_t f = 0; f < 2; ++f) {
+      const size_t element = f == 0 ? cellData : second;
+      EXPECT_EQ(appendedArray(vts, std::stoul(attribute(vts, "DataArray", "offset", element))),
+                fields[f].perBlock[static_cast<size_t>(b)]);
+    }
+    const std::vector<double> points =
+        appendedArray(vts, std::stoul(attribute(vts, "DataArray", "offset", vts.find("<Points>"))));
+    EXPECT_EQ(points, std::vector<double>(block.points.data(), block.points.data() + 3 * block.pointCount()));
+  }
+  EXPECT_EQ(vtm.find("<DataSet ", at), std::string::npos);
+}
+
+TEST(IoVtk, WrongFieldSizesNameFieldAndBlock) {
+  const StructuredGrid grid = boxGrid();
+  const std::string path = outputPath("io_bad_field.vtm");
+  fs::remove_all(outputPath("io_bad_field_blocks"));
+  std::vector<CellField> fields = boxFields(grid);
+  fields[1].perBlock[3].pop_back();
+  try {
+    writeVtk(grid, path, fields);
+    FAIL();
+  } catch (const InvalidInputError& error) {
+    EXPECT_NE(std::string(error.what()).find("cell field 'skew \"<&>\"' has " +
+                                             std::to_string(grid.blocks()[3].cellCount() - 1) + " values on block 3"),
+              std::string::npos)
+        << error.what();
+  }
+  fields = boxFields(grid);
+  fields[0].perBlock.pop_back();
+  EXPECT_THROW(writeVtk(grid, path, fields), InvalidInputError);
+  EXPECT_THROW(writeVtk(grid, outputPath("io_box.vts"), {}), InvalidInputError);
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_FALSE(fs::exists(outputPath("io_bad_field_blocks")));
 }
 
 }  // namespace
