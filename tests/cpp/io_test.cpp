@@ -12,11 +12,14 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <random>
 #include <regex>
 #include <sstream>
 
+#include "core/common/bspline_basis.h"
 #include "core/common/errors.h"
 #include "core/io/cgns_writer.h"
+#include "core/io/gismo_writer.h"
 #include "core/io/io_common.h"
 #include "core/io/plot3d_io.h"
 #include "core/io/vtk_writer.h"
@@ -180,6 +183,40 @@ StructuredGrid boxGrid(bool viscousWall = true) {
   return StructuredGrid(std::move(blocks), viscousWall);
 }
 
+// Tricubic blocks on uniform knots, spans per cell along each global axis. A pole's key is three
+// times its global Greville abscissa, an integer, so mirrored blocks agree on it exactly.
+const std::array<std::array<int, 2>, 3> kSpans = {{{2, 3}, {3, 2}, {2, 4}}};
+
+volume::BlockMesh boxBlockMesh() {
+  const auto spans = [](int a, int c) { return kSpans[static_cast<size_t>(a)][static_cast<size_t>(c)]; };
+  const auto count = [&](int a, int c) { return spans(a, c) + 3; };
+  // Greville abscissa of pole t of uniformClampedKnots(3, s), times 3: the sum of knots t+1..t+3.
+  const auto greville3 = [](int s, int t) {
+    long sum = 0;
+    for (int j = t + 1; j <= t + 3; ++j) sum += std::min(std::max(j - 3, 0), s);
+    return sum;
+  };
+  const auto along = [&](int a, int c, int t, bool flipped) {
+    const int s = spans(a, c);
+    return 3L * (c == 0 ? 0 : spans(a, 0)) + (flipped ? 3L * s - greville3(s, t) : greville3(s, t));
+  };
+  const std::vector<KeyedBlock> keyed = keyedBlocks(count, along);
+  const std::vector<std::array<BlockFace, 6>> faces = boxFaces(keyed);
+  std::vector<volume::Block> blocks(keyed.size());
+  for (size_t b = 0; b < keyed.size(); ++b) {
+    RowMatrixX3d poles(static_cast<Eigen::Index>(keyed[b].keys.size()), 3);
+    for (size_t r = 0; r < keyed[b].keys.size(); ++r) {
+      const Key& key = keyed[b].keys[r];
+      poles.row(static_cast<Eigen::Index>(r)) = boxMap(key[0] / 15.0, key[1] / 15.0, key[2] / 18.0).transpose();
+    }
+    std::array<std::vector<double>, 3> knots;
+    for (size_t l = 0; l < 3; ++l) knots[l] = uniformClampedKnots(3, keyed[b].size[l] - 3);
+    blocks[b].volume = volume::BsplineVolume({3, 3, 3}, knots, poles);
+    blocks[b].faces = faces[b];
+  }
+  return volume::BlockMesh(std::move(blocks));
+}
+
 TEST(IoBox, ConnectionsUseEveryOrientationFlag) {
   const StructuredGrid grid = boxGrid();
   int swapped = 0, reversed = 0, connected = 0;
@@ -194,6 +231,7 @@ TEST(IoBox, ConnectionsUseEveryOrientationFlag) {
   EXPECT_EQ(connected, 24);  // 12 shared faces, each seen from both sides
   EXPECT_GT(swapped, 0);
   EXPECT_GT(reversed, 0);
+  EXPECT_NO_THROW(boxBlockMesh());
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -601,6 +639,105 @@ TEST(IoVtk, WrongFieldSizesNameFieldAndBlock) {
   EXPECT_THROW(writeVtk(grid, outputPath("io_box.vts"), {}), InvalidInputError);
   EXPECT_FALSE(fs::exists(path));
   EXPECT_FALSE(fs::exists(outputPath("io_bad_field_blocks")));
+}
+
+// ---------------------------------------------------------------------------------------------
+// G+Smo
+
+// The text between the opening tag (starting at `from`) of `tag` and its closing tag.
+std::string content(const std::string& xml, const std::string& tag, size_t from) {
+  const size_t open = xml.find('>', xml.find("<" + tag, from)) + 1;
+  return xml.substr(open, xml.find("</" + tag + ">", open) - open);
+}
+
+template <class T>
+std::vector<T> numbers(const std::string& text) {
+  std::istringstream in(text);
+  std::vector<T> values;
+  for (T value; in >> value;) values.push_back(value);
+  return values;
+}
+
+TEST(IoGismo, PatchesEvaluateAsTheBlocksAndInterfacesJoinIdenticalPoles) {
+  const volume::BlockMesh mesh = boxBlockMesh();
+  const std::string path = outputPath("io_box_gismo.xml");
+  writeGismo(mesh, path);
+  const std::string xml = readText(path);
+  // Patches: knots and coefficients read back, evaluated at random parameters.
+  std::vector<volume::BsplineVolume> patches;
+  std::mt19937 random(11);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  size_t at = 0;
+  for (int b = 0; b < mesh.blockCount(); ++b) {
+    at = xml.find("<Geometry type=\"TensorBSpline3\" id=\"" + std::to_string(b) + "\"", at);
+    ASSERT_NE(at, std::string::npos) << b;
+    std::array<int, 3> degrees{};
+    std::array<std::vector<double>, 3> knots;
+    size_t knotAt = at;
+    for (size_t d = 0; d < 3; ++d) {
+      knotAt = xml.find("<Basis type=\"BSplineBasis\" index=\"" + std::to_string(d) + "\"", knotAt);
+      degrees[d] = std::stoi(attribute(xml, "KnotVector", "degree", knotAt));
+      knots[d] = numbers<double>(content(xml, "KnotVector", knotAt));
+    }
+    EXPECT_EQ(attribute(xml, "coefs", "geoDim", at), "3");
+    const std::vector<double> coefs = numbers<double>(content(xml, "coefs", at));
+    const RowMatrixX3d poles = Eigen::Map<const RowMatrixX3d>(coefs.data(), static_cast<Eigen::Index>(coefs.size() / 3), 3);
+    patches.emplace_back(degrees, knots, poles);
+    const volume::BsplineVolume& written = mesh.blocks()[static_cast<size_t>(b)].volume;
+    RowMatrixX3d parameters(50, 3), expected, got;
+    for (Eigen::Index p = 0; p < 50; ++p) {
+      for (int d = 0; d < 3; ++d) parameters(p, d) = written.lower(d) + unit(random) * (written.upper(d) - written.lower(d));
+    }
+    written.evaluate(parameters, expected);
+    patches.back().evaluate(parameters, got);
+    EXPECT_LT((expected - got).cwiseAbs().maxCoeff(), 1e-14) << b;
+  }
+  const size_t multiPatch = xml.find("<MultiPatch parDim=\"3\"");
+  ASSERT_NE(multiPatch, std::string::npos);
+  EXPECT_EQ(content(xml, "patches", multiPatch), "0 7");
+  // Interfaces, with G+Smo's meaning (gsBoundary.h, boundaryInterface::mapCorner): direction d
+  // of p1 runs along dirMap[d] of p2, the same way when dirOrientation[d]; sides 1..6.
+  const std::vector<int> interfaces = numbers<int>(content(xml, "interfaces", multiPatch));
+  ASSERT_EQ(interfaces.size(), 12u * 10u);
+  for (size_t n = 0; n < interfaces.size(); n += 10) {
+    const int* line = &interfaces[n];
+    const volume::BsplineVolume& first = patches[static_cast<size_t>(line[0])];
+    const volume::BsplineVolume& second = patches[static_cast<size_t>(line[2])];
+    const int side1 = line[1] - 1, side2 = line[3] - 1;
+    EXPECT_EQ(line[4 + side1 / 2], side2 / 2);
+    const std::array<int, 3> counts1{first.poleCount(0), first.poleCount(1), first.poleCount(2)};
+    const std::array<int, 3> counts2{second.poleCount(0), second.poleCount(1), second.poleCount(2)};
+    const std::array<int, 2> faceCounts = volume::faceGridCounts(counts1, side1);
+    for (int a = 0; a < faceCounts[0]; ++a) {
+      for (int c = 0; c < faceCounts[1]; ++c) {
+        const std::array<int, 3> p = volume::faceGridPosition(counts1, side1, a, c);
+        std::array<int, 3> q{};
+        for (int d = 0; d < 3; ++d) {
+          const auto target = static_cast<size_t>(line[4 + d]);
+          q[target] = line[7 + d] ? p[static_cast<size_t>(d)] : counts2[target] - 1 - p[static_cast<size_t>(d)];
+        }
+        q[static_cast<size_t>(side2 / 2)] = side2 % 2 == 0 ? 0 : counts2[static_cast<size_t>(side2 / 2)] - 1;
+        EXPECT_EQ(first.poles().row(first.poleIndex(p[0], p[1], p[2])), second.poles().row(second.poleIndex(q[0], q[1], q[2])))
+            << "interface " << n / 10 << " pole (" << a << ", " << c << ")";
+      }
+    }
+  }
+  // Boundary: every outer side once in the first list, then again grouped by condition.
+  const std::vector<int> all = numbers<int>(content(xml, "boundary", multiPatch));
+  EXPECT_EQ(all.size(), 2u * 24u);
+  std::map<std::string, size_t> sidesOf;
+  for (size_t named = xml.find("<boundary name=", multiPatch); named != std::string::npos;
+       named = xml.find("<boundary name=", named + 1)) {
+    const std::string condition = attribute(xml, "boundary", "name", named);
+    const std::vector<int> sides = numbers<int>(content(xml, "boundary", named));
+    for (size_t s = 0; s < sides.size(); s += 2) {
+      const BlockFace& face = mesh.blocks()[static_cast<size_t>(sides[s])].faces[static_cast<size_t>(sides[s + 1] - 1)];
+      EXPECT_STREQ(volume::boundaryConditionName(face.condition), condition.c_str());
+    }
+    sidesOf[condition] = sides.size() / 2;
+  }
+  const std::map<std::string, size_t> expected = {{"wall", 4}, {"symmetry", 4}, {"inlet", 4}, {"outlet", 4}, {"farfield", 8}};
+  EXPECT_EQ(sidesOf, expected);
 }
 
 }  // namespace
