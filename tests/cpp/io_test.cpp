@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <random>
 #include <regex>
@@ -738,6 +739,66 @@ TEST(IoGismo, PatchesEvaluateAsTheBlocksAndInterfacesJoinIdenticalPoles) {
   }
   const std::map<std::string, size_t> expected = {{"wall", 4}, {"symmetry", 4}, {"inlet", 4}, {"outlet", 4}, {"farfield", 8}};
   EXPECT_EQ(sidesOf, expected);
+}
+
+// ---------------------------------------------------------------------------------------------
+// Failures leave no file behind.
+
+template <class Write>
+void expectUnwritable(const std::string& path, Write write) {
+  try {
+    write(path);
+    ADD_FAILURE() << "no error for " << path;
+  } catch (const InvalidInputError& error) {
+    EXPECT_NE(std::string(error.what()).find(path), std::string::npos) << error.what();
+  }
+  EXPECT_FALSE(fs::exists(path));
+  EXPECT_FALSE(fs::exists(path + ".partial"));
+}
+
+TEST(IoFiles, UnwritablePathsNameThePathAndLeaveNothing) {
+  const StructuredGrid grid = boxGrid();
+  const volume::BlockMesh mesh = boxBlockMesh();
+  const std::string missing = outputPath("no_such_folder");
+  fs::remove_all(missing);
+  expectUnwritable(missing + "/box.cgns", [&](const std::string& path) { writeCgns(grid, path); });
+  expectUnwritable(missing + "/box.xyz", [&](const std::string& path) { writePlot3d(grid, path); });
+  expectUnwritable(missing + "/box.xyz", [&](const std::string& path) { writePlot3d(grid, path, Plot3dFormat::Ascii); });
+  expectUnwritable(missing + "/box.vtm", [&](const std::string& path) { writeVtk(grid, path); });
+  expectUnwritable(missing + "/box.xml", [&](const std::string& path) { writeGismo(mesh, path); });
+  EXPECT_FALSE(fs::exists(missing));
+}
+
+TEST(IoFiles, AWriteFailingMidwayLeavesNoFileUnderTheFinalName) {
+  const StructuredGrid grid = boxGrid();
+  const volume::BlockMesh mesh = boxBlockMesh();
+  // VTK: block 2's file cannot be written (a folder is in the way of its temporary), so the
+  // multiblock file that would list it must not appear.
+  const std::string vtm = outputPath("io_midway.vtm");
+  fs::remove(vtm);
+  fs::remove_all(outputPath("io_midway_blocks"));
+  fs::create_directories(outputPath("io_midway_blocks/block_0002.vts.partial/keep"));
+  EXPECT_THROW(writeVtk(grid, vtm), InvalidInputError);
+  EXPECT_TRUE(fs::exists(outputPath("io_midway_blocks/block_0001.vts")));
+  EXPECT_FALSE(fs::exists(vtm));
+  // CGNS: libcgns cannot create its file.
+  const std::string cgns = outputPath("io_midway.cgns");
+  fs::remove(cgns);
+  fs::remove_all(cgns + ".partial");
+  fs::create_directories(cgns + ".partial/keep");
+  EXPECT_THROW(writeCgns(grid, cgns), InvalidInputError);
+  EXPECT_FALSE(fs::exists(cgns));
+  // Plot3D and G+Smo: the complete file cannot be moved onto the final name (a folder is there).
+  const auto blocked = [](const std::string& name, const std::function<void(const std::string&)>& write) {
+    const std::string path = outputPath(name);
+    fs::remove_all(path);
+    fs::create_directories(path + "/keep");
+    EXPECT_THROW(write(path), InvalidInputError) << name;
+    EXPECT_TRUE(fs::is_directory(path));
+    EXPECT_FALSE(fs::exists(path + ".partial"));
+  };
+  blocked("io_midway.xyz", [&](const std::string& path) { writePlot3d(grid, path); });
+  blocked("io_midway.xml", [&](const std::string& path) { writeGismo(mesh, path); });
 }
 
 }  // namespace
