@@ -27,6 +27,14 @@ add_library(bvmesh_cholmod INTERFACE)
 target_include_directories(bvmesh_cholmod SYSTEM INTERFACE ${CHOLMOD_INCLUDE_DIR})
 target_link_libraries(bvmesh_cholmod INTERFACE ${CHOLMOD_LIBRARY})
 
+# CGNS (Debian's libcgns-dev, HDF5 backend): no CMake or pkg-config file, so locate it directly.
+# The CGNS writer keeps it private to the core.
+find_path(CGNS_INCLUDE_DIR cgnslib.h REQUIRED)
+find_library(CGNS_LIBRARY NAMES cgns REQUIRED)
+add_library(bvmesh_cgns INTERFACE)
+target_include_directories(bvmesh_cgns SYSTEM INTERFACE ${CGNS_INCLUDE_DIR})
+target_link_libraries(bvmesh_cgns INTERFACE ${CGNS_LIBRARY})
+
 if(BVMESH_BUILD_PYTHON)
   find_package(Python 3.9 REQUIRED COMPONENTS Interpreter Development.Module)
   find_package(pybind11 CONFIG REQUIRED)

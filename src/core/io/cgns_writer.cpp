@@ -1,0 +1,184 @@
+#include "core/io/cgns_writer.h"
+
+#include <cgnslib.h>
+
+#include <set>
+#include <vector>
+
+#include "core/common/atomic_file.h"
+#include "core/common/errors.h"
+#include "core/io/io_common.h"
+
+namespace bvmesh::io {
+namespace {
+
+using volume::BoundaryCondition;
+
+// Every cg_* call goes through this: libcgns reports failures by return code only.
+void check(int status, const std::string& path, const std::string& what) {
+  if (status != CG_OK) {
+    throw SolverError("writing the CGNS file \"" + path + "\" failed (" + what + "): " + cg_get_error());
+  }
+}
+
+CGNS_ENUMT(BCType_t) bcType(BoundaryCondition condition, bool viscousWall) {
+  switch (condition) {
+    case BoundaryCondition::Wall:
+      return viscousWall ? CGNS_ENUMV(BCWallViscous) : CGNS_ENUMV(BCWall);
+    case BoundaryCondition::Symmetry:
+      return CGNS_ENUMV(BCSymmetryPlane);
+    case BoundaryCondition::Inlet:
+      return CGNS_ENUMV(BCInflow);
+    case BoundaryCondition::Outlet:
+      return CGNS_ENUMV(BCOutflow);
+    case BoundaryCondition::Farfield:
+    case BoundaryCondition::Side:
+    case BoundaryCondition::Connected:
+      break;
+  }
+  return CGNS_ENUMV(BCFarfield);
+}
+
+// One-based (i, j, k) of face position (a, b), as CGNS point ranges count.
+std::array<cgsize_t, 3> cgnsIndex(const std::array<int, 3>& size, int face, int a, int b) {
+  const std::array<int, 3> ijk = volume::faceGridPosition(size, face, a, b);
+  return {ijk[0] + 1, ijk[1] + 1, ijk[2] + 1};
+}
+
+// PointRange / PointRangeDonor as cg_1to1_write and cg_boco_write take them: begin (i, j, k), end (i, j, k).
+std::array<cgsize_t, 6> range(const std::array<cgsize_t, 3>& begin, const std::array<cgsize_t, 3>& end) {
+  return {begin[0], begin[1], begin[2], end[0], end[1], end[2]};
+}
+
+std::array<cgsize_t, 6> faceRange(const grid::GridBlock& block, int face) {
+  const std::array<int, 2> counts = volume::faceGridCounts(block.size, face);
+  return range(cgnsIndex(block.size, face, 0, 0), cgnsIndex(block.size, face, counts[0] - 1, counts[1] - 1));
+}
+
+// The donor's range is the image of this face's begin and end corners, so it runs backwards
+// along reversed directions, as CGNS expects.
+std::array<cgsize_t, 6> donorRange(const grid::GridBlock& block, int face, const grid::GridBlock& donor) {
+  const volume::FaceConnection& link = block.faces[static_cast<size_t>(face)].neighbour;
+  const std::array<int, 2> counts = volume::faceGridCounts(block.size, face);
+  const std::array<int, 2> donorCounts = volume::faceGridCounts(donor.size, link.face);
+  const std::array<int, 2> begin = volume::BlockMesh::mapFacePosition(link, donorCounts, 0, 0);
+  const std::array<int, 2> end = volume::BlockMesh::mapFacePosition(link, donorCounts, counts[0] - 1, counts[1] - 1);
+  return range(cgnsIndex(donor.size, link.face, begin[0], begin[1]), cgnsIndex(donor.size, link.face, end[0], end[1]));
+}
+
+// CGNS Transform: index direction d of this zone runs along donor direction |t[d]| (one-based),
+// backwards when t[d] < 0.
+std::array<int, 3> transform(int face, const volume::FaceConnection& link) {
+  const DirectionMap map = directionMap(face, link);
+  std::array<int, 3> t{};
+  for (size_t d = 0; d < 3; ++d) t[d] = (map.reversed[d] ? -1 : 1) * (map.direction[d] + 1);
+  return t;
+}
+
+// Closes the file however the writer leaves, so the temporary can be removed on failure.
+class CgnsFile {
+ public:
+  CgnsFile(const std::string& temporary, const std::string& path) : path_(path) {
+    if (cg_open(temporary.c_str(), CG_MODE_WRITE, &fn_) != CG_OK) {
+      throw InvalidInputError("cannot write the CGNS file \"" + path + "\" (its folder is missing or not writable): " +
+                              cg_get_error());
+    }
+  }
+  ~CgnsFile() {
+    if (fn_ >= 0) cg_close(fn_);
+  }
+  CgnsFile(const CgnsFile&) = delete;
+  CgnsFile& operator=(const CgnsFile&) = delete;
+
+  int id() const { return fn_; }
+  void close() {
+    const int fn = fn_;
+    fn_ = -1;
+    check(cg_close(fn), path_, "closing");
+  }
+
+ private:
+  std::string path_;
+  int fn_ = -1;
+};
+
+void writeZone(int fn, int base, const grid::StructuredGrid& grid, int b, const std::string& path) {
+  const grid::GridBlock& block = grid.blocks()[static_cast<size_t>(b)];
+  const std::string name = blockName(b);
+  const cgsize_t size[9] = {block.size[0],     block.size[1],     block.size[2], block.size[0] - 1, block.size[1] - 1,
+                            block.size[2] - 1, 0,                 0,             0};
+  int zone = 0;
+  check(cg_zone_write(fn, base, name.c_str(), size, CGNS_ENUMV(Structured), &zone), path, name);
+  // CGNS stores i fastest, as the grid's point rows are.
+  std::vector<double> coordinate(static_cast<size_t>(block.pointCount()));
+  const char* coordinateNames[3] = {"CoordinateX", "CoordinateY", "CoordinateZ"};
+  for (int x = 0; x < 3; ++x) {
+    for (Eigen::Index r = 0; r < block.pointCount(); ++r) coordinate[static_cast<size_t>(r)] = block.points(r, x);
+    int index = 0;
+    check(cg_coord_write(fn, base, zone, CGNS_ENUMV(RealDouble), coordinateNames[x], coordinate.data(), &index), path,
+          name + " " + coordinateNames[x]);
+    // A length (mass, length, time, temperature, angle exponents), in the model's unknown unit.
+    const float lengthExponents[5] = {0, 1, 0, 0, 0};
+    check(cg_goto(fn, base, "Zone_t", zone, "GridCoordinates_t", 1, "DataArray_t", index, "end"), path, name);
+    check(cg_exponents_write(CGNS_ENUMV(RealSingle), lengthExponents), path, name + " " + coordinateNames[x]);
+  }
+  for (int f = 0; f < 6; ++f) {
+    const volume::BlockFace& face = block.faces[static_cast<size_t>(f)];
+    const std::string faceName = std::string(volume::blockFaceName(f));
+    const std::array<cgsize_t, 6> pointRange = faceRange(block, f);
+    int index = 0;
+    if (face.condition == BoundaryCondition::Connected) {
+      const grid::GridBlock& donor = grid.blocks()[static_cast<size_t>(face.neighbour.block)];
+      const std::array<cgsize_t, 6> donorPoints = donorRange(block, f, donor);
+      const std::array<int, 3> t = transform(f, face.neighbour);
+      const std::string connection = faceName + "_to_" + blockName(face.neighbour.block) + "_" +
+                                     volume::blockFaceName(face.neighbour.face);
+      check(cg_1to1_write(fn, base, zone, connection.c_str(), blockName(face.neighbour.block).c_str(),
+                          pointRange.data(), donorPoints.data(), t.data(), &index),
+            path, name + " " + connection);
+      continue;
+    }
+    const char* family = volume::boundaryConditionName(face.condition);
+    const std::string bc = std::string(family) + "_" + faceName;
+    check(cg_boco_write(fn, base, zone, bc.c_str(), bcType(face.condition, grid.viscousWall()),
+                        CGNS_ENUMV(PointRange), 2, pointRange.data(), &index),
+          path, name + " " + bc);
+    check(cg_goto(fn, base, "Zone_t", zone, "ZoneBC_t", 1, "BC_t", index, "end"), path, name + " " + bc);
+    check(cg_famname_write(family), path, name + " " + bc + " family");
+  }
+}
+
+void writeFile(const grid::StructuredGrid& grid, const std::string& temporary, const std::string& path) {
+  CgnsFile file(temporary, path);
+  const int fn = file.id();
+  int base = 0;
+  check(cg_base_write(fn, "Base", 3, 3, &base), path, "the base");
+  // The geometry's length unit is whatever the CAD model used, which the grid does not record.
+  check(cg_goto(fn, base, "end"), path, "the base");
+  check(cg_dataclass_write(CGNS_ENUMV(NormalizedByUnknownDimensional)), path, "the base's data class");
+  // Families first, in condition order, only for the conditions some face uses.
+  std::set<BoundaryCondition> used;
+  for (const grid::GridBlock& block : grid.blocks()) {
+    for (const volume::BlockFace& face : block.faces) {
+      if (face.condition != BoundaryCondition::Connected) used.insert(face.condition);
+    }
+  }
+  for (BoundaryCondition condition : used) {
+    const char* family = volume::boundaryConditionName(condition);
+    int index = 0, bc = 0;
+    check(cg_family_write(fn, base, family, &index), path, std::string("family ") + family);
+    check(cg_fambc_write(fn, base, index, "FamBC", bcType(condition, grid.viscousWall()), &bc), path,
+          std::string("family ") + family);
+  }
+  for (int b = 0; b < grid.blockCount(); ++b) writeZone(fn, base, grid, b, path);
+  file.close();
+}
+
+}  // namespace
+
+void writeCgns(const grid::StructuredGrid& grid, const std::string& path) {
+  writeFileAtomicallyByPath(path, "the CGNS file",
+                            [&](const std::string& temporary) { writeFile(grid, temporary, path); });
+}
+
+}  // namespace bvmesh::io
