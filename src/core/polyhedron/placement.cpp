@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <type_traits>
 
 #include "core/common/closest_point.h"
 #include "core/common/errors.h"
@@ -873,6 +874,41 @@ void creaseAlong(Draft& draft, const std::vector<int>& ring, const target::Point
   }
 }
 
+// A station next to each tip whose wedge is closed by corners, as far from the tip as the cap's
+// edge at those corners is long (about 0.5 mm on the M6). The closure's corners stay put under
+// subdivision; with the previous station tens of millimetres away, the first subdivision drags the
+// points of the short edges at a corner far behind it, and the limit surface folds there (at every
+// level and after fitting). With the corner's quads about as long as wide it does not. Moves the
+// tip's layout entries and the kink rings to the new station numbers.
+void addWedgeCornerStations(WingLayout& layout, std::vector<double>& spans, std::map<int, target::Points>& kinkRings,
+                            int tip) {
+  const auto cornerEdge = [&](int station) {
+    const auto found = layout.tips.find(station);
+    if (found == layout.tips.end() || !found->second.ridge || !found->second.upper || !found->second.lower) return 0.0;
+    const TrailingEdgeTip& closure = found->second;
+    return std::min((*closure.upper - *closure.ridge).norm(), (*closure.lower - *closure.ridge).norm());
+  };
+  // Station numbers from `first` on move up by one.
+  const auto renumber = [](auto& byStation, int first) {
+    std::decay_t<decltype(byStation)> result;
+    for (auto& [station, value] : byStation) result.emplace(station >= first ? station + 1 : station, std::move(value));
+    byStation = std::move(result);
+  };
+  const double far = cornerEdge(tip);
+  if (far > 0.0 && far < spans[spans.size() - 1] - spans[spans.size() - 2]) {
+    spans.insert(spans.end() - 1, spans.back() - far);
+    renumber(layout.tips, tip);
+    renumber(layout.tipFractions, tip);
+  }
+  const double near = tip > 0 ? cornerEdge(0) : 0.0;
+  if (near > 0.0 && near < spans[1] - spans[0]) {
+    spans.insert(spans.begin() + 1, spans.front() + near);
+    renumber(layout.tips, 1);
+    renumber(layout.tipFractions, 1);
+    renumber(kinkRings, 1);
+  }
+}
+
 Draft buildWing(const TemplateValues& values, const target::Target& target,
                 const std::vector<FeatureCurve>& curves, std::optional<fit::SymmetryPlane>& plane,
                 std::map<std::string, std::string>& used, std::optional<WingPlanform>& planform) {
@@ -905,16 +941,18 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
   const auto spanAt = [&](int j) { return spans[static_cast<size_t>(j)]; };
   std::map<int, double> tipSpans{{stations, spanAt(stations)}};  // the far tip, and a full wing's near one
   if (!half) tipSpans[0] = spanAt(0);
-  const WingLayout layout = wingLayout(target, curves, w, m, rounded, tipSpans);
+  WingLayout layout = wingLayout(target, curves, w, m, rounded, tipSpans);
+  addWedgeCornerStations(layout, spans, kinkRings, stations);
+  const int tipStation = static_cast<int>(spans.size()) - 1;
 
   Draft draft;
   std::vector<std::vector<int>> rings;
   WingSection rootSection, tipSection;
-  for (int j = 0; j <= stations; ++j) {
+  for (int j = 0; j <= tipStation; ++j) {
     WingSection section;
     std::vector<Vec> ring = wingRing(target, w, spanAt(j), layout.upper, layout.lower, &section);
     if (j == 0) rootSection = section;
-    if (j == stations) tipSection = section;
+    if (j == tipStation) tipSection = section;
     std::vector<int> ids;
     for (const Vec& p : ring) ids.push_back(draft.add(p));
     rings.push_back(ids);
@@ -935,7 +973,7 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
     if (trailingEdgeEnds) draft.corners.push_back(ring[0]);
   }
   planform = measurePlanform(w, rootSection, tipSection);
-  addTipCap(draft, target, w, layout, stations, rings.back(), 1.0, rounded);
+  addTipCap(draft, target, w, layout, tipStation, rings.back(), 1.0, rounded);
   if (half) {
     draft.corners.push_back(rings.front()[0]);
   } else {
