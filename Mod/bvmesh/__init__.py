@@ -37,6 +37,11 @@ _CORE_NAMES = (
     "refine_blocks",
     "grid_quality",
     "write_openfoam",
+    "write_cgns",
+    "write_plot3d",
+    "read_plot3d",
+    "write_vtk",
+    "write_gismo",
 )
 
 

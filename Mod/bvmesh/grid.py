@@ -117,3 +117,42 @@ def write_openfoam(grid, case_directory, force=False):
     wall (wall), symmetry (symmetryPlane), farfield (patch). Refuses a grid with a non-positive
     cell unless force=True."""
     load_core().write_openfoam(_grid_of(grid), str(case_directory), force)
+
+
+def write_cgns(grid, path, force=False):
+    """CGNS (HDF5): one structured zone per block, GridConnectivity1to1 on every shared face, BCs by
+    family (wall: BCWallViscous for a rans grid, BCWall for euler; symmetry; farfield)."""
+    load_core().write_cgns(_grid_of(grid), str(path), force)
+
+
+def write_plot3d(grid, path, format="binary", force=False):
+    """Plot3D multi-block whole grid, 'binary' (Fortran unformatted, double) or 'ascii' (17 digits)."""
+    load_core().write_plot3d(_grid_of(grid), str(path), format, force)
+
+
+def read_plot3d(path):
+    """The blocks of a Plot3D whole grid file, each a (ni, nj, nk, 3) array."""
+    return load_core().read_plot3d(str(path))
+
+
+def write_vtk(grid, path, report=None, force=False):
+    """VTK XML multiblock (path ending in .vtm, one .vts per block beside it) with the cell quality
+    (of `report`, or measured here) and the block number as cell data, for ParaView."""
+    import numpy as np
+
+    grid = _grid_of(grid)
+    if report is None:
+        report = load_core().grid_quality(grid)
+    fields = {name: report[name] for name in ("scaled_jacobian", "non_orthogonality", "skewness", "aspect_ratio",
+                                               "growth_ratio", "volume")}
+    fields["block"] = np.asarray(report["cell_block"], dtype=float)
+    load_core().write_vtk(grid, str(path), fields, force)
+
+
+def write_gismo(blocks, path):
+    """The B-spline blocks themselves as G+Smo XML, for isogeometric analysis (a VolumeMesh or a
+    BlockMesh)."""
+    core = load_core()
+    if isinstance(blocks, core.VolumeMesh):
+        blocks = blocks.blocks
+    core.write_gismo(blocks, str(path))

@@ -10,7 +10,11 @@
 #include "bindings.h"
 #include "block_faces.h"
 #include "core/grid/refinement.h"
+#include "core/io/cgns_writer.h"
+#include "core/io/gismo_writer.h"
 #include "core/io/openfoam_writer.h"
+#include "core/io/plot3d_io.h"
+#include "core/io/vtk_writer.h"
 #include "core/quality/cell_quality.h"
 
 namespace py = pybind11;
@@ -56,6 +60,34 @@ grid::WallDistribution distributionOf(const std::string& name) {
   if (name == "geometric") return grid::WallDistribution::Geometric;
   if (name == "tanh") return grid::WallDistribution::Tanh;
   throw py::value_error("distribution must be 'geometric' or 'tanh', got '" + name + "'");
+}
+
+// Grids with an inverted cell are written only when forced.
+void requirePositive(const StructuredGrid& g, bool force) {
+  if (force) return;
+  const grid::HexTopology topology(g);
+  quality::requirePositiveCells(topology);
+}
+
+// Per-cell arrays over the whole grid (block by block) split into the writer's per-block fields.
+std::vector<io::CellField> cellFieldsOf(const StructuredGrid& g, const py::dict& fields) {
+  std::vector<io::CellField> result;
+  for (const auto& item : fields) {
+    const std::string name = py::str(item.first);
+    const DoubleArray values = DoubleArray::ensure(item.second);
+    if (!values || values.ndim() != 1 || values.size() != g.cellCount()) {
+      throw py::value_error("cell field '" + name + "' must be a 1-D array of " + std::to_string(g.cellCount()) +
+                            " values (one per cell, block by block)");
+    }
+    io::CellField field{name, {}};
+    const double* at = values.data();
+    for (const GridBlock& block : g.blocks()) {
+      field.perBlock.emplace_back(at, at + block.cellCount());
+      at += block.cellCount();
+    }
+    result.push_back(std::move(field));
+  }
+  return result;
 }
 
 }  // namespace
@@ -182,6 +214,66 @@ Returns a RefinedGrid.)doc");
       py::arg("grid"), py::arg("case_directory"), py::arg("force") = false,
       "Writes constant/polyMesh (and a minimal system/ if missing) of an OpenFOAM case. Refuses a grid "
       "with a non-positive cell (naming it) unless force=True.");
+
+  module.def(
+      "write_cgns",
+      [](const StructuredGrid& g, const std::string& path, bool force) {
+        py::gil_scoped_release release;
+        requirePositive(g, force);
+        io::writeCgns(g, path);
+      },
+      py::arg("grid"), py::arg("path"), py::arg("force") = false,
+      "CGNS (HDF5): one structured zone per block, 1to1 connections, BCs with families wall / symmetry / "
+      "farfield (BCWallViscous when the grid resolves the boundary layer, else BCWall).");
+
+  module.def(
+      "write_plot3d",
+      [](const StructuredGrid& g, const std::string& path, const std::string& format, bool force) {
+        io::Plot3dFormat kind;
+        if (format == "binary") kind = io::Plot3dFormat::Binary;
+        else if (format == "ascii") kind = io::Plot3dFormat::Ascii;
+        else throw py::value_error("format must be 'binary' or 'ascii', got '" + format + "'");
+        py::gil_scoped_release release;
+        requirePositive(g, force);
+        io::writePlot3d(g, path, kind);
+      },
+      py::arg("grid"), py::arg("path"), py::arg("format") = "binary", py::arg("force") = false,
+      "Plot3D multi-block whole grid: 'binary' (Fortran unformatted, double precision) or 'ascii' (17 digits).");
+
+  module.def(
+      "read_plot3d",
+      [](const std::string& path) {
+        std::vector<io::Plot3dBlock> blocks;
+        {
+          py::gil_scoped_release release;
+          blocks = io::readPlot3d(path);
+        }
+        py::list result;
+        for (const io::Plot3dBlock& block : blocks) result.append(gridArray(block.points, block.size[0], block.size[1], block.size[2]));
+        return result;
+      },
+      py::arg("path"), "The blocks of a Plot3D whole grid file (either format), each (ni, nj, nk, 3).");
+
+  module.def(
+      "write_vtk",
+      [](const StructuredGrid& g, const std::string& path, const py::dict& cellFields, bool force) {
+        std::vector<io::CellField> fields = cellFieldsOf(g, cellFields);
+        py::gil_scoped_release release;
+        requirePositive(g, force);
+        io::writeVtk(g, path, fields);
+      },
+      py::arg("grid"), py::arg("path"), py::arg("cell_fields") = py::dict(), py::arg("force") = false,
+      "VTK XML multiblock: path (.vtm) and one .vts per block in '<stem>_blocks/'; cell_fields: name -> one "
+      "value per cell of the grid (block by block, i fastest).");
+
+  module.def(
+      "write_gismo",
+      [](const volume::BlockMesh& blocks, const std::string& path) {
+        py::gil_scoped_release release;
+        io::writeGismo(blocks, path);
+      },
+      py::arg("blocks"), py::arg("path"),
+      "The B-spline blocks as G+Smo XML (TensorBSpline3 patches, a MultiPatch with interfaces and boundaries).");
 }
 
 }  // namespace bvmesh::python

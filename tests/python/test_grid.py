@@ -1,7 +1,8 @@
 """bvmesh.grid from Python: the volume mesh around a fitted sphere refined into euler and rans
 grids, judged as a CFD engineer judges them: OpenFOAM's checkMesh on the written polyMesh, the
-first cell height against the flat-plate formula, growth ratios along the wall-normal lines, and
-errors that name the problem."""
+first cell height against the flat-plate formula, growth ratios along the wall-normal lines,
+cgnscheck and libcgns's file read back with h5py, Plot3D read back and through plot3dToFoam, VTK
+loaded by VTK itself, the G+Smo file re-evaluated with scipy, and errors that name the problem."""
 
 import math
 import os
@@ -35,6 +36,11 @@ def check_mesh(case):
     result = subprocess.run(["checkMesh", "-allGeometry", "-allTopology", "-case", case], env=OPENFOAM,
                             capture_output=True, text=True, timeout=600)
     return result.stdout + result.stderr
+
+
+def read_text(*parts):
+    with open(os.path.join(*parts)) as file:
+        return file.read()
 
 
 def failed_checks(output):
@@ -77,7 +83,7 @@ class SphereGrids(unittest.TestCase):
         self.assertEqual(cells, 6 * 8 * 8 * 32)
         points = int(re.search(r"^\s*points:\s+(\d+)", output, re.M).group(1))
         self.assertEqual(points, len(self.euler.grid.merged_points()))
-        patches = open(os.path.join(case, "constant", "polyMesh", "boundary")).read()
+        patches = read_text(case, "constant", "polyMesh", "boundary")
         self.assertNotIn("defaultFaces", patches)
         self.assertRegex(patches, r"wall\s*\{\s*type\s+wall;")
         self.assertRegex(patches, r"farfield\s*\{\s*type\s+patch;")
@@ -158,6 +164,99 @@ class SphereGrids(unittest.TestCase):
         merged = len(grid.merged_points())
         # 12 shared faces of ni x nk points, minus the 8 corner lines counted three times over.
         self.assertEqual(total - merged, 12 * ni * nk - 8 * nk)
+
+    def test_cgns_passes_cgnscheck_and_reads_back(self):
+        import h5py
+
+        for refined, wall_type in ((self.euler, b"BCWall"), (self.rans, b"BCWallViscous")):
+            path = os.path.join(self.folder.name, "sphere_{}.cgns".format(wall_type.decode()))
+            bvmesh.grid.write_cgns(refined, path)
+            report = subprocess.run(["cgnscheck", path], capture_output=True, text=True, timeout=300).stdout
+            self.assertIn("checking complete", report)
+            self.assertNotRegex(report, r"(?i)error|warning", report)
+            grid = refined.grid
+            with h5py.File(path, "r") as cgns:
+                base = cgns["Base"]
+                for b in range(grid.block_count):
+                    zone = base["block_{:04d}".format(b + 1)]
+                    points = grid.points(b)  # (ni, nj, nk, 3); CGNS stores (nk, nj, ni)
+                    for axis, name in enumerate("XYZ"):
+                        stored = zone["GridCoordinates"]["Coordinate" + name][" data"][()]
+                        np.testing.assert_array_equal(stored, points[..., axis].transpose(2, 1, 0))
+                    self.assertEqual(len(zone["ZoneGridConnectivity"]), 4)
+                self.assertEqual(bytes(base["wall"]["FamBC"][" data"][()]).rstrip(b"\0"), wall_type)
+                self.assertEqual(bytes(base["farfield"]["FamBC"][" data"][()]).rstrip(b"\0"), b"BCFarfield")
+
+    def test_plot3d_round_trip_and_plot3dtofoam_merges_every_shared_point(self):
+        grid = self.euler.grid
+        for form in ("binary", "ascii"):
+            path = os.path.join(self.folder.name, "sphere_{}.p3d".format(form))
+            bvmesh.grid.write_plot3d(self.euler, path, form)
+            blocks = bvmesh.grid.read_plot3d(path)
+            self.assertEqual(len(blocks), grid.block_count)
+            for b, points in enumerate(blocks):
+                np.testing.assert_array_equal(points, grid.points(b))
+        # OpenFOAM's plot3dToFoam joins block faces only where points are bit-identical: it must
+        # find exactly the grid's distinct points.
+        case = os.path.join(self.folder.name, "plot3d_case")
+        bvmesh.grid.write_openfoam(self.euler, case)
+        result = subprocess.run(["plot3dToFoam", "-noBlank", "-case", case,
+                                 os.path.join(self.folder.name, "sphere_ascii.p3d")],
+                                env=OPENFOAM, capture_output=True, text=True, timeout=300)
+        owner = read_text(case, "constant", "polyMesh", "owner")
+        points = int(re.search(r"nPoints:\s*(\d+)", owner).group(1))
+        self.assertEqual(points, len(grid.merged_points()), result.stdout[-2000:])
+
+    def test_vtk_multiblock_loads_with_its_quality_fields(self):
+        import vtk
+        from vtk.util.numpy_support import vtk_to_numpy
+
+        path = os.path.join(self.folder.name, "sphere.vtm")
+        report = bvmesh.grid.quality(self.euler)
+        bvmesh.grid.write_vtk(self.euler, path, report)
+        reader = vtk.vtkXMLMultiBlockDataReader()
+        reader.SetFileName(path)
+        reader.Update()
+        data = reader.GetOutput()
+        grid = self.euler.grid
+        self.assertEqual(data.GetNumberOfBlocks(), grid.block_count)
+        start = 0
+        for b in range(grid.block_count):
+            block = data.GetBlock(b)
+            points = vtk_to_numpy(block.GetPoints().GetData())
+            np.testing.assert_array_equal(points, grid.points(b).transpose(2, 1, 0, 3).reshape(-1, 3))
+            cells = block.GetNumberOfCells()
+            jacobian = vtk_to_numpy(block.GetCellData().GetArray("scaled_jacobian"))
+            np.testing.assert_array_equal(jacobian, report["scaled_jacobian"][start:start + cells])
+            self.assertTrue(np.all(vtk_to_numpy(block.GetCellData().GetArray("block")) == b))
+            start += cells
+        self.assertEqual(start, grid.cell_count)
+
+    def test_gismo_file_evaluates_as_the_blocks(self):
+        import xml.etree.ElementTree as ElementTree
+        from scipy.interpolate import BSpline
+
+        path = os.path.join(self.folder.name, "sphere.xml")
+        bvmesh.grid.write_gismo(self.volume, path)
+        root = ElementTree.parse(path).getroot()
+        geometries = [g for g in root.iter("Geometry") if g.get("type") == "TensorBSpline3"]
+        blocks = self.volume.blocks
+        self.assertEqual(len(geometries), blocks.block_count)
+        random = np.random.default_rng(3)
+        for geometry in geometries:
+            b = int(geometry.get("id"))
+            knots = [np.array(k.text.split(), float) for k in geometry.iter("KnotVector")]
+            degrees = [int(k.get("degree")) for k in geometry.iter("KnotVector")]
+            self.assertEqual(tuple(degrees), blocks.degrees(b))
+            coefs = np.array(geometry.find("coefs").text.split(), float).reshape(-1, 3)
+            counts = [len(k) - d - 1 for k, d in zip(knots, degrees)]
+            poles = coefs.reshape(counts[2], counts[1], counts[0], 3)  # first index fastest
+            parameters = random.uniform(0.0, 1.0, (20, 3)) * [k[-1] - k[0] for k in knots] + [k[0] for k in knots]
+            matrices = [BSpline.design_matrix(parameters[:, d], knots[d], degrees[d]).toarray() for d in range(3)]
+            points = np.einsum("pi,pj,pk,kjix->px", matrices[0], matrices[1], matrices[2], poles)
+            np.testing.assert_allclose(points, blocks.evaluate(b, parameters), atol=1e-12)
+        interfaces = root.find(".//MultiPatch/interfaces")
+        self.assertEqual(len(interfaces.text.strip().splitlines()), 12)
 
     def test_errors_name_the_problem(self):
         with self.assertRaisesRegex(ValueError, "preset"):
