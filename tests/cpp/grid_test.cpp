@@ -79,9 +79,8 @@ TEST(GridDistribution, ArcLengthOfAnUnevenlyParameterisedLine) {
   for (int p = 0; p < 6; ++p) line.poles.row(p) = (at[p] * Vector3d(1, 2, 2) / 3.0).transpose();
   const ArcLength arc(line, 8);
   EXPECT_NEAR(arc.length(), 3.0, 1e-12);
-  for (double s : {1e-7, 0.003, 0.5, 1.7, 2.9999}) {
-    EXPECT_NEAR(line.point(arc.parameterAt(s)).norm(), s, 1e-12 * std::max(1.0, s));
-  }
+  // The Hermite inversion of t(s): to about 1e-5 of s even on this strongly uneven line.
+  for (double s : {1e-7, 0.003, 0.5, 1.7, 2.9999}) EXPECT_NEAR(line.point(arc.parameterAt(s)).norm() / s, 1.0, 1e-5);
   const double t = parameterAtDistance(line, 0.0, 1, 1e-6, 1e-3);
   EXPECT_NEAR(line.point(t).norm(), 1e-6, 1e-18);
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "core/common/bspline_basis.h"
 #include "core/common/errors.h"
 
 namespace bvmesh::grid {
@@ -128,7 +129,20 @@ double geometricGrowth(int points, double firstSpacing, double length) {
                             std::to_string(intervals) + " intervals already exceeds the line's length " +
                             std::to_string(length) + ": use fewer points or a smaller first spacing");
   }
+  // f(r) = h S(r) - L is increasing and convex for r > 1: Newton from r0 = (L / h)^(1 / (n - 2)),
+  // where f > 0 (S(r) > r^(n - 2)), descends monotonically onto the root.
   auto excess = [&](double growth) { return firstSpacing * geometricSum(growth, intervals) - length; };
+  if (intervals == 1) return 1.0;
+  double r = std::max(1.0 + 1e-3, std::pow(length / firstSpacing, 1.0 / std::max(1, intervals - 1)));
+  for (int iteration = 0; iteration < 100; ++iteration) {
+    const double f = excess(r);
+    const double step = 1e-7 * (r - 1.0);
+    const double slope = (excess(r + step) - f) / step;
+    const double next = r - f / slope;
+    if (!(next > 1.0) || !(slope > 0.0)) break;  // too close to 1 for Newton: bisect instead
+    if (std::abs(next - r) <= 1e-15 * r) return next;
+    r = next;
+  }
   double hi = 2.0;
   while (excess(hi) < 0.0) hi *= 2.0;
   return increasingRoot(excess, 1.0, hi);
@@ -161,35 +175,55 @@ double flatPlateYPlus(double firstCellHeight, double reynoldsNumber, double refe
   return firstCellHeight / flatPlateFirstCellHeight(1.0, reynoldsNumber, referenceLength);
 }
 
-ArcLength::ArcLength(const BsplineCurve& curve, int intervalsPerSpan) : curve_(curve) {
-  // Samples inside each knot span, where the curve is one polynomial: Simpson's rule and the
-  // Hermite inversion keep their order there, and dense knots (at a wall) get dense samples.
-  for (size_t k = 0; k + 1 < curve.knots.size(); ++k) {
-    const double a = curve.knots[k], b = curve.knots[k + 1];
+CurveSamples::CurveSamples(const std::vector<double>& knots, int degree, int intervalsPerSpan) : order_(degree + 1) {
+  for (size_t k = 0; k + 1 < knots.size(); ++k) {
+    const double a = knots[k], b = knots[k + 1];
     if (!(b > a)) continue;
-    for (int m = 0; m < intervalsPerSpan; ++m) parameter_.push_back(a + (b - a) * m / intervalsPerSpan);
+    for (int m = 0; m < intervalsPerSpan; ++m) parameters_.push_back(a + (b - a) * m / intervalsPerSpan);
   }
-  parameter_.push_back(curve.upper());
-  const size_t count = parameter_.size();
-  arc_.assign(count, 0.0);
-  slope_.resize(count);
-  std::vector<double> speed(count);
-  Eigen::Vector3d tangent;
-  for (size_t m = 0; m < count; ++m) {
-    curve.point(parameter_[m], &tangent);
-    speed[m] = tangent.norm();
+  parameters_.push_back(knots.back());
+  ends_ = parameters_.size();
+  for (size_t m = 1; m < ends_; ++m) parameters_.push_back(0.5 * (parameters_[m - 1] + parameters_[m]));
+  first_.resize(parameters_.size());
+  values_.resize(parameters_.size() * static_cast<size_t>(order_));
+  derivatives_.resize(values_.size());
+  for (size_t m = 0; m < parameters_.size(); ++m) {
+    const int span = findKnotSpan(knots, degree, parameters_[m]);
+    first_[m] = span - degree;
+    basisFunctions(knots, degree, span, parameters_[m], &values_[m * static_cast<size_t>(order_)],
+                   &derivatives_[m * static_cast<size_t>(order_)]);
   }
-  for (size_t m = 1; m < count; ++m) {
-    curve.point(0.5 * (parameter_[m - 1] + parameter_[m]), &tangent);
-    arc_[m] = arc_[m - 1] + (parameter_[m] - parameter_[m - 1]) / 6.0 * (speed[m - 1] + 4.0 * tangent.norm() + speed[m]);
+}
+
+ArcLength::ArcLength(const BsplineCurve& curve, int intervalsPerSpan)
+    : ArcLength(curve, CurveSamples(curve.knots, curve.degree, intervalsPerSpan)) {}
+
+ArcLength::ArcLength(const BsplineCurve& curve, const CurveSamples& samples) {
+  const size_t ends = samples.ends_;
+  const size_t order = static_cast<size_t>(samples.order_);
+  auto speedAt = [&](size_t m) {
+    Eigen::Vector3d tangent = Eigen::Vector3d::Zero();
+    for (size_t r = 0; r < order; ++r) {
+      tangent += samples.derivatives_[m * order + r] * curve.poles.row(samples.first_[m] + static_cast<int>(r)).transpose();
+    }
+    return tangent.norm();
+  };
+  parameter_.assign(samples.parameters_.begin(), samples.parameters_.begin() + static_cast<std::ptrdiff_t>(ends));
+  arc_.assign(ends, 0.0);
+  slope_.resize(ends);
+  std::vector<double> speed(ends);
+  for (size_t m = 0; m < ends; ++m) speed[m] = speedAt(m);
+  for (size_t m = 1; m < ends; ++m) {
+    arc_[m] = arc_[m - 1] + (parameter_[m] - parameter_[m - 1]) / 6.0 * (speed[m - 1] + 4.0 * speedAt(ends + m - 1) + speed[m]);
   }
   // Where the curve stops (zero speed), dt/ds is unbounded: fall back to the chord's slope.
-  for (size_t m = 0; m < count; ++m) {
+  const double meanSpeed = arc_.back() / (parameter_.back() - parameter_.front());
+  for (size_t m = 0; m < ends; ++m) {
     const size_t a = m == 0 ? 0 : m - 1;
-    const size_t b = m + 1 == count ? m : m + 1;
+    const size_t b = m + 1 == ends ? m : m + 1;
     const double chord = arc_[b] - arc_[a];
     const double fallback = chord > 0.0 ? (parameter_[b] - parameter_[a]) / chord : 0.0;
-    slope_[m] = speed[m] > 1e-9 * (arc_.back() / (curve.upper() - curve.lower())) ? 1.0 / speed[m] : fallback;
+    slope_[m] = speed[m] > 1e-9 * meanSpeed ? 1.0 / speed[m] : fallback;
   }
 }
 
@@ -201,26 +235,9 @@ double ArcLength::parameterAt(double s) const {
   if (!(h > 0.0)) return parameter_[m];
   const double tau = (s - arc_[m]) / h;
   const double tau2 = tau * tau, tau3 = tau2 * tau;
-  const double lo = parameter_[m], hi = parameter_[m + 1];
-  double t = (2 * tau3 - 3 * tau2 + 1) * lo + (tau3 - 2 * tau2 + tau) * h * slope_[m] + (-2 * tau3 + 3 * tau2) * hi +
-             (tau3 - tau2) * h * slope_[m + 1];
-  t = std::min(hi, std::max(lo, t));
-  // Newton on s(t) = s_m + the Gauss-Legendre integral of |C'| from t_m: exact to rounding.
-  static constexpr double kNodes[3] = {-0.7745966692414834, 0.0, 0.7745966692414834};
-  static constexpr double kWeights[3] = {5.0 / 9.0, 8.0 / 9.0, 5.0 / 9.0};
-  for (int iteration = 0; iteration < 3; ++iteration) {
-    double integral = 0.0;
-    Eigen::Vector3d tangent;
-    for (int q = 0; q < 3; ++q) {
-      curve_.point(lo + 0.5 * (t - lo) * (1.0 + kNodes[q]), &tangent);
-      integral += 0.5 * (t - lo) * kWeights[q] * tangent.norm();
-    }
-    curve_.point(t, &tangent);
-    const double speed = tangent.norm();
-    if (!(speed > 0.0)) break;
-    t = std::min(hi, std::max(lo, t - (arc_[m] + integral - s) / speed));
-  }
-  return t;
+  const double t = (2 * tau3 - 3 * tau2 + 1) * parameter_[m] + (tau3 - 2 * tau2 + tau) * h * slope_[m] +
+                   (-2 * tau3 + 3 * tau2) * parameter_[m + 1] + (tau3 - tau2) * h * slope_[m + 1];
+  return std::min(parameter_[m + 1], std::max(parameter_[m], t));
 }
 
 double parameterAtDistance(const BsplineCurve& curve, double t0, int direction, double distance, double guess) {

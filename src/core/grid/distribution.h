@@ -33,18 +33,36 @@ double flatPlateFirstCellHeight(double yPlus, double reynoldsNumber, double refe
 // The y+ of a first cell height under the same estimate (its inverse).
 double flatPlateYPlus(double firstCellHeight, double reynoldsNumber, double referenceLength);
 
-// A curve's arc length s(t) tabulated by Simpson's rule on `intervalsPerSpan` equal intervals of
-// each knot span, inverted by cubic Hermite interpolation of t(s) (dt/ds = 1 / |C'(t)|) and
-// polished by Newton steps on Gauss-Legendre integrals of the speed.
+// Sample parameters of curves on one knot vector (`intervalsPerSpan` equal intervals in each
+// knot span, and their midpoints), with the basis functions there computed once: every
+// wall-normal line of a block shares them, so tabulating a line's arc length costs a few pole
+// sums per sample.
+class CurveSamples {
+ public:
+  CurveSamples(const std::vector<double>& knots, int degree, int intervalsPerSpan);
+  size_t count() const { return parameters_.size(); }  // interval ends, then the midpoints
+
+ private:
+  friend class ArcLength;
+  int order_;
+  size_t ends_ = 0;  // parameters_[0 .. ends_) are interval ends, the rest midpoints
+  std::vector<double> parameters_;
+  std::vector<int> first_;                    // first pole of each sample's basis
+  std::vector<double> values_, derivatives_;  // order_ per sample
+};
+
+// A curve's arc length s(t) tabulated by Simpson's rule on the samples' intervals (polynomial
+// pieces, so it keeps its order; dense knots near a wall get dense samples) and inverted by cubic
+// Hermite interpolation of t(s) (dt/ds = 1 / |C'(t)|).
 class ArcLength {
  public:
+  ArcLength(const BsplineCurve& curve, const CurveSamples& samples);
   ArcLength(const BsplineCurve& curve, int intervalsPerSpan);
   double length() const { return arc_.back(); }
   // The parameter at arc length s (0 <= s <= length()) from the curve's start.
   double parameterAt(double s) const;
 
  private:
-  BsplineCurve curve_;
   std::vector<double> parameter_, arc_, slope_;  // t_m, s(t_m), dt/ds at t_m
 };
 

@@ -5,6 +5,7 @@
 #include <limits>
 #include <mutex>
 #include <numeric>
+#include <optional>
 #include <string>
 
 #include "core/common/errors.h"
@@ -20,7 +21,7 @@ using volume::BsplineVolume;
 
 // Arc-length tables sample each knot span this often (Simpson + Hermite on polynomial pieces:
 // growth ratios come out as asked to about 1e-6).
-constexpr int kIntervalsPerSpan = 8;
+constexpr int kIntervalsPerSpan = 4;
 
 // The other two directions of `direction`, in increasing order.
 std::array<int, 2> otherDirections(int direction) {
@@ -300,12 +301,17 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
     BsplineCurve curve;
     ArcLength arc;
   };
+  std::vector<std::optional<CurveSamples>> columnSamples(blockCount);
+  for (size_t b = 0; b < blockCount; ++b) {
+    const int n = plans[b].normalDirection;
+    if (n >= 0) columnSamples[b].emplace(blocks[b].volume.knots(n), blocks[b].volume.degree(n), kIntervalsPerSpan);
+  }
   auto column = [&](size_t b, const std::array<int, 3>& ijk) {
     const BlockPlan& plan = plans[b];
     const auto [t1, t2] = otherDirections(plan.normalDirection);
     const BsplineCurve curve =
         blocks[b].volume.isoCurve(plan.normalDirection, pointParameter(plan, t1, ijk), pointParameter(plan, t2, ijk));
-    const ArcLength arc(curve, kIntervalsPerSpan);
+    const ArcLength arc(curve, *columnSamples[b]);
     if (!(arc.length() > 0.0)) {
       throw InvalidInputError(blockText(b) + " has a wall-normal line of zero length at (" + std::to_string(ijk[0]) +
                               ", " + std::to_string(ijk[1]) + ", " + std::to_string(ijk[2]) + ")");
