@@ -22,9 +22,8 @@
 #include "core/io/plot3d_io.h"
 #include "core/io/vtk_writer.h"
 #include "core/quality/cell_quality.h"
-#include "core/subdiv/subdivision.h"
-#include "core/surface/limit_points.h"
 #include "core/volume/volume_blocks.h"
+#include "cube_wall.h"
 
 namespace {
 
@@ -36,16 +35,6 @@ long peakKilobytes() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   return usage.ru_maxrss;
-}
-
-bvmesh::surface::QuadControlMesh refinedCube(int levels) {
-  const std::vector<Eigen::Vector3d> points{{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
-                                            {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
-  const std::vector<std::array<int, 4>> quads{{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
-                                              {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
-  bvmesh::ControlMesh mesh = bvmesh::surface::toControlMesh(bvmesh::surface::makeQuadControlMesh(points, quads));
-  for (int l = 0; l < levels; ++l) mesh = bvmesh::subdivide(mesh).mesh;
-  return bvmesh::surface::toQuadControlMesh(mesh);
 }
 
 // Runs `step`, prints its time and how far it raised the peak memory, per cell.

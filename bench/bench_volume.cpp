@@ -12,9 +12,8 @@
 #include <cstdlib>
 #include <vector>
 
-#include "core/subdiv/subdivision.h"
-#include "core/surface/limit_points.h"
 #include "core/volume/volume_blocks.h"
+#include "cube_wall.h"
 
 namespace {
 
@@ -22,16 +21,6 @@ using bvmesh::RowMatrixX3d;
 using Clock = std::chrono::steady_clock;
 
 double seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
-
-bvmesh::surface::QuadControlMesh refinedCube(int levels) {
-  const std::vector<Eigen::Vector3d> points{{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
-                                            {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
-  const std::vector<std::array<int, 4>> quads{{0, 3, 2, 1}, {4, 5, 6, 7}, {0, 1, 5, 4},
-                                              {1, 2, 6, 5}, {2, 3, 7, 6}, {3, 0, 4, 7}};
-  bvmesh::ControlMesh mesh = bvmesh::surface::toControlMesh(bvmesh::surface::makeQuadControlMesh(points, quads));
-  for (int l = 0; l < levels; ++l) mesh = bvmesh::subdivide(mesh).mesh;
-  return bvmesh::surface::toQuadControlMesh(mesh);
-}
 
 long peakKilobytes() {
   rusage usage{};
