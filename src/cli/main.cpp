@@ -5,6 +5,7 @@
 #include <iostream>
 #include <string>
 
+#include "core/cad/isolated_reader.h"
 #include "core/cad/shape_io.h"
 #include "core/cad/shape_summary.h"
 
@@ -18,7 +19,7 @@ int printUsage() {
 int info(const std::string& path, double sharpAngleDegrees) {
   bvmesh::cad::ShapeSummaryOptions options;
   options.sharpAngleDegrees = sharpAngleDegrees;
-  const bvmesh::cad::ShapeSummary summary = bvmesh::cad::summarizeShape(bvmesh::cad::readShapeFile(path), options);
+  const bvmesh::cad::ShapeSummary summary = bvmesh::cad::summarizeShape(bvmesh::cad::readShapeFileSafely(path), options);
   std::cout << path << ": " << summary.solidCount << " solid(s), " << summary.faceCount() << " faces, "
             << summary.edges.size() << " edges, " << summary.vertexCount << " vertices\n";
   for (int i = 0; i < summary.faceCount(); ++i) {

@@ -7,6 +7,7 @@
 #include "bindings.h"
 #include "conversions.h"
 #include "core/cad/bspline_face.h"
+#include "core/cad/isolated_reader.h"
 #include "core/cad/shape_io.h"
 #include "core/cad/shape_summary.h"
 
@@ -84,20 +85,36 @@ void bindCad(py::module_& module) {
   module.def(
       "summarize_brep",
       [](const std::string& brep, double sharpAngleDegrees) {
-        return summaryToDict(cad::summarizeShape(cad::readBrepString(brep), summaryOptions(sharpAngleDegrees)));
+        return summaryToDict(cad::summarizeShape(cad::readBrepStringSafely(brep), summaryOptions(sharpAngleDegrees)));
       },
       py::arg("brep"), py::arg("sharp_angle_degrees") = 30.0,
       "Faces, surface types, bounding box and classified edges of a shape given as BREP text.");
   module.def(
       "summarize_file",
       [](const std::string& path, double sharpAngleDegrees) {
-        return summaryToDict(cad::summarizeShape(cad::readShapeFile(path), summaryOptions(sharpAngleDegrees)));
+        return summaryToDict(cad::summarizeShape(cad::readShapeFileSafely(path), summaryOptions(sharpAngleDegrees)));
       },
       py::arg("path"), py::arg("sharp_angle_degrees") = 30.0,
       "Like summarize_brep, for a STEP, IGES or BREP file.");
   module.def(
-      "read_cad_file_as_brep", [](const std::string& path) { return cad::writeBrepString(cad::readShapeFile(path)); },
-      py::arg("path"), "Reads a STEP, IGES or BREP file and returns the shape as BREP text.");
+      "read_cad_file_as_brep",
+      [](const std::string& path, double seconds, double megabytes) {
+        py::gil_scoped_release release;
+        return cad::readShapeFileIsolated(path, cad::ReaderLimits{seconds, megabytes});
+      },
+      py::arg("path"), py::arg("seconds") = cad::ReaderLimits{}.seconds,
+      py::arg("megabytes") = cad::ReaderLimits{}.memoryMegabytes,
+      "Reads a STEP, IGES or BREP file in a child process limited to `seconds` and `megabytes` (a corrupt "
+      "file gives an error naming it, never a crash or a hang) and returns the shape as BREP text.");
+  module.def(
+      "check_brep_text",
+      [](const std::string& brep, double seconds, double megabytes) {
+        py::gil_scoped_release release;
+        return cad::checkBrepStringIsolated(brep, cad::ReaderLimits{seconds, megabytes});
+      },
+      py::arg("brep"), py::arg("seconds") = 10.0, py::arg("megabytes") = cad::ReaderLimits{}.memoryMegabytes,
+      "Parses BREP text in a child process under the limits and returns it as OpenCASCADE writes it back; "
+      "what Target.from_brep and the other BREP-taking functions do first (their time limit: 10 s + 5 s per MB).");
   module.def(
       "bspline_face_brep",
       [](const py::array_t<double, py::array::c_style | py::array::forcecast>& poles, int uDegree, int vDegree,

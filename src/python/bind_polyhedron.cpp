@@ -9,6 +9,7 @@
 
 #include "bindings.h"
 #include "conversions.h"
+#include "core/cad/isolated_reader.h"
 #include "core/cad/shape_io.h"
 #include "core/common/errors.h"
 #include "core/polyhedron/placement.h"
@@ -242,7 +243,7 @@ void bindPolyhedron(py::module_& module) {
   module.def(
       "remove_symmetry_face",
       [](const std::string& brep) {
-        const HalfModelShape half = removeSymmetryFace(cad::readBrepString(brep));
+        const HalfModelShape half = removeSymmetryFace(cad::readBrepStringSafely(brep));
         return py::make_tuple(cad::writeBrepString(half.shape), half.face, planeObject(half.plane));
       },
       py::arg("brep"),
@@ -269,7 +270,7 @@ void bindPolyhedron(py::module_& module) {
   module.def(
       "select_faces",
       [](const std::string& brep, const std::vector<int>& faces) {
-        return cad::writeBrepString(selectFaces(cad::readBrepString(brep), faces));
+        return cad::writeBrepString(selectFaces(cad::readBrepStringSafely(brep), faces));
       },
       py::arg("brep"), py::arg("faces"),
       "BREP text of a compound of the given faces (0-based, FreeCAD's Face<i+1>).");

@@ -10,6 +10,7 @@
 #include "arrays.h"
 #include "bindings.h"
 #include "conversions.h"
+#include "core/cad/isolated_reader.h"
 #include "core/cad/shape_io.h"
 #include "core/common/errors.h"
 #include "core/target/target.h"
@@ -105,23 +106,35 @@ void bindTarget(py::module_& module) {
           "from_brep",
           [](const std::string& brep, double relativeDeflection, double sharpAngleDeg, double relativeTolerance,
              int threads) {
-            return buildTarget(cad::readBrepString(brep),
-                               makeOptions(relativeDeflection, sharpAngleDeg, relativeTolerance, threads));
+            const TargetOptions options = makeOptions(relativeDeflection, sharpAngleDeg, relativeTolerance, threads);
+            TopoDS_Shape shape;
+            {
+              py::gil_scoped_release release;
+              shape = cad::readBrepStringSafely(brep);
+            }
+            return buildTarget(shape, options);
           },
           py::arg("brep"), py::arg("relative_deflection") = TargetOptions{}.relativeDeflection, py::arg("sharp_angle_deg") = TargetOptions{}.sharpAngleDeg,
           py::arg("relative_tolerance") = TargetOptions{}.relativeTolerance, py::arg("threads") = TargetOptions{}.threads,
-          "Target from BREP text (FreeCAD: shape.exportBrepToString()). Tolerances are relative to "
-          "the bounding-box diagonal; threads=0 uses every hardware thread.")
+          "Target from BREP text (FreeCAD: shape.exportBrepToString()), parsed first in a child process so "
+          "that corrupt text cannot crash or hang the caller. Tolerances are relative to the bounding-box "
+          "diagonal; threads=0 uses every hardware thread.")
       .def_static(
           "from_file",
           [](const std::string& path, double relativeDeflection, double sharpAngleDeg, double relativeTolerance,
              int threads) {
-            return buildTarget(cad::readShapeFile(path),
-                               makeOptions(relativeDeflection, sharpAngleDeg, relativeTolerance, threads));
+            const TargetOptions options = makeOptions(relativeDeflection, sharpAngleDeg, relativeTolerance, threads);
+            TopoDS_Shape shape;
+            {
+              py::gil_scoped_release release;
+              shape = cad::readShapeFileSafely(path);
+            }
+            return buildTarget(shape, options);
           },
           py::arg("path"), py::arg("relative_deflection") = TargetOptions{}.relativeDeflection, py::arg("sharp_angle_deg") = TargetOptions{}.sharpAngleDeg,
           py::arg("relative_tolerance") = TargetOptions{}.relativeTolerance, py::arg("threads") = TargetOptions{}.threads,
-          "Target from a STEP (.step/.stp), IGES (.iges/.igs) or BREP (.brep/.brp) file.")
+          "Target from a STEP (.step/.stp), IGES (.iges/.igs) or BREP (.brep/.brp) file, read in a child "
+          "process under a time and memory limit (a corrupt file gives an error, never a crash or a hang).")
       .def("report", [](const Target& self) { return reportToDict(self.report()); },
            "Faces, surface types, edges (kind, dihedral angle), sharp / free / non-manifold edges, "
            "gaps between faces wider than the tolerance, model size and tessellation.")

@@ -4,6 +4,9 @@
 #include <BRep_Builder.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Reader.hxx>
+#include <Interface_Check.hxx>
+#include <Interface_CheckIterator.hxx>
+#include <XSControl_WorkSession.hxx>
 #include <STEPControl_Reader.hxx>
 #include <XSControl_Reader.hxx>
 
@@ -32,6 +35,23 @@ TopoDS_Shape readWithExchangeReader(XSControl_Reader& reader, const std::string&
   if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) {
     throw InvalidInputError("cannot read \"" + path + "\" as " + format + ": the file is corrupt or not " + format);
   }
+  // Entities that failed to load (a reference to a missing entity, a wrong type): translating
+  // them would crash OCCT's transfer, so stop here and say which.
+  const Interface_CheckIterator checks = reader.WS()->ModelCheckList();
+  std::string failures;
+  int failed = 0;
+  for (checks.Start(); checks.More(); checks.Next()) {
+    const Handle(Interface_Check)& check = checks.Value();
+    if (!check->HasFailed()) continue;
+    if (++failed <= 3) {
+      failures += std::string(failures.empty() ? "" : "; ") + "entity #" + std::to_string(checks.Number()) + ": " +
+                  check->CFail(1);
+    }
+  }
+  if (failed > 0) {
+    throw InvalidInputError("\"" + path + "\" is a corrupt " + format + " file: " + std::to_string(failed) +
+                            " entities failed to load (" + failures + (failed > 3 ? "; ..." : "") + ")");
+  }
   if (reader.TransferRoots() == 0) {
     throw InvalidInputError("\"" + path + "\" holds no shape that can be transferred from " + format);
   }
@@ -52,8 +72,9 @@ TopoDS_Shape readBrepString(const std::string& brep) {
     BRep_Builder builder;
     BRepTools::Read(shape, stream, builder);
     if (shape.IsNull()) {
-      throw InvalidInputError("BREP text is corrupt or holds a null shape (it should start with "
-                              "\"DBRep_DrawableShape\" or \"CASCADE Topology\")");
+      throw InvalidInputError("BREP text is corrupt or truncated: OpenCASCADE read no shape from it (BREP "
+                              "text starts with \"CASCADE Topology\" or \"DBRep_DrawableShape\" and ends with "
+                              "the shape's own record)");
     }
     return shape;
   });

@@ -1,0 +1,122 @@
+"""Hostile input never takes the process down: CAD files and BREP text from outside are parsed in
+a child process under time and memory limits, and what OCCT cannot read comes back as an error
+naming the file and the problem (the reproducers of the hostile-input issue)."""
+
+import os
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+import FreeCAD  # noqa: F401  -- Part needs it loaded first
+import Part
+
+import bvmesh
+from bvmesh import _core
+
+DATA = os.environ.get("BVMESH_TEST_DATA_DIR", os.path.join(os.path.dirname(__file__), "..", "data"))
+HEMISPHERE = os.path.join(DATA, "hemisph-cyl.stp")
+WING = os.path.join(DATA, "AileM6_with_sharp_TE.stp")
+
+
+def edited(path, old, new, folder):
+    with open(path) as source:
+        text = source.read()
+    assert old in text, old
+    target = os.path.join(folder, "edited_" + os.path.basename(path))
+    with open(target, "w") as out:
+        out.write(text.replace(old, new, 1))
+    return target
+
+
+class CorruptCadFiles(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.folder = tempfile.TemporaryDirectory()
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.folder.cleanup()
+
+    def assertRefused(self, path, *patterns):
+        start = time.time()
+        with self.assertRaises(ValueError) as caught:
+            bvmesh.Target.from_file(path)
+        self.assertLess(time.time() - start, 30.0)
+        for pattern in (os.path.basename(path),) + patterns:
+            self.assertRegex(str(caught.exception), pattern)
+
+    def test_dangling_step_reference(self):
+        # Segfaulted in StepToTopoDS_TranslateVertex before; FreeCAD's own Part.read still does.
+        path = edited(HEMISPHERE, "#22 = VERTEX_POINT('',#23);", "#22 = VERTEX_POINT('',#99999);", self.folder.name)
+        self.assertRefused(path, "corrupt STEP", r"Unresolved Reference.*#99999")
+
+    def test_reference_to_an_entity_of_the_wrong_type(self):
+        path = edited(HEMISPHERE, "#22 = VERTEX_POINT('',#23);", "#22 = VERTEX_POINT('',#22);", self.folder.name)
+        self.assertRefused(path, "corrupt STEP", "#22")
+
+    def test_nan_and_overflowing_coordinates(self):
+        # Hung in OCCT's shape repair, GIL held, before.
+        with open(HEMISPHERE) as source:
+            line = next(l for l in source if l.startswith("#23 = CARTESIAN_POINT"))
+        for bad in ("NAN", "1E400"):
+            path = edited(HEMISPHERE, line, "#23 = CARTESIAN_POINT('',({},0.,0.));\n".format(bad), self.folder.name)
+            self.assertRefused(path, "corrupt STEP|no shape")
+
+    def test_empty_and_binary_files(self):
+        for name, content in (("empty.stp", b""), ("noise.stp", os.urandom(4096)), ("noise.igs", os.urandom(4096))):
+            path = os.path.join(self.folder.name, name)
+            with open(path, "wb") as out:
+                out.write(content)
+            self.assertRefused(path)
+
+    def test_a_good_file_still_reads(self):
+        target = bvmesh.Target.from_file(WING)
+        self.assertEqual(target.face_count, 11)
+
+    def test_command_line_names_the_problem(self):
+        path = edited(HEMISPHERE, "#22 = VERTEX_POINT('',#23);", "#22 = VERTEX_POINT('',#99999);", self.folder.name)
+        result = subprocess.run([sys.executable, "-m", "bvmesh", "info", path], capture_output=True, text=True,
+                                timeout=120)
+        self.assertEqual(result.returncode, 1)
+        self.assertIn("Unresolved Reference", result.stderr)
+
+
+class CorruptBrepText(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.brep = Part.read(WING).exportBrepToString()
+
+    def test_truncated_text_is_refused(self):
+        for fraction in (0.1, 0.3, 0.6, 0.9):
+            with self.assertRaisesRegex(ValueError, "corrupt or truncated"):
+                bvmesh.Target.from_brep(self.brep[:int(len(self.brep) * fraction)])
+
+    def test_a_looping_parse_is_stopped_at_the_time_limit(self):
+        # Cut at 99 %, BRepTools::Read loops forever: the child is stopped, the caller carries on.
+        start = time.time()
+        with self.assertRaisesRegex(ValueError, "limit of 2"):
+            _core.check_brep_text(self.brep[:int(len(self.brep) * 0.99)], seconds=2.0)
+        self.assertLess(time.time() - start, 10.0)
+
+    def test_full_text_round_trips(self):
+        again = _core.check_brep_text(self.brep)
+        self.assertTrue(again.lstrip().startswith("CASCADE Topology"))
+        self.assertEqual(bvmesh.Target.from_brep(again).face_count, 11)
+
+    def test_missing_reader_is_named(self):
+        environment = dict(os.environ, BVMESH_CAD_READER="/nonexistent/bvmesh-cad-reader")
+        code = "import FreeCAD, bvmesh; bvmesh.Target.from_file({!r})".format(WING)
+        result = subprocess.run([sys.executable, "-c", code], env=environment, capture_output=True, text=True,
+                                timeout=120)
+        self.assertNotEqual(result.returncode, 0)
+        self.assertIn("/nonexistent/bvmesh-cad-reader", result.stderr)
+
+    def test_limits_are_checked(self):
+        with self.assertRaisesRegex(ValueError, "limits"):
+            _core.read_cad_file_as_brep(WING, seconds=-1.0)
+
+
+if __name__ == "__main__":
+    unittest.main()
