@@ -18,7 +18,7 @@ def offset_and_farfield(fit_or_mesh, symmetry_plane=None, **options):
     fit_or_mesh: a bvmesh.SurfaceFitter (its current control mesh and its symmetry plane are used)
     or an all-quad bvmesh.ControlMesh. symmetry_plane: (point, normal) of a half model; taken from
     the fitter when not given. options: those of bvmesh.generate_volume_mesh (reference_length,
-    reynolds_number, boundary_layer_thickness, boundary_layer_layers, boundary_layer_growth,
+    reynolds_number, boundary_layer_thickness, boundary_layer_layers, boundary_layer_growth, sharp_edge_splay,
     farfield_distance, farfield_growth, smoothing, min_scaled_jacobian, max_layers).
     Returns a bvmesh.VolumeMesh; raises ValueError (bvmesh.InvalidInputError) for a bad wall or
     option and bvmesh.SolverError when the marching would fold, naming where.

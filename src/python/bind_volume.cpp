@@ -167,7 +167,7 @@ void bindVolume(py::module_& module) {
   module.def(
       "generate_volume_mesh",
       [](const ControlMesh& wall, const py::object& symmetryPlane, double referenceLength, double reynoldsNumber,
-         double boundaryLayerThickness, int boundaryLayerLayers, double boundaryLayerGrowth, double farfieldDistance,
+         double boundaryLayerThickness, int boundaryLayerLayers, double boundaryLayerGrowth, double sharpEdgeSplay, double farfieldDistance,
          double farfieldGrowth, double smoothing, double minScaledJacobian, int maxLayers) {
         volume::VolumeMeshOptions options;
         options.referenceLength = referenceLength;
@@ -175,6 +175,7 @@ void bindVolume(py::module_& module) {
         options.boundaryLayerThickness = boundaryLayerThickness;
         options.boundaryLayerLayers = boundaryLayerLayers;
         options.boundaryLayerGrowth = boundaryLayerGrowth;
+        options.sharpEdgeSplay = sharpEdgeSplay;
         options.farfieldDistance = farfieldDistance;
         options.farfieldGrowth = farfieldGrowth;
         options.smoothing = smoothing;
@@ -184,15 +185,16 @@ void bindVolume(py::module_& module) {
       },
       py::arg("wall"), py::arg("symmetry_plane") = py::none(), py::arg("reference_length") = 0.0,
       py::arg("reynolds_number") = 5e6, py::arg("boundary_layer_thickness") = 0.0, py::arg("boundary_layer_layers") = 4,
-      py::arg("boundary_layer_growth") = 1.2, py::arg("farfield_distance") = 0.0, py::arg("farfield_growth") = 1.3,
+      py::arg("boundary_layer_growth") = 1.2, py::arg("sharp_edge_splay") = 2.0, py::arg("farfield_distance") = 0.0, py::arg("farfield_growth") = 1.3,
       py::arg("smoothing") = 1.0, py::arg("min_scaled_jacobian") = 0.05, py::arg("max_layers") = 400,
       R"doc(The block-structured B-spline volume mesh around the limit surface of a fitted wall.
 
 wall: an all-quad bvmesh.ControlMesh (e.g. SurfaceFitter.mesh), outward oriented, closed or open only
 on symmetry_plane ((point, normal) of a half model). Boundary layer: boundary_layer_layers control
 layers along the wall normals, total thickness boundary_layer_thickness (0: the turbulent flat-plate
-estimate 0.37 L Re^-0.2 with L = reference_length, 0: the wall's largest extent). Far field: marched
-with growing smoothing to a sphere (half sphere) of radius farfield_distance (0: 20 L) around the
+estimate 0.37 L Re^-0.2 with L = reference_length, 0: the wall's largest extent); around sharp convex
+edges the grid lines fan out over a band sharp_edge_splay boundary-layer thicknesses wide. Far field: marched
+with growing implicit smoothing, turning radial, to a sphere (half sphere) of radius farfield_distance (0: 20 L) around the
 wall's centre, layer thickness growing by farfield_growth. Returns a VolumeMesh; its .blocks is a
 BlockMesh with one block per wall patch.)doc");
 }

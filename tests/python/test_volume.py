@@ -122,6 +122,21 @@ class SphereVolume(unittest.TestCase):
 DATA = os.environ.get("BVMESH_TEST_DATA_DIR") or os.path.join(os.path.dirname(__file__), "..", "data")
 
 
+def fit_m6(level):
+    """The half_wing template fitted to the sharp-trailing-edge M6 (root chord 805 mm): the fitter
+    and its run's result."""
+    from bvmesh import polyhedra
+
+    core = bvmesh.load_core()
+    wing, _, _ = polyhedra.half_model_target(core.read_cad_file_as_brep(
+        os.path.join(DATA, "AileM6_with_sharp_TE.stp")))
+    placed = polyhedra.place("half_wing", wing)
+    fitter = bvmesh.SurfaceFitter(wing, placed["mesh"], placed["feature_map"],
+                                  symmetry_plane=placed["symmetry_plane"], max_level=level,
+                                  tolerance=1e-5 * 805.0, check_samples_per_face=0)
+    return fitter, fitter.run()
+
+
 def folded_faces(mesh):
     """Faces whose limit surface turns over (du x dv against the face's mean normal at any of
     9 x 9 samples), with the worst cosine each."""
@@ -149,16 +164,7 @@ class M6Wall(unittest.TestCase):
 
     @classmethod
     def setUpClass(cls):
-        from bvmesh import polyhedra
-
-        core = bvmesh.load_core()
-        cls.wing, _, _ = polyhedra.half_model_target(core.read_cad_file_as_brep(
-            os.path.join(DATA, "AileM6_with_sharp_TE.stp")))
-        cls.placed = polyhedra.place("half_wing", cls.wing)
-        cls.fitter = bvmesh.SurfaceFitter(cls.wing, cls.placed["mesh"], cls.placed["feature_map"],
-                                          symmetry_plane=cls.placed["symmetry_plane"], max_level=2,
-                                          tolerance=1e-5 * 805.0, check_samples_per_face=0)
-        cls.result = cls.fitter.run()
+        cls.fitter, cls.result = fit_m6(level=2)
 
     def test_fitted_limit_surface_does_not_fold_at_the_wedge_corners(self):
         self.assertEqual(folded_faces(self.fitter.mesh), {})
@@ -180,6 +186,94 @@ class M6Wall(unittest.TestCase):
             worst = min(worst, (np.einsum("ijk,k", normals, mean) / (
                 np.linalg.norm(normals, axis=2) * np.linalg.norm(mean) + 1e-300)).min())
         self.assertGreater(worst, 0.0)
+
+
+def samples(knots):
+    """4 points per knot span and the end."""
+    k = np.unique(knots)
+    return np.concatenate([np.linspace(k[i], k[i + 1], 4, endpoint=False) for i in range(len(k) - 1)] + [k[-1:]])
+
+
+class M6Volume(unittest.TestCase):
+    """The volume mesh around the M6 at level 2 (O-topology around the sharp trailing edge). Before
+    the far-field directions turned radial, the grid lines behind the root of the swept trailing
+    edge crossed the symmetry plane (fold at layer 19); before the splay band at sharp edges, the
+    blocks' boundary layer folded along the whole trailing edge."""
+
+    @classmethod
+    def setUpClass(cls):
+        fitter, _ = fit_m6(level=2)
+        cls.mesh = bvmesh.volume.offset_and_farfield(fitter, reference_length=805.0)
+        blocks = cls.mesh.blocks
+        cls.wall, cls.wall_angle, cls.negative, cls.worst = [], [], [], 1.0
+        cls.symmetry_offset, cls.outer_radius = 0.0, []
+        centre = np.asarray(cls.mesh.domain_centre)
+        for b in range(blocks.block_count):
+            at = [samples(k) for k in blocks.knots(b)]
+            x, du, dv, dw = blocks.evaluate_grid(b, *at, derivatives=True)
+            normal = np.cross(du, dv)
+            scaled = np.einsum("...i,...i", normal, dw) / (
+                np.linalg.norm(du, axis=3) * np.linalg.norm(dv, axis=3) * np.linalg.norm(dw, axis=3))
+            cls.worst = min(cls.worst, scaled.min())
+            cls.negative.extend(x[scaled <= 0.0])
+            cosine = np.einsum("...i,...i", normal[:, :, 0], dw[:, :, 0]) / (
+                np.linalg.norm(normal[:, :, 0], axis=2) * np.linalg.norm(dw[:, :, 0], axis=2))
+            cls.wall.extend(x[:, :, 0].reshape(-1, 3))
+            cls.wall_angle.extend(np.degrees(np.arccos(np.clip(cosine, -1, 1))).ravel())
+            faces = blocks.faces(b)
+            for name, face in (("u_min", x[0]), ("u_max", x[-1]), ("v_min", x[:, 0]), ("v_max", x[:, -1])):
+                if faces[name]["condition"] == "symmetry":
+                    cls.symmetry_offset = max(cls.symmetry_offset, np.abs(face[..., 1]).max())
+            cls.outer_radius.extend(np.linalg.norm(x[:, :, -1] - centre, axis=2).ravel())
+        cls.wall, cls.wall_angle = np.array(cls.wall), np.array(cls.wall_angle)
+
+    def test_marches_to_the_far_field_on_the_symmetry_plane(self):
+        # Symmetry faces on y = 0 to 1e-12 of the model size (measured 6.4e-12 mm, 4e-15 relative);
+        # the outer face on the half sphere of 20 root chords to 1 % (measured 0.16 %).
+        self.assertLess(self.symmetry_offset, 1e-12 * 1457.0)
+        np.testing.assert_allclose(self.outer_radius, 20 * 805.0, rtol=0.01)
+
+    def test_blocks_are_positive_except_at_the_tip_trailing_edge_corner(self):
+        # Known defect: 3 samples per side (6 in all) in the first boundary-layer cell at the corner
+        # where the trailing edge meets the tip crease (1144.4, 1197.1, +-1.5), min scaled Jacobian
+        # -0.070. Everywhere else (the trailing edge included) the blocks are positive.
+        corner = np.array([1144.4, 1197.1, 0.0])
+        negative = np.array(self.negative).reshape(-1, 3)
+        self.assertLessEqual(len(negative), 6)
+        self.assertLess(np.abs(negative - corner).max(initial=0.0), 5.0)
+        self.assertGreater(self.worst, -0.1)
+
+    def test_wall_orthogonal_away_from_sharp_edges(self):
+        # Outside the splay band (3 boundary-layer thicknesses, 41 mm, from the trailing edge and the
+        # tip's crease): measured 0.41 / 1.31 degrees at the 95th / 99th percentile.
+        thickness = self.mesh.boundary_layer_thickness
+        trailing_edge_x = 810.5 + (1143.7 - 810.5) * self.wall[:, 1] / 1196.3  # straight swept edge
+        away = (self.wall[:, 0] < trailing_edge_x - 3 * thickness) & (self.wall[:, 1] < 1196.3 - 3 * thickness)
+        self.assertGreater(away.mean(), 0.4)
+        self.assertLess(np.percentile(self.wall_angle[away], 95), 1.0)
+        self.assertLess(np.percentile(self.wall_angle[away], 99), 2.0)
+
+    def test_euler_grid_in_openfoam(self):
+        import re
+        import shutil
+        import subprocess
+
+        import bvmesh.grid
+
+        if shutil.which("checkMesh") is None:
+            self.skipTest("checkMesh (openfoam) is not installed")
+        grid = bvmesh.grid.refine(self.mesh, "euler", edge_points=17)
+        with tempfile.TemporaryDirectory() as case:
+            bvmesh.grid.write_openfoam(grid, case)
+            report = subprocess.run(["checkMesh", "-allGeometry", "-allTopology", "-case", case],
+                                    env=dict(os.environ, WM_PROJECT_DIR="/usr/share/openfoam"),
+                                    capture_output=True, text=True, timeout=300).stdout
+        # No non-positive cell; the faces that checkMesh still fails (tets, small determinants,
+        # severe non-orthogonality: 1407 faces) are all at the tip (y > 1159 mm), see docs/volume.md.
+        self.assertIn("Cell volumes OK", report)
+        self.assertIn("Face area magnitudes OK", report)
+        severe = re.search(r"severely non-orthogonal \(> 70 degrees\) faces: (\d+)", report)
+        self.assertLessEqual(int(severe.group(1)) if severe else 0, 1500)
 
 
 if __name__ == "__main__":

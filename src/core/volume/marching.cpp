@@ -1,9 +1,14 @@
 #include "core/volume/marching.h"
 
 #include <Eigen/Geometry>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseLU>
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <limits>
+#include <queue>
 #include <set>
 #include <string>
 
@@ -33,11 +38,16 @@ std::vector<std::vector<int>> neighbours(const MarchingFront& front) {
 
 // Rounds of local smoothing before a poor cell is accepted (if positive) or reported.
 constexpr int kRepairs = 30;
+constexpr double kPi = 3.14159265358979323846;
 
 class Marcher {
  public:
   Marcher(const MarchingFront& front, const MarchingOptions& options)
-      : front_(front), options_(options), neighbours_(neighbours(front)) {}
+      : front_(front), options_(options), neighbours_(neighbours(front)) {
+    if (front.points.rows() > 0) {
+      wallSize_ = (front.points.colwise().maxCoeff() - front.points.colwise().minCoeff()).norm();
+    }
+  }
 
   MarchingResult run() {
     checkOptions();
@@ -57,7 +67,7 @@ class Marcher {
     // Straight grid lines along the wall normals; where a cell would be poor (a patch smaller
     // than the boundary layer is thick, next to a sharp edge), the lines' directions are smoothed
     // there alone, so the wall stays orthogonal everywhere else.
-    RowMatrixX3d lines = front_.normals;
+    RowMatrixX3d lines = splayedAtSharpEdges(options_.sharpEdgeSplay * options_.boundaryLayerThickness);
     std::vector<RowMatrixX3d> blLayers;
     for (int repair = 0;; ++repair) {
       blLayers.clear();
@@ -116,7 +126,8 @@ class Marcher {
     RowMatrixX3d directions = lines;
     for (int k = 1; k <= nFar; ++k) {
       const double progress = static_cast<double>(k) / nFar;
-      RowMatrixX3d next = marchOnce(result.layers.back(), directions, step, progress, nBl + k);
+      const double towardsDomain = std::min(1.0, distance / wallSize_);
+      RowMatrixX3d next = marchOnce(result.layers.back(), directions, step, progress, towardsDomain, nBl + k);
       distance += step;
       result.layers.push_back(std::move(next));
       result.layerDistance.push_back(distance);
@@ -150,6 +161,10 @@ class Marcher {
     }
     if (!(options_.smoothing >= 0.0 && options_.smoothing <= 10.0)) {
       throw InvalidInputError("smoothing must be in [0, 10], got " + std::to_string(options_.smoothing));
+    }
+    if (!(options_.sharpEdgeSplay >= 0.0 && options_.sharpEdgeSplay <= 20.0)) {
+      throw InvalidInputError("sharp-edge splay must be in [0, 20] boundary-layer thicknesses, got " +
+                              std::to_string(options_.sharpEdgeSplay));
     }
     if (!(options_.minScaledJacobian >= 0.0 && options_.minScaledJacobian < 1.0)) {
       throw InvalidInputError("minimum scaled Jacobian must be in [0, 1), got " + std::to_string(options_.minScaledJacobian));
@@ -275,17 +290,123 @@ class Marcher {
     return markPoorCells(lower, upper, ignored);
   }
 
+  // Points where the wall turns sharply: an adjacent cell's normal more than 30 degrees off the
+  // point's (averaged) normal.
+  std::vector<char> sharpEdgePoints() const {
+    std::vector<char> sharp(static_cast<size_t>(front_.points.rows()), 0);
+    for (const auto& q : front_.quads) {
+      const Vector3d a = front_.points.row(q[0]).transpose(), b = front_.points.row(q[1]).transpose();
+      const Vector3d c = front_.points.row(q[2]).transpose(), d = front_.points.row(q[3]).transpose();
+      const Vector3d n = (c - a).cross(d - b).normalized();
+      for (int p : q) {
+        if (n.dot(front_.normals.row(p).transpose()) < std::cos(kPi / 6.0)) sharp[static_cast<size_t>(p)] = 1;
+      }
+    }
+    return sharp;
+  }
+
+  // Boundary-layer grid-line directions: the wall normals, except in a band of geodesic width
+  // `width` around sharp convex edges (a sharp trailing edge, a tip), where they are the harmonic
+  // interpolation between the normals at the band's rim. A single grid line leaving such an edge
+  // along the mean normal would fan the cells next to it over ~90 degrees in one cell, which the
+  // blocks' cubic interpolation of the layers turns into folds; the band spreads the fan over
+  // several cells and keeps the wall orthogonal everywhere outside it.
+  RowMatrixX3d splayedAtSharpEdges(double width) const {
+    const Eigen::Index n = front_.points.rows();
+    const std::vector<char> sharp = sharpEdgePoints();
+    std::vector<double> distance(static_cast<size_t>(n), std::numeric_limits<double>::infinity());
+    using Entry = std::pair<double, int>;
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+    for (Eigen::Index p = 0; p < n; ++p) {
+      if (sharp[static_cast<size_t>(p)] != 0) {
+        distance[static_cast<size_t>(p)] = 0.0;
+        queue.emplace(0.0, static_cast<int>(p));
+      }
+    }
+    while (!queue.empty()) {
+      const auto [d, p] = queue.top();
+      queue.pop();
+      if (d > distance[static_cast<size_t>(p)] || d > width) continue;
+      for (int q : neighbours_[static_cast<size_t>(p)]) {
+        const double through = d + (front_.points.row(p) - front_.points.row(q)).norm();
+        if (through < distance[static_cast<size_t>(q)]) {
+          distance[static_cast<size_t>(q)] = through;
+          queue.emplace(through, q);
+        }
+      }
+    }
+    std::vector<Eigen::Triplet<double>> entries;
+    for (Eigen::Index p = 0; p < n; ++p) {
+      if (!(distance[static_cast<size_t>(p)] < width)) {
+        entries.emplace_back(p, p, 1.0);
+        continue;
+      }
+      const auto& near = neighbours_[static_cast<size_t>(p)];
+      entries.emplace_back(p, p, static_cast<double>(near.size()));
+      for (int q : near) entries.emplace_back(p, q, -1.0);
+    }
+    Eigen::SparseMatrix<double> matrix(n, n);
+    matrix.setFromTriplets(entries.begin(), entries.end());
+    Eigen::SparseLU<Eigen::SparseMatrix<double>> solver(matrix);
+    if (solver.info() != Eigen::Success) throw SolverError("the splay at the wall's sharp edges could not be factored");
+    Eigen::MatrixXd rim = front_.normals;  // column major, as SparseLU solves
+    for (Eigen::Index p = 0; p < n; ++p) {
+      if (distance[static_cast<size_t>(p)] < width) rim.row(p).setZero();
+    }
+    RowMatrixX3d lines = Eigen::MatrixXd(solver.solve(rim));
+    for (Eigen::Index p = 0; p < n; ++p) {
+      Vector3d d = lines.row(p).transpose();
+      if (onPlane(p)) d -= d.dot(options_.planeNormal) * options_.planeNormal;
+      lines.row(p) = d.normalized().transpose();
+    }
+    return lines;
+  }
+
+  // Implicit direction smoothing: solves (I + epsilon (I - mean of the neighbours)) d = target,
+  // written with the neighbour counts as weights so that the matrix is symmetric. Unlike a fixed
+  // number of explicit passes it spreads a corner's direction over as far as epsilon asks.
+  RowMatrixX3d implicitlySmoothed(const RowMatrixX3d& target, double epsilon) const {
+    const Eigen::Index n = target.rows();
+    std::vector<Eigen::Triplet<double>> entries;
+    Eigen::VectorXd degree(n);
+    for (Eigen::Index p = 0; p < n; ++p) {
+      const auto& near = neighbours_[static_cast<size_t>(p)];
+      degree(p) = static_cast<double>(near.size());
+      entries.emplace_back(p, p, (1.0 + epsilon) * degree(p));
+      for (int q : near) entries.emplace_back(p, q, -epsilon);
+    }
+    Eigen::SparseMatrix<double> matrix(n, n);
+    matrix.setFromTriplets(entries.begin(), entries.end());
+    const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver(matrix);
+    if (solver.info() != Eigen::Success) throw SolverError("the implicit direction smoothing could not be factored");
+    RowMatrixX3d smoothed = solver.solve(Eigen::MatrixXd(degree.asDiagonal() * target));
+    for (Eigen::Index p = 0; p < n; ++p) {
+      Vector3d d = smoothed.row(p).transpose();
+      if (onPlane(p)) d -= d.dot(options_.planeNormal) * options_.planeNormal;
+      smoothed.row(p) = d.normalized().transpose();
+    }
+    return smoothed;
+  }
+
+  // One far-field step. The direction: the previous one blended with the front's normal, then
+  // turned towards the domain boundary's normal (radial from the domain centre) by the share
+  // `towardsDomain`, then smoothed implicitly. Without the turn, the directions behind a swept
+  // sharp trailing edge keep pointing inboard (normal to the edge) and, with the edge's mirror
+  // image, form a concave corner at the symmetry plane whose cells are squeezed flat uniformly
+  // (which no scaled Jacobian notices) until the grid lines cross the plane.
   RowMatrixX3d marchOnce(const RowMatrixX3d& points, RowMatrixX3d& previous, double step, double progress,
-                         int layer) const {
+                         double towardsDomain, int layer) const {
     const RowMatrixX3d normals = frontNormals(points);
     RowMatrixX3d blended(points.rows(), 3);
     for (Eigen::Index p = 0; p < points.rows(); ++p) {
       const Vector3d before = previous.row(p).transpose();
       const Vector3d normal = normals.row(p).transpose();
-      blended.row(p) = (normal.dot(before) > 0 ? (before + normal).normalized() : before).transpose();
+      const Vector3d local = normal.dot(before) > 0 ? (before + normal).normalized() : before;
+      const Vector3d fromCentre = points.row(p).transpose() - options_.domainCentre;
+      const Vector3d radial = fromCentre.norm() > 0 ? fromCentre.normalized() : local;
+      blended.row(p) = ((1.0 - towardsDomain) * local + towardsDomain * radial).normalized().transpose();
     }
-    RowMatrixX3d directions = blended;
-    smoothDirections(directions, static_cast<int>(std::lround(options_.smoothing * (2.0 + 20.0 * progress))));
+    RowMatrixX3d directions = implicitlySmoothed(blended, options_.smoothing * (2.0 + 20.0 * progress));
     const int pointIterations = static_cast<int>(std::lround(options_.smoothing * (1.0 + 10.0 * progress)));
     const double weight = std::min(0.5, 0.2 + 0.3 * progress);
     RowMatrixX3d next = points + step * directions;
@@ -346,6 +467,7 @@ class Marcher {
   const MarchingFront& front_;
   const MarchingOptions& options_;
   std::vector<std::vector<int>> neighbours_;
+  double wallSize_ = 1.0;  // bounding-box diagonal: the distance over which the directions turn radial
 };
 
 }  // namespace

@@ -29,6 +29,9 @@ struct MarchingOptions {
   double boundaryLayerThickness = 0.0;
   int boundaryLayerLayers = 4;
   double boundaryLayerGrowth = 1.2;
+  // Width, in boundary-layer thicknesses, of the band around sharp convex wall edges over which the
+  // boundary-layer grid lines fan out from one side's normal to the other's (0: no band).
+  double sharpEdgeSplay = 2.0;
   // Far field: radius of the spherical outer boundary around the domain centre, and growth of the
   // layer thickness from one layer to the next.
   double farfieldDistance = 0.0;
@@ -37,7 +40,7 @@ struct MarchingOptions {
   // Symmetry plane (used when some points are on it): point and unit normal.
   Eigen::Vector3d planePoint = Eigen::Vector3d::Zero();
   Eigen::Vector3d planeNormal = Eigen::Vector3d::UnitY();
-  // Far-field smoothing: direction smoothing (explicit, grows with the layer) and point smoothing
+  // Far-field smoothing: direction smoothing (implicit, grows with the layer) and point smoothing
   // in the front's tangent plane (the cell-size equaliser), both scaled by this factor (0: none).
   double smoothing = 1.0;
   double minScaledJacobian = 0.05;  // a layer with a cell below this is marched again with more smoothing

@@ -280,6 +280,7 @@ VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const Volume
   marching.boundaryLayerThickness = result.boundaryLayerThickness;
   marching.boundaryLayerLayers = options.boundaryLayerLayers;
   marching.boundaryLayerGrowth = options.boundaryLayerGrowth;
+  marching.sharpEdgeSplay = options.sharpEdgeSplay;
   marching.farfieldDistance = result.farfieldDistance;
   marching.farfieldGrowth = options.farfieldGrowth;
   marching.domainCentre = centre;

@@ -23,6 +23,7 @@ struct VolumeMeshOptions {
   double boundaryLayerThickness = 0.0;
   int boundaryLayerLayers = 4;
   double boundaryLayerGrowth = 1.2;
+  double sharpEdgeSplay = 2.0;  // MarchingOptions::sharpEdgeSplay
   // Far-field boundary: a sphere (half sphere with a symmetry plane) of this radius around the
   // wall's centre; 0: 20 reference lengths.
   double farfieldDistance = 0.0;
