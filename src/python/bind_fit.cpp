@@ -5,6 +5,7 @@
 #include <pybind11/stl.h>
 
 #include <atomic>
+#include <mutex>
 #include <string>
 
 #include "arrays.h"
@@ -146,9 +147,18 @@ bool cancelRequested(const py::object& cancel) {
   return cancel().cast<bool>();
 }
 
+// A SurfaceFitter shared by Python threads: every call takes the fitter's lock, waiting with the
+// GIL released (so the thread that holds the lock can still call back into Python); calls from
+// its own progress callback re-enter. Concurrent calls thus run one after the other.
+struct SharedFitter : SurfaceFitter {
+  explicit SharedFitter(SurfaceFitter&& fitter) : SurfaceFitter(std::move(fitter)) {}
+  mutable std::recursive_mutex busy;
+};
+
 template <class Work>
-auto released(Work&& work) {
+auto exclusive(const SharedFitter& fitter, Work&& work) {
   py::gil_scoped_release release;
+  const std::lock_guard<std::recursive_mutex> lock(fitter.busy);
   return work();
 }
 
@@ -185,14 +195,15 @@ py::dict featureMapToDict(const fit::FeatureMap& map) {
 }
 
 void bindFit(py::module_& module) {
-  py::class_<SurfaceFitter>(module, "SurfaceFitter",
+  py::class_<SharedFitter>(module, "SurfaceFitter",
       "The iterative surface fitting: subdivide, limit samples, projection onto the target,\n"
       "least-squares approximation, level after level. Every step can be called on its own.")
       .def(py::init([](std::shared_ptr<target::Target> target, const ControlMesh& mesh, const py::object& features,
                        const py::kwargs& kwargs) {
              FitOptions options;
              applyOptions(options, kwargs);
-             return SurfaceFitter(std::move(target), mesh, featureMapOf(features), std::move(options));
+             return std::make_unique<SharedFitter>(
+                 SurfaceFitter(std::move(target), mesh, featureMapOf(features), std::move(options)));
            }),
            py::arg("target"), py::arg("mesh"), py::arg("features") = py::none(),
            "target: bvmesh.Target; mesh: the initial bvmesh.ControlMesh; features: dict with\n"
@@ -204,56 +215,65 @@ void bindFit(py::module_& module) {
            "(dict smooth/crease/boundary/corner), fixed_vertices, symmetry_plane ((point, normal)),\n"
            "relative_plane_tolerance, project_along_normals, reject_opposing_feet (True),\n"
            "check_samples_per_face (4), subdivision.")
-      .def_property_readonly("mesh", &SurfaceFitter::mesh, "the current control mesh (a copy)")
-      .def_property_readonly("features", [](const SurfaceFitter& f) { return featureMapToDict(f.features()); })
-      .def_property_readonly("options", [](const SurfaceFitter& f) { return optionsToDict(f.options()); })
-      .def("set_options", [](SurfaceFitter& f, const py::kwargs& kwargs) {
-             FitOptions options = f.options();
+      .def_property_readonly("mesh", [](const SharedFitter& f) { return exclusive(f, [&] { return ControlMesh(f.mesh()); }); },
+                             "the current control mesh (a copy: editing it leaves the fitter as it is)")
+      .def_property_readonly("features", [](const SharedFitter& f) {
+             return featureMapToDict(exclusive(f, [&] { return fit::FeatureMap(f.features()); }));
+           })
+      .def_property_readonly("options", [](const SharedFitter& f) {
+             return optionsToDict(exclusive(f, [&] { return FitOptions(f.options()); }));
+           })
+      .def("set_options", [](SharedFitter& f, const py::kwargs& kwargs) {
+             FitOptions options = exclusive(f, [&] { return FitOptions(f.options()); });
              applyOptions(options, kwargs);
-             f.setOptions(std::move(options));
+             exclusive(f, [&] { f.setOptions(std::move(options)); return 0; });
            }, "Changes the named options, e.g. set_options(tolerance=1e-3, max_level=6)")
-      .def_property_readonly("level", &SurfaceFitter::level)
-      .def_property_readonly("absolute_tolerance", &SurfaceFitter::absoluteTolerance)
-      .def("set_vertices", [](SurfaceFitter& f, const py::object& vertices) {
-             f.setVertices(rowsOf(vertices, "vertices", 3));
+      .def_property_readonly("level", [](const SharedFitter& f) { return exclusive(f, [&] { return f.level(); }); })
+      .def_property_readonly("absolute_tolerance",
+                             [](const SharedFitter& f) { return exclusive(f, [&] { return f.absoluteTolerance(); }); })
+      .def("set_vertices", [](SharedFitter& f, const py::object& vertices) {
+             const RowMatrixXd points = rowsOf(vertices, "vertices", 3);
+             exclusive(f, [&] { f.setVertices(points); return 0; });
            }, py::arg("vertices"), "Moves the control points (#V, 3); the topology stays")
-      .def("subdivide", [](SurfaceFitter& f) { released([&] { f.subdivide(); return 0; }); },
+      .def("subdivide", [](SharedFitter& f) { exclusive(f, [&] { f.subdivide(); return 0; }); },
            "Step 1: one Catmull-Clark level; crease and boundary features follow")
-      .def("compute_limit_samples", [](SurfaceFitter& f) {
-             return released([&] { return f.limitPositions(); });
+      .def("compute_limit_samples", [](SharedFitter& f) {
+             return exclusive(f, [&] { return f.limitPositions(); });
            }, "Step 2: (#S, 3) limit samples (vertices, edge midpoints, face centres of the mesh)")
-      .def("project", [](SurfaceFitter& f) {
-             return projectionToDict(released([&] { return f.project(); }));
+      .def("project", [](SharedFitter& f) {
+             return projectionToDict(exclusive(f, [&] { return f.project(); }));
            }, "Step 3: projections of the limit samples onto the target, by sample kind")
-      .def("approximate", [](SurfaceFitter& f) { released([&] { f.approximate(); return 0; }); },
+      .def("approximate", [](SharedFitter& f) { exclusive(f, [&] { f.approximate(); return 0; }); },
            "Step 4: least-squares control points for the last projections")
-      .def("correct_parameters", [](SurfaceFitter& f, int passes) {
-             released([&] { f.correctParameters(passes); return 0; });
+      .def("correct_parameters", [](SharedFitter& f, int passes) {
+             exclusive(f, [&] { f.correctParameters(passes); return 0; });
            }, py::arg("passes") = 1, "Steps 2-4 again at the same level")
-      .def("smooth", [](SurfaceFitter& f, int iterations, double lambda, double mu) {
+      .def("smooth", [](SharedFitter& f, int iterations, double lambda, double mu) {
              fit::TaubinOptions options;
              options.iterations = iterations;
              options.lambda = lambda;
              options.mu = mu;
-             released([&] { f.smooth(options); return 0; });
+             exclusive(f, [&] { f.smooth(options); return 0; });
            }, py::arg("iterations") = 10, py::arg("lambda_") = 0.6307, py::arg("mu") = -0.6732,
            "Taubin lambda|mu smoothing, crease-, corner-, boundary- and plane-aware")
-      .def("record", [](SurfaceFitter& f, bool check) {
-             return recordToDict(released([&] { return f.record(check); }));
+      .def("record", [](SharedFitter& f, bool check) {
+             return recordToDict(exclusive(f, [&] { return f.record(check); }));
            }, py::arg("check") = false,
            "Measures the current state (and, with check, the two-sided distance) into the history")
-      .def("two_sided_distance", [](const SurfaceFitter& f, int samplesPerFace) {
-             const fit::TwoSidedDistance d = released([&] { return f.twoSidedDistance(samplesPerFace); });
+      .def("two_sided_distance", [](const SharedFitter& f, int samplesPerFace) {
+             const fit::TwoSidedDistance d = exclusive(f, [&] { return f.twoSidedDistance(samplesPerFace); });
              return py::dict(py::arg("limit_to_target") = d.limitToTarget, py::arg("target_to_limit") = d.targetToLimit,
                              py::arg("limit_to_target_at") = d.limitToTargetAt,
                              py::arg("target_to_limit_at") = d.targetToLimitAt);
            }, py::arg("samples_per_face") = 4)
-      .def_property_readonly("history", [](const SurfaceFitter& f) { return historyToList(f.history()); })
-      .def("run", [](SurfaceFitter& f, const py::object& progress, const py::object& cancel, const py::kwargs& kwargs) {
+      .def_property_readonly("history", [](const SharedFitter& f) {
+             return historyToList(exclusive(f, [&] { return f.history(); }));
+           })
+      .def("run", [](SharedFitter& f, const py::object& progress, const py::object& cancel, const py::kwargs& kwargs) {
              if (kwargs.size() > 0) {
-               FitOptions options = f.options();
+               FitOptions options = exclusive(f, [&] { return FitOptions(f.options()); });
                applyOptions(options, kwargs);
-               f.setOptions(std::move(options));
+               exclusive(f, [&] { f.setOptions(std::move(options)); return 0; });
              }
              std::atomic<bool> stop(cancelRequested(cancel));
              const fit::ProgressCallback report = [&](const fit::PassRecord& record) {
@@ -261,7 +281,7 @@ void bindFit(py::module_& module) {
                if (!progress.is_none()) progress(recordToDict(record));
                if (cancelRequested(cancel)) stop = true;
              };
-             const fit::FitSummary summary = released([&] { return f.run(report, &stop); });
+             const fit::FitSummary summary = exclusive(f, [&] { return f.run(report, &stop); });
              py::dict result;
              result["reason"] = fit::stopReasonName(summary.reason);
              result["tolerance"] = summary.tolerance;
@@ -271,7 +291,8 @@ void bindFit(py::module_& module) {
            "Fits to the tolerance: progress(record) is called after every pass; cancel (a callable\n"
            "returning True, or a threading.Event) stops after the current step. Keyword options\n"
            "override the fitter's (as set_options). Returns {reason: 'converged' | 'stagnated' |\n"
-           "'max_level' | 'cancelled', tolerance, history: [records]}.");
+           "'max_level' | 'cancelled', tolerance, history: [records]}. One fitter may be used from several\n"
+           "threads: its calls run one after the other.");
 }
 
 }  // namespace bvmesh::python

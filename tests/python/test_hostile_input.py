@@ -6,8 +6,11 @@ import os
 import subprocess
 import sys
 import tempfile
+import threading
 import time
 import unittest
+
+import numpy as np
 
 import FreeCAD  # noqa: F401  -- Part needs it loaded first
 import Part
@@ -116,6 +119,69 @@ class CorruptBrepText(unittest.TestCase):
     def test_limits_are_checked(self):
         with self.assertRaisesRegex(ValueError, "limits"):
             _core.read_cad_file_as_brep(WING, seconds=-1.0)
+
+
+A = 1.0 / np.sqrt(3.0)
+CUBE_VERTICES = A * np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
+                              [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], dtype=float)
+CUBE_FACES = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]
+
+
+class SharedObjectsUnderThreads(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.target = bvmesh.Target.from_brep(Part.makeSphere(1.0).exportBrepToString())
+
+    def test_one_fitter_from_three_threads(self):
+        # run() in two threads and set_options / level / mesh in a third: segfaulted or gave
+        # garbage ("expected 0 x 3 control points, got 642 x 3") before; now the calls take turns.
+        for _ in range(3):
+            fitter = bvmesh.SurfaceFitter(self.target, bvmesh.ControlMesh(CUBE_VERTICES, CUBE_FACES), max_level=3,
+                                          tolerance=1e-9)
+            errors = []
+
+            def guarded(work):
+                def call():
+                    try:
+                        work()
+                    except Exception as error:  # noqa: BLE001 -- any error is the failure reported below
+                        errors.append(repr(error))
+                return call
+
+            def fiddle():
+                for i in range(100):
+                    fitter.set_options(max_corrections=2 + i % 3)
+                    self.assertGreaterEqual(fitter.level, 0)
+                    fitter.mesh
+            threads = [threading.Thread(target=guarded(fitter.run)) for _ in range(2)]
+            threads.append(threading.Thread(target=guarded(fiddle)))
+            for thread in threads:
+                thread.start()
+            for thread in threads:
+                thread.join(timeout=300)
+            self.assertEqual(errors, [])
+            self.assertEqual(fitter.level, 3)
+
+    def test_mesh_is_a_copy(self):
+        fitter = bvmesh.SurfaceFitter(self.target, bvmesh.ControlMesh(CUBE_VERTICES, CUBE_FACES), max_level=1)
+        self.assertIsNot(fitter.mesh, fitter.mesh)
+
+    def test_threads_that_cannot_be_created_are_done_without(self):
+        # 2000 threads asked, address space for a few dozen: the projection runs on those it gets
+        # (std::terminate before).
+        code = """
+import resource, numpy as np, FreeCAD, Part, bvmesh
+target = bvmesh.Target.from_brep(Part.makeSphere(1.0).exportBrepToString(), threads=2000)
+points = np.random.default_rng(1).normal(size=(128000, 3))
+size = [int(l.split()[1]) for l in open("/proc/self/status") if l.startswith("VmSize")][0] * 1024
+resource.setrlimit(resource.RLIMIT_AS, (size + 1500 * 2**20, resource.RLIM_INFINITY))
+result = target.project(points)
+assert np.allclose(np.asarray(result["distances"]), np.abs(np.linalg.norm(points, axis=1) - 1.0), atol=1e-9)
+print("projected", len(points))
+"""
+        result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
+        self.assertEqual(result.returncode, 0, result.stderr[-2000:])
+        self.assertIn("projected 128000", result.stdout)
 
 
 if __name__ == "__main__":

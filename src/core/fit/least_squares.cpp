@@ -5,13 +5,11 @@
 #include <Eigen/CholmodSupport>
 
 #include <array>
-#include <exception>
-#include <mutex>
-#include <thread>
 #include <cmath>
 #include <string>
 
 #include "core/common/errors.h"
+#include "core/common/parallel.h"
 
 namespace bvmesh::fit {
 namespace {
@@ -225,21 +223,9 @@ RowMatrixX3d ControlPointSolver::solve(const RowMatrixX3d& targets, const RowMat
   if (s.options.method == LeastSquaresMethod::Cgls) {
     // The three coordinates are independent problems: solve them at once (CHOLMOD's solve shares
     // its workspace, so the Cholesky path stays on one thread).
-    std::exception_ptr failure;
-    std::mutex failureMutex;
-    std::vector<std::thread> workers;
-    for (int axis = 0; axis < 3; ++axis) {
-      workers.emplace_back([&, axis] {
-        try {
-          solveAxis(axis);
-        } catch (...) {
-          const std::lock_guard<std::mutex> lock(failureMutex);
-          if (!failure) failure = std::current_exception();
-        }
-      });
-    }
-    for (std::thread& worker : workers) worker.join();
-    if (failure) std::rethrow_exception(failure);
+    parallelChunks(3, 1, [&](std::int64_t begin, std::int64_t end) {
+      for (std::int64_t axis = begin; axis < end; ++axis) solveAxis(static_cast<int>(axis));
+    }, 3);
   } else {
     for (int axis = 0; axis < 3; ++axis) solveAxis(axis);
   }

@@ -11,9 +11,9 @@
 #include <algorithm>
 #include <atomic>
 #include <string>
-#include <thread>
 
 #include "core/common/errors.h"
+#include "core/common/parallel.h"
 #include "core/subdiv/osd_refiner.h"
 
 namespace bvmesh {
@@ -138,14 +138,9 @@ LimitEvaluation LimitEvaluator::evaluate(const RowMatrixX3d& controlPoints,
       result.normals.row(q) = length > 0.0 ? Eigen::RowVector3d(n / length) : Eigen::RowVector3d::Zero();
     }
   };
-  const Eigen::Index threadCount =
-      count < 20000 ? 1 : std::max<Eigen::Index>(1, static_cast<Eigen::Index>(std::thread::hardware_concurrency()));
-  const Eigen::Index chunk = (count + threadCount - 1) / threadCount;
-  std::vector<std::thread> threads;
-  for (Eigen::Index t = 1; t < threadCount; ++t)
-    threads.emplace_back(evaluateRange, std::min(count, t * chunk), std::min(count, (t + 1) * chunk));
-  evaluateRange(0, std::min(count, chunk));
-  for (std::thread& thread : threads) thread.join();
+  // Small batches on the calling thread alone: starting threads would cost more than they save.
+  parallelChunks(count, count < 20000 ? count : 4096,
+                 [&](std::int64_t begin, std::int64_t end) { evaluateRange(begin, end); });
   if (missing >= 0) {
     throw SolverError("location " + std::to_string(missing.load()) + ": OpenSubdiv has no patch at ptex face " +
                       std::to_string(locations[static_cast<size_t>(missing.load())].face));

@@ -19,14 +19,11 @@
 #include <Eigen/Dense>
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
-#include <exception>
 #include <functional>
-#include <mutex>
-#include <thread>
 
 #include "core/common/errors.h"
+#include "core/common/parallel.h"
 #include "core/target/target.h"
 #include "core/target/target_data.h"
 
@@ -716,30 +713,12 @@ void parallelFor(const Target::Data& data, const Eigen::Ref<const Points>& point
   for (Eigen::Index i = 0; i < count; ++i)
     order[static_cast<std::size_t>(i)] = {mortonKey((points.row(i).transpose() - lo).cwiseQuotient(extent)), i};
   std::sort(order.begin(), order.end());
-  const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
-  const Eigen::Index wanted = data.options.threads > 0 ? data.options.threads : static_cast<Eigen::Index>(hardware);
-  const Eigen::Index threads = std::max<Eigen::Index>(1, std::min(wanted, (count + kChunk - 1) / kChunk));
-  std::atomic<Eigen::Index> next{0};
-  std::exception_ptr error;
-  std::mutex errorMutex;
-  auto worker = [&] {
-    try {
-      std::unique_ptr<ThreadContext> context = data.acquireContext();
-      for (Eigen::Index begin = next.fetch_add(kChunk); begin < count; begin = next.fetch_add(kChunk))
-        for (Eigen::Index k = begin; k < std::min(count, begin + kChunk); ++k)
-          work(*context, order[static_cast<std::size_t>(k)].second);
-      data.releaseContext(std::move(context));
-    } catch (...) {
-      std::lock_guard<std::mutex> lock(errorMutex);
-      if (!error) error = std::current_exception();
-      next = count;
-    }
-  };
-  std::vector<std::thread> pool;
-  for (Eigen::Index t = 1; t < threads; ++t) pool.emplace_back(worker);
-  worker();
-  for (std::thread& thread : pool) thread.join();
-  if (error) std::rethrow_exception(error);
+  // parallelChunks takes fewer threads when the system refuses more (resource limits).
+  parallelChunks(count, kChunk, [&](std::int64_t begin, std::int64_t end) {
+    std::unique_ptr<ThreadContext> context = data.acquireContext();
+    for (Eigen::Index k = begin; k < end; ++k) work(*context, order[static_cast<std::size_t>(k)].second);
+    data.releaseContext(std::move(context));
+  }, static_cast<unsigned>(std::max(0, data.options.threads)));
 }
 
 void checkPoints(const char* function, const Eigen::Ref<const Points>& points) {
