@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -35,11 +36,76 @@ inline RowMatrixXd rowsOf(const pybind11::object& object, const char* name, pybi
   return Eigen::Map<const RowMatrixXd>(array.data(), array.shape(0), columns);
 }
 
-// A 1-D sequence of integers, copied.
+// A 1-D sequence of integer ids, copied. Only integer data is taken (Python ints, numpy integer
+// arrays and scalars); floats, strings and bools are refused rather than truncated or parsed, and
+// values outside the core's 32-bit ids are an error naming the argument, never wrapped.
 inline std::vector<int> intsOf(const pybind11::object& object, const char* name) {
-  const IntArray array = IntArray::ensure(object);
+  const pybind11::array array = pybind11::array::ensure(object);
   if (!array || array.ndim() != 1) throw pybind11::value_error(std::string(name) + " must be a 1-D sequence of integers");
-  return std::vector<int>(array.data(), array.data() + array.size());
+  if (array.size() == 0) return {};
+  const char kind = array.dtype().kind();
+  if (kind != 'i' && kind != 'u') {
+    throw pybind11::value_error(std::string(name) + " must be integers, got values of numpy type " +
+                                std::string(pybind11::str(array.dtype())));
+  }
+  std::vector<int> result(static_cast<size_t>(array.size()));
+  auto take = [&](const auto& values) {
+    for (pybind11::ssize_t k = 0; k < array.size(); ++k) {
+      const auto value = values.data()[k];
+      if (value > 0x7fffffff || (value < 0 && static_cast<long long>(value) < -0x7fffffffLL - 1)) {
+        throw pybind11::value_error(std::string(name) + "[" + std::to_string(k) + "] = " + std::to_string(value) +
+                                    " does not fit the core's 32-bit ids");
+      }
+      result[static_cast<size_t>(k)] = static_cast<int>(value);
+    }
+  };
+  if (kind == 'u' && array.itemsize() == 8) {
+    take(pybind11::array_t<unsigned long long, pybind11::array::c_style | pybind11::array::forcecast>::ensure(array));
+  } else {
+    take(pybind11::array_t<long long, pybind11::array::c_style | pybind11::array::forcecast>::ensure(array));
+  }
+  return result;
+}
+
+inline bool isNumpyScalar(const pybind11::handle& value, const char* type) {
+  return pybind11::isinstance(value, pybind11::module_::import("numpy").attr(type));
+}
+
+// An option that is a real number (Python int / float, numpy number), finite; bools and strings
+// are refused with the option's name.
+inline double realOption(const pybind11::handle& value, const char* name) {
+  const bool number = !pybind11::isinstance<pybind11::bool_>(value) && !isNumpyScalar(value, "bool_") &&
+                      (pybind11::isinstance<pybind11::float_>(value) || pybind11::isinstance<pybind11::int_>(value) ||
+                       isNumpyScalar(value, "number"));
+  if (!number) {
+    throw pybind11::value_error(std::string(name) + " must be a number, got " + std::string(pybind11::repr(value)));
+  }
+  const double result = value.cast<double>();
+  if (!std::isfinite(result)) throw pybind11::value_error(std::string(name) + " must be finite, got " + std::to_string(result));
+  return result;
+}
+
+// An option that is an integer (Python int, numpy integer) in the 32-bit range; 2.5, '3' and True
+// are refused with the option's name.
+inline int integerOption(const pybind11::handle& value, const char* name) {
+  const bool integer = !pybind11::isinstance<pybind11::bool_>(value) &&
+                       (pybind11::isinstance<pybind11::int_>(value) || isNumpyScalar(value, "integer"));
+  if (!integer) {
+    throw pybind11::value_error(std::string(name) + " must be an integer, got " + std::string(pybind11::repr(value)));
+  }
+  const long long result = pybind11::int_(pybind11::reinterpret_borrow<pybind11::object>(value)).cast<long long>();
+  if (result < -0x7fffffffLL - 1 || result > 0x7fffffffLL) {
+    throw pybind11::value_error(std::string(name) + " = " + std::to_string(result) + " is out of range");
+  }
+  return static_cast<int>(result);
+}
+
+// An option that is True or False (a Python or numpy bool).
+inline bool flagOption(const pybind11::handle& value, const char* name) {
+  if (!pybind11::isinstance<pybind11::bool_>(value) && !isNumpyScalar(value, "bool_")) {
+    throw pybind11::value_error(std::string(name) + " must be True or False, got " + std::string(pybind11::repr(value)));
+  }
+  return value.cast<bool>();
 }
 
 // (n, 3) rows as a new numpy array.

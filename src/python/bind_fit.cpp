@@ -31,15 +31,15 @@ void applyOptions(FitOptions& options, const py::dict& kwargs) {
   for (const auto& [key, value] : kwargs) {
     const std::string name = py::str(key);
     if (name == "tolerance") {
-      options.tolerance = value.cast<double>();
+      options.tolerance = realOption(value, "tolerance");
     } else if (name == "relative_tolerance") {
-      options.relativeTolerance = value.cast<double>();
+      options.relativeTolerance = realOption(value, "relative_tolerance");
     } else if (name == "max_level") {
-      options.maxLevel = value.cast<int>();
+      options.maxLevel = integerOption(value, "max_level");
     } else if (name == "max_corrections") {
-      options.maxCorrections = value.cast<int>();
+      options.maxCorrections = integerOption(value, "max_corrections");
     } else if (name == "stagnation_ratio") {
-      options.stagnationRatio = value.cast<double>();
+      options.stagnationRatio = realOption(value, "stagnation_ratio");
     } else if (name == "solver") {
       const std::string solver = py::str(value);
       if (solver == "cholesky") {
@@ -50,9 +50,9 @@ void applyOptions(FitOptions& options, const py::dict& kwargs) {
         throw py::value_error("solver must be 'cholesky' or 'cgls', got '" + solver + "'");
       }
     } else if (name == "cgls_tolerance") {
-      options.solver.cglsTolerance = value.cast<double>();
+      options.solver.cglsTolerance = realOption(value, "cgls_tolerance");
     } else if (name == "cgls_max_iterations") {
-      options.solver.cglsMaxIterations = value.cast<int>();
+      options.solver.cglsMaxIterations = integerOption(value, "cgls_max_iterations");
     } else if (name == "weights") {
       for (const auto& [kind, weight] : value.cast<py::dict>()) {
         const std::string k = py::str(kind);
@@ -61,7 +61,7 @@ void applyOptions(FitOptions& options, const py::dict& kwargs) {
                        : k == "boundary" ? options.weights.boundary
                        : k == "corner" ? options.weights.corner
                        : throw py::value_error("unknown weight '" + k + "'; known: smooth, crease, boundary, corner");
-        slot = weight.cast<double>();
+        slot = realOption(weight, "weights");
       }
     } else if (name == "fixed_vertices") {
       options.fixedVertices = intsOf(py::reinterpret_borrow<py::object>(value), "fixed_vertices");
@@ -75,13 +75,13 @@ void applyOptions(FitOptions& options, const py::dict& kwargs) {
                                                    vector3Of(plane[1], "symmetry_plane normal")};
       }
     } else if (name == "relative_plane_tolerance") {
-      options.relativePlaneTolerance = value.cast<double>();
+      options.relativePlaneTolerance = realOption(value, "relative_plane_tolerance");
     } else if (name == "project_along_normals") {
-      options.projectAlongNormals = value.cast<bool>();
+      options.projectAlongNormals = flagOption(value, "project_along_normals");
     } else if (name == "reject_opposing_feet") {
-      options.rejectOpposingFeet = value.cast<bool>();
+      options.rejectOpposingFeet = flagOption(value, "reject_opposing_feet");
     } else if (name == "check_samples_per_face") {
-      options.checkSamplesPerFace = value.cast<int>();
+      options.checkSamplesPerFace = integerOption(value, "check_samples_per_face");
     } else if (name == "subdivision") {
       options.subdivision = value.cast<SubdivisionOptions>();
     } else {
@@ -143,8 +143,8 @@ py::list historyToList(const std::vector<fit::PassRecord>& history) {
 // True when `cancel` (None, a callable, or an object with is_set() such as threading.Event) asks to stop.
 bool cancelRequested(const py::object& cancel) {
   if (cancel.is_none()) return false;
-  if (py::hasattr(cancel, "is_set")) return cancel.attr("is_set")().cast<bool>();
-  return cancel().cast<bool>();
+  if (py::hasattr(cancel, "is_set")) return flagOption(cancel.attr("is_set")(), "cancel.is_set()");
+  return flagOption(cancel(), "the result of cancel()");
 }
 
 // A SurfaceFitter shared by Python threads: every call takes the fitter's lock, waiting with the

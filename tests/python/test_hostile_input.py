@@ -167,8 +167,8 @@ class SharedObjectsUnderThreads(unittest.TestCase):
         self.assertIsNot(fitter.mesh, fitter.mesh)
 
     def test_threads_that_cannot_be_created_are_done_without(self):
-        # 2000 threads asked, address space for a few dozen: the projection runs on those it gets
-        # (std::terminate before).
+        # 2000 threads asked under an address-space limit (std::terminate before): the pools start
+        # at most 4 per core, and a thread the system still refuses is done without.
         code = """
 import resource, numpy as np, FreeCAD, Part, bvmesh
 target = bvmesh.Target.from_brep(Part.makeSphere(1.0).exportBrepToString(), threads=2000)
@@ -182,6 +182,55 @@ print("projected", len(points))
         result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, timeout=300)
         self.assertEqual(result.returncode, 0, result.stderr[-2000:])
         self.assertIn("projected 128000", result.stdout)
+
+
+class SizesIdsAndOptions(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.target = bvmesh.Target.from_brep(Part.makeSphere(1.0).exportBrepToString())
+
+    def fitter(self, **options):
+        return bvmesh.SurfaceFitter(self.target, bvmesh.ControlMesh(CUBE_VERTICES, CUBE_FACES), **options)
+
+    def test_face_sizes_that_overflow_are_refused_before_any_index_is_read(self):
+        with self.assertRaisesRegex(ValueError, "add up to 2147483647, but only 2 face vertex indices"):
+            bvmesh.ControlMesh(CUBE_VERTICES[:4], ([2**31 - 1, 2**31 - 1, 4], [0, 1]))
+
+    def test_ids_are_integers_in_range(self):
+        for ids, message in (([2**32 + 1], "does not fit the core's 32-bit ids"), ([0.9], "must be integers"),
+                             (["3"], "must be integers")):
+            with self.assertRaisesRegex(ValueError, message):
+                bvmesh.ControlMesh(CUBE_VERTICES, [ids + [1, 2]])
+        mesh = bvmesh.ControlMesh(CUBE_VERTICES, [np.array(f, dtype=np.uint64) for f in CUBE_FACES])
+        self.assertEqual(mesh.face_count if hasattr(mesh, "face_count") else len(mesh.face_sizes), 6)
+
+    def test_a_huge_polygon_validates_in_linear_log_time(self):
+        count = 300000
+        angle = np.linspace(0.0, 2.0 * np.pi, count, endpoint=False)
+        ring = np.column_stack([np.cos(angle), np.sin(angle), np.zeros(count)])
+        start = time.time()
+        bvmesh.ControlMesh(ring, [list(range(count))])
+        repeated = list(range(count))
+        repeated[-1] = 5
+        with self.assertRaisesRegex(ValueError, "face 0 repeats vertex 5"):
+            bvmesh.ControlMesh(ring, [repeated])
+        self.assertLess(time.time() - start, 5.0)  # was 21 s for the first alone
+
+    def test_every_option_is_type_and_range_checked(self):
+        for options, message in ((dict(tolerance="0.1"), "tolerance must be a number"),
+                                 (dict(max_level=2.5), "max_level must be an integer"),
+                                 (dict(max_level=True), "max_level must be an integer"),
+                                 (dict(cgls_tolerance=float("nan")), "cgls_tolerance must be finite"),
+                                 (dict(check_samples_per_face=46340), "check_samples_per_face must be 0 .. 64"),
+                                 (dict(fixed_vertices=[0, 99]), "fixed_vertices names vertex 99"),
+                                 (dict(max_level=11), "max_level must be 0 .. 10"),
+                                 (dict(project_along_normals=1), "project_along_normals must be True or False")):
+            with self.assertRaisesRegex(ValueError, message):
+                self.fitter(**options)
+        self.assertEqual(self.fitter(max_level=np.int64(2)).options["max_level"], 2)
+        fitter = self.fitter(max_level=1)
+        with self.assertRaisesRegex(ValueError, "the result of cancel\\(\\) must be True or False"):
+            fitter.run(cancel=lambda: "yes")
 
 
 if __name__ == "__main__":

@@ -15,14 +15,15 @@
 namespace bvmesh {
 
 // Calls work(begin, end) for consecutive ranges covering [0, count), at most `chunk` long, on up
-// to `threads` threads (0: the hardware's).
+// to `threads` threads (0: the hardware's; never more than 4 per hardware thread).
 template <class Work>
 void parallelChunks(std::int64_t count, std::int64_t chunk, Work&& work, unsigned threads = 0) {
   if (count <= 0) return;
   chunk = std::max<std::int64_t>(1, chunk);
   const std::int64_t chunks = (count + chunk - 1) / chunk;
+  // More threads than a few per core only cost memory (each has a stack): at most 4 per core.
   const unsigned hardware = std::max(1u, std::thread::hardware_concurrency());
-  const auto wanted = static_cast<std::int64_t>(threads > 0 ? threads : hardware);
+  const auto wanted = static_cast<std::int64_t>(threads > 0 ? std::min(threads, 4 * hardware) : hardware);
   const std::int64_t threadCount = std::max<std::int64_t>(1, std::min(wanted, chunks));
   std::atomic<std::int64_t> next{0};
   std::exception_ptr failure;

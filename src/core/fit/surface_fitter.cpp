@@ -414,18 +414,52 @@ struct SurfaceFitter::State {
 
 namespace {
 
-void checkOptions(const FitOptions& options) {
-  if (options.maxLevel < 0 || options.maxCorrections < 0) {
-    throw InvalidInputError("maxLevel and maxCorrections must not be negative");
+// Every option in its range, NaN included, so a bad value is named here and not met later as
+// an unrelated failure (a NaN CGLS tolerance used to read as a degenerate face).
+void checkOptions(const FitOptions& options, int vertexCount) {
+  auto finiteAtLeast = [](double value, double lowest, const char* name) {
+    if (!std::isfinite(value) || value < lowest) {
+      throw InvalidInputError(std::string(name) + " must be a finite number >= " + std::to_string(lowest) + ", got " +
+                              std::to_string(value));
+    }
+  };
+  if (options.maxLevel < 0 || options.maxLevel > 10) {
+    throw InvalidInputError("max_level must be 0 .. 10 (each level has 4 times the faces), got " +
+                            std::to_string(options.maxLevel));
   }
-  if (!(options.tolerance >= 0.0) || !(options.relativeTolerance >= 0.0) ||
-      (options.tolerance == 0.0 && options.relativeTolerance == 0.0)) {
+  if (options.maxCorrections < 0 || options.maxCorrections > 100) {
+    throw InvalidInputError("max_corrections must be 0 .. 100, got " + std::to_string(options.maxCorrections));
+  }
+  finiteAtLeast(options.tolerance, 0.0, "tolerance");
+  finiteAtLeast(options.relativeTolerance, 0.0, "relative_tolerance");
+  if (options.tolerance == 0.0 && options.relativeTolerance == 0.0) {
     throw InvalidInputError("the fitting tolerance must be positive (absolute or relative)");
   }
-  if (!(options.stagnationRatio > 0.0)) throw InvalidInputError("the stagnation ratio must be positive");
-  if (options.checkSamplesPerFace < 0) throw InvalidInputError("checkSamplesPerFace must not be negative");
+  finiteAtLeast(options.stagnationRatio, 0.0, "stagnation_ratio");
+  if (!(options.stagnationRatio > 0.0)) throw InvalidInputError("stagnation_ratio must be positive");
+  finiteAtLeast(options.solver.cglsTolerance, 0.0, "cgls_tolerance");
+  if (!(options.solver.cglsTolerance > 0.0)) throw InvalidInputError("cgls_tolerance must be positive");
+  if (options.solver.cglsMaxIterations < 1) throw InvalidInputError("cgls_max_iterations must be at least 1");
+  for (const auto& [weight, name] : {std::pair{options.weights.smooth, "weights['smooth']"},
+                                     std::pair{options.weights.crease, "weights['crease']"},
+                                     std::pair{options.weights.boundary, "weights['boundary']"},
+                                     std::pair{options.weights.corner, "weights['corner']"}}) {
+    finiteAtLeast(weight, 0.0, name);
+  }
+  finiteAtLeast(options.relativePlaneTolerance, 0.0, "relative_plane_tolerance");
+  if (options.checkSamplesPerFace < 0 || options.checkSamplesPerFace > 64) {
+    throw InvalidInputError("check_samples_per_face must be 0 .. 64 (samples per face side), got " +
+                            std::to_string(options.checkSamplesPerFace));
+  }
+  for (int v : options.fixedVertices) {
+    if (v < 0 || v >= vertexCount) {
+      throw InvalidInputError("fixed_vertices names vertex " + std::to_string(v) + ", but the control mesh has " +
+                              std::to_string(vertexCount) + " vertices");
+    }
+  }
   if (options.symmetryPlane &&
-      (!(options.symmetryPlane->normal.norm() > 0.0) || !options.symmetryPlane->point.allFinite())) {
+      (!(options.symmetryPlane->normal.norm() > 0.0) || !options.symmetryPlane->point.allFinite() ||
+       !options.symmetryPlane->normal.allFinite())) {
     throw InvalidInputError("the symmetry plane needs a finite point and a non-zero normal");
   }
 }
@@ -439,15 +473,15 @@ double absoluteToleranceOf(const FitOptions& options, const target::Target& targ
 SurfaceFitter::SurfaceFitter(std::shared_ptr<const target::Target> target, ControlMesh mesh, FeatureMap features,
                              FitOptions options) {
   if (!target) throw InvalidInputError("the surface fitter needs a target");
-  checkOptions(options);
+  checkOptions(options, mesh.numVertices());
   checkFeatureMap(features, mesh, *target);
   state_ = std::make_unique<State>(std::move(target), std::move(mesh), std::move(features), std::move(options));
   state_->tolerance = absoluteToleranceOf(state_->options, *state_->target);
 }
 
 void SurfaceFitter::setOptions(FitOptions options) {
-  checkOptions(options);
   State& s = *state_;
+  checkOptions(options, s.mesh.numVertices());
   s.options = std::move(options);
   s.tolerance = absoluteToleranceOf(s.options, *s.target);
   // Same topology, so the last projections still warm-start the next ones.

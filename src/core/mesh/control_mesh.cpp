@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <string>
 #include <utility>
@@ -59,20 +60,33 @@ ControlMesh::ControlMesh(RowMatrixX3d vertices, std::vector<int> faceSizes,
     }
   }
   if (faceSizes_.empty()) throw InvalidInputError("the control mesh has no faces");
+  if (faceSizes_.size() > static_cast<size_t>(std::numeric_limits<int>::max()) ||
+      faceIndices_.size() > static_cast<size_t>(std::numeric_limits<int>::max())) {
+    throw InvalidInputError("the control mesh has more faces or face corners than the core's 32-bit ids can number");
+  }
+  // Offsets summed in 64 bits and checked against the indices given before any index is read.
   faceOffsets_.assign(faceSizes_.size() + 1, 0);
+  long long offset = 0;
   for (int f = 0; f < numFaces(); ++f) {
     if (faceSizes_[at(f)] < 3) {
       throw InvalidInputError("face " + std::to_string(f) + " has " +
                               std::to_string(faceSizes_[at(f)]) +
                               " vertices (a face needs at least 3)");
     }
-    faceOffsets_[at(f) + 1] = faceOffsets_[at(f)] + faceSizes_[at(f)];
+    offset += faceSizes_[at(f)];
+    if (offset > static_cast<long long>(faceIndices_.size())) {
+      throw InvalidInputError("the face sizes of faces 0.." + std::to_string(f) + " already add up to " +
+                              std::to_string(offset) + ", but only " + std::to_string(faceIndices_.size()) +
+                              " face vertex indices were given");
+    }
+    faceOffsets_[at(f) + 1] = static_cast<int>(offset);
   }
   if (at(faceOffsets_.back()) != faceIndices_.size()) {
     throw InvalidInputError("the face sizes add up to " + std::to_string(faceOffsets_.back()) +
                             " but " + std::to_string(faceIndices_.size()) +
                             " face vertex indices were given");
   }
+  std::vector<int> sorted;
   for (int f = 0; f < numFaces(); ++f) {
     for (int i = 0; i < faceSize(f); ++i) {
       const int v = faceVertex(f, i);
@@ -81,11 +95,16 @@ ControlMesh::ControlMesh(RowMatrixX3d vertices, std::vector<int> faceSizes,
                                 std::to_string(v) + ", but the mesh has " +
                                 std::to_string(numVertices()) + " vertices");
       }
-      for (int j = 0; j < i; ++j) {
-        if (faceVertex(f, j) == v) {
-          throw TopologyError("face " + std::to_string(f) + " repeats vertex " + std::to_string(v));
-        }
-      }
+    }
+    // Repeated vertices: pairwise for small faces, by sorting for large polygons (linear-log).
+    const int n = faceSize(f);
+    sorted.assign(faceIndices_.begin() + faceOffsets_[at(f)], faceIndices_.begin() + faceOffsets_[at(f) + 1]);
+    if (n > 16) std::sort(sorted.begin(), sorted.end());
+    for (int i = 1; i < n; ++i) {
+      const int v = sorted[static_cast<size_t>(i)];
+      const bool repeated = n > 16 ? sorted[static_cast<size_t>(i - 1)] == v
+                                   : std::find(sorted.begin(), sorted.begin() + i, v) != sorted.begin() + i;
+      if (repeated) throw TopologyError("face " + std::to_string(f) + " repeats vertex " + std::to_string(v));
     }
   }
   buildConnectivity();
