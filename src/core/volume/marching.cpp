@@ -236,12 +236,12 @@ class Marcher {
     return {worst, where};
   }
 
-  // Direction smoothing, at the marked points only when `only` is given.
-  void smoothDirections(RowMatrixX3d& directions, int iterations, const std::vector<char>& only = {}) const {
+  // Direction smoothing at the marked points (the local repair of poor cells).
+  void smoothDirections(RowMatrixX3d& directions, int iterations, const std::vector<char>& only) const {
     for (int it = 0; it < iterations; ++it) {
       RowMatrixX3d next = directions;
       for (Eigen::Index p = 0; p < directions.rows(); ++p) {
-        if (!only.empty() && only[static_cast<size_t>(p)] == 0) continue;
+        if (only[static_cast<size_t>(p)] == 0) continue;
         const auto& near = neighbours_[static_cast<size_t>(p)];
         Vector3d mean = Vector3d::Zero();
         for (int q : near) mean += directions.row(q).transpose();
