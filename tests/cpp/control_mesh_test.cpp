@@ -91,7 +91,7 @@ TEST(ControlMesh, RejectsBadValuesAndIndices) {
 
   d = cubeData();
   d.indices.pop_back();
-  expectError<InvalidInputError>([&] { fromData(d); }, "add up to 24 but 23");
+  expectError<InvalidInputError>([&] { fromData(d); }, "add up to 24, but only 23");
 
   d = cubeData();
   d.vertices.row(2) = d.vertices.row(3);  // face 0 gets a zero-length edge

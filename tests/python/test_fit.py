@@ -75,7 +75,7 @@ class FitterSteps(unittest.TestCase):
             self.fitter.set_vertices(np.zeros((8, 2)))
         with self.assertRaisesRegex(ValueError, "unknown feature-map key"):
             bvmesh.SurfaceFitter(sphere_target(), bvmesh.ControlMesh(CUBE_VERTICES, CUBE_FACES), {"curve": []})
-        with self.assertRaisesRegex(ValueError, "tolerance must be positive"):
+        with self.assertRaisesRegex(ValueError, "tolerance must be a finite number >= 0, got -1"):
             bvmesh.SurfaceFitter(sphere_target(), bvmesh.ControlMesh(CUBE_VERTICES, CUBE_FACES), tolerance=-1.0)
         far = bvmesh.ControlMesh(CUBE_VERTICES + 100.0, CUBE_FACES)
         with self.assertRaisesRegex(bvmesh.InvalidInputError, "far from the target"):

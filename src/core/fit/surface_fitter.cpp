@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <sstream>
 #include <string>
 #include <utility>
 
@@ -419,8 +420,9 @@ namespace {
 void checkOptions(const FitOptions& options, int vertexCount) {
   auto finiteAtLeast = [](double value, double lowest, const char* name) {
     if (!std::isfinite(value) || value < lowest) {
-      throw InvalidInputError(std::string(name) + " must be a finite number >= " + std::to_string(lowest) + ", got " +
-                              std::to_string(value));
+      std::ostringstream message;
+      message << name << " must be a finite number >= " << lowest << ", got " << value;
+      throw InvalidInputError(message.str());
     }
   };
   if (options.maxLevel < 0 || options.maxLevel > 10) {
