@@ -3,6 +3,9 @@
 // copies of the library.
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
+
+#include <filesystem>
 
 #include "bindings.h"
 #include "conversions.h"
@@ -91,14 +94,16 @@ void bindCad(py::module_& module) {
       "Faces, surface types, bounding box and classified edges of a shape given as BREP text.");
   module.def(
       "summarize_file",
-      [](const std::string& path, double sharpAngleDegrees) {
+      [](const std::filesystem::path& file, double sharpAngleDegrees) {
+        const std::string path = file.string();
         return summaryToDict(cad::summarizeShape(cad::readShapeFileSafely(path), summaryOptions(sharpAngleDegrees)));
       },
       py::arg("path"), py::arg("sharp_angle_degrees") = 30.0,
       "Like summarize_brep, for a STEP, IGES or BREP file.");
   module.def(
       "read_cad_file_as_brep",
-      [](const std::string& path, double seconds, double megabytes) {
+      [](const std::filesystem::path& file, double seconds, double megabytes) {
+        const std::string path = file.string();
         py::gil_scoped_release release;
         return cad::readShapeFileIsolated(path, cad::ReaderLimits{seconds, megabytes});
       },

@@ -2,8 +2,10 @@
 // quality, and the OpenFOAM polyMesh writer.
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
 #include <optional>
+#include <filesystem>
 #include <string>
 
 #include "arrays.h"
@@ -217,7 +219,8 @@ Returns a RefinedGrid.)doc");
 
   module.def(
       "write_cgns",
-      [](const StructuredGrid& g, const std::string& path, bool force) {
+      [](const StructuredGrid& g, const std::filesystem::path& file, bool force) {
+        const std::string path = file.string();
         py::gil_scoped_release release;
         requirePositive(g, force);
         io::writeCgns(g, path);
@@ -228,7 +231,8 @@ Returns a RefinedGrid.)doc");
 
   module.def(
       "write_plot3d",
-      [](const StructuredGrid& g, const std::string& path, const std::string& format, bool force) {
+      [](const StructuredGrid& g, const std::filesystem::path& file, const std::string& format, bool force) {
+        const std::string path = file.string();
         io::Plot3dFormat kind;
         if (format == "binary") kind = io::Plot3dFormat::Binary;
         else if (format == "ascii") kind = io::Plot3dFormat::Ascii;
@@ -242,7 +246,8 @@ Returns a RefinedGrid.)doc");
 
   module.def(
       "read_plot3d",
-      [](const std::string& path) {
+      [](const std::filesystem::path& file) {
+        const std::string path = file.string();
         std::vector<io::Plot3dBlock> blocks;
         {
           py::gil_scoped_release release;
@@ -256,7 +261,8 @@ Returns a RefinedGrid.)doc");
 
   module.def(
       "write_vtk",
-      [](const StructuredGrid& g, const std::string& path, const py::dict& cellFields, bool force) {
+      [](const StructuredGrid& g, const std::filesystem::path& file, const py::dict& cellFields, bool force) {
+        const std::string path = file.string();
         std::vector<io::CellField> fields = cellFieldsOf(g, cellFields);
         py::gil_scoped_release release;
         requirePositive(g, force);
@@ -268,7 +274,8 @@ Returns a RefinedGrid.)doc");
 
   module.def(
       "write_gismo",
-      [](const volume::BlockMesh& blocks, const std::string& path) {
+      [](const volume::BlockMesh& blocks, const std::filesystem::path& file) {
+        const std::string path = file.string();
         py::gil_scoped_release release;
         io::writeGismo(blocks, path);
       },

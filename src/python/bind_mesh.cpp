@@ -4,8 +4,10 @@
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
 #include <cmath>
+#include <filesystem>
 #include <string>
 
 #include "arrays.h"
@@ -275,7 +277,8 @@ void bindMesh(py::module_& module) {
           "Limit surface at (ptex face, u, v) (scalars or arrays): (positions, du, dv, normals),\n"
           "each (n, 3). Builds a LimitEvaluator each call; keep one for repeated use.")
       .def(
-          "write", [](const ControlMesh& m, const std::string& path) { writeControlMesh(m, path); },
+          "write", [](const ControlMesh& m, const std::filesystem::path& file) {
+        const std::string path = file.string(); writeControlMesh(m, path); },
           py::arg("path"), "Writes the text format, or OBJ with crease/corner tags for '.obj'")
       .def("__repr__", [](const ControlMesh& m) {
         return "<bvmesh.ControlMesh " + std::to_string(m.numVertices()) + " vertices, " +
@@ -408,13 +411,15 @@ void bindMesh(py::module_& module) {
           "(positions, du, dv, normals) at the locations for (#V, 3) control points");
 
   module.def(
-      "read_control_mesh", [](const std::string& path) { return readControlMesh(path); },
+      "read_control_mesh", [](const std::filesystem::path& file) {
+        const std::string path = file.string(); return readControlMesh(path); },
       py::arg("path"),
       "Reads a control mesh: OBJ (with OpenSubdiv crease/corner tags) for '.obj', else the text "
       "format");
   module.def(
       "write_control_mesh",
-      [](const ControlMesh& m, const std::string& path) { writeControlMesh(m, path); },
+      [](const ControlMesh& m, const std::filesystem::path& file) {
+        const std::string path = file.string(); writeControlMesh(m, path); },
       py::arg("mesh"), py::arg("path"));
 }
 

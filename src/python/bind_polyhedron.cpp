@@ -3,8 +3,10 @@
 // in, dicts and lists out; values are checked by the core (InvalidInputError -> ValueError).
 #include <pybind11/eigen.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
 #include <optional>
+#include <filesystem>
 #include <string>
 
 #include "bindings.h"
@@ -183,8 +185,9 @@ void bindPolyhedron(py::module_& module) {
 
   module.def(
       "place_template",
-      [](const std::string& path, const target::Target& target,
+      [](const std::filesystem::path& file, const target::Target& target,
          const std::map<std::string, std::string>& parameters, bool improve) {
+        const std::string path = file.string();
         const PolyhedronTemplate polyhedronTemplate = readTemplate(path);
         PlacementOptions options;
         options.parameters = parameters;

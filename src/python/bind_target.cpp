@@ -4,7 +4,9 @@
 #include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
+#include <filesystem>
 #include <string>
 
 #include "arrays.h"
@@ -121,8 +123,9 @@ void bindTarget(py::module_& module) {
           "diagonal; threads=0 uses every hardware thread.")
       .def_static(
           "from_file",
-          [](const std::string& path, double relativeDeflection, double sharpAngleDeg, double relativeTolerance,
+          [](const std::filesystem::path& file, double relativeDeflection, double sharpAngleDeg, double relativeTolerance,
              int threads) {
+        const std::string path = file.string();
             const TargetOptions options = makeOptions(relativeDeflection, sharpAngleDeg, relativeTolerance, threads);
             TopoDS_Shape shape;
             {

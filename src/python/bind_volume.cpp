@@ -2,7 +2,9 @@
 // B-spline blocks as numpy arrays, their evaluation, and the block file.
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
+#include <pybind11/stl/filesystem.h>
 
+#include <filesystem>
 #include <string>
 
 #include "arrays.h"
@@ -147,7 +149,8 @@ void bindVolume(py::module_& module) {
           "(corners 000 100 110 010 001 101 111 011), 'cell_block', 'boundary_faces' (#B, 4) and their "
           "'boundary_conditions'.")
       .def(
-          "write", [](const BlockMesh& mesh, const std::string& path) { volume::writeBlockMeshFile(mesh, path); },
+          "write", [](const BlockMesh& mesh, const std::filesystem::path& file) {
+        const std::string path = file.string(); volume::writeBlockMeshFile(mesh, path); },
           py::arg("path"), "Writes the block file (docs/volume.md).");
   module.def("read_block_mesh", &volume::readBlockMeshFile, py::arg("path"),
              "Reads a block file written by BlockMesh.write.");

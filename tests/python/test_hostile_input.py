@@ -74,9 +74,11 @@ class CorruptCadFiles(unittest.TestCase):
                 out.write(content)
             self.assertRefused(path)
 
-    def test_a_good_file_still_reads(self):
-        target = bvmesh.Target.from_file(WING)
-        self.assertEqual(target.face_count, 11)
+    def test_a_good_file_still_reads_from_a_string_or_a_path(self):
+        import pathlib
+
+        self.assertEqual(bvmesh.Target.from_file(WING).face_count, 11)
+        self.assertEqual(bvmesh.Target.from_file(pathlib.Path(WING)).face_count, 11)
 
     def test_command_line_names_the_problem(self):
         path = edited(HEMISPHERE, "#22 = VERTEX_POINT('',#23);", "#22 = VERTEX_POINT('',#99999);", self.folder.name)
