@@ -277,8 +277,7 @@ void bindMesh(py::module_& module) {
           "Limit surface at (ptex face, u, v) (scalars or arrays): (positions, du, dv, normals),\n"
           "each (n, 3). Builds a LimitEvaluator each call; keep one for repeated use.")
       .def(
-          "write", [](const ControlMesh& m, const std::filesystem::path& file) {
-        const std::string path = file.string(); writeControlMesh(m, path); },
+          "write", [](const ControlMesh& m, const std::filesystem::path& file) { writeControlMesh(m, file.string()); },
           py::arg("path"), "Writes the text format, or OBJ with crease/corner tags for '.obj'")
       .def("__repr__", [](const ControlMesh& m) {
         return "<bvmesh.ControlMesh " + std::to_string(m.numVertices()) + " vertices, " +
@@ -411,15 +410,13 @@ void bindMesh(py::module_& module) {
           "(positions, du, dv, normals) at the locations for (#V, 3) control points");
 
   module.def(
-      "read_control_mesh", [](const std::filesystem::path& file) {
-        const std::string path = file.string(); return readControlMesh(path); },
+      "read_control_mesh", [](const std::filesystem::path& file) { return readControlMesh(file.string()); },
       py::arg("path"),
       "Reads a control mesh: OBJ (with OpenSubdiv crease/corner tags) for '.obj', else the text "
       "format");
   module.def(
       "write_control_mesh",
-      [](const ControlMesh& m, const std::filesystem::path& file) {
-        const std::string path = file.string(); writeControlMesh(m, path); },
+      [](const ControlMesh& m, const std::filesystem::path& file) { writeControlMesh(m, file.string()); },
       py::arg("mesh"), py::arg("path"));
 }
 

@@ -64,9 +64,11 @@ py::dict projectReleased(Work&& work) {
 }
 
 // Building the index takes a while: without the GIL.
-std::shared_ptr<Target> buildTarget(const TopoDS_Shape& shape, const TargetOptions& options) {
+// The shape `read` gives (in a child process: slow, so without the GIL) made into a target.
+template <class Read>
+std::shared_ptr<Target> targetFrom(Read&& read, const TargetOptions& options) {
   py::gil_scoped_release release;
-  return std::make_shared<Target>(shape, options);
+  return std::make_shared<Target>(read(), options);
 }
 
 constexpr const char* kResultDoc = R"(
@@ -108,13 +110,8 @@ void bindTarget(py::module_& module) {
           "from_brep",
           [](const std::string& brep, double relativeDeflection, double sharpAngleDeg, double relativeTolerance,
              int threads) {
-            const TargetOptions options = makeOptions(relativeDeflection, sharpAngleDeg, relativeTolerance, threads);
-            TopoDS_Shape shape;
-            {
-              py::gil_scoped_release release;
-              shape = cad::readBrepStringSafely(brep);
-            }
-            return buildTarget(shape, options);
+            return targetFrom([&] { return cad::readBrepStringSafely(brep); },
+                              makeOptions(relativeDeflection, sharpAngleDeg, relativeTolerance, threads));
           },
           py::arg("brep"), py::arg("relative_deflection") = TargetOptions{}.relativeDeflection, py::arg("sharp_angle_deg") = TargetOptions{}.sharpAngleDeg,
           py::arg("relative_tolerance") = TargetOptions{}.relativeTolerance, py::arg("threads") = TargetOptions{}.threads,
@@ -125,14 +122,8 @@ void bindTarget(py::module_& module) {
           "from_file",
           [](const std::filesystem::path& file, double relativeDeflection, double sharpAngleDeg, double relativeTolerance,
              int threads) {
-        const std::string path = file.string();
-            const TargetOptions options = makeOptions(relativeDeflection, sharpAngleDeg, relativeTolerance, threads);
-            TopoDS_Shape shape;
-            {
-              py::gil_scoped_release release;
-              shape = cad::readShapeFileSafely(path);
-            }
-            return buildTarget(shape, options);
+            return targetFrom([&] { return cad::readShapeFileSafely(file.string()); },
+                              makeOptions(relativeDeflection, sharpAngleDeg, relativeTolerance, threads));
           },
           py::arg("path"), py::arg("relative_deflection") = TargetOptions{}.relativeDeflection, py::arg("sharp_angle_deg") = TargetOptions{}.sharpAngleDeg,
           py::arg("relative_tolerance") = TargetOptions{}.relativeTolerance, py::arg("threads") = TargetOptions{}.threads,

@@ -149,10 +149,10 @@ void bindVolume(py::module_& module) {
           "(corners 000 100 110 010 001 101 111 011), 'cell_block', 'boundary_faces' (#B, 4) and their "
           "'boundary_conditions'.")
       .def(
-          "write", [](const BlockMesh& mesh, const std::filesystem::path& file) {
-        const std::string path = file.string(); volume::writeBlockMeshFile(mesh, path); },
+          "write", [](const BlockMesh& mesh, const std::filesystem::path& file) { volume::writeBlockMeshFile(mesh, file.string()); },
           py::arg("path"), "Writes the block file (docs/volume.md).");
-  module.def("read_block_mesh", &volume::readBlockMeshFile, py::arg("path"),
+  module.def("read_block_mesh", [](const std::filesystem::path& file) { return volume::readBlockMeshFile(file.string()); },
+             py::arg("path"),
              "Reads a block file written by BlockMesh.write.");
 
   py::class_<volume::VolumeMesh>(module, "VolumeMesh", "A block mesh made by generate_volume_mesh, with its marching report.")

@@ -8,10 +8,14 @@
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
 
+#include <chrono>
 #include <fstream>
+#include <functional>
+#include <sstream>
 #include <string>
 
 #include "core/cad/bspline_face.h"
+#include "core/cad/isolated_reader.h"
 #include "core/cad/shape_io.h"
 #include "core/cad/shape_summary.h"
 #include "core/common/errors.h"
@@ -65,6 +69,50 @@ TEST(ShapeIo, BadInputGivesClearErrors) {
   const std::string unknown = std::string(BVMESH_TEST_OUTPUT_DIR) + "/shape.xyz";
   std::ofstream(unknown) << "1 2 3\n";
   EXPECT_THROW(readShapeFile(unknown), InvalidInputError);
+}
+
+// A copy of `path` with one text replaced, in the test output folder.
+std::string editedCopy(const std::string& path, const std::string& from, const std::string& to, const std::string& name) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string content = text.str();
+  content.replace(content.find(from), from.size(), to);
+  const std::string target = std::string(BVMESH_TEST_OUTPUT_DIR) + "/" + name;
+  std::ofstream(target) << content;
+  return target;
+}
+
+TEST(IsolatedReader, CorruptStepIsAnErrorNamingTheEntity) {
+  const std::string path = editedCopy(kDataDir + "/hemisph-cyl.stp", "#22 = VERTEX_POINT('',#23);",
+                                      "#22 = VERTEX_POINT('',#99999);", "dangling_reference.stp");
+  for (const auto& read : {std::function<void()>([&] { readShapeFileIsolated(path); }),
+                           std::function<void()>([&] { readShapeFile(path); })}) {
+    try {
+      read();
+      FAIL() << "a dangling STEP reference was accepted";
+    } catch (const InvalidInputError& error) {
+      const std::string message = error.what();
+      EXPECT_NE(message.find("dangling_reference.stp"), std::string::npos) << message;
+      EXPECT_NE(message.find("Unresolved Reference"), std::string::npos) << message;
+    }
+  }
+}
+
+TEST(IsolatedReader, GoodFileComesBackAsTheSameShape) {
+  const TopoDS_Shape shape = readShapeFileSafely(kWing);
+  EXPECT_EQ(summarizeShape(shape).faceCount(), 11);
+  EXPECT_EQ(summarizeShape(readBrepStringSafely(writeBrepString(shape))).faceCount(), 11);
+}
+
+TEST(IsolatedReader, LoopingParseIsStoppedAtItsLimit) {
+  // BREP text cut at 99 % makes OCCT's reader loop forever; the child is stopped, we carry on.
+  const std::string brep = writeBrepString(readShapeFile(kWing));
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_THROW(checkBrepStringIsolated(brep.substr(0, brep.size() * 99 / 100), ReaderLimits{2.0, 2048.0}),
+               InvalidInputError);
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 10.0);
+  EXPECT_THROW(checkBrepStringIsolated(brep, ReaderLimits{-1.0, 2048.0}), InvalidInputError);
 }
 
 TEST(ShapeSummary, BoxHasTwelveSharpEdges) {
