@@ -155,9 +155,12 @@ std::string outcome(const ChildResult& result, const std::string& what, const Re
 }
 
 void applyLimits(const ReaderLimits& limits) {
+#if !defined(__SANITIZE_ADDRESS__)
+  // (AddressSanitizer builds reserve terabytes of shadow address space: no address-space limit.)
   const auto bytes = static_cast<rlim_t>(limits.memoryMegabytes * 1048576.0);
   const rlimit memory{bytes, bytes};
   setrlimit(RLIMIT_AS, &memory);
+#endif
   const auto cpu = static_cast<rlim_t>(std::ceil(limits.seconds));
   const rlimit time{cpu, cpu + 1};
   setrlimit(RLIMIT_CPU, &time);
