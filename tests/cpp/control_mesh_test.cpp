@@ -74,6 +74,19 @@ TEST(ControlMesh, SetVerticesChecksShapeAndValues) {
   expectError<InvalidInputError>([&] { cube.setVertices(moved); }, "vertex 2");
 }
 
+TEST(ControlMesh, ValidAtAnyScaleADoubleHolds) {
+  // Cross products of raw coordinates overflow at 1e154 and underflow at 1e-160; the validation
+  // measures in units of the mesh's own extent.
+  for (double factor : {1e154, 1e-160, 1e-300, 1e300}) {
+    MeshData d = cubeData();
+    d.vertices *= factor;
+    d.vertices.col(0).array() += 3.0 * factor;  // away from the origin too
+    EXPECT_NO_THROW(fromData(d)) << factor;
+    d.vertices.row(2) = d.vertices.row(3);
+    expectError<InvalidInputError>([&] { fromData(d); }, "face 0 is degenerate");
+  }
+}
+
 TEST(ControlMesh, RejectsBadValuesAndIndices) {
   MeshData d = cubeData();
   d.vertices(5, 2) = std::numeric_limits<double>::infinity();

@@ -229,22 +229,28 @@ void ControlMesh::buildConnectivity() {
 }
 
 void ControlMesh::validateGeometry(const RowMatrixX3d& vertices) const {
-  // Tolerances relative to the size of the mesh, so that units do not matter.
-  const double scale = (vertices.colwise().maxCoeff() - vertices.colwise().minCoeff()).norm();
-  const double lengthTolerance = 1e-12 * scale;
+  // Measured in coordinates centred on the mesh and divided by its largest extent, so that
+  // neither units nor scale matter (a mesh at 1e154 or 1e-160 would overflow or underflow the
+  // cross products otherwise); tolerances are relative to that extent.
+  const Eigen::RowVector3d lo = vertices.colwise().minCoeff(), hi = vertices.colwise().maxCoeff();
+  const double extent = (hi - lo).lpNorm<Eigen::Infinity>();
+  const double scale = extent > 0.0 && std::isfinite(extent) ? extent : 1.0;
+  const Eigen::Vector3d centre = (0.5 * lo + 0.5 * hi).transpose();
+  const double lengthTolerance = 1e-12;
   for (int f = 0; f < numFaces(); ++f) {
     const int size = faceSize(f);
     Eigen::Vector3d areaVector = Eigen::Vector3d::Zero();
     for (int i = 0; i < size; ++i) {
       const int a = faceVertex(f, i), b = faceVertex(f, (i + 1) % size);
-      const Eigen::Vector3d pa = vertices.row(a).transpose(), pb = vertices.row(b).transpose();
+      const Eigen::Vector3d pa = (vertices.row(a).transpose() - centre) / scale;
+      const Eigen::Vector3d pb = (vertices.row(b).transpose() - centre) / scale;
       if ((pb - pa).norm() <= lengthTolerance) {
         throw InvalidInputError("face " + std::to_string(f) + " is degenerate: vertices " +
                                 std::to_string(a) + " and " + std::to_string(b) + " coincide");
       }
       areaVector += pa.cross(pb);
     }
-    if (0.5 * areaVector.norm() <= lengthTolerance * scale) {
+    if (0.5 * areaVector.norm() <= lengthTolerance) {
       throw InvalidInputError("face " + std::to_string(f) + " is degenerate: its area is zero");
     }
   }
