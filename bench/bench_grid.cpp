@@ -5,8 +5,6 @@
 // and the quality metrics, with time and the growth of the peak resident memory per cell.
 //
 //   build/bench/bench_grid [target_cells]   (default 1000000)
-#include <sys/resource.h>
-
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -23,19 +21,9 @@
 #include "core/io/vtk_writer.h"
 #include "core/quality/cell_quality.h"
 #include "core/volume/volume_blocks.h"
-#include "cube_wall.h"
+#include "bench_common.h"
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
-
-long peakKilobytes() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return usage.ru_maxrss;
-}
 
 // Runs `step`, prints its time and how far it raised the peak memory, per cell.
 void measure(const char* name, long long cells, const std::function<void()>& step) {

@@ -4,8 +4,6 @@
 // same run (the naive way: every point on its own, basis functions and 64-pole sums).
 //
 //   build/bench/bench_volume [points_per_block_direction]   (default 64)
-#include <sys/resource.h>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -13,22 +11,9 @@
 #include <vector>
 
 #include "core/volume/volume_blocks.h"
-#include "cube_wall.h"
-
-namespace {
+#include "bench_common.h"
 
 using bvmesh::RowMatrixX3d;
-using Clock = std::chrono::steady_clock;
-
-double seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
-
-long peakKilobytes() {
-  rusage usage{};
-  getrusage(RUSAGE_SELF, &usage);
-  return usage.ru_maxrss;
-}
-
-}  // namespace
 
 int main(int argc, char** argv) {
   const int perDirection = argc > 1 ? std::atoi(argv[1]) : 64;

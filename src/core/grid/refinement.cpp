@@ -203,16 +203,16 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
   }
 
   // Tangential point counts: per set, from the longest of its edges.
+  // The edges' arc-length tables, kept for their distributions below.
   std::vector<double> longestEdge(3 * blockCount, 0.0);
-  std::vector<std::array<std::array<double, 4>, 3>> edgeLength(blockCount);
+  std::vector<std::array<std::vector<ArcLength>, 3>> edgeArcs(blockCount);
   for (size_t b = 0; b < blockCount; ++b) {
     for (int d = 0; d < 3; ++d) {
       for (int e = 0; e < 4; ++e) {
-        const double length =
-            ArcLength(edgeCurve(blocks[b].volume, d, e), kIntervalsPerSpan).length();
-        edgeLength[b][static_cast<size_t>(d)][static_cast<size_t>(e)] = length;
+        const ArcLength& arc = edgeArcs[b][static_cast<size_t>(d)].emplace_back(edgeCurve(blocks[b].volume, d, e),
+                                                                                   kIntervalsPerSpan);
         const auto root = static_cast<size_t>(sets.find(static_cast<int>(3 * b) + d).first);
-        longestEdge[root] = std::max(longestEdge[root], length);
+        longestEdge[root] = std::max(longestEdge[root], arc.length());
       }
     }
   }
@@ -236,8 +236,8 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
     for (size_t b = 0; b < blockCount; ++b) {
       const int n = plans[b].normalDirection;
       if (n < 0) continue;
-      for (double length : edgeLength[b][static_cast<size_t>(n)]) {
-        normalPoints = std::max(normalPoints, geometricPointsNeeded(firstHeight, options.growth, length));
+      for (const ArcLength& arc : edgeArcs[b][static_cast<size_t>(n)]) {
+        normalPoints = std::max(normalPoints, geometricPointsNeeded(firstHeight, options.growth, arc.length()));
       }
     }
     normalPoints = std::max(normalPoints, 2);
@@ -271,7 +271,7 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
       if (d == plan.normalDirection) continue;
       const int points = plan.size[static_cast<size_t>(d)];
       for (int e = 0; e < 4; ++e) {
-        const ArcLength arc(edgeCurve(blocks[b].volume, d, e), kIntervalsPerSpan);
+        const ArcLength& arc = edgeArcs[b][static_cast<size_t>(d)][static_cast<size_t>(e)];
         if (!(arc.length() > 0.0)) {
           throw InvalidInputError(blockText(b) + " has an edge of zero length along " + "uvw"[d] +
                                   " (collapsed edges cannot be refined)");
@@ -294,7 +294,7 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
   // Wall-normal lines: per column the line along the normal direction through the tangential
   // parameters blended at the wall end; points at the wall law's distances along its arc length.
   std::vector<GridBlock> gridBlocks(blockCount);
-  std::vector<int> columnNormalPoints(blockCount, 0);
+  // Automatic: the edges' estimate served the cell target; the lines themselves decide.
   const bool automaticNormal = options.normalPoints == 0;
   if (automaticNormal) normalPoints = 2;
   struct Column {

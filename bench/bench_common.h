@@ -1,12 +1,26 @@
-// The wall the volume benchmarks grow their meshes around: the Catmull-Clark limit surface of a
-// cube refined `levels` times (6 * 4^levels quads).
+// What the volume benchmarks share: wall-clock seconds, the peak resident memory, and the wall
+// they grow their meshes around (the Catmull-Clark limit surface of a cube refined `levels`
+// times, 6 * 4^levels quads).
 #pragma once
 
+#include <sys/resource.h>
+
 #include <array>
+#include <chrono>
 #include <vector>
 
 #include "core/subdiv/subdivision.h"
 #include "core/surface/limit_points.h"
+
+using Clock = std::chrono::steady_clock;
+
+inline double seconds(Clock::time_point since) { return std::chrono::duration<double>(Clock::now() - since).count(); }
+
+inline long peakKilobytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return usage.ru_maxrss;
+}
 
 inline bvmesh::surface::QuadControlMesh refinedCube(int levels) {
   const std::vector<Eigen::Vector3d> points{{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
