@@ -148,7 +148,7 @@ def run_volume(fit, chord, files, log=print):
     log("volume mesh: {} blocks, {} control layers, far field {:.0f} ({:.1f} s)".format(
         vm.BlockCount, vm.ControlLayers, vm.FarfieldDistanceUsed, time.time() - stage))
     stage = time.time()
-    grid_object = api.make_volume_grid(vm, "euler", target_cells=TARGET_CELLS)
+    grid_object = api.make_volume_grid(vm, "euler", target_cells=TARGET_CELLS, show=("wall",))
     log("grid: euler, {} cells ({:.1f} s)".format(grid_object.CellCount, time.time() - stage))
     stage = time.time()
     quality = api.make_mesh_quality(grid_object, histogram_path=files["quality"])
@@ -208,24 +208,27 @@ def run(output_dir, max_level=5, relative_tolerance=1e-5, volume=True, log=print
         log("surface stage: {:.1f} s".format(time.time() - started))
         outcome = {"files": files, "stop_reason": fit.StopReason, "level": fit.Level,
                    "max_distance": fit.HistoryMax[-1], "chord": chord}
-        if volume:
-            files.update({
-                "cgns": os.path.join(output_dir, "M6.cgns"),
-                "openfoam": os.path.join(output_dir, "M6_openfoam"),
-                "volume_report": os.path.join(output_dir, "M6_volume_report.md"),
-                "cut": os.path.join(output_dir, "M6_cut_eta044.png"),
-                "quality": os.path.join(output_dir, "M6_quality.png"),
-            })
-            outcome.update(run_volume(fit, chord, files, log))
-            _show_final_objects(doc, outcome["grid"])
-        else:
-            _show_final_objects(doc, shell)
-        doc.saveAs(files["document"])
-        lines = _report_lines(fit, shell, chord, tolerance, seconds, files.values())
-        with open(files["report"], "w") as report:
-            report.write("\n".join(lines) + "\n")
-        for line in lines:
-            log(line)
+        try:
+            if volume:
+                files.update({
+                    "cgns": os.path.join(output_dir, "M6.cgns"),
+                    "openfoam": os.path.join(output_dir, "M6_openfoam"),
+                    "volume_report": os.path.join(output_dir, "M6_volume_report.md"),
+                    "cut": os.path.join(output_dir, "M6_cut_eta044.png"),
+                    "quality": os.path.join(output_dir, "M6_quality.png"),
+                })
+                outcome.update(run_volume(fit, chord, files, log))
+                _show_final_objects(doc, outcome["grid"])
+            else:
+                _show_final_objects(doc, shell)
+        finally:  # the surface stage's results are kept when the volume stage fails
+            doc.saveAs(files["document"])
+            lines = _report_lines(fit, shell, chord, tolerance, seconds,
+                                  [f for key, f in files.items() if key == "report" or os.path.exists(f)])
+            with open(files["report"], "w") as report:
+                report.write("\n".join(lines) + "\n")
+            for line in lines:
+                log(line)
         log("main job: {:.1f} s".format(time.time() - started))
         return outcome
     finally:
@@ -235,9 +238,9 @@ def run(output_dir, max_level=5, relative_tolerance=1e-5, volume=True, log=print
 def _show_final_objects(doc, final):
     """Only the last stage's object (and the cut plane) visible when the document is opened."""
     from bvmesh.features import grid_cut
-    from bvmesh.features.common import is_type
+    from bvmesh.features.common import VISIBLE_ON_OPEN, is_type
 
+    shown = [obj.Name for obj in doc.Objects if obj == final or is_type(obj, grid_cut.TYPE)]
     for obj in doc.Objects:
-        visible = obj == final or is_type(obj, grid_cut.TYPE)
-        if hasattr(obj, "Visibility"):
-            obj.Visibility = visible
+        obj.Visibility = obj.Name in shown
+    doc.Meta = dict(doc.Meta, **{VISIBLE_ON_OPEN: " ".join(shown)})

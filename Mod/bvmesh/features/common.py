@@ -5,6 +5,9 @@ computations run (in the GUI: a worker thread with progress and Cancel)."""
 
 import contextlib
 
+# Document.Meta key: names of the objects a document written headless shows when opened in the GUI.
+VISIBLE_ON_OPEN = "BVMesh_VisibleOnOpen"
+
 # Editor modes of FreeCAD's property editor.
 READ_ONLY = 1
 HIDDEN = 2
@@ -48,6 +51,11 @@ class Proxy:
             from bvmesh.gui import view_providers
 
             view_providers.attach(obj)
+            # A headless document has no view state (the GUI opens its objects hidden): show the
+            # ones its writer named.
+            shown = obj.Document.Meta.get(VISIBLE_ON_OPEN)
+            if shown is not None:
+                obj.ViewObject.Visibility = obj.Name in shown.split()
 
     def execute(self, obj):
         # FreeCAD only prints a failed recompute; keep the message for the API to raise.

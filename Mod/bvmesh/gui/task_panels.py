@@ -202,17 +202,28 @@ class _OptionsPanel(_Panel):
     def __init__(self, obj, source=None):
         self.obj, self.source = obj, source
         self.form = load_form(self.form_name)
-        f = self.form
         for prop, keyword, choices in self.combos:
-            widget = getattr(f, "combo" + prop)
+            widget = self.widget("combo", prop)
             widget.addItems(choices)
             widget.setCurrentIndex(choices.index(self.current(prop, choices[0])))
         for prop, _, _, default, _ in self.options:
-            getattr(f, "spin" + prop).setValue(self.current(prop, default))
+            self.widget("spin", prop, default).setValue(self.current(prop, default))
         for prop, _ in self.extra_spins:
-            getattr(f, "spin" + prop).setValue(self.current(prop, -1))
+            self.widget("spin", prop, -1).setValue(self.current(prop, -1))
         for prop, _, default in self.display:
-            getattr(f, "check" + prop).setChecked(self.current(prop, default))
+            self.widget("check", prop).setChecked(self.current(prop, default))
+
+    def widget(self, kind, prop, default=None):
+        """The form's widget for a property, looked up with its class (an attribute lookup can
+        come back as a plain QWidget)."""
+        from PySide import QtGui
+
+        classes = {"combo": QtGui.QComboBox, "check": QtGui.QCheckBox,
+                   "spin": QtGui.QSpinBox if isinstance(default, int) else QtGui.QDoubleSpinBox}
+        found = self.form.findChild(classes[kind], kind + prop)
+        if found is None:
+            raise LookupError("the {} form has no {}{}".format(self.form_name, kind, prop))
+        return found
 
     def current(self, prop, default):
         return default if self.obj is None else getattr(self.obj, prop)
@@ -224,20 +235,20 @@ class _OptionsPanel(_Panel):
 
     def changed(self):
         """API keywords whose value in the form differs from the object's (or the defaults)."""
-        f, changed = self.form, {}
+        changed = {}
         for prop, keyword, choices in self.combos:
-            value = getattr(f, "combo" + prop).currentText()
+            value = self.widget("combo", prop).currentText()
             if self.obj is None or value != getattr(self.obj, prop):
                 changed[keyword] = value
         for prop, keyword, _, default, _ in self.options:
-            value = getattr(f, "spin" + prop).value()
+            value = self.widget("spin", prop, default).value()
             if value != self.current(prop, default):
                 changed[keyword] = value
         for prop, keyword in self.extra_spins:
-            value = getattr(f, "spin" + prop).value()
+            value = self.widget("spin", prop, -1).value()
             if value != self.current(prop, -1):
                 changed[keyword] = value
-        shown = tuple(condition for prop, condition, _ in self.display if getattr(f, "check" + prop).isChecked())
+        shown = tuple(condition for prop, condition, _ in self.display if self.widget("check", prop).isChecked())
         if shown != tuple(condition for prop, condition, default in self.display if self.current(prop, default)):
             changed["show"] = shown
         return changed
