@@ -506,11 +506,16 @@ def plot_convergence(fit, path, title=None):
 
 
 def _set_options(obj, table, options, what):
-    """Sets the properties of `table` (property, option, ...) named by their option keywords."""
+    """Sets the properties of `table` (property, option, ...) named by their option keywords
+    (sequences of three numbers for vector properties)."""
+    import FreeCAD
+
     by_option = {row[1]: row[0] for row in table}
     for option, value in options.items():
         if option not in by_option:
             raise ValueError("unknown {} option '{}'; known: {}".format(what, option, ", ".join(sorted(by_option))))
+        if isinstance(getattr(obj, by_option[option]), FreeCAD.Vector):
+            value = FreeCAD.Vector(*map(float, value))
         setattr(obj, by_option[option], value)
 
 
@@ -521,13 +526,14 @@ def make_volume_mesh(fit, name="VolumeMesh", wall_level=-1, show=None, **options
     lower one (the same fit refitted to it). options: those of bvmesh.volume.offset_and_farfield
     (reference_length, reynolds_number, boundary_layer_thickness, boundary_layer_layers,
     boundary_layer_growth, sharp_edge_splay, farfield_distance, farfield_growth, smoothing,
-    min_scaled_jacobian, max_layers). show: the block faces shown, e.g. ('wall', 'symmetry')."""
+    min_scaled_jacobian, max_layers; domain 'sphere' | 'box' | 'cylinder', flow_direction,
+    box_half_extent). show: the block faces shown, e.g. ('wall', 'symmetry')."""
     from bvmesh.features import volume_mesh
 
     def fill(obj):
         obj.Fit = fit
         obj.WallLevel = int(wall_level)
-        _set_options(obj, volume_mesh.OPTIONS, options, "volume mesh")
+        _set_options(obj, _volume_option_table(), options, "volume mesh")
         _set_display(obj, volume_mesh.DISPLAY, show)
 
     return _new_object(volume_mesh.create, fit.Document, name, fill)
@@ -550,8 +556,17 @@ def set_volume_options(volume_mesh_object, wall_level=None, show=None, **options
     object keeps its previous options."""
     from bvmesh.features import volume_mesh
 
-    return _set_and_recompute(volume_mesh_object, volume_mesh.OPTIONS, volume_mesh.DISPLAY, options, show,
+    return _set_and_recompute(volume_mesh_object, _volume_option_table(), volume_mesh.DISPLAY, options, show,
                               "volume mesh", {"WallLevel": wall_level})
+
+
+def _volume_option_table():
+    """(property, option) of every VolumeMesh option: the marching numbers, the domain and its
+    vectors."""
+    from bvmesh.features import volume_mesh
+
+    return ([row[:2] for row in volume_mesh.OPTIONS] + [("Domain", "domain")]
+            + [row[:2] for row in volume_mesh.VECTORS])
 
 
 def _set_and_recompute(obj, table, display, options, show, what, extra):

@@ -135,6 +135,30 @@ class VolumeObjects(unittest.TestCase):
             api.set_volume_options(self.volume, wall_level=9)
         self.assertEqual(self.volume.WallLevel, -1)
 
+    def test_box_domain_through_the_document(self):
+        vm = api.make_volume_mesh(self.fit, boundary_layer_thickness=0.05, farfield_distance=20.0, domain="box",
+                                  box_half_extent=(40.0, 20.0, 20.0), flow_direction=(1.0, 0.0, 0.0), name="Boxed")
+        grid = api.make_volume_grid(vm, "euler", edge_points=5, normal_points=9, name="BoxedGrid")
+        try:
+            self.assertEqual(vm.Domain, "box")
+            # The sphere template's charts are not aligned with the box: the faces bending around its
+            # edges are counted (the cube layout in tests/python/test_volume.py has none).
+            self.assertEqual(vm.FacesAcrossDomainEdges, api.volume_mesh_of(vm).farfield_faces_across_domain_edges)
+            case = os.path.join(self.folder, "box_case")
+            api.export_grid(grid, case, name="BoxedExport")
+            with open(os.path.join(case, "constant", "polyMesh", "boundary")) as boundary:
+                text = boundary.read()
+            for patch in ("wall", "inlet", "outlet", "side"):
+                self.assertRegex(text, r"\n\s*{}\s*\n\s*{{".format(patch))
+            self.assertNotIn("farfield", text)
+            with self.assertRaisesRegex(Exception, "'cone' is not part of the enumeration"):
+                api.set_volume_options(vm, domain="cone")
+            self.assertEqual(vm.Domain, "box")
+        finally:
+            for name in ("BoxedExport", "BoxedGrid", "Boxed"):
+                if self.doc.getObject(name) is not None:
+                    self.doc.removeObject(name)
+
     def test_lower_wall_level_refits(self):
         level = self.fit.Level - 1
         vm = api.make_volume_mesh(self.fit, wall_level=level, boundary_layer_thickness=0.05, farfield_distance=20.0,

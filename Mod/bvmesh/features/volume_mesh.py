@@ -36,11 +36,23 @@ OPTIONS = (
     ("MaxLayers", "max_layers", "App::PropertyInteger", 400, "Control layers at most"),
 )
 DISPLAY = (("ShowWall", "wall", True), ("ShowSymmetry", "symmetry", True), ("ShowFarfield", "farfield", False))
+DOMAINS = ["sphere", "box", "cylinder"]
+# The domain's vector options: (property, option, default, description).
+VECTORS = (
+    ("FlowDirection", "flow_direction", (1.0, 0.0, 0.0),
+     "Flow direction: box and cylinder faces facing it are inlets, facing away outlets, the rest sides"),
+    ("BoxHalfExtent", "box_half_extent", (0.0, 0.0, 0.0),
+     "Half sizes of a box domain along x, y, z (from the symmetry plane on a half model); 0: FarfieldDistance"),
+)
 
 
 def options(obj):
     """The marching options of a VolumeMesh object, as offset_and_farfield's keywords."""
-    return {option: getattr(obj, prop) for prop, option, _, _, _ in OPTIONS}
+    settings = {option: getattr(obj, prop) for prop, option, _, _, _ in OPTIONS}
+    settings["domain"] = obj.Domain
+    for prop, option, _, _ in VECTORS:
+        settings[option] = tuple(getattr(obj, prop))
+    return settings
 
 
 def symmetry_plane(fit):
@@ -108,6 +120,17 @@ class VolumeMeshProxy(Proxy):
                      "and polyhedron to that level", -1)
         for prop, _, type_name, default, doc in OPTIONS:
             add_property(obj, type_name, prop, "Marching", doc, default)
+        if "Domain" not in obj.PropertiesList:
+            obj.addProperty("App::PropertyEnumeration", "Domain", "Marching",
+                            "Outer boundary: sphere (half sphere on a symmetry plane), box or cylinder along the flow")
+            obj.Domain = DOMAINS
+            obj.Domain = "sphere"
+        for prop, _, default, doc in VECTORS:
+            if prop not in obj.PropertiesList:
+                import FreeCAD
+
+                add_property(obj, "App::PropertyVector", prop, "Marching", doc)
+                setattr(obj, prop, FreeCAD.Vector(*default))
         for prop, condition, default in DISPLAY:
             add_property(obj, "App::PropertyBool", prop, "Display", "Show the {} faces of the blocks".format(condition),
                          default)
@@ -119,6 +142,8 @@ class VolumeMeshProxy(Proxy):
             ("ReferenceLengthUsed", "App::PropertyFloat", "Reference length used"),
             ("BoundaryLayerThicknessUsed", "App::PropertyFloat", "Boundary-layer thickness used"),
             ("FarfieldDistanceUsed", "App::PropertyFloat", "Far-field radius used"),
+            ("FacesAcrossDomainEdges", "App::PropertyInteger",
+             "Far-field block faces bending around an edge of a box or cylinder domain (off its faces there)"),
             ("WallMaxDeviation", "App::PropertyFloat",
              "Largest distance of the blocks' wall faces from the fitted limit surface at the wall grid"),
             ("LayerMinScaledJacobian", "App::PropertyFloatList", "Minimum scaled Jacobian of the control cells per layer"),
@@ -176,6 +201,7 @@ class VolumeMeshProxy(Proxy):
         obj.BoundaryLayerThicknessUsed = volume_mesh.boundary_layer_thickness
         obj.FarfieldDistanceUsed = volume_mesh.farfield_distance
         obj.WallMaxDeviation = volume_mesh.wall_max_deviation
+        obj.FacesAcrossDomainEdges = volume_mesh.farfield_faces_across_domain_edges
         obj.LayerMinScaledJacobian = [float(j) for j in volume_mesh.layer_min_scaled_jacobian]
         obj.Digest = blocks_digest(blocks)
         self._volume, self._volume_key = volume_mesh, key

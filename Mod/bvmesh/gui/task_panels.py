@@ -279,6 +279,7 @@ class VolumeMeshPanel(_OptionsPanel):
     create_function, set_function = "make_volume_mesh", "set_volume_options"
     options, display = volume_mesh.OPTIONS, volume_mesh.DISPLAY
     extra_spins = (("WallLevel", "wall_level"),)
+    combos = (("Domain", "domain", volume_mesh.DOMAINS),)
 
 
 class VolumeGridPanel(_OptionsPanel):
