@@ -80,6 +80,46 @@ class Proxy:
     loads = __setstate__
 
 
+class RecomputedProxy(Proxy):
+    """A proxy whose result (blocks, a grid) lives in memory, not in the document: make(obj) builds
+    it from the inputs that key(obj) identifies, deterministically, and obj.Digest keeps
+    digest_of(result), so that a result made again after loading is checked against the saved one."""
+
+    what = "result"
+
+    def key(self, obj):
+        raise NotImplementedError
+
+    def make(self, obj):
+        raise NotImplementedError
+
+    def digest_of(self, result):
+        raise NotImplementedError
+
+    def result(self, obj):
+        """The result in memory, else made again, which must give the saved digest."""
+        key = self.key(obj)
+        if getattr(self, "_result", None) is None or self._result_key != key:
+            made = self.make(obj)
+            if obj.Digest and self.digest_of(made) != obj.Digest:
+                raise RuntimeError("{}: the {} made again differs from the saved one (digest {}); recompute the "
+                                   "object".format(obj.Label, self.what, obj.Digest))
+            self._result, self._result_key = made, key
+        return self._result
+
+    def fresh_result(self, obj):
+        """(result, made) for a recompute: the result in memory when the inputs are unchanged (a
+        display toggle), else a new one whose digest is stored."""
+        key = self.key(obj)
+        if getattr(self, "_result", None) is not None and self._result_key == key:
+            return self._result, False
+        self._result = None
+        made = self.make(obj)
+        obj.Digest = self.digest_of(made)
+        self._result, self._result_key = made, key
+        return made, True
+
+
 def is_type(obj, type_name):
     """True when `obj` is a BVMesh object of the given proxy Type."""
     return getattr(getattr(obj, "Proxy", None), "Type", None) == type_name

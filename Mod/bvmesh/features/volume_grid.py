@@ -9,7 +9,7 @@ import hashlib
 import numpy as np
 
 from bvmesh.features import volume_mesh as volume_mesh_feature
-from bvmesh.features.common import READ_ONLY, Proxy, add_property, run_work
+from bvmesh.features.common import READ_ONLY, RecomputedProxy, add_property, run_work
 
 TYPE = "BVMesh::VolumeGrid"
 PRESETS = ["euler", "rans"]
@@ -83,8 +83,9 @@ def boundary_lines_shape(grid, conditions):
     return Part.makeCompound(wires) if wires else Part.Shape()
 
 
-class VolumeGridProxy(Proxy):
+class VolumeGridProxy(RecomputedProxy):
     Type = TYPE
+    what = "grid"
 
     def setup(self, obj):
         add_property(obj, "App::PropertyLink", "VolumeMesh", "Inputs", "The volume mesh whose blocks are evaluated")
@@ -115,53 +116,39 @@ class VolumeGridProxy(Proxy):
         ):
             add_property(obj, type_name, name, r, doc, mode=READ_ONLY)
 
-    def _key(self, obj):
+    def key(self, obj):
         data = repr((obj.VolumeMesh.Digest, obj.Preset, sorted(refine_options(obj).items())))
         return hashlib.sha1(data.encode()).hexdigest()
 
-    def _refine(self, obj):
+    def make(self, obj):
         from bvmesh import grid
 
-        if obj.VolumeMesh is None:
-            raise ValueError("the volume grid needs a volume mesh")
         volume = volume_mesh_feature.volume_mesh(obj.VolumeMesh)
         preset, settings = obj.Preset, refine_options(obj)
         return run_work("evaluating the grid of {}".format(obj.Label), lambda: grid.refine(volume, preset, **settings))
 
-    def refined_grid(self, obj):
-        """The bvmesh.RefinedGrid of the object: in memory, else evaluated again (after loading),
-        which must give the saved digest."""
-        key = self._key(obj)
-        if getattr(self, "_refined", None) is None or self._refined_key != key:
-            refined = self._refine(obj)
-            if obj.Digest and grid_digest(refined.grid) != obj.Digest:
-                raise RuntimeError("{}: the grid evaluated again differs from the saved one (digest {}); "
-                                   "recompute the object".format(obj.Label, obj.Digest))
-            self._refined, self._refined_key = refined, key
-        return self._refined
+    def digest_of(self, refined):
+        return grid_digest(refined.grid)
 
     def compute(self, obj):
-        key = self._key(obj)
-        if getattr(self, "_refined", None) is None or self._refined_key != key:
-            self._refined = None
-            refined = self._refine(obj)
-            grid = refined.grid
-            obj.CellCount = grid.cell_count
-            obj.PointCount = grid.point_count
+        if obj.VolumeMesh is None:
+            raise ValueError("the volume grid needs a volume mesh")
+        refined, made = self.fresh_result(obj)
+        if made:
+            obj.CellCount = refined.grid.cell_count
+            obj.PointCount = refined.grid.point_count
             obj.NormalPointsUsed = refined.normal_points
             obj.FirstCellHeightAsked = refined.first_cell_height_asked
             obj.FirstCellHeightMin = refined.first_cell_height_min
             obj.FirstCellHeightMax = refined.first_cell_height_max
             obj.GrowthMax = refined.growth_max
-            obj.Digest = grid_digest(grid)
-            self._refined, self._refined_key = refined, key
         conditions = {condition for prop, condition, _ in DISPLAY if getattr(obj, prop)}
-        obj.Shape = boundary_lines_shape(self._refined.grid, conditions)
+        obj.Shape = boundary_lines_shape(refined.grid, conditions)
 
 
 def refined_grid(obj):
     """The bvmesh.RefinedGrid of a VolumeGrid object."""
-    return obj.Proxy.refined_grid(obj)
+    return obj.Proxy.result(obj)
 
 
 def create(doc, name="VolumeGrid"):

@@ -9,7 +9,7 @@ import hashlib
 import numpy as np
 
 from bvmesh.features import surface_fit
-from bvmesh.features.common import READ_ONLY, Proxy, add_property, run_work
+from bvmesh.features.common import READ_ONLY, RecomputedProxy, add_property, run_work
 
 TYPE = "BVMesh::VolumeMesh"
 FACE_NAMES = ("u_min", "u_max", "v_min", "v_max", "w_min", "w_max")
@@ -110,8 +110,9 @@ def boundary_faces_shape(blocks, conditions):
     return (Part.makeCompound(faces) if faces else Part.Shape()), face_blocks
 
 
-class VolumeMeshProxy(Proxy):
+class VolumeMeshProxy(RecomputedProxy):
     Type = TYPE
+    what = "blocks"
 
     def setup(self, obj):
         add_property(obj, "App::PropertyLink", "Fit", "Inputs", "The surface fit whose wall the volume is built on")
@@ -152,59 +153,42 @@ class VolumeMeshProxy(Proxy):
         ):
             add_property(obj, type_name, name, r, doc, mode=READ_ONLY)
 
-    def _key(self, obj):
+    def key(self, obj):
         fit = obj.Fit
         data = repr((fit.Name, [(v.x, v.y, v.z) for v in fit.ControlVertices], list(fit.ControlFaceSizes),
                      list(fit.ControlFaceIndices), list(fit.ControlCreases), list(fit.ControlCorners),
                      symmetry_plane(fit), obj.WallLevel, sorted(options(obj).items())))
         return hashlib.sha1(data.encode()).hexdigest()
 
-    def _march(self, obj):
+    def make(self, obj):
         from bvmesh import volume
 
         fit = obj.Fit
         if fit is None or not fit.ControlVertices:
             raise ValueError("the volume mesh needs a computed surface fit")
         plane, settings = symmetry_plane(fit), options(obj)
-        wall, level = surface_fit.wall_at_level(fit, obj.WallLevel)
+        wall, _ = surface_fit.wall_at_level(fit, obj.WallLevel)
+        return run_work("marching the boundary layer and the far field of {}".format(obj.Label),
+                        lambda: volume.offset_and_farfield(wall(), symmetry_plane=plane, **settings))
 
-        def work():
-            return volume.offset_and_farfield(wall(), symmetry_plane=plane, **settings), level
-
-        return run_work("marching the boundary layer and the far field of {}".format(obj.Label), work)
-
-    def volume_mesh(self, obj):
-        """The bvmesh.VolumeMesh of the object: in memory, else marched again (after loading),
-        which must give the saved digest."""
-        key = self._key(obj)
-        if getattr(self, "_volume", None) is None or getattr(self, "_volume_key", None) != key:
-            volume_mesh, _ = self._march(obj)
-            if obj.Digest and blocks_digest(volume_mesh.blocks) != obj.Digest:
-                raise RuntimeError("{}: the blocks marched again differ from the saved ones (digest {}); "
-                                   "recompute the object".format(obj.Label, obj.Digest))
-            self._volume, self._volume_key = volume_mesh, key
-        return self._volume
+    def digest_of(self, volume_mesh):
+        return blocks_digest(volume_mesh.blocks)
 
     def compute(self, obj):
-        # A change of the display toggles alone reuses the blocks in memory.
-        key = self._key(obj)
-        if getattr(self, "_volume", None) is not None and self._volume_key == key:
-            self._show(obj, self._volume.blocks)
-            return
-        self._volume = None
-        volume_mesh, level = self._march(obj)
+        if obj.Fit is None:
+            raise ValueError("the volume mesh needs a computed surface fit")
+        volume_mesh, made = self.fresh_result(obj)
         blocks = volume_mesh.blocks
-        obj.BlockCount = blocks.block_count
-        obj.ControlLayers = len(volume_mesh.layer_distance)
-        obj.WallLevelUsed = level
-        obj.ReferenceLengthUsed = volume_mesh.reference_length
-        obj.BoundaryLayerThicknessUsed = volume_mesh.boundary_layer_thickness
-        obj.FarfieldDistanceUsed = volume_mesh.farfield_distance
-        obj.WallMaxDeviation = volume_mesh.wall_max_deviation
-        obj.FacesAcrossDomainEdges = volume_mesh.farfield_faces_across_domain_edges
-        obj.LayerMinScaledJacobian = [float(j) for j in volume_mesh.layer_min_scaled_jacobian]
-        obj.Digest = blocks_digest(blocks)
-        self._volume, self._volume_key = volume_mesh, key
+        if made:
+            obj.BlockCount = blocks.block_count
+            obj.ControlLayers = len(volume_mesh.layer_distance)
+            obj.WallLevelUsed = obj.Fit.Level if obj.WallLevel < 0 else obj.WallLevel
+            obj.ReferenceLengthUsed = volume_mesh.reference_length
+            obj.BoundaryLayerThicknessUsed = volume_mesh.boundary_layer_thickness
+            obj.FarfieldDistanceUsed = volume_mesh.farfield_distance
+            obj.WallMaxDeviation = volume_mesh.wall_max_deviation
+            obj.FacesAcrossDomainEdges = volume_mesh.farfield_faces_across_domain_edges
+            obj.LayerMinScaledJacobian = [float(j) for j in volume_mesh.layer_min_scaled_jacobian]
         self._show(obj, blocks)
 
     def _show(self, obj, blocks):
@@ -215,7 +199,7 @@ class VolumeMeshProxy(Proxy):
 
 def volume_mesh(obj):
     """The bvmesh.VolumeMesh of a VolumeMesh object."""
-    return obj.Proxy.volume_mesh(obj)
+    return obj.Proxy.result(obj)
 
 
 def create(doc, name="VolumeMesh"):
