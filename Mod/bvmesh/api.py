@@ -500,3 +500,12 @@ def plot_convergence(fit, path, title=None):
     figure.tight_layout()
     figure.savefig(str(path))
     return path
+
+
+def write_openfoam_case(grid, case_directory, **options):
+    """An OpenFOAM case (mesh, fields, thermophysics, schemes, function objects) on a BVMesh grid
+    or an existing polyMesh case directory: bvmesh.openfoam_case.write_case (its options: mach,
+    alpha_degrees, model, length_unit, iterations, solver, ...). Returns the case directory."""
+    from bvmesh import openfoam_case
+
+    return openfoam_case.write_case(grid, case_directory, **options)

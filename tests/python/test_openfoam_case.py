@@ -196,7 +196,7 @@ class CoarseM6Run(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.folder = tempfile.TemporaryDirectory()
-        cls.grid = ofc.m6_euler_grid(level=2, edge_points=5, normal_points=9)
+        cls.grid = ofc.m6_grid("euler", level=2, edge_points=5, normal_points=9)
         cls.case = ofc.write_case(cls.grid, os.path.join(cls.folder.name, "lts"), iterations=20, write_interval=10,
                                   startup_iterations=5)
         cls.result = ofc.run_case(cls.case)
@@ -257,6 +257,18 @@ class CoarseM6Run(unittest.TestCase):
                 self.assertTrue(os.path.getsize(os.path.join(folder, "cp_eta_{:.2f}.png".format(eta))) > 1000)
             self.assertEqual(summary["iterations"], 20)
             self.assertIn("| cells | 3072 |", open(os.path.join(folder, "report.md")).read())
+
+    def test_command_line_writes_a_case_from_a_polymesh_directory(self):
+        from bvmesh.__main__ import main
+
+        target = os.path.join(self.folder.name, "cli")
+        self.assertEqual(main(["openfoam-case", target, "--mesh", self.case, "--length-unit", "1",
+                               "--iterations", "10", "--alpha", "2.5"]), 0)
+        settings = ofc.read_settings(target)
+        self.assertEqual(settings["iterations"], 10)
+        self.assertAlmostEqual(settings["freestream"]["alpha_degrees"], 2.5)
+        self.assertEqual(post.cell_count(target), self.grid.grid.cell_count)
+        self.assertEqual(main(["openfoam-case", target, "--mesh", self.case, "--mach", "0"]), 1)
 
     def test_simple_run_residuals_finite_and_falling(self):
         case = ofc.write_case(self.case, os.path.join(self.folder.name, "simple"), solver="rhoSimpleFoam",
