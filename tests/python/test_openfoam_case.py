@@ -126,6 +126,25 @@ class CpExtraction(unittest.TestCase):
         self.assertAlmostEqual(flow["p"], flow["rho"] * ofc.GAS_CONSTANT * 255.56, places=6)
 
 
+class Histories(unittest.TestCase):
+    def test_residual_drop_counts_from_where_the_residuals_stay_down(self):
+        residuals = dict(iteration=np.arange(1.0, 7.0), p=np.array([1.0, 1e-4, 1e-2, 5e-4, 1e-4, 1e-5]),
+                         U=np.array([0.5, 1e-3, 1e-3, 1e-4, 1e-4, 1e-5]))
+        # U's peak is 0.5, so U is the worst field at the end: 1e-5 / 0.5.
+        iteration, decades = post.residual_drop(residuals)
+        self.assertEqual(iteration, 4)
+        self.assertAlmostEqual(decades, math.log10(0.5e5), places=12)
+        self.assertEqual(post.residual_drop(residuals, orders=5)[0], None)
+
+    def test_log_wall_time_sums_restarts(self):
+        with tempfile.TemporaryDirectory() as folder:
+            path = os.path.join(folder, "log")
+            with open(path, "w") as file:
+                for step, clock in ((1, 2), (2, 4), (3, 1), (4, 5)):
+                    file.write("Time = {}\n\nExecutionTime = {} s  ClockTime = {} s\n".format(step, clock, clock))
+            self.assertEqual(post.read_log(path), dict(wall_time=9.0, time_steps=4))
+
+
 class Errors(unittest.TestCase):
     def setUp(self):
         self.folder = tempfile.TemporaryDirectory()
@@ -256,7 +275,8 @@ class CoarseM6Run(unittest.TestCase):
             for eta in post.STATIONS:
                 self.assertTrue(os.path.getsize(os.path.join(folder, "cp_eta_{:.2f}.png".format(eta))) > 1000)
             self.assertEqual(summary["iterations"], 20)
-            self.assertIn("| cells | 3072 |", open(os.path.join(folder, "report.md")).read())
+            with open(os.path.join(folder, "report.md")) as file:
+                self.assertIn("| cells | 3072 |", file.read())
 
     def test_command_line_writes_a_case_from_a_polymesh_directory(self):
         from bvmesh.__main__ import main
