@@ -376,6 +376,44 @@ def plot_station(result, path, title=""):
     plt.close(figure)
 
 
+def plot_upper_surface(surface, cp, path, stations=(), semispan=None, title=""):
+    """Cp on the upper surface (faces whose normal points up), seen from above: where a lambda
+    shock would show as two converging lines of steep Cp rise."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import PolyCollection
+
+    points = surface["points"]
+    polygons, values = [], []
+    for face in surface["faces"]:
+        corners = points[face]
+        normal = np.cross(corners[2] - corners[0], corners[-1] - corners[1]) if len(face) > 3 else \
+            np.cross(corners[1] - corners[0], corners[2] - corners[0])
+        if normal[2] > 0.0:
+            polygons.append(corners[:, :2])
+            values.append(cp[face].mean())
+    figure, axis = plt.subplots(figsize=(7.0, 6.4))
+    values = np.array(values)
+    # Colour range from the 1st to 99th percentile: a few extreme faces (the tip's trailing-edge
+    # corner) would otherwise flatten the rest.
+    low, high = np.percentile(values, [1.0, 99.0])
+    collection = PolyCollection(polygons, array=values, cmap="jet_r", edgecolors="face", linewidths=0.2)
+    collection.set_clim(low, high)
+    axis.add_collection(collection)
+    axis.autoscale()
+    axis.set_aspect("equal")
+    for eta in stations:
+        axis.axhline(eta * semispan, color="k", lw=0.5, ls="--")
+    figure.colorbar(collection, ax=axis, label="Cp (upper surface)")
+    axis.set_xlabel("x (m)")
+    axis.set_ylabel("y (m)")
+    axis.set_title(title + "upper surface Cp; dashed: measured stations")
+    figure.tight_layout()
+    figure.savefig(path, dpi=110)
+    plt.close(figure)
+
+
 def plot_convergence(residuals, coefficients, path):
     import matplotlib
     matplotlib.use("Agg")
@@ -418,6 +456,10 @@ def write_report(case, output_directory, experiment_path=EXPERIMENT_FILE, title=
     log = read_log(log_path) if os.path.isfile(log_path) else dict(wall_time=float("nan"), time_steps=0)
     surface_time = os.path.basename(os.path.dirname(wall_surface_file(case)))
     stations = station_results(case, experiment_path)
+    surface = read_vtk_polydata(wall_surface_file(case))
+    plot_upper_surface(surface, pressure_coefficient(surface["point_data"]["p"], settings["freestream"]),
+                       os.path.join(output_directory, "upper_surface_cp.png"), STATIONS, settings["semispan"],
+                       title + ", ")
     drop_iteration, decades = residual_drop(residuals)
     plot_convergence(residuals, coefficients, os.path.join(output_directory, "convergence.png"))
     for result in stations:
@@ -465,7 +507,7 @@ def write_report(case, output_directory, experiment_path=EXPERIMENT_FILE, title=
     for r in stations:
         lines.append("| {:.2f} | {:.4f} | {:.4f} | {} | {:.3f} | cp_eta_{:.2f}.png |".format(
             r["eta"], r["y"], r["section"]["chord"], r["taps"], r["rms"], r["eta"]))
-    lines += ["", "![convergence](convergence.png)", ""] + [
+    lines += ["", "![convergence](convergence.png)", "", "![upper surface Cp](upper_surface_cp.png)", ""] + [
         "![eta {0:.2f}](cp_eta_{0:.2f}.png)".format(r["eta"]) for r in stations]
     with open(os.path.join(output_directory, "report.md"), "w") as file:
         file.write("\n".join(lines) + "\n")

@@ -272,8 +272,9 @@ class CoarseM6Run(unittest.TestCase):
             self.assertAlmostEqual(r["section"]["chord"], expected, delta=0.01)
         with tempfile.TemporaryDirectory() as folder:
             summary = post.write_report(self.case, folder)
-            for eta in post.STATIONS:
-                self.assertTrue(os.path.getsize(os.path.join(folder, "cp_eta_{:.2f}.png".format(eta))) > 1000)
+            for name in ["cp_eta_{:.2f}.png".format(eta) for eta in post.STATIONS] + ["convergence.png",
+                                                                                    "upper_surface_cp.png"]:
+                self.assertGreater(os.path.getsize(os.path.join(folder, name)), 1000, name)
             self.assertEqual(summary["iterations"], 20)
             with open(os.path.join(folder, "report.md")) as file:
                 self.assertIn("| cells | 3072 |", file.read())
