@@ -385,21 +385,27 @@ def plot_upper_surface(surface, cp, path, stations=(), semispan=None, title=""):
     from matplotlib.collections import PolyCollection
 
     points = surface["points"]
-    polygons, values = [], []
-    for face in surface["faces"]:
-        corners = points[face]
-        normal = np.cross(corners[2] - corners[0], corners[-1] - corners[1]) if len(face) > 3 else \
-            np.cross(corners[1] - corners[0], corners[2] - corners[0])
-        if normal[2] > 0.0:
-            polygons.append(corners[:, :2])
-            values.append(cp[face].mean())
+    corners = [points[face] for face in surface["faces"]]
+    normals = np.array([np.cross(c[2] - c[0], c[-1] - c[1]) if len(c) > 3 else np.cross(c[1] - c[0], c[2] - c[0])
+                        for c in corners])
+    centres = np.array([c.mean(axis=0) for c in corners])
+    # OpenFOAM's wall normals point out of the fluid, into the body; orient them away from the
+    # body's centroid whatever the writer did.
+    if np.einsum("ij,ij", normals, centres - points.mean(axis=0)) < 0.0:
+        normals = -normals
+    upper = normals[:, 2] > 0.0
+    polygons = [c[:, :2] for c, up in zip(corners, upper) if up]
+    values = [cp[face].mean() for face, up in zip(surface["faces"], upper) if up]
     figure, axis = plt.subplots(figsize=(7.0, 6.4))
     values = np.array(values)
-    # Colour range from the 1st to 99th percentile: a few extreme faces (the tip's trailing-edge
-    # corner) would otherwise flatten the rest.
-    low, high = np.percentile(values, [1.0, 99.0])
-    collection = PolyCollection(polygons, array=values, cmap="jet_r", edgecolors="face", linewidths=0.2)
-    collection.set_clim(low, high)
+    # Colour range from the inboard faces' 1st to 99th percentile (the tip cap and the tip's
+    # trailing-edge corner would flatten the rest), in 0.05 bands so that isobars show.
+    inboard = np.array([p[:, 1].mean() for p in polygons]) < 0.95 * points[:, 1].max()
+    low, high = np.percentile(values[inboard] if inboard.any() else values, [1.0, 99.0])
+    low, high = 0.05 * math.floor(low / 0.05), 0.05 * math.ceil(high / 0.05)
+    colours = matplotlib.colors.BoundaryNorm(np.arange(low, high + 0.025, 0.05), 256, extend="both")
+    collection = PolyCollection(polygons, array=values, cmap="jet_r", norm=colours, edgecolors="face",
+                                linewidths=0.2)
     axis.add_collection(collection)
     axis.autoscale()
     axis.set_aspect("equal")
