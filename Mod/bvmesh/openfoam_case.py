@@ -458,9 +458,12 @@ relaxationFactors
 }
 """
     _write(case, "system", "fvSolution", solvers + "\n" + algorithm)
-    # A guard for start-up transients only (never active in a converged transonic solution, where
-    # T stays within 0.8-1.2 T_inf): the RANS start on a y+ ~ 1 grid drove T negative at step 2.
-    _write(case, "system", "fvOptions", """limitT
+    fv_options = os.path.join(case, "system", "fvOptions")
+    if model == "rans":
+        # The RANS start on a y+ ~ 1 grid drove T negative at step 2 without this guard. Not for
+        # euler: there it would clip the tip's trailing-edge corner (925 K on the level-2 grid,
+        # docs/cfd.md) and hide the defect.
+        _write(case, "system", "fvOptions", """limitT
 {{
     type            limitTemperature;
     selectionMode   all;
@@ -468,6 +471,8 @@ relaxationFactors
     max             {:.6g};
 }}
 """.format(0.3 * flow["T"], 3.0 * flow["T"]))
+    elif os.path.exists(fv_options):
+        os.remove(fv_options)
 
 
 def write_case(grid_or_refined, case_directory, mach=0.8395, alpha_degrees=3.06, pressure=None,
@@ -540,6 +545,9 @@ def write_case(grid_or_refined, case_directory, mach=0.8395, alpha_degrees=3.06,
     if isinstance(grid_or_refined, (str, os.PathLike)):
         source = os.path.abspath(os.fspath(grid_or_refined))
         check_patches(source)
+        if length_unit != 1.0 and os.path.isfile(os.path.join(source, SETTINGS_FILE)):
+            raise ValueError("{} is a case written by write_case, already in metres: pass length_unit=1 "
+                             "(got {!r})".format(source, length_unit))
         if source != case:
             target = os.path.join(case, "constant", "polyMesh")
             shutil.rmtree(target, ignore_errors=True)
@@ -607,14 +615,18 @@ def _write_decompose(case, cores):
            "numberOfSubdomains {};\n\nmethod          scotch;\n".format(cores))
 
 
-def _set_entries(path, **entries):
-    """Sets top-level-style `key value;` entries of an OpenFOAM dictionary in place."""
+def _set_entries(path, top_level, **entries):
+    """Sets `key value;` entries of an OpenFOAM dictionary in place: only unindented ones with
+    top_level (function objects have their own writeInterval), else the one entry of that name
+    at any depth."""
     with open(path) as file:
         text = file.read()
     for key, value in entries.items():
-        text, count = re.subn(r"(?m)^(\s*{}\s+)[^;]*;".format(re.escape(key)), r"\g<1>{};".format(value), text)
-        if count == 0 and key != "maxCo":
-            raise ValueError("{} has no entry {}".format(path, key))
+        indent = "" if top_level else r"[ \t]*"
+        text, count = re.subn(r"(?m)^({}{}[ \t]+)[^;\n]*;".format(indent, re.escape(key)),
+                              lambda match: "{}{};".format(match.group(1), value), text)
+        if count != 1:
+            raise ValueError("{}: expected one entry {}, found {}".format(path, key, count))
     with open(path, "w") as file:
         file.write(text)
 
@@ -661,9 +673,10 @@ def run_case(case, cores=1, nice=19, timeout=None, log_name=None):
     for number, stage in enumerate(settings["stages"]):
         if stopped:
             break
-        _set_entries(os.path.join(case, "system", "controlDict"),
+        _set_entries(os.path.join(case, "system", "controlDict"), True,
                      endTime=stage["end"], writeInterval=stage["write_interval"])
-        _set_entries(os.path.join(case, "system", "fvSolution"), maxCo=stage["max_courant"])
+        if solver == "rhoPimpleFoam":
+            _set_entries(os.path.join(case, "system", "fvSolution"), False, maxCo=stage["max_courant"])
         limit = None if timeout is None else max(1.0, timeout - (time.monotonic() - start))
         mode = "w" if number == 0 else "a"
         if cores > 1:
