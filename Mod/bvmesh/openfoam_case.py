@@ -17,6 +17,7 @@ import math
 import os
 import re
 import shutil
+import signal
 import subprocess
 import time
 
@@ -631,6 +632,20 @@ def _set_entries(path, top_level, **entries):
         file.write(text)
 
 
+def _stop(process):
+    """SIGTERM to the process group, SIGKILL if it is still there after 30 s."""
+    for sent, wait in ((signal.SIGTERM, 30), (signal.SIGKILL, None)):
+        try:
+            os.killpg(process.pid, sent)
+        except ProcessLookupError:
+            return
+        try:
+            process.wait(timeout=wait)
+            return
+        except subprocess.TimeoutExpired:
+            pass
+
+
 def run_case(case, cores=1, nice=19, timeout=None, log_name=None):
     """Runs the case's solver (under `nice`, on `cores` cores: decomposePar / mpirun / reconstructPar
     above 1) and returns {iterations, wall_time, log, residuals, coefficients, cores, stopped}.
@@ -651,14 +666,19 @@ def run_case(case, cores=1, nice=19, timeout=None, log_name=None):
 
     def tool(arguments, log_path, limit=None, mode="w"):
         with open(log_path, mode) as out:
+            # A session of its own, so that a stop reaches mpirun's ranks too, not only mpirun.
+            process = subprocess.Popen(command + arguments + ["-case", case], stdout=out, stderr=subprocess.STDOUT,
+                                       env=environment, start_new_session=True)
             try:
-                done = subprocess.run(command + arguments + ["-case", case], stdout=out, stderr=subprocess.STDOUT,
-                                      env=environment, timeout=limit)
-                code = done.returncode
+                code = process.wait(timeout=limit)
             except subprocess.TimeoutExpired:
                 # The last written time step stays usable: stop and read what is there.
+                _stop(process)
                 stopped.append("after {:.0f} s".format(timeout))
                 code = 0
+            except BaseException:
+                _stop(process)
+                raise
         with open(log_path, errors="replace") as file:
             text = file.read()
         if code != 0 or "FOAM FATAL" in text:

@@ -319,6 +319,15 @@ class CoarseM6Run(unittest.TestCase):
         flow = ofc.read_settings(case)["freestream"]
         self.assertAlmostEqual(flow["reynolds_number"] / 11.72e6, 1.0, places=9)
 
+    def test_timeout_stops_the_solver_and_keeps_what_it_wrote(self):
+        case = ofc.write_case(self.case, os.path.join(self.folder.name, "stopped"), iterations=100000,
+                              write_interval=5, length_unit=1.0)
+        result = ofc.run_case(case, timeout=4.0)
+        self.assertEqual(result["stopped"], "after 4 s")
+        self.assertGreater(result["iterations"], 5)
+        self.assertLess(result["wall_time"], 40.0)
+        post.wall_surface_file(case)  # a written time step is there
+
     def test_simple_run_residuals_finite_and_falling(self):
         case = ofc.write_case(self.case, os.path.join(self.folder.name, "simple"), solver="rhoSimpleFoam",
                               iterations=10, length_unit=1.0)
