@@ -612,8 +612,18 @@ def read_settings(case):
 
 
 def _write_decompose(case, cores):
-    _write(case, "system", "decomposeParDict",
-           "numberOfSubdomains {};\n\nmethod          scotch;\n".format(cores))
+    # Debian's v1912 has no scotch or metis (their stubs stop decomposePar); `simple` splits the
+    # cells sorted along y, the span, into equal parts.
+    _write(case, "system", "decomposeParDict", """numberOfSubdomains {0};
+
+method          simple;
+
+simpleCoeffs
+{{
+    n               (1 {0} 1);
+    delta           0.001;
+}}
+""".format(cores))
 
 
 def _set_entries(path, top_level, **entries):
