@@ -569,7 +569,8 @@ def write_case(grid_or_refined, case_directory, mach=0.8395, alpha_degrees=3.06,
     if solver == "rhoPimpleFoam" and 0 < startup_iterations < iterations:
         stages.insert(0, dict(end=startup_iterations, max_courant=startup_courant,
                               write_interval=startup_iterations))
-    settings = dict(model=model, solver=solver, iterations=iterations, stages=stages, max_courant=max_courant, length_unit=length_unit,
+    settings = dict(model=model, solver=solver, iterations=iterations, stages=stages, max_courant=max_courant,
+                    length_unit=length_unit,
                     semispan=semispan, reference=reference, freestream=flow,
                     wall_faces=patches["wall"]["nFaces"])
     with open(os.path.join(case, SETTINGS_FILE), "w") as file:
@@ -608,7 +609,8 @@ def read_settings(case):
         with open(path) as file:
             return json.load(file)
     except OSError:
-        raise ValueError("{} is not a case written by bvmesh.openfoam_case (no {})".format(case, SETTINGS_FILE)) from None
+        raise ValueError("{} is not a case written by bvmesh.openfoam_case (no {})".format(
+            case, SETTINGS_FILE)) from None
 
 
 def _write_decompose(case, cores):

@@ -197,7 +197,7 @@ def cut(points, faces, values, position, axis=1):
     used = np.zeros(len(segments), dtype=bool)
     lines = []
     # Open lines start at an end point (a key on one segment only), then the closed loops.
-    starts = [key for key, owners in neighbours.items() if len(owners) == 1] + [segments[s][0] for s in range(len(segments))]
+    starts = [key for key, owners in neighbours.items() if len(owners) == 1] + [a for a, _ in segments]
     for start in starts:
         free = [s for s in neighbours[start] if not used[s]]
         if not free:
@@ -245,7 +245,10 @@ def section(points, faces, values, position, axis=1, lift_axis=2):
     chord = xyz[trailing, 0] - xyz[0, 0]
     if chord <= 0.0:
         raise ValueError("the section at {} = {} has no chord".format("xyz"[axis], position))
-    upper, lower = (first, second) if first[0][:, lift_axis].mean() > second[0][:, lift_axis].mean() else (second, first)
+    if first[0][:, lift_axis].mean() > second[0][:, lift_axis].mean():
+        upper, lower = first, second
+    else:
+        upper, lower = second, first
 
     def chordwise(branch):
         return (branch[0][:, 0] - xyz[0, 0]) / chord, branch[1]
@@ -368,7 +371,8 @@ def plot_station(result, path, title=""):
     axis.invert_yaxis()
     axis.set_xlabel("x / c")
     axis.set_ylabel("Cp")
-    axis.set_title("{}eta = {:.2f} (y = {:.4g} m), RMS dCp = {:.3f}".format(title, result["eta"], result["y"], result["rms"]))
+    axis.set_title("{}eta = {:.2f} (y = {:.4g} m), RMS dCp = {:.3f}".format(
+        title, result["eta"], result["y"], result["rms"]))
     axis.grid(alpha=0.3)
     axis.legend(fontsize=8)
     figure.tight_layout()
