@@ -485,8 +485,8 @@ def write_case(grid_or_refined, case_directory, mach=0.8395, alpha_degrees=3.06,
     """Writes a complete OpenFOAM case and returns its directory.
 
     grid_or_refined: a bvmesh grid (refine's result or a StructuredGrid), or the path of a case
-    directory holding constant/polyMesh (copied; in model units) with patches wall, symmetry and
-    farfield. mach, alpha_degrees (x-z plane, y the span), temperature (K) and pressure (Pa) of the
+    directory holding constant/polyMesh (copied; in model units, so a case written here, already
+    in metres, needs length_unit=1) with patches wall, symmetry and farfield. mach, alpha_degrees (x-z plane, y the span), temperature (K) and pressure (Pa) of the
     free stream; without a pressure it is set from reynolds_number on reference_length (1e5 Pa
     when neither is given). model: 'euler' (inviscid, slip wall) or 'rans' (Spalart-Allmaras,
     Sutherland viscosity, noSlip wall; needs reynolds_number or a pressure). length_unit: metres
