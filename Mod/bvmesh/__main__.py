@@ -2,9 +2,10 @@
 on PYTHONPATH; scripts/setup.sh sets that up).
 
   info FILE       what a STEP / IGES / BREP file holds (faces, surface types, feature edges)
-  example         the main job: the ONERA M6 half wing fitted from the half-wing template;
-                  writes the FreeCAD document, the B-spline surface (STEP) and a convergence
-                  report into --output (default: bvmesh-example)
+  example         the main job: the ONERA M6 half wing fitted from the half-wing template and
+                  meshed; writes the FreeCAD document, the B-spline surface (STEP), the Euler
+                  grid (CGNS, OpenFOAM case), pictures and reports into --output (default:
+                  bvmesh-example); --surface-only stops after the surface
   openfoam-case CASE
                   a steady compressible OpenFOAM case (bvmesh.openfoam_case): the mesh from
                   --mesh (an OpenFOAM case directory with patches wall, symmetry, farfield, in
@@ -70,6 +71,7 @@ def main(argv=None):
     example = commands.add_parser("example", help="run the main job on the bundled ONERA M6 wing")
     example.add_argument("--output", default="bvmesh-example", help="folder for the results")
     example.add_argument("--max-level", type=int, default=5, help="subdivision levels at most (default 5)")
+    example.add_argument("--surface-only", action="store_true", help="stop after the surface stage")
     cfd = commands.add_parser("openfoam-case", help="write (and run) an OpenFOAM case on a BVMesh grid")
     cfd.add_argument("case", help="case directory to write")
     cfd.add_argument("--mesh", help="OpenFOAM case directory whose constant/polyMesh is used "
@@ -109,7 +111,7 @@ def main(argv=None):
             from bvmesh import example as main_job
 
             _info(paths.EXAMPLE_WING, 30.0)
-            main_job.run(args.output, max_level=args.max_level)
+            main_job.run(args.output, max_level=args.max_level, volume=not args.surface_only)
     except (InvalidInputError, SolverError, ValueError, RuntimeError) as error:
         print("bvmesh: {}".format(error), file=sys.stderr)
         return 1

@@ -502,6 +502,226 @@ def plot_convergence(fit, path, title=None):
     return path
 
 
+# -- volume stage ---------------------------------------------------------------------------------
+
+
+def _set_options(obj, table, options, what):
+    """Sets the properties of `table` (property, option, ...) named by their option keywords
+    (sequences of three numbers for vector properties)."""
+    import FreeCAD
+
+    by_option = {row[1]: row[0] for row in table}
+    for option, value in options.items():
+        if option not in by_option:
+            raise ValueError("unknown {} option '{}'; known: {}".format(what, option, ", ".join(sorted(by_option))))
+        if isinstance(getattr(obj, by_option[option]), FreeCAD.Vector):
+            value = FreeCAD.Vector(*map(float, value))
+        setattr(obj, by_option[option], value)
+
+
+def make_volume_mesh(fit, name="VolumeMesh", wall_level=-1, show=None, **options):
+    """The block-structured B-spline volume mesh around a SurfaceFit's wall: boundary-layer control
+    layers along the wall normals and the far field marched out to a sphere (half sphere on the
+    fit's symmetry plane), one tricubic block per wall patch. wall_level: -1 the fit's level, or a
+    lower one (the same fit refitted to it). options: those of bvmesh.volume.offset_and_farfield
+    (reference_length, reynolds_number, boundary_layer_thickness, boundary_layer_layers,
+    boundary_layer_growth, sharp_edge_splay, farfield_distance, farfield_growth, smoothing,
+    min_scaled_jacobian, max_layers; domain 'sphere' | 'box' | 'cylinder', flow_direction,
+    box_half_extent). show: the block faces shown, e.g. ('wall', 'symmetry')."""
+    from bvmesh.features import volume_mesh
+
+    def fill(obj):
+        obj.Fit = fit
+        obj.WallLevel = int(wall_level)
+        _set_options(obj, _volume_option_table(), options, "volume mesh")
+        _set_display(obj, volume_mesh.DISPLAY, show)
+
+    return _new_object(volume_mesh.create, fit.Document, name, fill)
+
+
+def _set_display(obj, table, show):
+    if show is None:
+        return
+    known = {condition for _, condition, _ in table}
+    unknown = set(show) - known
+    if unknown:
+        raise ValueError("show takes boundary conditions among {}, got {}".format(", ".join(sorted(known)),
+                                                                                 ", ".join(sorted(unknown))))
+    for prop, condition, _ in table:
+        setattr(obj, prop, condition in show)
+
+
+def set_volume_options(volume_mesh_object, wall_level=None, show=None, **options):
+    """Changes options of a VolumeMesh (as make_volume_mesh) and recomputes; on a failure the
+    object keeps its previous options."""
+    from bvmesh.features import volume_mesh
+
+    return _set_and_recompute(volume_mesh_object, _volume_option_table(), volume_mesh.DISPLAY, options, show,
+                              "volume mesh", {"WallLevel": wall_level})
+
+
+def _volume_option_table():
+    """(property, option) of every VolumeMesh option: the marching numbers, the domain and its
+    vectors."""
+    from bvmesh.features import volume_mesh
+
+    return ([row[:2] for row in volume_mesh.OPTIONS] + [("Domain", "domain")]
+            + [row[:2] for row in volume_mesh.VECTORS])
+
+
+def _set_and_recompute(obj, table, display, options, show, what, extra):
+    saved = {row[0]: getattr(obj, row[0]) for row in table}
+    saved.update({prop: getattr(obj, prop) for prop, _, _ in display})
+    saved.update({prop: getattr(obj, prop) for prop in extra})
+    try:
+        for prop, value in extra.items():
+            if value is not None:
+                setattr(obj, prop, value)
+        _set_options(obj, table, options, what)
+        _set_display(obj, display, show)
+        _recompute(obj)
+    except Exception:
+        for prop, value in saved.items():
+            setattr(obj, prop, value)
+        obj.Document.recompute()
+        raise
+    return obj
+
+
+def volume_mesh_of(volume_mesh_object):
+    """The bvmesh.VolumeMesh (blocks, marching report) of a VolumeMesh object."""
+    from bvmesh.features import volume_mesh
+
+    return volume_mesh.volume_mesh(volume_mesh_object)
+
+
+def make_volume_grid(volume_mesh_object, preset="euler", name="VolumeGrid", show=None, distribution="geometric",
+                     **options):
+    """The B-spline blocks of a VolumeMesh evaluated on a stretched, point-matched grid. preset:
+    'euler' (no wall clustering) or 'rans' (first cell for y+ ~ 1). options: those of
+    bvmesh.grid.refine (normal_points, first_cell_height, y_plus, reynolds_number, growth,
+    edge_points, tangential_spacing, target_cells, edge_end_spacing); reynolds_number defaults to
+    the volume mesh's. show: the boundary faces whose grid lines are shown."""
+    from bvmesh.features import volume_grid
+
+    def fill(obj):
+        obj.VolumeMesh = volume_mesh_object
+        obj.Preset = preset
+        obj.Distribution = distribution
+        _set_options(obj, volume_grid.OPTIONS, options, "volume grid")
+        _set_display(obj, volume_grid.DISPLAY, show)
+
+    return _new_object(volume_grid.create, volume_mesh_object.Document, name, fill)
+
+
+def set_grid_options(grid_object, preset=None, distribution=None, show=None, **options):
+    """Changes the refinement of a VolumeGrid (as make_volume_grid) and recomputes; on a failure
+    the object keeps its previous options."""
+    from bvmesh.features import volume_grid
+
+    return _set_and_recompute(grid_object, volume_grid.OPTIONS, volume_grid.DISPLAY, options, show, "volume grid",
+                              {"Preset": preset, "Distribution": distribution})
+
+
+def grid_of(grid_object):
+    """The bvmesh.RefinedGrid of a VolumeGrid object (for bvmesh.grid's functions)."""
+    from bvmesh.features import volume_grid
+
+    return volume_grid.refined_grid(grid_object)
+
+
+def span_station(grid_object, eta):
+    """(point, normal) of the cut at fraction `eta` of the span of a VolumeGrid's wall: from the
+    symmetry plane (its normal the span direction) to the wall's far end; without a symmetry plane,
+    across the wall's extent along y."""
+    import FreeCAD
+
+    from bvmesh.features import volume_grid
+
+    grid = grid_of(grid_object).grid
+    wall = np.concatenate([volume_grid.face_points(grid.points(b), name).reshape(-1, 3)
+                           for b in range(grid.block_count) for name, face in grid.faces(b).items()
+                           if face["condition"] == "wall"])
+    fit = grid_object.VolumeMesh.Fit
+    if fit.UseSymmetryPlane:
+        origin = np.array(tuple(fit.SymmetryPoint))
+        normal = np.array(tuple(fit.SymmetryNormal))
+        normal = normal / np.linalg.norm(normal)
+        if -((wall - origin) @ normal).min() > ((wall - origin) @ normal).max():
+            normal = -normal  # the span runs to the side the wall is on
+        low, high = 0.0, float(((wall - origin) @ normal).max())
+    else:
+        origin, normal = np.zeros(3), np.array([0.0, 1.0, 0.0])
+        low, high = float(wall[:, 1].min()), float(wall[:, 1].max())
+    point = origin + (low + eta * (high - low)) * normal
+    return FreeCAD.Vector(*point), FreeCAD.Vector(*normal)
+
+
+def make_grid_cut(grid_object, point=None, normal=None, eta=None, metric="block", name="GridCut"):
+    """A cut plane through a VolumeGrid showing the grid lines around the section: through
+    `point` with `normal`, or at span fraction `eta` (see span_station). metric colours the lines:
+    'block' or a quality metric (scaled_jacobian, non_orthogonality, skewness, aspect_ratio,
+    growth_ratio)."""
+    import FreeCAD
+
+    from bvmesh.features import grid_cut
+
+    if eta is not None:
+        if point is not None or normal is not None:
+            raise ValueError("give either eta or point and normal, not both")
+        point, normal = span_station(grid_object, float(eta))
+    if point is None or normal is None:
+        raise ValueError("the cut needs eta, or point and normal")
+
+    def fill(obj):
+        obj.Grid = grid_object
+        obj.Point = FreeCAD.Vector(*point)
+        obj.Normal = FreeCAD.Vector(*normal)
+        obj.Metric = metric
+
+    return _new_object(grid_cut.create, grid_object.Document, name, fill)
+
+
+def make_mesh_quality(grid_object, histogram_path=None, name="MeshQuality"):
+    """The quality of a VolumeGrid: summary table, key figures, and the histograms as PNG at
+    histogram_path (when given)."""
+    from bvmesh.features import mesh_quality
+
+    import os
+
+    def fill(obj):
+        obj.Grid = grid_object
+        if histogram_path:
+            obj.HistogramFile = os.fspath(histogram_path)
+
+    return _new_object(mesh_quality.create, grid_object.Document, name, fill)
+
+
+def quality_report(quality_object):
+    """The full report (per-cell arrays and summaries, bvmesh.grid.quality) of a MeshQuality object."""
+    return quality_object.Proxy.report(quality_object)
+
+
+def export_grid(source, path, file_format=None, force=False, name="Export"):
+    """Writes a VolumeGrid (cgns, openfoam, plot3d, vtk) or the B-spline blocks (gismo, blocks; a
+    VolumeMesh or a VolumeGrid's mesh) to `path`, as an Export object that writes again on
+    recompute. file_format: from the path's ending when None (no ending: an OpenFOAM case
+    directory). A grid with a non-positive cell is refused unless force=True."""
+    import os
+
+    from bvmesh.features import grid_export
+
+    file_format = file_format or grid_export.format_of_path(path)
+
+    def fill(obj):
+        obj.Source = source
+        obj.Format = file_format
+        obj.Path = os.fspath(path)
+        obj.Force = bool(force)
+
+    return _new_object(grid_export.create, source.Document, name, fill)
+
+
 def write_openfoam_case(grid, case_directory, **options):
     """An OpenFOAM case (mesh, fields, thermophysics, schemes, function objects) on a BVMesh grid
     or an existing polyMesh case directory: bvmesh.openfoam_case.write_case (its options: mach,

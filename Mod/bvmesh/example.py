@@ -1,12 +1,21 @@
 """The main job on the bundled example: the ONERA M6 half wing (tests/data), fitted from the
-half-wing template with its trailing edge as a crease and its root on the symmetry plane y = 0.
+half-wing template with its trailing edge as a crease and its root on the symmetry plane y = 0,
+then meshed: the boundary layer and far field as B-spline blocks, evaluated on a point-matched
+Euler grid, measured and written for flow solvers.
 
 Writes into the output folder: the FreeCAD document (M6.FCStd: CAD, target, polyhedron, fit,
-B-spline shell), the B-spline surface (M6_surface.step), the convergence plot (M6_convergence.png)
-and a convergence report (M6_report.md). Runs headless (plain /usr/bin/python3 or freecadcmd)."""
+B-spline shell, volume mesh, grid, cut, quality, exports), the B-spline surface (M6_surface.step),
+the convergence plot (M6_convergence.png) and report (M6_report.md), the grid as CGNS (M6.cgns) and
+as an OpenFOAM case (M6_openfoam/), the volume report (M6_volume_report.md), the grid around the
+section at 44 % of the span (M6_cut_eta044.png) and the quality histograms (M6_quality.png). Runs
+headless (plain /usr/bin/python3 or freecadcmd)."""
 
 import os
+import shutil
+import subprocess
 import time
+
+import numpy as np
 
 from bvmesh import api, load_core, paths
 
@@ -48,9 +57,124 @@ def _report_lines(fit, shell, chord, tolerance, seconds, files):
     return lines
 
 
-def run(output_dir, max_level=5, relative_tolerance=1e-5, log=print):
+# The volume stands on the level-2 wall: at level 3 the boundary layer folds at the corner where
+# the trailing edge meets the tip (the charts' corners there are degenerate; docs/volume.md).
+VOLUME_WALL_LEVEL = 2
+# Wind-tunnel case 2308 of the M6 (AGARD AR-138): Reynolds number on the mean aerodynamic chord.
+REYNOLDS_NUMBER = 11.72e6
+CUT_ETA = 0.44
+TARGET_CELLS = 1_000_000
+
+
+def check_mesh(case):
+    """checkMesh's verdict on an OpenFOAM case ('Mesh OK.' or the failed checks), or why it did
+    not run. checkMesh exits 0 whatever it finds, so its output is read."""
+    if shutil.which("checkMesh") is None:
+        return "checkMesh not installed (Debian package openfoam)"
+    environment = dict(os.environ, WM_PROJECT_DIR=os.environ.get("WM_PROJECT_DIR", "/usr/share/openfoam"))
+    result = subprocess.run(["checkMesh", "-case", case], env=environment, capture_output=True, text=True,
+                            timeout=900)
+    output = result.stdout + result.stderr
+    if "Mesh OK." in output:
+        return "Mesh OK."
+    failed = [line.strip() for line in output.splitlines() if line.strip().startswith("***")]
+    return "; ".join(failed) or "no verdict (exit {}): {}".format(result.returncode, output[-300:])
+
+
+def _section_window(grid_object, eta):
+    """((leading x, trailing x), mean z, point, normal) of the wing section at span fraction eta,
+    from the target's CAD faces sliced there."""
+    point, normal = api.span_station(grid_object, eta)
+    target = grid_object.VolumeMesh.Fit.Target
+    wires = target.Shape.slice(normal, point.dot(normal))
+    if not wires:
+        raise RuntimeError("the cut at {:.0f} % of the span misses the wing".format(100 * eta))
+    box = wires[0].BoundBox
+    for wire in wires[1:]:
+        box.add(wire.BoundBox)
+    return (box.XMin, box.XMax), 0.5 * (box.ZMin + box.ZMax), point, normal
+
+
+def _cut_picture(grid_object, path):
+    """The grid around the section at CUT_ETA: the whole domain, the section, the trailing edge."""
+    from bvmesh import grid
+
+    (leading, trailing), z, point, normal = _section_window(grid_object, CUT_ETA)
+    chord = trailing - leading
+    radius = grid_object.VolumeMesh.FarfieldDistanceUsed
+    views = [
+        ("whole domain", ((leading - radius, z - radius), (trailing + radius, z + radius))),
+        ("section", ((leading - 0.15 * chord, z - 0.35 * chord), (trailing + 0.15 * chord, z + 0.35 * chord))),
+        ("trailing edge", ((trailing - 0.04 * chord, z - 0.03 * chord), (trailing + 0.04 * chord, z + 0.03 * chord))),
+    ]
+    title = "ONERA M6: grid at {:.0f} % of the span (y = {:.1f})".format(100 * CUT_ETA, point.y)
+    grid.plot_cut(api.grid_of(grid_object), tuple(point), tuple(normal), path, views, title=title)
+    return path
+
+
+def _volume_report(vm, grid_object, quality, cgns, case, verdict, seconds):
+    lines = [
+        "# ONERA M6 half wing: volume mesh",
+        "",
+        "Wall: the surface fit at level {} (the fit itself reached level {}; see docs/volume.md for why the "
+        "volume stands on level {}).".format(vm.WallLevelUsed, vm.Fit.Level, vm.WallLevelUsed),
+        "Blocks: {} tricubic B-spline blocks, {} control layers; boundary layer {:.4g} thick (reference length "
+        "{:.4g}, Re {:.4g}); far field: sphere of radius {:.6g} ({:.1f} reference lengths).".format(
+            vm.BlockCount, vm.ControlLayers, vm.BoundaryLayerThicknessUsed, vm.ReferenceLengthUsed,
+            vm.ReynoldsNumber, vm.FarfieldDistanceUsed, vm.FarfieldDistanceUsed / vm.ReferenceLengthUsed),
+        "Grid: preset {}, {} cells, {} points over the blocks, {} points on the wall-normal lines, first cell "
+        "height {:.4g} .. {:.4g}, largest wall-normal growth {:.4g}.".format(
+            grid_object.Preset, grid_object.CellCount, grid_object.PointCount, grid_object.NormalPointsUsed,
+            grid_object.FirstCellHeightMin, grid_object.FirstCellHeightMax, grid_object.GrowthMax),
+        "Cells with a non-positive scaled Jacobian: {}; with a face above 70 degrees of non-orthogonality: "
+        "{}.".format(quality.NonPositiveCells, quality.CellsAbove70Degrees),
+        "checkMesh on {}: {}".format(os.path.basename(case), verdict),
+        "",
+        quality.Table.rstrip(),
+        "",
+        "Files: {}, {}/; volume stage {:.1f} s.".format(os.path.basename(cgns), os.path.basename(case), seconds),
+    ]
+    return lines
+
+
+def run_volume(fit, chord, files, log=print):
+    """The volume stage of the main job on a fitted M6: volume mesh, Euler grid, cut, quality,
+    CGNS and OpenFOAM files, pictures and report. Returns the volume objects by name."""
+    started = time.time()
+    stage = time.time()
+    wall_level = VOLUME_WALL_LEVEL if fit.Level > VOLUME_WALL_LEVEL else -1
+    vm = api.make_volume_mesh(fit, wall_level=wall_level, reference_length=chord,
+                              reynolds_number=REYNOLDS_NUMBER)
+    log("volume mesh: {} blocks, {} control layers, far field {:.0f} ({:.1f} s)".format(
+        vm.BlockCount, vm.ControlLayers, vm.FarfieldDistanceUsed, time.time() - stage))
+    stage = time.time()
+    grid_object = api.make_volume_grid(vm, "euler", target_cells=TARGET_CELLS, show=("wall",))
+    log("grid: euler, {} cells ({:.1f} s)".format(grid_object.CellCount, time.time() - stage))
+    stage = time.time()
+    quality = api.make_mesh_quality(grid_object, histogram_path=files["quality"])
+    log("quality: min scaled Jacobian {:.3g}, max non-orthogonality {:.1f} ({:.1f} s)".format(
+        quality.MinScaledJacobian, quality.MaxNonOrthogonality, time.time() - stage))
+    stage = time.time()
+    cut = api.make_grid_cut(grid_object, eta=CUT_ETA)
+    _cut_picture(grid_object, files["cut"])
+    log("cut at {:.0f} % span: {} segments ({:.1f} s)".format(100 * CUT_ETA, cut.SegmentCount, time.time() - stage))
+    stage = time.time()
+    api.export_grid(grid_object, files["cgns"], name="ExportCGNS")
+    api.export_grid(grid_object, files["openfoam"], name="ExportOpenFOAM")
+    log("files: CGNS and OpenFOAM case ({:.1f} s)".format(time.time() - stage))
+    stage = time.time()
+    verdict = check_mesh(files["openfoam"])
+    log("checkMesh: {} ({:.1f} s)".format(verdict, time.time() - stage))
+    lines = _volume_report(vm, grid_object, quality, files["cgns"], files["openfoam"], verdict,
+                           time.time() - started)
+    with open(files["volume_report"], "w") as report:
+        report.write("\n".join(lines) + "\n")
+    return {"volume_mesh": vm, "grid": grid_object, "quality": quality, "cut": cut, "check_mesh": verdict}
+
+
+def run(output_dir, max_level=5, relative_tolerance=1e-5, volume=True, log=print):
     """Runs the example and returns a dict of the files written and the fit's outcome.
-    relative_tolerance is relative to the root chord."""
+    relative_tolerance is relative to the root chord. volume=False stops after the surface stage."""
     import FreeCAD
 
     os.makedirs(output_dir, exist_ok=True)
@@ -81,13 +205,42 @@ def run(output_dir, max_level=5, relative_tolerance=1e-5, log=print):
         }
         api.export_step(shell, files["step"])
         api.plot_convergence(fit, files["plot"], title="ONERA M6 half wing")
-        doc.saveAs(files["document"])
-        lines = _report_lines(fit, shell, chord, tolerance, seconds, files.values())
-        with open(files["report"], "w") as report:
-            report.write("\n".join(lines) + "\n")
-        for line in lines:
-            log(line)
-        return {"files": files, "stop_reason": fit.StopReason, "level": fit.Level,
-                "max_distance": fit.HistoryMax[-1], "chord": chord}
+        log("surface stage: {:.1f} s".format(time.time() - started))
+        outcome = {"files": files, "stop_reason": fit.StopReason, "level": fit.Level,
+                   "max_distance": fit.HistoryMax[-1], "chord": chord}
+        try:
+            if volume:
+                files.update({
+                    "cgns": os.path.join(output_dir, "M6.cgns"),
+                    "openfoam": os.path.join(output_dir, "M6_openfoam"),
+                    "volume_report": os.path.join(output_dir, "M6_volume_report.md"),
+                    "cut": os.path.join(output_dir, "M6_cut_eta044.png"),
+                    "quality": os.path.join(output_dir, "M6_quality.png"),
+                })
+                outcome.update(run_volume(fit, chord, files, log))
+                _show_final_objects(doc, outcome["grid"])
+            else:
+                _show_final_objects(doc, shell)
+        finally:  # the surface stage's results are kept when the volume stage fails
+            doc.saveAs(files["document"])
+            lines = _report_lines(fit, shell, chord, tolerance, seconds,
+                                  [f for key, f in files.items() if key == "report" or os.path.exists(f)])
+            with open(files["report"], "w") as report:
+                report.write("\n".join(lines) + "\n")
+            for line in lines:
+                log(line)
+        log("main job: {:.1f} s".format(time.time() - started))
+        return outcome
     finally:
         FreeCAD.closeDocument(doc.Name)
+
+
+def _show_final_objects(doc, final):
+    """Only the last stage's object (and the cut plane) visible when the document is opened."""
+    from bvmesh.features import grid_cut
+    from bvmesh.features.common import VISIBLE_ON_OPEN, is_type
+
+    shown = [obj.Name for obj in doc.Objects if obj == final or is_type(obj, grid_cut.TYPE)]
+    for obj in doc.Objects:
+        obj.Visibility = obj.Name in shown
+    doc.Meta = dict(doc.Meta, **{VISIBLE_ON_OPEN: " ".join(shown)})

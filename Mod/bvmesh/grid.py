@@ -156,3 +156,47 @@ def write_gismo(blocks, path):
     if isinstance(blocks, core.VolumeMesh):
         blocks = blocks.blocks
     core.write_gismo(blocks, str(path))
+
+
+def plane_cut(grid, point, normal):
+    """The grid lines where the plane (point, normal) crosses the cells' faces: 'start' and 'end'
+    (n, 3) per segment and its 'cell' (numbered as quality()'s arrays)."""
+    return load_core().grid_plane_cut(_grid_of(grid), point, normal)
+
+
+def plot_cut(grid, point, normal, path, views, values=None, title=None, value_label=None):
+    """Pictures of a plane cut as one PNG: `views` is a list of (title, (low, high)) windows in the
+    plane's coordinates (the two axes most nearly in the plane); the segments coloured by `values`
+    (one per cell) when given."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    import numpy as np
+    from matplotlib.collections import LineCollection
+
+    cut = plane_cut(grid, point, normal)
+    axes_in_plane = [a for a in np.argsort(np.abs(np.asarray(normal, dtype=float)))[:2]]
+    axes_in_plane.sort()
+    names = "xyz"
+    segments = np.stack([cut["start"][:, axes_in_plane], cut["end"][:, axes_in_plane]], axis=1)
+    figure, axes = plt.subplots(1, len(views), figsize=(6.0 * len(views), 5.0), squeeze=False)
+    for axis, (view_title, (low, high)) in zip(axes.flat, views):
+        lines = LineCollection(segments, linewidths=0.35, colors="#1f3b5a" if values is None else None)
+        if values is not None:
+            lines.set_array(np.asarray(values, dtype=float)[cut["cell"]])
+            lines.set_cmap("viridis")
+        axis.add_collection(lines)
+        axis.set_xlim(low[0], high[0])
+        axis.set_ylim(low[1], high[1])
+        axis.set_aspect("equal")
+        axis.set_title(view_title, fontsize=10)
+        axis.set_xlabel(names[axes_in_plane[0]])
+        axis.set_ylabel(names[axes_in_plane[1]])
+        if values is not None:
+            figure.colorbar(lines, ax=axis, shrink=0.8, label=value_label or "")
+    if title:
+        figure.suptitle(title)
+    figure.tight_layout()
+    figure.savefig(path, dpi=130)
+    plt.close(figure)
+    return path

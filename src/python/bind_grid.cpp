@@ -11,6 +11,7 @@
 #include "arrays.h"
 #include "bindings.h"
 #include "block_faces.h"
+#include "core/grid/plane_cut.h"
 #include "core/grid/refinement.h"
 #include "core/io/cgns_writer.h"
 #include "core/io/gismo_writer.h"
@@ -281,6 +282,26 @@ Returns a RefinedGrid.)doc");
       },
       py::arg("blocks"), py::arg("path"),
       "The B-spline blocks as G+Smo XML (TensorBSpline3 patches, a MultiPatch with interfaces and boundaries).");
+
+  module.def(
+      "grid_plane_cut",
+      [](const StructuredGrid& g, const py::object& point, const py::object& normal) {
+        const RowMatrixXd p = rowsOf(py::array::ensure(point).reshape({1, 3}), "point", 3);
+        const RowMatrixXd n = rowsOf(py::array::ensure(normal).reshape({1, 3}), "normal", 3);
+        grid::PlaneCut cut;
+        {
+          py::gil_scoped_release release;
+          cut = grid::cutByPlane(g, p.row(0).transpose(), n.row(0).transpose());
+        }
+        py::dict result;
+        result["start"] = rowsArray(cut.start);
+        result["end"] = rowsArray(cut.end);
+        result["cell"] = cut.cell;
+        return result;
+      },
+      py::arg("grid"), py::arg("point"), py::arg("normal"),
+      "The grid lines where the plane (point, normal) crosses the cells' faces: 'start' and 'end' (n, 3) of "
+      "each segment and its 'cell' (numbered as grid_quality's arrays).");
 }
 
 }  // namespace bvmesh::python

@@ -165,14 +165,25 @@ void bindVolume(py::module_& module) {
       .def_readonly("farfield_distance", &volume::VolumeMesh::farfieldDistance)
       .def_property_readonly("domain_centre",
                              [](const volume::VolumeMesh& m) { return std::vector<double>{m.domainCentre.x(), m.domainCentre.y(), m.domainCentre.z()}; })
-      .def_readonly("wall_max_deviation", &volume::VolumeMesh::wallMaxDeviation);
+      .def_readonly("wall_max_deviation", &volume::VolumeMesh::wallMaxDeviation)
+      .def_property_readonly("domain", [](const volume::VolumeMesh& m) { return std::string(volume::domainShapeName(m.domain.shape)); })
+      .def_property_readonly("box_half_extent",
+                             [](const volume::VolumeMesh& m) { return std::vector<double>{m.domain.halfExtent.x(), m.domain.halfExtent.y(), m.domain.halfExtent.z()}; })
+      .def_readonly("farfield_faces_across_domain_edges", &volume::VolumeMesh::farfieldFacesAcrossDomainEdges,
+                    "Far-field block faces that bend around an edge of a box or cylinder domain.");
 
   module.def(
       "generate_volume_mesh",
       [](const ControlMesh& wall, const py::object& symmetryPlane, double referenceLength, double reynoldsNumber,
          double boundaryLayerThickness, int boundaryLayerLayers, double boundaryLayerGrowth, double sharpEdgeSplay, double farfieldDistance,
-         double farfieldGrowth, double smoothing, double minScaledJacobian, int maxLayers) {
+         double farfieldGrowth, double smoothing, double minScaledJacobian, int maxLayers, const std::string& domain,
+         const py::object& boxHalfExtent, const py::object& flowDirection) {
         volume::VolumeMeshOptions options;
+        options.domain = volume::domainShapeOf(domain);
+        if (!boxHalfExtent.is_none()) {
+          options.boxHalfExtent = rowsOf(py::array::ensure(boxHalfExtent).reshape({1, 3}), "box_half_extent", 3).row(0).transpose();
+        }
+        options.flowDirection = rowsOf(py::array::ensure(flowDirection).reshape({1, 3}), "flow_direction", 3).row(0).transpose();
         options.referenceLength = referenceLength;
         options.reynoldsNumber = reynoldsNumber;
         options.boundaryLayerThickness = boundaryLayerThickness;
@@ -190,6 +201,8 @@ void bindVolume(py::module_& module) {
       py::arg("reynolds_number") = 5e6, py::arg("boundary_layer_thickness") = 0.0, py::arg("boundary_layer_layers") = 4,
       py::arg("boundary_layer_growth") = 1.2, py::arg("sharp_edge_splay") = 2.0, py::arg("farfield_distance") = 0.0, py::arg("farfield_growth") = 1.3,
       py::arg("smoothing") = 1.0, py::arg("min_scaled_jacobian") = 0.05, py::arg("max_layers") = 400,
+      py::arg("domain") = "sphere", py::arg("box_half_extent") = py::none(),
+      py::arg("flow_direction") = std::vector<double>{1.0, 0.0, 0.0},
       R"doc(The block-structured B-spline volume mesh around the limit surface of a fitted wall.
 
 wall: an all-quad bvmesh.ControlMesh (e.g. SurfaceFitter.mesh), outward oriented, closed or open only
@@ -197,9 +210,12 @@ on symmetry_plane ((point, normal) of a half model). Boundary layer: boundary_la
 layers along the wall normals, total thickness boundary_layer_thickness (0: the turbulent flat-plate
 estimate 0.37 L Re^-0.2 with L = reference_length, 0: the wall's largest extent); around sharp convex
 edges the grid lines fan out over a band sharp_edge_splay boundary-layer thicknesses wide. Far field: marched
-with growing implicit smoothing, turning radial, to a sphere (half sphere) of radius farfield_distance (0: 20 L) around the
-wall's centre, layer thickness growing by farfield_growth. Returns a VolumeMesh; its .blocks is a
-BlockMesh with one block per wall patch.)doc");
+with growing implicit smoothing, turning radial, layer thickness growing by farfield_growth, to the
+domain boundary around the wall's centre (halved by the symmetry plane): domain 'sphere' of radius
+farfield_distance (0: 20 L), 'box' of half sizes box_half_extent (x, y, z; farfield_distance where
+0 or None), or 'cylinder' along flow_direction of radius and half length farfield_distance. The
+blocks' outer faces are 'farfield' on a sphere, else 'inlet' / 'outlet' / 'side' by where they face
+the flow. Returns a VolumeMesh; its .blocks is a BlockMesh with one block per wall patch.)doc");
 }
 
 }  // namespace bvmesh::python

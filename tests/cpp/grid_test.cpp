@@ -15,6 +15,7 @@
 #include "core/common/errors.h"
 #include "core/grid/distribution.h"
 #include "core/grid/hex_topology.h"
+#include "core/grid/plane_cut.h"
 #include "core/grid/refinement.h"
 #include "core/io/openfoam_writer.h"
 #include "core/quality/cell_quality.h"
@@ -112,6 +113,39 @@ TEST(GridRefinement, AffineBoxGivesTheExactLattice) {
   EXPECT_NEAR(refined.firstCellHeightMin, 0.01, 1e-12);
   EXPECT_NEAR(refined.firstCellHeightMax, 0.01, 1e-12);
   EXPECT_NEAR(refined.growthMax, growth, 1e-9);
+}
+
+TEST(GridPlaneCut, AffineBoxCutAcrossXHasTheLatticeLines) {
+  // [0, 2] x [0, 2] x [0, 1] as 2 x 2 blocks (turned and mirrored), 5 points per edge: the plane
+  // x = 0.6 crosses the faces normal to y (5 per block, 1 long in z; y = 1 is in both blocks at
+  // x < 1) and normal to z (9 levels, 2 long in y): 28 in all, every point at x = 0.6, and each
+  // segment's cell straddles the plane.
+  const test::BoxBlocks box = test::boxBlocks(0.0, true, 1);
+  RefinementOptions options;
+  options.edgePoints = 5;
+  options.normalPoints = 9;
+  options.growth = 1.3;
+  const StructuredGrid grid = refineBlockMesh(box.mesh, options).grid;
+  const PlaneCut cut = cutByPlane(grid, Vector3d(0.6, 7.0, -3.0), Vector3d(2.0, 0.0, 0.0));
+  ASSERT_GT(cut.cell.size(), 0u);
+  double length = 0.0;
+  const HexTopology topology(grid);
+  for (Eigen::Index s = 0; s < cut.start.rows(); ++s) {
+    EXPECT_NEAR(cut.start(s, 0), 0.6, 1e-12);
+    EXPECT_NEAR(cut.end(s, 0), 0.6, 1e-12);
+    length += (cut.end.row(s) - cut.start.row(s)).norm();
+    double low = 1e9, high = -1e9;
+    for (Eigen::Index corner : topology.cellCorners(cut.cell[static_cast<size_t>(s)])) {
+      low = std::min(low, topology.points().points(corner, 0));
+      high = std::max(high, topology.points().points(corner, 0));
+    }
+    EXPECT_LE(low, 0.6);
+    EXPECT_GE(high, 0.6);
+  }
+  EXPECT_NEAR(length, 28.0, 1e-9);
+  EXPECT_EQ(cut.start.rows(), 2 * 5 * 8 + 9 * 8);
+  EXPECT_THROW(cutByPlane(grid, Vector3d::Zero(), Vector3d::Zero()), InvalidInputError);
+  EXPECT_THROW(cutByPlane(grid, Vector3d::Zero(), Vector3d(0.0, std::nan(""), 1.0)), InvalidInputError);
 }
 
 TEST(GridRefinement, WarpedBoxIsPointMatchedWithExactWallSpacing) {

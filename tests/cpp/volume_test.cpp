@@ -5,12 +5,14 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <map>
 #include <random>
 #include <sstream>
 
 #include "core/common/bspline_basis.h"
 #include "core/common/errors.h"
 #include "core/volume/block_mesh_io.h"
+#include "core/volume/domain.h"
 #include "core/volume/volume_blocks.h"
 #include "core/volume/wall_patches.h"
 #include "surface_test_meshes.h"
@@ -325,6 +327,125 @@ TEST(VolumeMesh, HalfModelKeepsTheSymmetryPlane) {
   }
   EXPECT_GT(symmetryFaces, 0);
   EXPECT_GT(sampleQuality(result.blocks).minScaledJacobian, 0.2);
+
+  // In a half box: the symmetry faces stay on the plane; the top block's outer face lies on the
+  // box's top. (The half model's limit surface is not symmetric in x and z, so the side blocks'
+  // outer faces bend around the box's upper edges, where a smooth face cannot follow the box; the
+  // mesh says how many do.)
+  options.domain = DomainShape::Box;
+  const VolumeMesh boxed = generateVolumeMesh(half, options);
+  int onTop = 0;
+  for (const Block& block : boxed.blocks.blocks()) {
+    for (int f = 0; f < 6; ++f) {
+      const BoundaryCondition condition = block.faces[static_cast<size_t>(f)].condition;
+      if (condition == BoundaryCondition::Connected || condition == BoundaryCondition::Wall) continue;
+      const std::array<int, 2> counts = BlockMesh::facePoleCounts(block.volume, f);
+      const auto pole = [&](int a, int b) {
+        return Vector3d(block.volume.poles().row(BlockMesh::facePole(block.volume, f, a, b)).transpose());
+      };
+      const bool top = condition != BoundaryCondition::Symmetry && boxed.domain.pieceAt(pole(counts[0] / 2, counts[1] / 2)) == 5;
+      onTop += top ? 1 : 0;
+      for (int a = 0; a < counts[0]; ++a) {
+        for (int b = 0; b < counts[1]; ++b) {
+          if (condition == BoundaryCondition::Symmetry) {
+            EXPECT_LT(std::abs(pole(a, b).z()), 1e-12 * 20.0);
+          }
+          if (top) {
+            EXPECT_NEAR(pole(a, b).z(), 20.0, 1e-11 * 20.0);
+          }
+        }
+      }
+    }
+  }
+  EXPECT_EQ(onTop, 1);
+  EXPECT_LE(boxed.farfieldFacesAcrossDomainEdges, 4);
+  EXPECT_GT(sampleQuality(boxed.blocks).minScaledJacobian, 0.2);
+}
+
+TEST(Domain, RaysMeetSphereBoxAndCylinderWhereTheClosedFormsSay) {
+  Domain sphere;
+  sphere.centre = Vector3d(1.0, 2.0, 3.0);
+  sphere.size = 5.0;
+  EXPECT_LT((sphere.onBoundary(Vector3d(1.0, 2.0, 4.0)) - Vector3d(1.0, 2.0, 8.0)).norm(), 1e-14);
+  EXPECT_EQ(sphere.conditionAt(Vector3d(6.0, 2.0, 3.0)), BoundaryCondition::Farfield);
+
+  Domain box;
+  box.shape = DomainShape::Box;
+  box.halfExtent = Vector3d(4.0, 2.0, 1.0);
+  // (1, 0.5, 0.1) is (1, 0.5, 0.1) on the unit cube, scaled to the box (4, 1, 0.1); the cube's
+  // diagonal x = y goes to the box's edge x = 4, y = 2.
+  EXPECT_LT((box.onBoundary(Vector3d(1.0, 0.5, 0.1)) - Vector3d(4.0, 1.0, 0.1)).norm(), 1e-14);
+  EXPECT_LT((box.onBoundary(Vector3d(0.3, 0.3, -0.1)) - Vector3d(4.0, 2.0, -1.0 / 3.0)).norm(), 1e-14);
+  // Within 1e-6 of an edge a point is put on it.
+  const Vector3d nearEdge = box.onBoundary(Vector3d(1.0, 1.0 - 1e-8, 0.3));
+  EXPECT_EQ(nearEdge.x(), 4.0);
+  EXPECT_EQ(nearEdge.y(), 2.0);
+  EXPECT_EQ(box.conditionAt(Vector3d(-4.0, 0.5, 0.5)), BoundaryCondition::Inlet);
+  EXPECT_EQ(box.conditionAt(Vector3d(4.0, 0.5, 0.5)), BoundaryCondition::Outlet);
+  EXPECT_EQ(box.conditionAt(Vector3d(1.0, 0.5, -1.0)), BoundaryCondition::Side);
+  EXPECT_EQ(box.pieceAt(Vector3d(1.0, 0.5, -1.0)), 4);
+  EXPECT_DOUBLE_EQ(box.distanceToPiece(Vector3d(1.0, 0.5, -0.75), 4), 0.25);
+
+  Domain cylinder;
+  cylinder.shape = DomainShape::Cylinder;
+  cylinder.size = 10.0;
+  cylinder.flowDirection = Vector3d(0.0, 0.0, 1.0);
+  // Along the flow axis z: through the downstream end, else through the side of radius 10.
+  EXPECT_LT((cylinder.onBoundary(Vector3d(0.1, 0.0, 1.0)) - Vector3d(1.0, 0.0, 10.0)).norm(), 1e-13);
+  EXPECT_LT((cylinder.onBoundary(Vector3d(3.0, 4.0, 1.0)) - Vector3d(6.0, 8.0, 2.0)).norm(), 1e-13);
+  EXPECT_EQ(cylinder.conditionAt(Vector3d(0.0, 0.0, -10.0)), BoundaryCondition::Inlet);
+  EXPECT_EQ(cylinder.conditionAt(Vector3d(6.0, 8.0, 2.0)), BoundaryCondition::Side);
+
+  Domain bad = box;
+  bad.halfExtent.y() = 0.0;
+  EXPECT_THROW(bad.validate(), InvalidInputError);
+  bad = cylinder;
+  bad.flowDirection = Vector3d(0.0, 0.0, 2.0);
+  EXPECT_THROW(bad.validate(), InvalidInputError);
+  EXPECT_THROW(domainShapeOf("cone"), InvalidInputError);
+}
+
+TEST(VolumeMesh, RefinedCubeInABoxHasItsOuterFacesOnTheBoxPlanes) {
+  // The refined cube's limit surface (symmetric about x = 0, y = 0, z = 0 and the diagonal planes,
+  // in which its chart borders run) in a box of half sizes 20, 15, 12 around it: every block's
+  // outer face on one face of the box.
+  const surface::QuadControlMesh cube = surface::testing::subdivide(surface::testing::cube(), 2);
+  VolumeMeshOptions options;
+  options.boundaryLayerThickness = 0.05;
+  options.farfieldDistance = 15.0;
+  options.domain = DomainShape::Box;
+  options.boxHalfExtent = Vector3d(20.0, 0.0, 12.0);  // y: the far-field distance
+  const VolumeMesh result = generateVolumeMesh(cube, options);
+  EXPECT_DOUBLE_EQ(result.domain.halfExtent.y(), 15.0);
+  std::map<BoundaryCondition, int> tags;
+  for (const Block& block : result.blocks.blocks()) {
+    const BoundaryCondition condition = block.faces[static_cast<size_t>(BlockFaceSide::WMax)].condition;
+    ++tags[condition];
+    const int f = static_cast<int>(BlockFaceSide::WMax);
+    const std::array<int, 2> counts = BlockMesh::facePoleCounts(block.volume, f);
+    const Vector3d middle = block.volume.poles().row(BlockMesh::facePole(block.volume, f, counts[0] / 2, counts[1] / 2)).transpose();
+    const int piece = result.domain.pieceAt(middle);
+    for (int a = 0; a < counts[0]; ++a) {
+      for (int b = 0; b < counts[1]; ++b) {
+        const Vector3d pole = block.volume.poles().row(BlockMesh::facePole(block.volume, f, a, b)).transpose();
+        EXPECT_LT(result.domain.distanceToPiece(pole, piece), 1e-11 * 20.0);
+      }
+    }
+  }
+  EXPECT_EQ(result.farfieldFacesAcrossDomainEdges, 0);
+  EXPECT_EQ(tags[BoundaryCondition::Inlet], tags[BoundaryCondition::Outlet]);
+  EXPECT_GT(tags[BoundaryCondition::Inlet], 0);
+  EXPECT_GT(tags[BoundaryCondition::Side], 0);
+  EXPECT_EQ(tags[BoundaryCondition::Farfield], 0);
+  EXPECT_GT(sampleQuality(result.blocks).minScaledJacobian, 0.2);
+
+  options.boxHalfExtent = Vector3d(20.0, 0.04, 12.0);
+  EXPECT_THROW(generateVolumeMesh(cube, options), InvalidInputError);  // inside the boundary layer
+  options.boxHalfExtent = Vector3d(20.0, -1.0, 12.0);
+  EXPECT_THROW(generateVolumeMesh(cube, options), InvalidInputError);
+  options.boxHalfExtent = Vector3d::Zero();
+  options.flowDirection = Vector3d::Zero();
+  EXPECT_THROW(generateVolumeMesh(cube, options), InvalidInputError);
 }
 
 TEST(VolumeMesh, BadWallsAndOptionsGetClearErrors) {

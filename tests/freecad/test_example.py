@@ -1,14 +1,18 @@
-"""The README's main job (python -m bvmesh example) at two levels: it writes a document that
-reopens with every object, a STEP surface that reads back, a plot and a report."""
+"""The README's main job (python -m bvmesh example), stopped at level 2: it writes a document
+that reopens with every object, a STEP surface that reads back, a plot and a report, and the volume
+stage's files: CGNS that cgnscheck passes, an OpenFOAM case that checkMesh accepts, pictures, and a
+volume report whose figures a recomputation from the reopened document gives again."""
 
 import os
+import re
+import subprocess
 import tempfile
 import unittest
 
 import FreeCAD
 import Part
 
-from bvmesh import example
+from bvmesh import api, example, grid
 
 
 class MainJob(unittest.TestCase):
@@ -27,10 +31,35 @@ class MainJob(unittest.TestCase):
         doc = FreeCAD.openDocument(files["document"])
         try:
             kinds = sorted(o.Proxy.Type for o in doc.Objects if hasattr(o, "Proxy") and hasattr(o.Proxy, "Type"))
-            self.assertEqual(kinds, ["BVMesh::BsplineShell", "BVMesh::ControlPolyhedron", "BVMesh::SurfaceFit",
-                                     "BVMesh::Target"])
+            self.assertEqual(kinds, ["BVMesh::BsplineShell", "BVMesh::ControlPolyhedron", "BVMesh::Export",
+                                     "BVMesh::Export", "BVMesh::GridCut", "BVMesh::MeshQuality",
+                                     "BVMesh::SurfaceFit", "BVMesh::Target", "BVMesh::VolumeGrid",
+                                     "BVMesh::VolumeMesh"])
+            visible = sorted(o.Name for o in doc.Objects if o.Visibility)
+            self.assertEqual(visible, ["GridCut", "VolumeGrid"])
+            # The report's figures again from the reopened document (blocks marched and points
+            # evaluated again, checked against the saved digests).
+            grid_object = doc.getObject("VolumeGrid")
+            recomputed = grid.quality(api.grid_of(grid_object))
+            with open(files["volume_report"]) as report:
+                volume_report = report.read()
+            self.assertIn(grid.quality_table(recomputed).strip(), volume_report)
+            self.assertIn("{} cells".format(grid_object.CellCount), volume_report)
+            self.assertGreater(grid_object.CellCount, 900000)
         finally:
             FreeCAD.closeDocument(doc.Name)
+
+        cgns = subprocess.run(["cgnscheck", files["cgns"]], capture_output=True, text=True, timeout=600).stdout
+        self.assertIn("checking complete", cgns)
+        self.assertNotRegex(cgns, r"(?i)error", cgns)
+        verdict = example.check_mesh(files["openfoam"])
+        self.assertEqual(verdict, "Mesh OK.")
+        self.assertIn("checkMesh on M6_openfoam: Mesh OK.", volume_report)
+        self.assertEqual(result["check_mesh"], verdict)
+        for picture in ("cut", "quality"):
+            self.assertGreater(os.path.getsize(files[picture]), 50000)
+        match = re.search(r"far field: sphere of radius ([0-9.]+)", volume_report)
+        self.assertAlmostEqual(float(match.group(1)) / result["chord"], 20.0, delta=0.1)
 
         self.assertGreater(os.path.getsize(files["plot"]), 10000)
         with open(files["report"]) as report:

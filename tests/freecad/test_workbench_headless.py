@@ -28,11 +28,20 @@ class HeadlessWorkbench(unittest.TestCase):
         env = dict(os.environ, PYTHONPATH=os.pathsep.join(
             [os.path.join(os.environ["BVMESH_SOURCE_DIR"], "Mod"), "/usr/lib/freecad-python3/lib"]))
         output = tempfile.mkdtemp(prefix="bvmesh-example-")
-        done = subprocess.run(["/usr/bin/python3", "-m", "bvmesh", "example", "--output", output, "--max-level", "1"],
-                              env=env,
-                              capture_output=True, text=True, timeout=300)
+        done = subprocess.run(["/usr/bin/python3", "-m", "bvmesh", "example", "--output", output, "--max-level", "1",
+                               "--surface-only"], env=env, capture_output=True, text=True, timeout=300)
         self.assertEqual(done.returncode, 0, done.stderr)
         self.assertIn("11 faces (8 BSplineSurface, 3 Plane)", done.stdout)
+        self.assertTrue(os.path.isfile(os.path.join(output, "M6.FCStd")))
+        # At level 1 the boundary layer folds at the tip's trailing-edge corner: the volume stage
+        # says where, exits 1 without a traceback, and keeps the surface stage's document.
+        folded = tempfile.mkdtemp(prefix="bvmesh-example-")
+        failed = subprocess.run(["/usr/bin/python3", "-m", "bvmesh", "example", "--output", folded, "--max-level", "1"],
+                                env=env, capture_output=True, text=True, timeout=300)
+        self.assertEqual(failed.returncode, 1, failed.stderr)
+        self.assertRegex(failed.stderr, r"bvmesh: VolumeMesh failed: SolverError: marching folds at layer \d+")
+        self.assertNotIn("Traceback", failed.stderr)
+        self.assertTrue(os.path.isfile(os.path.join(folded, "M6.FCStd")))
         missing = subprocess.run(["/usr/bin/python3", "-m", "bvmesh", "info", "/no/such/wing.step"], env=env,
                                  capture_output=True, text=True, timeout=300)
         self.assertEqual(missing.returncode, 1)

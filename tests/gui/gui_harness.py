@@ -4,9 +4,10 @@ test's exit code (an uncaught exception would leave the GUI open)."""
 
 import os
 import sys
+import time
 import traceback
 
-from PySide import QtCore
+from PySide import QtCore, QtGui
 
 
 def log(message):
@@ -25,6 +26,77 @@ def settle(milliseconds=300):
     loop = QtCore.QEventLoop()
     QtCore.QTimer.singleShot(milliseconds, loop.quit)
     loop.exec_()
+
+
+def when_shown(find, act, timeout_ms=20000):
+    """Polls (in the event loop) until find() returns a widget, then calls act(widget) once."""
+    deadline = time.time() + timeout_ms / 1000.0
+    timer = QtCore.QTimer()
+
+    def poll():
+        widget = find()
+        if widget is not None:
+            timer.stop()
+            act(widget)
+        elif time.time() > deadline:
+            timer.stop()
+
+    timer.timeout.connect(poll)
+    timer.start(20)
+    return timer
+
+
+def main_window():
+    import FreeCADGui
+
+    return FreeCADGui.getMainWindow()
+
+
+def toolbar_action(name):
+    for bar in main_window().findChildren(QtGui.QToolBar):
+        for action in bar.actions():
+            if action.objectName() == name:
+                return action
+    raise AssertionError("no toolbar button for " + name)
+
+
+def click_toolbar(name):
+    action = toolbar_action(name)
+    deadline = time.time() + 5.0
+    while not action.isEnabled() and time.time() < deadline:  # FreeCAD updates buttons on a timer
+        settle(50)
+    check(action.isEnabled(), "the {} button is enabled".format(name))
+    action.trigger()
+    settle()
+
+
+def press_task_ok():
+    """Presses OK of the task dialog shown in the combo view."""
+    for box in main_window().findChildren(QtGui.QDialogButtonBox):
+        ok = box.button(QtGui.QDialogButtonBox.Ok)
+        if box.isVisible() and ok is not None and ok.isVisible():
+            ok.click()
+            settle()
+            return
+    raise AssertionError("no task dialog with an OK button is shown")
+
+
+def start_macro_recording(folder, name):
+    """Starts FreeCAD's macro recorder on folder/name.FCMacro (replacing an old one)."""
+    import FreeCADGui
+
+    macro = os.path.join(folder, name + ".FCMacro")
+    if os.path.exists(macro):
+        os.remove(macro)
+
+    def fill(dialog):
+        dialog.findChild(QtGui.QLineEdit, "lineEditPath").setText(name)
+        dialog.findChild(QtGui.QLineEdit, "lineEditMacroPath").setText(folder + os.sep)
+        dialog.findChild(QtGui.QPushButton, "buttonStart").click()
+
+    timer = when_shown(lambda: QtGui.QApplication.activeModalWidget(), fill)
+    FreeCADGui.runCommand("Std_DlgMacroRecord")  # modal: returns when Record was pressed
+    timer.stop()
 
 
 def start(run):

@@ -14,7 +14,8 @@ import time
 from PySide import QtCore, QtGui
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from gui_harness import check, log, settle, start  # noqa: E402
+from gui_harness import (check, click_toolbar, log, main_window, press_task_ok, settle, start,  # noqa: E402
+                         start_macro_recording, toolbar_action, when_shown)
 
 OUTPUT_DIR = os.environ.get("BVMESH_TEST_OUTPUT_DIR", "/tmp")
 SOURCE_DIR = os.environ.get("BVMESH_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
@@ -33,77 +34,8 @@ FIT_FACES = ["Face{}".format(i) for i in range(1, 12) if i != 9]  # all but the 
 
 
 
-def when_shown(find, act, timeout_ms=20000):
-    """Polls (in the event loop) until find() returns a widget, then calls act(widget) once."""
-    deadline = time.time() + timeout_ms / 1000.0
-    timer = QtCore.QTimer()
-
-    def poll():
-        widget = find()
-        if widget is not None:
-            timer.stop()
-            act(widget)
-        elif time.time() > deadline:
-            timer.stop()
-
-    timer.timeout.connect(poll)
-    timer.start(20)
-    return timer
-
-
 def vectors(obj):
     return [(v.x, v.y, v.z) for v in obj.ControlVertices]
-
-
-def main_window():
-    import FreeCADGui
-
-    return FreeCADGui.getMainWindow()
-
-
-def toolbar_action(name):
-    for bar in main_window().findChildren(QtGui.QToolBar):
-        for action in bar.actions():
-            if action.objectName() == name:
-                return action
-    raise AssertionError("no toolbar button for " + name)
-
-
-def click_toolbar(name):
-    action = toolbar_action(name)
-    deadline = time.time() + 5.0
-    while not action.isEnabled() and time.time() < deadline:  # FreeCAD updates buttons on a timer
-        settle(50)
-    check(action.isEnabled(), "the {} button is enabled".format(name))
-    action.trigger()
-    settle()
-
-
-def press_task_ok():
-    """Presses OK of the task dialog shown in the combo view."""
-    for box in main_window().findChildren(QtGui.QDialogButtonBox):
-        ok = box.button(QtGui.QDialogButtonBox.Ok)
-        if box.isVisible() and ok is not None and ok.isVisible():
-            ok.click()
-            settle()
-            return
-    raise AssertionError("no task dialog with an OK button is shown")
-
-
-def start_macro_recording():
-    import FreeCADGui
-
-    if os.path.exists(MACRO):
-        os.remove(MACRO)
-
-    def fill(dialog):
-        dialog.findChild(QtGui.QLineEdit, "lineEditPath").setText(MACRO_NAME)
-        dialog.findChild(QtGui.QLineEdit, "lineEditMacroPath").setText(OUTPUT_DIR + os.sep)
-        dialog.findChild(QtGui.QPushButton, "buttonStart").click()
-
-    timer = when_shown(lambda: QtGui.QApplication.activeModalWidget(), fill)
-    FreeCADGui.runCommand("Std_DlgMacroRecord")  # modal: returns when Record was pressed
-    timer.stop()
 
 
 def wing_fit_objects(doc, api):
@@ -164,7 +96,7 @@ def run():
 
     cancelled_fit_leaves_document_as_it_was()
 
-    start_macro_recording()
+    start_macro_recording(OUTPUT_DIR, MACRO_NAME)
     click_toolbar("BVMesh_LoadExample")
     doc = FreeCAD.ActiveDocument
     cad = doc.getObject("CAD")

@@ -100,6 +100,52 @@ class SphereVolume(unittest.TestCase):
             with self.assertRaisesRegex(ValueError, "cannot write"):
                 blocks.write(os.path.join(folder, "missing", "x.blocks"))
 
+    def test_box_domain_has_its_outer_faces_on_the_box_planes(self):
+        # The cube template's six charts map onto the six faces of any box (the cube's diagonal
+        # planes go to the box's edges); outer faces tagged by the flow direction (here -z to +z).
+        result = bvmesh.volume.offset_and_farfield(self.fitter, boundary_layer_thickness=0.05, farfield_distance=20.0,
+                                                   domain="box", box_half_extent=(30.0, 20.0, 25.0),
+                                                   flow_direction=(0.0, 0.0, 2.0))
+        self.assertEqual(result.domain, "box")
+        self.assertEqual(result.farfield_faces_across_domain_edges, 0)
+        half = np.array(result.box_half_extent)
+        s = np.linspace(0.0, 1.0, 13)
+        tags = {}
+        for b in range(result.blocks.block_count):
+            outer = result.blocks.evaluate_grid(b, s, s, [1.0])[:, :, 0, :].reshape(-1, 3)
+            axis = int(np.argmax(np.abs(outer.mean(axis=0)) / half))
+            side = np.sign(outer[:, axis].mean())
+            self.assertLess(np.abs(outer[:, axis] - side * half[axis]).max(), 1e-11 * 30.0)
+            self.assertTrue(np.all(np.abs(outer) <= half * (1 + 1e-12)))
+            condition = result.blocks.faces(b)["w_max"]["condition"]
+            expected = "side" if axis != 2 else ("outlet" if side > 0 else "inlet")
+            self.assertEqual(condition, expected)
+            tags[condition] = tags.get(condition, 0) + 1
+        self.assertEqual(tags, {"side": 4, "inlet": 1, "outlet": 1})
+        with self.assertRaisesRegex(ValueError, "domain must be 'sphere', 'box' or 'cylinder'"):
+            bvmesh.volume.offset_and_farfield(self.fitter, domain="cone")
+        with self.assertRaisesRegex(ValueError, "box half sizes must be positive"):
+            bvmesh.volume.offset_and_farfield(self.fitter, domain="box", box_half_extent=(1.0, -2.0, 1.0))
+        with self.assertRaisesRegex(ValueError, "flow direction"):
+            bvmesh.volume.offset_and_farfield(self.fitter, domain="box", flow_direction=(0.0, 0.0, 0.0))
+        with self.assertRaisesRegex(ValueError, "beyond the boundary-layer thickness"):
+            bvmesh.volume.offset_and_farfield(self.fitter, domain="box", boundary_layer_thickness=0.05,
+                                              box_half_extent=(30.0, 0.01, 30.0))
+
+    def test_cylinder_domain_tags_its_ends(self):
+        result = bvmesh.volume.offset_and_farfield(self.fitter, boundary_layer_thickness=0.05, farfield_distance=20.0,
+                                                   domain="cylinder")
+        conditions = sorted(result.blocks.faces(b)["w_max"]["condition"] for b in range(result.blocks.block_count))
+        self.assertEqual(conditions, ["inlet", "outlet", "side", "side", "side", "side"])
+        # The cube's charts do not follow a cylinder's circular edges: every face crosses one.
+        self.assertEqual(result.farfield_faces_across_domain_edges, 6)
+        grid = bvmesh.refine_blocks(result.blocks, normal_points=17, edge_points=9)
+        outer = np.concatenate([grid.grid.points(b)[:, :, -1, :].reshape(-1, 3) for b in range(6)])
+        # Grid points of the outer layer lie on the cylinder where the poles do: at the Greville
+        # points; in between, the smooth face cuts the edge's corner by at most a few per cent.
+        extent = np.maximum(np.abs(outer[:, 0]), np.hypot(outer[:, 1], outer[:, 2]))
+        self.assertLess(np.abs(extent - 20.0).max(), 0.05 * 20.0)
+
     def test_bad_input_names_the_problem(self):
         with self.assertRaisesRegex(ValueError, "far-field distance"):
             bvmesh.volume.offset_and_farfield(self.fitter, boundary_layer_thickness=0.05, farfield_distance=0.01)

@@ -1,6 +1,12 @@
 """Helpers shared by the document objects: property set-up that is safe to run twice (at
 creation and again in onDocumentRestored, so files written by older versions gain new
-properties), and a proxy base that persists nothing of its own."""
+properties), a proxy base that persists nothing of its own, and the hook through which long
+computations run (in the GUI: a worker thread with progress and Cancel)."""
+
+import contextlib
+
+# Document.Meta key: names of the objects a document written headless shows when opened in the GUI.
+VISIBLE_ON_OPEN = "BVMesh_VisibleOnOpen"
 
 # Editor modes of FreeCAD's property editor.
 READ_ONLY = 1
@@ -45,6 +51,11 @@ class Proxy:
             from bvmesh.gui import view_providers
 
             view_providers.attach(obj)
+            # A headless document has no view state (the GUI opens its objects hidden): show the
+            # ones its writer named.
+            shown = obj.Document.Meta.get(VISIBLE_ON_OPEN)
+            if shown is not None:
+                obj.ViewObject.Visibility = obj.Name in shown.split()
 
     def execute(self, obj):
         # FreeCAD only prints a failed recompute; keep the message for the API to raise.
@@ -72,3 +83,27 @@ class Proxy:
 def is_type(obj, type_name):
     """True when `obj` is a BVMesh object of the given proxy Type."""
     return getattr(getattr(obj, "Proxy", None), "Type", None) == type_name
+
+
+class WorkCancelled(RuntimeError):
+    """A long computation was cancelled: the recompute fails and the caller restores the document."""
+
+
+_work_runner = None
+
+
+@contextlib.contextmanager
+def work_runner(runner):
+    """Makes run_work call `runner(description, work) -> result` while the block runs (the GUI
+    runs the work in a thread with a progress dialog; the macro line stays the plain API call)."""
+    global _work_runner
+    previous, _work_runner = _work_runner, runner
+    try:
+        yield
+    finally:
+        _work_runner = previous
+
+
+def run_work(description, work):
+    """work() directly (scripts, freecadcmd), or through the runner set by work_runner."""
+    return work() if _work_runner is None else _work_runner(description, work)

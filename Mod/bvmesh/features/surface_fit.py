@@ -161,13 +161,32 @@ class SurfaceFitProxy(Proxy):
         ))
         return hashlib.sha1(data.encode()).hexdigest()
 
-    def _new_fitter(self, obj):
+    def _new_fitter(self, obj, max_level=None):
         from bvmesh import load_core
 
         target = obj.Target.Proxy.core_target(obj.Target)
         mesh = polyhedron_feature.control_mesh(obj.Polyhedron)
-        return load_core().SurfaceFitter(target, mesh, polyhedron_feature.feature_map(obj.Polyhedron),
-                                         **self.options(obj))
+        options = self.options(obj)
+        if max_level is not None:
+            options["max_level"] = max_level
+        return load_core().SurfaceFitter(target, mesh, polyhedron_feature.feature_map(obj.Polyhedron), **options)
+
+    def wall_at_level(self, obj, level):
+        """A function giving the control mesh of the same fit stopped at `level` (below the
+        object's own): the properties are read now, the refit runs when the function is called
+        (possibly in a worker thread); the mesh is kept while the inputs stay the same."""
+        key = (self._inputs_key(obj), level)
+        cached = getattr(self, "_level_mesh", None)
+        if cached is not None and cached[0] == key:
+            return lambda: cached[1]
+        fitter = self._new_fitter(obj, max_level=level)
+
+        def refit():
+            default_run(fitter)
+            self._level_mesh = (key, fitter.mesh)  # one level at a time is what the volume stage asks for
+            return fitter.mesh
+
+        return refit
 
     def _apply(self, obj, fitter, line, summary):
         name, args = parse_step(line)
@@ -253,6 +272,22 @@ def result_mesh(obj):
     return load_core().ControlMesh([(v.x, v.y, v.z) for v in obj.ControlVertices], faces,
                                    creases=polyhedron_feature.pairs(obj.ControlCreases) or None,
                                    corners=list(obj.ControlCorners) or None)
+
+
+def wall_at_level(obj, level):
+    """(function giving the control mesh, level) of a SurfaceFit object for the volume stage: the
+    fitted mesh when level is -1 or the fit's own level; for a lower level, the same fit run to that
+    level (only for a fit made by one Fit to tolerance step, whose intermediate levels that run
+    reproduces). Everything is read from the object now; the function may run in another thread."""
+    if level < 0 or level == obj.Level:
+        mesh = result_mesh(obj)
+        return (lambda: mesh), obj.Level
+    if level > obj.Level:
+        raise ValueError("{} is at level {}: there is no wall at level {}".format(obj.Label, obj.Level, level))
+    if list(obj.Steps) != ["fit"]:
+        raise ValueError("a wall below the fit's level needs a fit made by one 'Fit to tolerance' step; {} has "
+                         "steps {}".format(obj.Label, list(obj.Steps)))
+    return obj.Proxy.wall_at_level(obj, level), level
 
 
 def convergence_table(obj):

@@ -7,8 +7,8 @@ import FreeCADGui
 
 import bvmesh
 from bvmesh import extensions, paths, preferences
-from bvmesh.features import bspline_shell, polyhedron, surface_fit, target
-from bvmesh.features.common import is_type
+from bvmesh.features import bspline_shell, grid_cut, polyhedron, surface_fit, target, volume_grid, volume_mesh
+from bvmesh.features.common import WorkCancelled, is_type
 
 _core_error = None
 
@@ -49,9 +49,10 @@ def find_object(type_name):
     for obj in FreeCADGui.Selection.getSelection():
         if is_type(obj, type_name):
             return obj
-        # a distance map or shell selected stands for its fit
-        if type_name == surface_fit.TYPE and is_type(getattr(obj, "Fit", None), type_name):
-            return obj.Fit
+        # a distance map or shell stands for its fit, a grid's cut, quality or export for the grid, ...
+        for link in ("Fit", "VolumeMesh", "Grid", "Source"):
+            if is_type(getattr(obj, link, None), type_name):
+                return getattr(obj, link)
     doc = FreeCAD.ActiveDocument
     if doc is None:
         return None
@@ -73,7 +74,7 @@ def run_in_transaction(title, lines):
             FreeCADGui.doCommand(line)
     except Exception as error:  # any failure of the command must leave the document intact
         doc.abortTransaction()
-        if surface_fit.FitCancelled.__name__ in str(error):
+        if any(kind.__name__ in str(error) for kind in (surface_fit.FitCancelled, WorkCancelled)):
             FreeCAD.Console.PrintWarning("BVMesh: {} cancelled; the document is as it was\n".format(title))
         else:
             FreeCAD.Console.PrintError("BVMesh: {} failed: {}\n".format(title, error))
@@ -430,6 +431,122 @@ class ExportStep:
             FreeCADGui.doCommand("bvmesh.api.export_step({}, {!r})".format(_object_ref(shell), path))
 
 
+# -- volume ---------------------------------------------------------------------------------------
+
+
+class MakeVolumeMesh:
+    def GetResources(self):
+        return _resources("BVMesh_VolumeMesh", "Volume mesh",
+                          "Grow the boundary layer and march the far field from the fitted wall into tricubic "
+                          "B-spline blocks (options in a task panel; Cancel restores the document)")
+
+    def IsActive(self):
+        fit = find_object(surface_fit.TYPE)
+        return fit is not None and len(fit.ControlVertices) > 0 and not FreeCADGui.Control.activeDialog()
+
+    def Activated(self):
+        from bvmesh.gui import task_panels
+
+        FreeCADGui.Control.showDialog(task_panels.VolumeMeshPanel(None, find_object(surface_fit.TYPE)))
+
+
+class MakeVolumeGrid:
+    def GetResources(self):
+        return _resources("BVMesh_VolumeGrid", "Volume grid",
+                          "Evaluate the B-spline blocks on a stretched, point-matched grid (euler or rans preset)")
+
+    def IsActive(self):
+        return find_object(volume_mesh.TYPE) is not None and not FreeCADGui.Control.activeDialog()
+
+    def Activated(self):
+        from bvmesh.gui import task_panels
+
+        FreeCADGui.Control.showDialog(task_panels.VolumeGridPanel(None, find_object(volume_mesh.TYPE)))
+
+
+class GridCut:
+    def GetResources(self):
+        return _resources("BVMesh_GridCut", "Cut plane",
+                          "Show the grid lines around the section at a span station, coloured by block or by a "
+                          "quality metric")
+
+    def IsActive(self):
+        return find_object(volume_grid.TYPE) is not None
+
+    def Activated(self):
+        from PySide import QtGui
+
+        from bvmesh.gui import plots
+
+        window = FreeCADGui.getMainWindow()
+        eta, ok = QtGui.QInputDialog.getDouble(window, "Cut plane", "Span fraction (0 at the symmetry plane):",
+                                               0.44, 0.0, 1.0, 3)
+        if not ok:
+            return
+        metric, ok = QtGui.QInputDialog.getItem(window, "Cut plane", "Colour by:", grid_cut.METRICS, 0, False)
+        if not ok:
+            return
+        grid = find_object(volume_grid.TYPE)
+        line = "bvmesh.api.make_grid_cut({}, eta={!r}, metric={!r})".format(_object_ref(grid), eta, str(metric))
+        if run_in_transaction("BVMesh cut plane", [line]):
+            cut = FreeCAD.ActiveDocument.Objects[-1]
+            if cut.Metric != "block":
+                plots.show_cut_legend(cut)
+
+
+class MeshQuality:
+    def GetResources(self):
+        return _resources("BVMesh_MeshQuality", "Mesh quality",
+                          "Measure the grid's cells (scaled Jacobian, non-orthogonality, skewness, aspect and "
+                          "growth ratio, wall angle, first cell height): table in the Report view, histograms")
+
+    def IsActive(self):
+        return find_object(volume_grid.TYPE) is not None
+
+    def Activated(self):
+        import os
+
+        from bvmesh.gui import plots, progress
+
+        grid = find_object(volume_grid.TYPE)
+        path = os.path.join(plots.output_dir(), "{}_{}_quality.png".format(grid.Document.Name, grid.Name))
+        line = "bvmesh.api.make_mesh_quality({}, histogram_path={!r})".format(_object_ref(grid), path)
+        with progress.work_runner_in_gui("Mesh quality"):
+            done = run_in_transaction("BVMesh mesh quality", [line])
+        if done:
+            quality = FreeCAD.ActiveDocument.Objects[-1]
+            FreeCAD.Console.PrintMessage("BVMesh: quality of {} ({} cells, {} non-positive)\n{}".format(
+                grid.Label, quality.Cells, quality.NonPositiveCells, quality.Table))
+            plots.show_image("Quality of " + grid.Label, path)
+
+
+EXPORT_FILTERS = ("CGNS (*.cgns)", "OpenFOAM case (a new directory) (*)", "Plot3D (*.xyz *.p3d *.x)",
+                  "VTK multiblock (*.vtm)", "G+Smo B-spline blocks (*.xml)", "BVMesh block file (*.blocks)")
+
+
+class ExportGrid:
+    def GetResources(self):
+        return _resources("BVMesh_Export", "Export volume grid",
+                          "Write the grid as CGNS, an OpenFOAM case, Plot3D or VTK, or the B-spline blocks as "
+                          "G+Smo XML or a block file (the format from the file ending)")
+
+    def IsActive(self):
+        return find_object(volume_grid.TYPE) is not None
+
+    def Activated(self):
+        from PySide import QtGui
+
+        from bvmesh.gui import plots, progress
+
+        grid = find_object(volume_grid.TYPE)
+        path, _ = QtGui.QFileDialog.getSaveFileName(FreeCADGui.getMainWindow(), "Export volume grid",
+                                                    plots.output_dir(), ";;".join(EXPORT_FILTERS))
+        if not path:
+            return
+        with progress.work_runner_in_gui("Export"):
+            run_in_transaction("BVMesh export", ["bvmesh.api.export_grid({}, {!r})".format(_object_ref(grid), path)])
+
+
 STEP_COMMANDS = (
     ("BVMesh_Subdivide", FitStep("subdivide", "BVMesh_Subdivide", "Subdivide",
                                  "Step 1: one Catmull-Clark subdivision of the fitted control mesh")),
@@ -456,6 +573,9 @@ GROUPS = (
      + list(STEP_COMMANDS)),
     ("BVMesh results", [("BVMesh_DistanceMap", DistanceMap()), ("BVMesh_ConvergencePlot", ConvergencePlot()),
                         ("BVMesh_BsplineShell", BsplineShell()), ("BVMesh_ExportStep", ExportStep())]),
+    ("BVMesh volume", [("BVMesh_VolumeMesh", MakeVolumeMesh()), ("BVMesh_VolumeGrid", MakeVolumeGrid()),
+                       ("BVMesh_GridCut", GridCut()), ("BVMesh_MeshQuality", MeshQuality()),
+                       ("BVMesh_ExportGrid", ExportGrid())]),
 )
 
 

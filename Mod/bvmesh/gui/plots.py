@@ -58,19 +58,33 @@ def _colormap():
 
 def save_legend(dmap, path):
     """The distance map's colour legend (0 .. LegendMax) as a PNG."""
+    return save_colorbar(path, 0.0, dmap.LegendMax, "distance", "red: {:.3g} and more".format(dmap.LegendMax))
+
+
+def save_colorbar(path, low, high, title, note=""):
+    """A vertical colour bar of the distance map's ramp from low to high, as a PNG."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.colorbar import ColorbarBase
     from matplotlib.colors import Normalize
     from matplotlib.figure import Figure
 
-    figure = Figure(figsize=(1.6, 4.0), dpi=100)
+    figure = Figure(figsize=(1.8, 4.0), dpi=100)
     FigureCanvasAgg(figure)
     axes = figure.add_axes([0.15, 0.05, 0.25, 0.85])
-    ColorbarBase(axes, cmap=_colormap(), norm=Normalize(0.0, dmap.LegendMax), orientation="vertical")
-    axes.set_title("distance", fontsize=9)
-    axes.set_ylabel("red: {:.3g} and more".format(dmap.LegendMax), fontsize=8)
+    ColorbarBase(axes, cmap=_colormap(), norm=Normalize(low, high if high > low else low + 1.0),
+                 orientation="vertical")
+    axes.set_title(title, fontsize=9)
+    axes.set_ylabel(note, fontsize=8)
     figure.savefig(path)
     return path
+
+
+def show_cut_legend(cut):
+    """The colour legend of a GridCut coloured by a quality metric, in a dialog."""
+    path = os.path.join(output_dir(), "{}_{}_legend.png".format(cut.Document.Name, cut.Name))
+    save_colorbar(path, cut.ValueMin, cut.ValueMax, cut.Metric.replace("_", " "),
+                  "{:.3g} .. {:.3g}".format(cut.ValueMin, cut.ValueMax))
+    return show_image("{} legend".format(cut.Label), path, "{} segments".format(cut.SegmentCount))
 
 
 def show_legend(dmap):

@@ -7,7 +7,7 @@ import FreeCAD
 import FreeCADGui
 
 from bvmesh import paths
-from bvmesh.features import polyhedron, surface_fit
+from bvmesh.features import polyhedron, surface_fit, volume_grid, volume_mesh
 from bvmesh.features.common import is_type
 from bvmesh.gui.commands import _object_ref, run_in_transaction
 
@@ -23,6 +23,10 @@ def panel_for(obj):
         return PolyhedronPanel(obj)
     if is_type(obj, surface_fit.TYPE):
         return FitPanel(obj)
+    if is_type(obj, volume_mesh.TYPE):
+        return VolumeMeshPanel(obj)
+    if is_type(obj, volume_grid.TYPE):
+        return VolumeGridPanel(obj)
     return None
 
 
@@ -183,3 +187,103 @@ class FitPanel(_Panel):
                 return False
         FreeCADGui.Control.closeDialog()
         return True
+
+
+class _OptionsPanel(_Panel):
+    """A panel over a feature's OPTIONS and DISPLAY tables (widgets spin<Property>,
+    check<Property>): creates the object (obj None, from `source`) or changes the options of `obj`
+    through the API, in one transaction, the work in a worker thread with progress and Cancel."""
+
+    form_name = title = create_function = set_function = None
+    options = display = ()
+    extra_spins = ()  # (property, keyword) outside OPTIONS
+    combos = ()       # (property, keyword, choices)
+
+    def __init__(self, obj, source=None):
+        self.obj, self.source = obj, source
+        self.form = load_form(self.form_name)
+        for prop, keyword, choices in self.combos:
+            widget = self.widget("combo", prop)
+            widget.addItems(choices)
+            widget.setCurrentIndex(choices.index(self.current(prop, choices[0])))
+        for prop, _, _, default, _ in self.options:
+            self.widget("spin", prop, default).setValue(self.current(prop, default))
+        for prop, _ in self.extra_spins:
+            self.widget("spin", prop, -1).setValue(self.current(prop, -1))
+        for prop, _, default in self.display:
+            self.widget("check", prop).setChecked(self.current(prop, default))
+
+    def widget(self, kind, prop, default=None):
+        """The form's widget for a property, looked up with its class (an attribute lookup can
+        come back as a plain QWidget)."""
+        from PySide import QtGui
+
+        classes = {"combo": QtGui.QComboBox, "check": QtGui.QCheckBox,
+                   "spin": QtGui.QSpinBox if isinstance(default, int) else QtGui.QDoubleSpinBox}
+        found = self.form.findChild(classes[kind], kind + prop)
+        if found is None:
+            raise LookupError("the {} form has no {}{}".format(self.form_name, kind, prop))
+        return found
+
+    def current(self, prop, default):
+        return default if self.obj is None else getattr(self.obj, prop)
+
+    def getStandardButtons(self):
+        from PySide import QtGui
+
+        return int(QtGui.QDialogButtonBox.Ok | QtGui.QDialogButtonBox.Cancel)
+
+    def changed(self):
+        """API keywords whose value in the form differs from the object's (or the defaults)."""
+        changed = {}
+        for prop, keyword, choices in self.combos:
+            value = self.widget("combo", prop).currentText()
+            if self.obj is None or value != getattr(self.obj, prop):
+                changed[keyword] = value
+        for prop, keyword, _, default, _ in self.options:
+            value = self.widget("spin", prop, default).value()
+            if value != self.current(prop, default):
+                changed[keyword] = value
+        for prop, keyword in self.extra_spins:
+            value = self.widget("spin", prop, -1).value()
+            if value != self.current(prop, -1):
+                changed[keyword] = value
+        shown = tuple(condition for prop, condition, _ in self.display if self.widget("check", prop).isChecked())
+        if shown != tuple(condition for prop, condition, default in self.display if self.current(prop, default)):
+            changed["show"] = shown
+        return changed
+
+    def accept(self):
+        from bvmesh.gui import progress
+
+        changed = self.changed()
+        arguments = "".join(", {}={!r}".format(k, v) for k, v in changed.items())
+        if self.obj is None:
+            line = "bvmesh.api.{}({}{})".format(self.create_function, _object_ref(self.source), arguments)
+        elif changed:
+            line = "bvmesh.api.{}({}{})".format(self.set_function, _object_ref(self.obj), arguments)
+        else:
+            FreeCADGui.Control.closeDialog()
+            return True
+        with progress.work_runner_in_gui(self.title):
+            done = run_in_transaction("BVMesh " + self.title.lower(), [line])
+        if not done:
+            self.form.labelStatus.setText("Not done: see the Report view.")
+            return False
+        FreeCADGui.Control.closeDialog()
+        return True
+
+
+class VolumeMeshPanel(_OptionsPanel):
+    form_name, title = "volume_mesh", "Volume mesh"
+    create_function, set_function = "make_volume_mesh", "set_volume_options"
+    options, display = volume_mesh.OPTIONS, volume_mesh.DISPLAY
+    extra_spins = (("WallLevel", "wall_level"),)
+    combos = (("Domain", "domain", volume_mesh.DOMAINS),)
+
+
+class VolumeGridPanel(_OptionsPanel):
+    form_name, title = "volume_grid", "Volume grid"
+    create_function, set_function = "make_volume_grid", "set_grid_options"
+    options, display = volume_grid.OPTIONS, volume_grid.DISPLAY
+    combos = (("Preset", "preset", volume_grid.PRESETS), ("Distribution", "distribution", volume_grid.DISTRIBUTIONS))

@@ -1,8 +1,11 @@
 """View providers of BVMesh's objects: icons, crease colours on wireframes, per-vertex colours
 of the distance map, task panels on double-click. Attached by bvmesh.api when FreeCAD.GuiUp."""
 
+import colorsys
+
 from bvmesh import paths, preferences
-from bvmesh.features import bspline_shell, distance_map, polyhedron, surface_fit, target
+from bvmesh.features import (bspline_shell, distance_map, grid_cut, grid_export, mesh_quality, polyhedron,
+                             surface_fit, target, volume_grid, volume_mesh)
 
 # proxy Type -> icon name
 _KINDS = {
@@ -11,6 +14,11 @@ _KINDS = {
     surface_fit.TYPE: "BVMesh_SurfaceFit",
     distance_map.TYPE: "BVMesh_DistanceMap",
     bspline_shell.TYPE: "BVMesh_BsplineShell",
+    volume_mesh.TYPE: "BVMesh_VolumeMesh",
+    volume_grid.TYPE: "BVMesh_VolumeGrid",
+    grid_cut.TYPE: "BVMesh_GridCut",
+    mesh_quality.TYPE: "BVMesh_MeshQuality",
+    grid_export.TYPE: "BVMesh_Export",
 }
 
 
@@ -19,6 +27,22 @@ def attach(obj):
     ViewProvider(obj.ViewObject, _KINDS[obj.Proxy.Type])
     if obj.Proxy.Type == distance_map.TYPE:
         obj.ViewObject.Lighting = "Two side"  # both sides of the surface show their colours
+
+
+def block_colors(blocks):
+    """A distinct, light colour per block number (golden-ratio hues), for faces and cut lines."""
+    return [colorsys.hsv_to_rgb((0.61803398875 * b) % 1.0, 0.45, 0.95) for b in blocks]
+
+
+def cut_line_colors(cut):
+    """Per-segment colours of a GridCut: by block, or along the distance map's ramp from the
+    cut's smallest to its largest value."""
+    values = list(cut.SegmentValues)
+    if cut.Metric == "block":
+        return [tuple(c) for c in block_colors(int(v) for v in values)]
+    span = cut.ValueMax - cut.ValueMin
+    shifted = [v - cut.ValueMin for v in values]
+    return [tuple(map(float, c)) for c in distance_map.ramp_colors(shifted, span if span > 0 else 1.0)]
 
 
 def crease_edge_colors(edges, crease_pairs):
@@ -51,19 +75,34 @@ class ViewProvider:
 
     def claimChildren(self):
         obj = self.Object
-        if obj.Proxy.Type == surface_fit.TYPE:
-            return [o for o in obj.InList if getattr(o, "Fit", None) == obj]
-        return []
+        links = {surface_fit.TYPE: ("Fit",), volume_mesh.TYPE: ("VolumeMesh",),
+                 volume_grid.TYPE: ("Grid", "Source")}.get(obj.Proxy.Type, ())
+        return [o for o in obj.InList if any(getattr(o, link, None) == obj for link in links)]
 
     def updateData(self, obj, prop):
         kind = obj.Proxy.Type
         if prop == "Shape" and kind in (polyhedron.TYPE, surface_fit.TYPE):
             self._color_creases(obj)
+        elif prop == "FaceBlocks" and kind == volume_mesh.TYPE:
+            self._color_blocks(obj)
+        elif prop == "SegmentValues" and kind == grid_cut.TYPE:
+            vobj = obj.ViewObject
+            if vobj is not None and len(obj.SegmentValues) == len(obj.Shape.Edges):
+                vobj.LineColorArray = cut_line_colors(obj)
+                vobj.LineWidth = 1.0
         elif prop == "VertexColors" and kind == distance_map.TYPE:
             vobj = obj.ViewObject
             if vobj is not None and "Coloring" in vobj.PropertiesList and len(obj.VertexColors):
                 vobj.Coloring = False  # re-read the colour list
                 vobj.Coloring = True
+
+    def _color_blocks(self, obj):
+        vobj = obj.ViewObject
+        if vobj is None or len(obj.FaceBlocks) != len(obj.Shape.Faces):
+            return
+        vobj.DiffuseColor = block_colors(obj.FaceBlocks)
+        vobj.LineColor = (0.1, 0.15, 0.25)  # the face borders are the block edges
+        vobj.LineWidth = 2.0
 
     def _color_creases(self, obj):
         vobj = obj.ViewObject

@@ -103,7 +103,7 @@ class Marcher {
     // so that their sum reaches the domain boundary from the front's mean radius.
     const RowMatrixX3d& top = result.layers.back();
     double meanRadius = 0.0;
-    for (Eigen::Index p = 0; p < top.rows(); ++p) meanRadius += (top.row(p).transpose() - options_.domainCentre).norm();
+    for (Eigen::Index p = 0; p < top.rows(); ++p) meanRadius += (top.row(p).transpose() - options_.domain.centre).norm();
     meanRadius /= static_cast<double>(std::max<Eigen::Index>(1, top.rows()));
     const double remaining = options_.farfieldDistance - meanRadius;
     const double first = h * options_.farfieldGrowth;
@@ -169,7 +169,7 @@ class Marcher {
     if (!(options_.minScaledJacobian >= 0.0 && options_.minScaledJacobian < 1.0)) {
       throw InvalidInputError("minimum scaled Jacobian must be in [0, 1), got " + std::to_string(options_.minScaledJacobian));
     }
-    if (!options_.domainCentre.allFinite()) throw InvalidInputError("domain centre is not finite");
+    options_.domain.validate();
     if (front_.points.rows() == 0 || front_.quads.empty()) throw InvalidInputError("the wall to march has no cells");
     if (front_.normals.rows() != front_.points.rows()) throw InvalidInputError("one wall normal per point is needed");
     for (Eigen::Index p = 0; p < front_.points.rows(); ++p) {
@@ -402,7 +402,7 @@ class Marcher {
       const Vector3d before = previous.row(p).transpose();
       const Vector3d normal = normals.row(p).transpose();
       const Vector3d local = normal.dot(before) > 0 ? (before + normal).normalized() : before;
-      const Vector3d fromCentre = points.row(p).transpose() - options_.domainCentre;
+      const Vector3d fromCentre = points.row(p).transpose() - options_.domain.centre;
       const Vector3d radial = fromCentre.norm() > 0 ? fromCentre.normalized() : local;
       blended.row(p) = ((1.0 - towardsDomain) * local + towardsDomain * radial).normalized().transpose();
     }
@@ -444,16 +444,15 @@ class Marcher {
                       ") (scaled Jacobian " + std::to_string(worst) + " " + hint + ")");
   }
 
-  // Moves the outer layers onto the domain boundary: the last layer is projected radially onto it,
-  // and each far-field layer takes the share of that move that its distance gives.
+  // Moves the outer layers onto the domain boundary: the last layer is projected onto it along the
+  // rays from the domain centre, and each far-field layer takes the share of that move that its
+  // distance gives.
   void blendOntoDomain(MarchingResult& result, int nBl) const {
     RowMatrixX3d& last = result.layers.back();
     RowMatrixX3d move(last.rows(), 3);
     for (Eigen::Index p = 0; p < last.rows(); ++p) {
       const Vector3d x = last.row(p).transpose();
-      const Vector3d radial = x - options_.domainCentre;
-      const Vector3d target = options_.domainCentre + options_.farfieldDistance * radial.normalized();
-      move.row(p) = (target - x).transpose();
+      move.row(p) = (options_.domain.onBoundary(x) - x).transpose();
     }
     const double start = result.layerDistance[static_cast<size_t>(nBl)];
     const double span = result.layerDistance.back() - start;

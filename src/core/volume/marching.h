@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/common/types.h"
+#include "core/volume/domain.h"
 
 namespace bvmesh::volume {
 
@@ -32,11 +33,12 @@ struct MarchingOptions {
   // Width, in boundary-layer thicknesses, of the band around sharp convex wall edges over which the
   // boundary-layer grid lines fan out from one side's normal to the other's (0: no band).
   double sharpEdgeSplay = 2.0;
-  // Far field: radius of the spherical outer boundary around the domain centre, and growth of the
-  // layer thickness from one layer to the next.
+  // Far field: the distance from the domain centre the layers are marched to (the sphere's radius,
+  // the box's or cylinder's half size), the growth of the layer thickness from one layer to the
+  // next, and the outer boundary the last layer is projected onto.
   double farfieldDistance = 0.0;
   double farfieldGrowth = 1.3;
-  Eigen::Vector3d domainCentre = Eigen::Vector3d::Zero();
+  Domain domain;
   // Symmetry plane (used when some points are on it): point and unit normal.
   Eigen::Vector3d planePoint = Eigen::Vector3d::Zero();
   Eigen::Vector3d planeNormal = Eigen::Vector3d::UnitY();

@@ -205,6 +205,22 @@ std::vector<double> averagingKnots(const std::vector<double>& t) {
   return knots;
 }
 
+// The condition of a block's far-field face from where the middle of its outer poles lies on the
+// domain boundary; counts the face in `acrossEdges` when some of its poles are off that piece's
+// surface (the face bends around an edge of a box or cylinder, or cuts across it).
+BoundaryCondition outerCondition(const Domain& domain, const Eigen::MatrixXd& outerPoles, int& acrossEdges) {
+  const Eigen::Index middle = outerPoles.rows() / 2;
+  const int piece = domain.pieceAt(outerPoles.row(middle).transpose());
+  const double tolerance = 1e-9 * (domain.shape == DomainShape::Box ? domain.halfExtent.maxCoeff() : domain.size);
+  for (Eigen::Index r = 0; r < outerPoles.rows() && domain.shape != DomainShape::Sphere; ++r) {
+    if (domain.distanceToPiece(outerPoles.row(r).transpose(), piece) > tolerance) {
+      ++acrossEdges;
+      break;
+    }
+  }
+  return domain.conditionAt(outerPoles.row(middle).transpose());
+}
+
 }  // namespace
 
 VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const VolumeMeshOptions& options) {
@@ -283,7 +299,26 @@ VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const Volume
   marching.sharpEdgeSplay = options.sharpEdgeSplay;
   marching.farfieldDistance = result.farfieldDistance;
   marching.farfieldGrowth = options.farfieldGrowth;
-  marching.domainCentre = centre;
+  marching.domain.shape = options.domain;
+  marching.domain.centre = centre;
+  marching.domain.size = result.farfieldDistance;
+  for (int axis = 0; axis < 3; ++axis) {
+    const double half = options.boxHalfExtent[axis];
+    if (!(half >= 0.0) || !std::isfinite(half)) {
+      throw InvalidInputError("box half sizes must be positive (or 0 for the far-field distance), got " +
+                              std::to_string(half));
+    }
+    marching.domain.halfExtent[axis] = half > 0.0 ? half : result.farfieldDistance;
+  }
+  const double flow = options.flowDirection.norm();
+  if (!std::isfinite(flow) || !(flow > 0.0)) throw InvalidInputError("the flow direction must be a finite, non-zero vector");
+  marching.domain.flowDirection = options.flowDirection / flow;
+  marching.domain.validate();
+  if (options.domain == DomainShape::Box && marching.domain.halfExtent.minCoeff() <= result.boundaryLayerThickness) {
+    throw InvalidInputError("the box's half sizes must be beyond the boundary-layer thickness " +
+                            std::to_string(result.boundaryLayerThickness));
+  }
+  result.domain = marching.domain;
   marching.planePoint = options.planePoint;
   marching.planeNormal = planeNormal;
   marching.smoothing = options.smoothing;
@@ -411,7 +446,8 @@ VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const Volume
     block.volume = BsplineVolume({3, 3, 3}, {patch.surface.uKnots, patch.surface.vKnots, wKnots}, std::move(poles),
                                  "block " + std::to_string(p));
     block.faces[static_cast<size_t>(BlockFaceSide::WMin)].condition = BoundaryCondition::Wall;
-    block.faces[static_cast<size_t>(BlockFaceSide::WMax)].condition = BoundaryCondition::Farfield;
+    block.faces[static_cast<size_t>(BlockFaceSide::WMax)].condition =
+        outerCondition(result.domain, layerPoles[p].back(), result.farfieldFacesAcrossDomainEdges);
     for (int s = 0; s < 4; ++s) {
       const PatchSideLink& link = patch.sides[static_cast<size_t>(s)];
       BlockFace& face = block.faces[static_cast<size_t>(blockFaceOf(static_cast<ChartSide>(s)))];

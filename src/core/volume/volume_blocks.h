@@ -24,10 +24,15 @@ struct VolumeMeshOptions {
   int boundaryLayerLayers = 4;
   double boundaryLayerGrowth = 1.2;
   double sharpEdgeSplay = 2.0;  // MarchingOptions::sharpEdgeSplay
-  // Far-field boundary: a sphere (half sphere with a symmetry plane) of this radius around the
-  // wall's centre; 0: 20 reference lengths.
+  // Far-field boundary around the wall's centre (halved by a symmetry plane): a sphere of radius
+  // farfieldDistance (0: 20 reference lengths), a box (half sizes boxHalfExtent, or farfieldDistance
+  // along every axis where 0), or a cylinder along the flow direction (radius and half length
+  // farfieldDistance). Box and cylinder faces are tagged inlet / outlet / side by flowDirection.
   double farfieldDistance = 0.0;
   double farfieldGrowth = 1.3;
+  DomainShape domain = DomainShape::Sphere;
+  Eigen::Vector3d boxHalfExtent = Eigen::Vector3d::Zero();
+  Eigen::Vector3d flowDirection = Eigen::Vector3d::UnitX();
   double smoothing = 1.0;
   double minScaledJacobian = 0.05;
   int maxLayers = 400;
@@ -47,7 +52,11 @@ struct VolumeMesh {
   double boundaryLayerThickness = 0.0;
   double farfieldDistance = 0.0;
   Eigen::Vector3d domainCentre = Eigen::Vector3d::Zero();
+  Domain domain;
   double wallMaxDeviation = 0.0;  // the charts' deviation from the limit surface
+  // Far-field block faces whose poles lie on more than one face of a box or cylinder domain (they
+  // bend around its edge; each is tagged by the part its middle lies on).
+  int farfieldFacesAcrossDomainEdges = 0;
 };
 
 // The volume mesh around the limit surface of `wall` (an all-quad Catmull-Clark control mesh,

@@ -1,0 +1,170 @@
+"""The volume grid: a volume mesh's B-spline blocks evaluated on a stretched, point-matched grid
+(bvmesh.grid.refine), the grid a flow solver reads. Like the volume mesh, the points are not stored
+in the document (a million-cell grid is tens of megabytes): they are evaluated again when asked for
+after loading, and must match the saved digest. Its shape is the grid lines on the shown boundary
+faces."""
+
+import hashlib
+
+import numpy as np
+
+from bvmesh.features import volume_mesh as volume_mesh_feature
+from bvmesh.features.common import READ_ONLY, Proxy, add_property, run_work
+
+TYPE = "BVMesh::VolumeGrid"
+PRESETS = ["euler", "rans"]
+DISTRIBUTIONS = ["geometric", "tanh"]
+
+# (property, option of bvmesh.grid.refine, type, default, description); a value of -1 (counts) or
+# 0 (sizes) leaves the option to the preset.
+OPTIONS = (
+    ("NormalPoints", "normal_points", "App::PropertyInteger", -1,
+     "Points on the wall-normal lines; -1: the preset's (euler 49, rans: as many as the growth needs)"),
+    ("FirstCellHeight", "first_cell_height", "App::PropertyFloat", 0.0,
+     "First cell height at the wall (model units); 0: from YPlus, or none for euler"),
+    ("YPlus", "y_plus", "App::PropertyFloat", 0.0, "y+ of the first cell; 0: the preset's (rans 1)"),
+    ("ReynoldsNumber", "reynolds_number", "App::PropertyFloat", 0.0,
+     "Reynolds number on the reference length; 0: the volume mesh's"),
+    ("Growth", "growth", "App::PropertyFloat", 0.0, "Largest growth ratio of wall-normal spacings; 0: the preset's"),
+    ("EdgePoints", "edge_points", "App::PropertyInteger", 17, "Points on every tangential block edge"),
+    ("TangentialSpacing", "tangential_spacing", "App::PropertyFloat", 0.0,
+     "Tangential spacing instead of EdgePoints (model units); 0: EdgePoints"),
+    ("TargetCells", "target_cells", "App::PropertyInteger", 0,
+     "About this many cells (sets the tangential spacing); 0: EdgePoints"),
+    ("EdgeEndSpacing", "edge_end_spacing", "App::PropertyFloat", 0.0,
+     "Spacing at the ends of tangential block edges (leading and trailing edge, tip); 0: uniform"),
+)
+DISPLAY = (("ShowWall", "wall", True), ("ShowSymmetry", "symmetry", True), ("ShowFarfield", "farfield", False))
+
+
+def refine_options(obj):
+    """bvmesh.grid.refine's keywords from the object's properties (unset ones left to the preset)."""
+    settings = {"distribution": obj.Distribution}
+    for prop, option, type_name, default, _ in OPTIONS:
+        value = getattr(obj, prop)
+        if type_name == "App::PropertyInteger" and default < 0 and value < 0:
+            continue
+        if type_name == "App::PropertyFloat" and value == 0.0 and option in ("y_plus", "growth", "reynolds_number"):
+            continue
+        settings[option] = value
+    if "reynolds_number" not in settings:
+        settings["reynolds_number"] = obj.VolumeMesh.ReynoldsNumber
+    return settings
+
+
+def grid_digest(grid):
+    digest = hashlib.sha1()
+    for b in range(grid.block_count):
+        digest.update(repr(grid.size(b)).encode())
+        digest.update(np.ascontiguousarray(grid.points(b)).tobytes())
+    return digest.hexdigest()
+
+
+def face_points(points, face):
+    """The (n_a, n_b, 3) points of a grid block face (u_min .. w_max)."""
+    direction, end = divmod(volume_mesh_feature.FACE_NAMES.index(face), 2)
+    return np.take(points, -1 if end else 0, axis=direction)
+
+
+def boundary_lines_shape(grid, conditions):
+    """A compound of the grid lines on the block faces whose condition is in `conditions`."""
+    import FreeCAD
+    import Part
+
+    wires = []
+    for b in range(grid.block_count):
+        points = grid.points(b)
+        for name, face in grid.faces(b).items():
+            if face["condition"] not in conditions:
+                continue
+            sheet = face_points(points, name)
+            for line in list(sheet) + list(np.swapaxes(sheet, 0, 1)):
+                wires.append(Part.makePolygon([FreeCAD.Vector(*map(float, p)) for p in line]))
+    return Part.makeCompound(wires) if wires else Part.Shape()
+
+
+class VolumeGridProxy(Proxy):
+    Type = TYPE
+
+    def setup(self, obj):
+        add_property(obj, "App::PropertyLink", "VolumeMesh", "Inputs", "The volume mesh whose blocks are evaluated")
+        if "Preset" not in obj.PropertiesList:
+            obj.addProperty("App::PropertyEnumeration", "Preset", "Refinement",
+                            "euler: no wall clustering; rans: first cell for y+ ~ 1 (flat-plate estimate)")
+            obj.Preset = PRESETS
+            obj.Preset = "euler"
+        if "Distribution" not in obj.PropertiesList:
+            obj.addProperty("App::PropertyEnumeration", "Distribution", "Refinement", "Wall-normal point distribution")
+            obj.Distribution = DISTRIBUTIONS
+            obj.Distribution = "geometric"
+        for prop, _, type_name, default, doc in OPTIONS:
+            add_property(obj, type_name, prop, "Refinement", doc, default)
+        for prop, condition, default in DISPLAY:
+            add_property(obj, "App::PropertyBool", prop, "Display",
+                         "Show the grid lines on the {} faces".format(condition), default)
+        r = "Result"
+        for name, type_name, doc in (
+            ("CellCount", "App::PropertyInteger", "Hexahedral cells"),
+            ("PointCount", "App::PropertyInteger", "Points over all blocks (shared ones once per block)"),
+            ("NormalPointsUsed", "App::PropertyInteger", "Points on the wall-normal lines"),
+            ("FirstCellHeightAsked", "App::PropertyFloat", "First cell height asked (0: none)"),
+            ("FirstCellHeightMin", "App::PropertyFloat", "Smallest first cell height of the wall-normal lines"),
+            ("FirstCellHeightMax", "App::PropertyFloat", "Largest first cell height of the wall-normal lines"),
+            ("GrowthMax", "App::PropertyFloat", "Largest growth ratio of the wall-normal lines"),
+            ("Digest", "App::PropertyString", "SHA-1 of the grid's points"),
+        ):
+            add_property(obj, type_name, name, r, doc, mode=READ_ONLY)
+
+    def _key(self, obj):
+        data = repr((obj.VolumeMesh.Digest, obj.Preset, sorted(refine_options(obj).items())))
+        return hashlib.sha1(data.encode()).hexdigest()
+
+    def _refine(self, obj):
+        from bvmesh import grid
+
+        if obj.VolumeMesh is None:
+            raise ValueError("the volume grid needs a volume mesh")
+        volume = volume_mesh_feature.volume_mesh(obj.VolumeMesh)
+        preset, settings = obj.Preset, refine_options(obj)
+        return run_work("evaluating the grid of {}".format(obj.Label), lambda: grid.refine(volume, preset, **settings))
+
+    def refined_grid(self, obj):
+        """The bvmesh.RefinedGrid of the object: in memory, else evaluated again (after loading),
+        which must give the saved digest."""
+        key = self._key(obj)
+        if getattr(self, "_refined", None) is None or self._refined_key != key:
+            refined = self._refine(obj)
+            if obj.Digest and grid_digest(refined.grid) != obj.Digest:
+                raise RuntimeError("{}: the grid evaluated again differs from the saved one (digest {}); "
+                                   "recompute the object".format(obj.Label, obj.Digest))
+            self._refined, self._refined_key = refined, key
+        return self._refined
+
+    def compute(self, obj):
+        key = self._key(obj)
+        if getattr(self, "_refined", None) is None or self._refined_key != key:
+            self._refined = None
+            refined = self._refine(obj)
+            grid = refined.grid
+            obj.CellCount = grid.cell_count
+            obj.PointCount = grid.point_count
+            obj.NormalPointsUsed = refined.normal_points
+            obj.FirstCellHeightAsked = refined.first_cell_height_asked
+            obj.FirstCellHeightMin = refined.first_cell_height_min
+            obj.FirstCellHeightMax = refined.first_cell_height_max
+            obj.GrowthMax = refined.growth_max
+            obj.Digest = grid_digest(grid)
+            self._refined, self._refined_key = refined, key
+        conditions = {condition for prop, condition, _ in DISPLAY if getattr(obj, prop)}
+        obj.Shape = boundary_lines_shape(self._refined.grid, conditions)
+
+
+def refined_grid(obj):
+    """The bvmesh.RefinedGrid of a VolumeGrid object."""
+    return obj.Proxy.refined_grid(obj)
+
+
+def create(doc, name="VolumeGrid"):
+    obj = doc.addObject("Part::FeaturePython", name)
+    VolumeGridProxy(obj)
+    return obj

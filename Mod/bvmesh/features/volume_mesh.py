@@ -1,0 +1,224 @@
+"""The volume mesh: block-structured tricubic B-spline volumes around the wall of a surface fit
+(boundary layer and far field by marching, bvmesh.volume.offset_and_farfield). The marching is
+deterministic, so the blocks are not stored in the document: the object keeps its options, what the
+marching measured and a digest of the blocks, and rebuilds the blocks from the fit when they are
+asked for after loading (checking the digest). Its shape is the blocks' boundary faces."""
+
+import hashlib
+
+import numpy as np
+
+from bvmesh.features import surface_fit
+from bvmesh.features.common import READ_ONLY, Proxy, add_property, run_work
+
+TYPE = "BVMesh::VolumeMesh"
+FACE_NAMES = ("u_min", "u_max", "v_min", "v_max", "w_min", "w_max")
+
+# (property, option of bvmesh.volume.offset_and_farfield, type, default, description)
+OPTIONS = (
+    ("ReferenceLength", "reference_length", "App::PropertyFloat", 0.0,
+     "Reference length L (root chord of a wing, body length), model units; 0: the wall's largest extent"),
+    ("ReynoldsNumber", "reynolds_number", "App::PropertyFloat", 5e6,
+     "Reynolds number on L, for the default boundary-layer thickness"),
+    ("BoundaryLayerThickness", "boundary_layer_thickness", "App::PropertyFloat", 0.0,
+     "Total boundary-layer thickness; 0: the turbulent flat-plate estimate 0.37 L Re^-0.2"),
+    ("BoundaryLayerLayers", "boundary_layer_layers", "App::PropertyInteger", 4, "Control layers in the boundary layer"),
+    ("BoundaryLayerGrowth", "boundary_layer_growth", "App::PropertyFloat", 1.2,
+     "Thickness ratio of successive boundary-layer control layers"),
+    ("SharpEdgeSplay", "sharp_edge_splay", "App::PropertyFloat", 2.0,
+     "Width of the band around sharp convex edges where grid lines fan out, in boundary-layer thicknesses"),
+    ("FarfieldDistance", "farfield_distance", "App::PropertyFloat", 0.0,
+     "Radius of the far-field sphere around the body's centre; 0: 20 L"),
+    ("FarfieldGrowth", "farfield_growth", "App::PropertyFloat", 1.3, "Thickness ratio of successive far-field layers"),
+    ("Smoothing", "smoothing", "App::PropertyFloat", 1.0, "Scale of the far field's implicit and explicit smoothing"),
+    ("MinScaledJacobian", "min_scaled_jacobian", "App::PropertyFloat", 0.05,
+     "Cells below this scaled Jacobian get local smoothing rounds while marching"),
+    ("MaxLayers", "max_layers", "App::PropertyInteger", 400, "Control layers at most"),
+)
+DISPLAY = (("ShowWall", "wall", True), ("ShowSymmetry", "symmetry", True), ("ShowFarfield", "farfield", False))
+DOMAINS = ["sphere", "box", "cylinder"]
+# The domain's vector options: (property, option, default, description).
+VECTORS = (
+    ("FlowDirection", "flow_direction", (1.0, 0.0, 0.0),
+     "Flow direction: box and cylinder faces facing it are inlets, facing away outlets, the rest sides"),
+    ("BoxHalfExtent", "box_half_extent", (0.0, 0.0, 0.0),
+     "Half sizes of a box domain along x, y, z (from the symmetry plane on a half model); 0: FarfieldDistance"),
+)
+
+
+def options(obj):
+    """The marching options of a VolumeMesh object, as offset_and_farfield's keywords."""
+    settings = {option: getattr(obj, prop) for prop, option, _, _, _ in OPTIONS}
+    settings["domain"] = obj.Domain
+    for prop, option, _, _ in VECTORS:
+        settings[option] = tuple(getattr(obj, prop))
+    return settings
+
+
+def symmetry_plane(fit):
+    if not fit.UseSymmetryPlane:
+        return None
+    point, normal = fit.SymmetryPoint, fit.SymmetryNormal
+    return (point.x, point.y, point.z), (normal.x, normal.y, normal.z)
+
+
+def blocks_digest(blocks):
+    """SHA-1 of every block's degrees, knots and poles (bit for bit)."""
+    digest = hashlib.sha1()
+    for b in range(blocks.block_count):
+        digest.update(repr(blocks.degrees(b)).encode())
+        for knots in blocks.knots(b):
+            digest.update(np.asarray(knots, dtype=float).tobytes())
+        digest.update(np.ascontiguousarray(blocks.poles(b)).tobytes())
+    return digest.hexdigest()
+
+
+def knots_and_multiplicities(full):
+    knots, counts = np.unique(np.asarray(full, dtype=float), return_counts=True)
+    return [float(k) for k in knots], [int(c) for c in counts]
+
+
+def face_surface(blocks, block, face):
+    """(poles (n_a, n_b, 3), knots a, knots b) of a block face: a, b its two other directions in
+    increasing order, as BlockMesh.faces orients them."""
+    poles = blocks.poles(block)
+    direction, end = divmod(FACE_NAMES.index(face), 2)
+    index = -1 if end else 0
+    grid = np.take(poles, index, axis=direction)
+    others = [d for d in range(3) if d != direction]
+    knots = blocks.knots(block)
+    return grid, knots[others[0]], knots[others[1]]
+
+
+def boundary_faces_shape(blocks, conditions):
+    """A compound of the block faces whose condition is in `conditions`, as B-spline faces, and
+    the block of each face in compound order."""
+    import Part
+
+    from bvmesh import api
+
+    faces, face_blocks = [], []
+    for b in range(blocks.block_count):
+        for name, face in blocks.faces(b).items():
+            if face["condition"] not in conditions:
+                continue
+            poles, knots_a, knots_b = face_surface(blocks, b, name)
+            ka, ma = knots_and_multiplicities(knots_a)
+            kb, mb = knots_and_multiplicities(knots_b)
+            faces.append(api.make_bspline_face(poles, ka, kb, ma, mb))
+            face_blocks.append(b)
+    return (Part.makeCompound(faces) if faces else Part.Shape()), face_blocks
+
+
+class VolumeMeshProxy(Proxy):
+    Type = TYPE
+
+    def setup(self, obj):
+        add_property(obj, "App::PropertyLink", "Fit", "Inputs", "The surface fit whose wall the volume is built on")
+        add_property(obj, "App::PropertyInteger", "WallLevel", "Inputs",
+                     "Subdivision level of the wall: -1 the fit's own; a lower level refits the fit's target "
+                     "and polyhedron to that level", -1)
+        for prop, _, type_name, default, doc in OPTIONS:
+            add_property(obj, type_name, prop, "Marching", doc, default)
+        if "Domain" not in obj.PropertiesList:
+            obj.addProperty("App::PropertyEnumeration", "Domain", "Marching",
+                            "Outer boundary: sphere (half sphere on a symmetry plane), box or cylinder along the flow")
+            obj.Domain = DOMAINS
+            obj.Domain = "sphere"
+        for prop, _, default, doc in VECTORS:
+            if prop not in obj.PropertiesList:
+                import FreeCAD
+
+                add_property(obj, "App::PropertyVector", prop, "Marching", doc)
+                setattr(obj, prop, FreeCAD.Vector(*default))
+        for prop, condition, default in DISPLAY:
+            add_property(obj, "App::PropertyBool", prop, "Display", "Show the {} faces of the blocks".format(condition),
+                         default)
+        r = "Result"
+        for name, type_name, doc in (
+            ("BlockCount", "App::PropertyInteger", "Blocks (one per wall patch)"),
+            ("ControlLayers", "App::PropertyInteger", "Control layers from the wall to the far field"),
+            ("WallLevelUsed", "App::PropertyInteger", "Subdivision level of the wall the blocks stand on"),
+            ("ReferenceLengthUsed", "App::PropertyFloat", "Reference length used"),
+            ("BoundaryLayerThicknessUsed", "App::PropertyFloat", "Boundary-layer thickness used"),
+            ("FarfieldDistanceUsed", "App::PropertyFloat", "Far-field radius used"),
+            ("FacesAcrossDomainEdges", "App::PropertyInteger",
+             "Far-field block faces bending around an edge of a box or cylinder domain (off its faces there)"),
+            ("WallMaxDeviation", "App::PropertyFloat",
+             "Largest distance of the blocks' wall faces from the fitted limit surface at the wall grid"),
+            ("LayerMinScaledJacobian", "App::PropertyFloatList", "Minimum scaled Jacobian of the control cells per layer"),
+            ("FaceBlocks", "App::PropertyIntegerList", "Block of each face of the shape"),
+            ("Digest", "App::PropertyString", "SHA-1 of the blocks' knots and poles"),
+        ):
+            add_property(obj, type_name, name, r, doc, mode=READ_ONLY)
+
+    def _key(self, obj):
+        fit = obj.Fit
+        data = repr((fit.Name, [(v.x, v.y, v.z) for v in fit.ControlVertices], list(fit.ControlFaceSizes),
+                     list(fit.ControlFaceIndices), list(fit.ControlCreases), list(fit.ControlCorners),
+                     symmetry_plane(fit), obj.WallLevel, sorted(options(obj).items())))
+        return hashlib.sha1(data.encode()).hexdigest()
+
+    def _march(self, obj):
+        from bvmesh import volume
+
+        fit = obj.Fit
+        if fit is None or not fit.ControlVertices:
+            raise ValueError("the volume mesh needs a computed surface fit")
+        plane, settings = symmetry_plane(fit), options(obj)
+        wall, level = surface_fit.wall_at_level(fit, obj.WallLevel)
+
+        def work():
+            return volume.offset_and_farfield(wall(), symmetry_plane=plane, **settings), level
+
+        return run_work("marching the boundary layer and the far field of {}".format(obj.Label), work)
+
+    def volume_mesh(self, obj):
+        """The bvmesh.VolumeMesh of the object: in memory, else marched again (after loading),
+        which must give the saved digest."""
+        key = self._key(obj)
+        if getattr(self, "_volume", None) is None or getattr(self, "_volume_key", None) != key:
+            volume_mesh, _ = self._march(obj)
+            if obj.Digest and blocks_digest(volume_mesh.blocks) != obj.Digest:
+                raise RuntimeError("{}: the blocks marched again differ from the saved ones (digest {}); "
+                                   "recompute the object".format(obj.Label, obj.Digest))
+            self._volume, self._volume_key = volume_mesh, key
+        return self._volume
+
+    def compute(self, obj):
+        # A change of the display toggles alone reuses the blocks in memory.
+        key = self._key(obj)
+        if getattr(self, "_volume", None) is not None and self._volume_key == key:
+            self._show(obj, self._volume.blocks)
+            return
+        self._volume = None
+        volume_mesh, level = self._march(obj)
+        blocks = volume_mesh.blocks
+        obj.BlockCount = blocks.block_count
+        obj.ControlLayers = len(volume_mesh.layer_distance)
+        obj.WallLevelUsed = level
+        obj.ReferenceLengthUsed = volume_mesh.reference_length
+        obj.BoundaryLayerThicknessUsed = volume_mesh.boundary_layer_thickness
+        obj.FarfieldDistanceUsed = volume_mesh.farfield_distance
+        obj.WallMaxDeviation = volume_mesh.wall_max_deviation
+        obj.FacesAcrossDomainEdges = volume_mesh.farfield_faces_across_domain_edges
+        obj.LayerMinScaledJacobian = [float(j) for j in volume_mesh.layer_min_scaled_jacobian]
+        obj.Digest = blocks_digest(blocks)
+        self._volume, self._volume_key = volume_mesh, key
+        self._show(obj, blocks)
+
+    def _show(self, obj, blocks):
+        conditions = {condition for prop, condition, _ in DISPLAY if getattr(obj, prop)}
+        obj.Shape, face_blocks = boundary_faces_shape(blocks, conditions)
+        obj.FaceBlocks = face_blocks
+
+
+def volume_mesh(obj):
+    """The bvmesh.VolumeMesh of a VolumeMesh object."""
+    return obj.Proxy.volume_mesh(obj)
+
+
+def create(doc, name="VolumeMesh"):
+    obj = doc.addObject("Part::FeaturePython", name)
+    VolumeMeshProxy(obj)
+    return obj
