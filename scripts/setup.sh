@@ -5,6 +5,8 @@
 #   bash scripts/setup.sh test      install packages, build, register the workbench, run every test (ctest)
 #   bash scripts/setup.sh build     install packages, build, register the workbench
 #   bash scripts/setup.sh gui       the same, then start the FreeCAD GUI (the BVMesh workbench is in its list)
+#   bash scripts/setup.sh cfd       the same as build, then the OpenFOAM euler run on the M6 grid (all cores,
+#                                   at most BVMESH_CFD_SECONDS, default 3600) and its report in build/cfd/
 set -euo pipefail
 
 ROOT=$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)
@@ -60,8 +62,8 @@ run_python() {
 
 command=${1:-}
 case "$command" in
-  build | example | test | gui) ;;
-  *) sed -n '2,8p' "$0" >&2; exit 2 ;;
+  build | example | test | gui | cfd) ;;
+  *) sed -n '2,10p' "$0" >&2; exit 2 ;;
 esac
 
 install_packages
@@ -71,4 +73,6 @@ case "$command" in
   example) run_python -m bvmesh example --output "$ROOT/build/example" ;;
   test) ctest --test-dir "$BUILD_DIR" --output-on-failure --timeout 900 ;;
   gui) exec freecad ;;
+  cfd) run_python -m bvmesh openfoam-case "$ROOT/build/cfd/m6_euler" --iterations 4000 --write-interval 100 \
+         --run --cores "$(nproc)" --timeout "${BVMESH_CFD_SECONDS:-3600}" --report "$ROOT/build/cfd" ;;
 esac

@@ -6,9 +6,15 @@ on PYTHONPATH; scripts/setup.sh sets that up).
                   meshed; writes the FreeCAD document, the B-spline surface (STEP), the Euler
                   grid (CGNS, OpenFOAM case), pictures and reports into --output (default:
                   bvmesh-example); --surface-only stops after the surface
+  openfoam-case CASE
+                  a steady compressible OpenFOAM case (bvmesh.openfoam_case): the mesh from
+                  --mesh (an OpenFOAM case directory with patches wall, symmetry, farfield, in
+                  --length-unit metres per unit) or the bundled M6 grid built here; --run runs
+                  the solver, --report DIR writes the Cp comparison and convergence report
 """
 
 import argparse
+import os
 import sys
 
 FREECAD_LIB = "/usr/lib/freecad-python3/lib"
@@ -24,6 +30,36 @@ def _info(path, sharp_angle_degrees):
     return report
 
 
+def _openfoam_case(args):
+    from bvmesh import openfoam_case, openfoam_post
+
+    if args.mesh:
+        source = args.mesh
+    else:
+        print("building the M6 {} grid (level {}, {} edge points)".format(args.model, args.level, args.edge_points))
+        source = openfoam_case.m6_grid(args.model, level=args.level, edge_points=args.edge_points,
+                                       normal_points=args.normal_points,
+                                       reynolds_number=args.reynolds or 11.72e6)
+        print("  {} cells".format(source.grid.cell_count))
+    case = openfoam_case.write_case(
+        source, args.case, mach=args.mach, alpha_degrees=args.alpha, pressure=args.pressure,
+        temperature=args.temperature, reynolds_number=args.reynolds, model=args.model,
+        length_unit=args.length_unit, iterations=args.iterations, write_interval=args.write_interval,
+        solver=args.solver, max_courant=args.max_courant)
+    print("case written: {}".format(case))
+    if args.run:
+        result = openfoam_case.run_case(case, cores=args.cores, timeout=args.timeout)
+        print("{}: {} iterations in {:.0f} s{}, CL {:.4f}, CD {:.5f}".format(
+            openfoam_case.read_settings(case)["solver"], result["iterations"], result["wall_time"],
+            ", stopped " + result["stopped"] if result["stopped"] else "",
+            result["coefficients"]["Cl"][-1], result["coefficients"]["Cd"][-1]))
+        if args.report:
+            summary = openfoam_post.write_report(case, args.report)
+            print("report: {} (RMS dCp per station: {})".format(
+                os.path.join(args.report, "report.md"),
+                ", ".join("{:.3f}".format(s["rms"]) for s in summary["stations"])))
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(prog="bvmesh", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -36,6 +72,30 @@ def main(argv=None):
     example.add_argument("--output", default="bvmesh-example", help="folder for the results")
     example.add_argument("--max-level", type=int, default=5, help="subdivision levels at most (default 5)")
     example.add_argument("--surface-only", action="store_true", help="stop after the surface stage")
+    cfd = commands.add_parser("openfoam-case", help="write (and run) an OpenFOAM case on a BVMesh grid")
+    cfd.add_argument("case", help="case directory to write")
+    cfd.add_argument("--mesh", help="OpenFOAM case directory whose constant/polyMesh is used "
+                                    "(default: build the bundled M6 grid)")
+    cfd.add_argument("--length-unit", type=float, default=0.001,
+                     help="metres per grid unit (default 0.001: the grid is in mm)")
+    cfd.add_argument("--model", choices=("euler", "rans"), default="euler")
+    cfd.add_argument("--solver", choices=("rhoPimpleFoam", "rhoSimpleFoam"), default="rhoPimpleFoam",
+                     help="rhoPimpleFoam with local time stepping (default) or rhoSimpleFoam")
+    cfd.add_argument("--mach", type=float, default=0.8395)
+    cfd.add_argument("--alpha", type=float, default=3.06, help="angle of attack in degrees")
+    cfd.add_argument("--temperature", type=float, default=255.56, help="free-stream temperature in K")
+    cfd.add_argument("--pressure", type=float, help="free-stream pressure in Pa (default: from --reynolds, else 1e5)")
+    cfd.add_argument("--reynolds", type=float, help="Reynolds number on the mean aerodynamic chord (0.64607 m)")
+    cfd.add_argument("--iterations", type=int, default=2000)
+    cfd.add_argument("--write-interval", type=int, help="iterations between writes (default: --iterations)")
+    cfd.add_argument("--max-courant", type=float, default=2.0, help="local time stepping Courant number")
+    cfd.add_argument("--level", type=int, default=2, help="M6 grid: subdivision level of the fit (default 2)")
+    cfd.add_argument("--edge-points", type=int, default=17, help="M6 grid: points per block edge (default 17)")
+    cfd.add_argument("--normal-points", type=int, help="M6 grid: wall-normal points (default: the preset's)")
+    cfd.add_argument("--run", action="store_true", help="run the solver (nice -n 19)")
+    cfd.add_argument("--cores", type=int, default=1, help="cores for the solver (default 1)")
+    cfd.add_argument("--timeout", type=float, help="stop the solver after this many seconds, keeping its last write")
+    cfd.add_argument("--report", help="with --run: folder for the Cp plots, convergence plot and report.md")
     args = parser.parse_args(argv)
 
     if FREECAD_LIB not in sys.path:
@@ -45,6 +105,8 @@ def main(argv=None):
     try:
         if args.command == "info":
             _info(args.file, args.sharp_angle)
+        elif args.command == "openfoam-case":
+            _openfoam_case(args)
         else:
             from bvmesh import example as main_job
 

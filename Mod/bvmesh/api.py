@@ -720,3 +720,12 @@ def export_grid(source, path, file_format=None, force=False, name="Export"):
         obj.Force = bool(force)
 
     return _new_object(grid_export.create, source.Document, name, fill)
+
+
+def write_openfoam_case(grid, case_directory, **options):
+    """An OpenFOAM case (mesh, fields, thermophysics, schemes, function objects) on a BVMesh grid
+    or an existing polyMesh case directory: bvmesh.openfoam_case.write_case (its options: mach,
+    alpha_degrees, model, length_unit, iterations, solver, ...). Returns the case directory."""
+    from bvmesh import openfoam_case
+
+    return openfoam_case.write_case(grid, case_directory, **options)

@@ -1,0 +1,733 @@
+"""A steady compressible OpenFOAM (v1912) case on a BVMesh grid: mesh, boundary conditions,
+thermophysics, schemes and function objects (residuals, force coefficients, wall pressure).
+
+    import bvmesh.openfoam_case as ofc
+    case = ofc.write_case(refined, "m6_euler", model="euler", iterations=3000)
+    result = ofc.run_case(case)           # nice -n 19, one core
+    print(result["iterations"], result["residuals"]["p"][-1])
+
+Pure Python (no FreeCAD); the grid goes through bvmesh.grid.write_openfoam, or an existing case
+directory's constant/polyMesh is copied. Patches must be named wall, symmetry and farfield.
+Units: the grid is in model units (length_unit metres each, 0.001 for mm); the case is in SI.
+The defaults are the ONERA M6 at the AGARD AR-138 test 2308 (see docs/cfd.md).
+"""
+
+import json
+import math
+import os
+import re
+import shutil
+import signal
+import subprocess
+import time
+
+OPENFOAM_DIR = "/usr/share/openfoam"
+GAS_CONSTANT = 8314.47 / 28.9644  # J/(kg K), dry air
+GAMMA = 1.4
+SUTHERLAND_AS, SUTHERLAND_TS = 1.458e-6, 110.4
+
+# ONERA M6 (Schmitt & Charpin, AGARD AR-138): mean aerodynamic chord, half-wing area, and the
+# quarter chord of the mean aerodynamic chord (leading edge swept 30 deg, taper 0.562,
+# semispan 1.1963 m: MAC at y = b/3 (1 + 2 taper)/(1 + taper) = 0.5423 m, its leading edge
+# at x = 0.3131 m).
+M6_REFERENCE_LENGTH = 0.64607
+M6_REFERENCE_AREA = 0.7532
+M6_MOMENT_POINT = (0.47459, 0.0, 0.0)
+M6_SEMISPAN = 1.1963
+
+PATCHES = {"wall": "wall", "symmetry": "symmetryPlane", "farfield": "patch"}
+MODELS = ("euler", "rans")
+SOLVERS = ("rhoSimpleFoam", "rhoPimpleFoam")
+SETTINGS_FILE = "bvmesh_case.json"
+
+HEADER = """/*--------------------------------*- C++ -*----------------------------------*\\
+  Written by BVMesh (openfoam_case.py)
+\\*---------------------------------------------------------------------------*/
+FoamFile
+{{
+    version     2.0;
+    format      ascii;
+    class       {cls};
+    location    "{location}";
+    object      {name};
+}}
+
+"""
+
+
+def sutherland_viscosity(temperature):
+    return SUTHERLAND_AS * temperature ** 1.5 / (temperature + SUTHERLAND_TS)
+
+
+def freestream(mach, alpha_degrees, temperature, pressure=None, reynolds_number=None, reference_length=1.0):
+    """The free stream as a dict (p, T, rho, speed, velocity, viscosity, mach, alpha_degrees).
+    Without a pressure, it is the one that gives reynolds_number on reference_length (metres) with
+    Sutherland's viscosity; without either, 1e5 Pa. Flow in x-z, lift along +z."""
+    if not (isinstance(mach, (int, float)) and math.isfinite(mach) and mach > 0.0):
+        raise ValueError("mach must be a finite number > 0, got {!r}".format(mach))
+    if not (isinstance(temperature, (int, float)) and math.isfinite(temperature) and temperature > 0.0):
+        raise ValueError("temperature must be > 0 K, got {!r}".format(temperature))
+    if not (isinstance(alpha_degrees, (int, float)) and math.isfinite(alpha_degrees) and abs(alpha_degrees) < 90.0):
+        raise ValueError("alpha_degrees must be finite and within (-90, 90), got {!r}".format(alpha_degrees))
+    if reynolds_number is not None and not (reynolds_number > 0.0 and math.isfinite(reynolds_number)):
+        raise ValueError("reynolds_number must be > 0 (or None), got {!r}".format(reynolds_number))
+    speed = mach * math.sqrt(GAMMA * GAS_CONSTANT * temperature)
+    viscosity = sutherland_viscosity(temperature)
+    if pressure is None:
+        if reynolds_number is not None:
+            density = reynolds_number * viscosity / (speed * reference_length)
+            pressure = density * GAS_CONSTANT * temperature
+        else:
+            pressure = 1e5
+    if not (isinstance(pressure, (int, float)) and math.isfinite(pressure) and pressure > 0.0):
+        raise ValueError("pressure must be > 0 Pa, got {!r}".format(pressure))
+    density = pressure / (GAS_CONSTANT * temperature)
+    alpha = math.radians(alpha_degrees)
+    return dict(p=pressure, T=temperature, rho=density, speed=speed, mach=mach, alpha_degrees=alpha_degrees,
+                velocity=(speed * math.cos(alpha), 0.0, speed * math.sin(alpha)), viscosity=viscosity,
+                reynolds_number=density * speed * reference_length / viscosity)
+
+
+def openfoam_environment():
+    """The environment every OpenFOAM tool needs (WM_PROJECT_DIR); ValueError when it is missing."""
+    if not os.path.isfile(os.path.join(OPENFOAM_DIR, "etc", "controlDict")) or shutil.which("rhoSimpleFoam") is None:
+        raise ValueError("OpenFOAM is missing: no {}/etc/controlDict or no rhoSimpleFoam on PATH "
+                         "(apt-get install openfoam)".format(OPENFOAM_DIR))
+    return dict(os.environ, WM_PROJECT_DIR=OPENFOAM_DIR)
+
+
+def _vector(v):
+    return "({:.12g} {:.12g} {:.12g})".format(*v)
+
+
+def _write(case, location, name, body, cls="dictionary"):
+    folder = os.path.join(case, location)
+    os.makedirs(folder, exist_ok=True)
+    with open(os.path.join(folder, name), "w") as file:
+        file.write(HEADER.format(cls=cls, location=location, name=name) + body)
+
+
+def read_boundary(case):
+    """The patches of constant/polyMesh/boundary: {name: {type, nFaces, startFace}} in file order."""
+    path = os.path.join(case, "constant", "polyMesh", "boundary")
+    try:
+        with open(path) as file:
+            text = file.read()
+    except OSError as error:
+        raise ValueError("cannot read the patches of {}: {}".format(path, error)) from None
+    text = re.sub(r"/\*.*?\*/|//[^\n]*", "", text, flags=re.S)
+    text = text[text.index("}", text.index("FoamFile")) + 1:] if "FoamFile" in text else text
+    patches = {}
+    for name, body in re.findall(r"(\w+)\s*\{([^{}]*)\}", text):
+        entries = dict(re.findall(r"(\w+)\s+([^;]+);", body))
+        patches[name] = dict(type=entries.get("type"), nFaces=int(entries.get("nFaces", 0)),
+                             startFace=int(entries.get("startFace", 0)))
+    return patches
+
+
+def check_patches(case):
+    patches = read_boundary(case)
+    for name, kind in PATCHES.items():
+        if name not in patches:
+            raise ValueError("the mesh of {} has no patch '{}' (patches: {}); BVMesh cases need wall, symmetry "
+                             "and farfield".format(case, name, ", ".join(patches) or "none"))
+        if patches[name]["type"] != kind:
+            raise ValueError("patch '{}' of {} is of type {}, expected {}".format(
+                name, case, patches[name]["type"], kind))
+    return patches
+
+
+def scale_points(case, factor):
+    """Multiplies constant/polyMesh/points by factor (ascii points as BVMesh writes them)."""
+    path = os.path.join(case, "constant", "polyMesh", "points")
+    with open(path) as file:
+        text = file.read()
+    start = text.index("(", text.index("}", text.index("FoamFile")))
+    count = int(text[:start].split()[-1])
+    body = text[start + 1:text.rindex(")")]
+    values = re.findall(r"\(([^()]*)\)", body)
+    if len(values) != count:
+        raise ValueError("{}: {} points announced, {} read".format(path, count, len(values)))
+    lines = []
+    for value in values:
+        x, y, z = (float(c) * factor for c in value.split())
+        lines.append("({!r} {!r} {!r})".format(x, y, z))
+    with open(path, "w") as file:
+        file.write(text[:start] + "(\n" + "\n".join(lines) + "\n)\n")
+
+
+def _boundary_field(entries):
+    return "boundaryField\n{\n" + "".join(
+        "    {}\n    {{\n{}    }}\n".format(name, "".join("        {:<16}{};\n".format(k, v) for k, v in items))
+        for name, items in entries) + "}\n"
+
+
+def _fields(case, flow, model):
+    p, T, U = flow["p"], flow["T"], _vector(flow["velocity"])
+    symmetry = ("symmetry", [("type", "symmetryPlane")])
+    wall_u = [("type", "slip")] if model == "euler" else [("type", "noSlip")]
+    files = {
+        "p": ("volScalarField", "[1 -1 -2 0 0 0 0]", "{!r}".format(p), [
+            ("wall", [("type", "zeroGradient")]), symmetry,
+            # Riemann-free far field: fixed value where the flow comes in, extrapolated where it leaves.
+            ("farfield", [("type", "freestreamPressure"), ("freestreamValue", "uniform {!r}".format(p)),
+                          ("supersonic", "false"), ("value", "uniform {!r}".format(p))])]),
+        "U": ("volVectorField", "[0 1 -1 0 0 0 0]", U, [
+            ("wall", wall_u), symmetry,
+            ("farfield", [("type", "freestreamVelocity"), ("freestreamValue", "uniform " + U),
+                          ("value", "uniform " + U)])]),
+        "T": ("volScalarField", "[0 0 0 1 0 0 0]", "{!r}".format(T), [
+            ("wall", [("type", "zeroGradient")]), symmetry,
+            ("farfield", [("type", "inletOutlet"), ("inletValue", "uniform {!r}".format(T)),
+                          ("value", "uniform {!r}".format(T))])]),
+    }
+    if model == "rans":
+        nu = flow["viscosity"] / flow["rho"]
+        nu_tilda = 3.0 * nu  # fully turbulent free stream (Spalart & Allmaras' recommendation 3-5 nu)
+        chi3 = 27.0
+        nut = nu_tilda * chi3 / (chi3 + 7.1 ** 3)
+        files["nuTilda"] = ("volScalarField", "[0 2 -1 0 0 0 0]", "{!r}".format(nu_tilda), [
+            ("wall", [("type", "fixedValue"), ("value", "uniform 0")]), symmetry,
+            ("farfield", [("type", "inletOutlet"), ("inletValue", "uniform {!r}".format(nu_tilda)),
+                          ("value", "uniform {!r}".format(nu_tilda))])])
+        # Spalding's law covers y+ ~ 1 (low-Re) and log-layer wall cells alike.
+        files["nut"] = ("volScalarField", "[0 2 -1 0 0 0 0]", "{!r}".format(nut), [
+            ("wall", [("type", "nutUSpaldingWallFunction"), ("value", "uniform 0")]), symmetry,
+            ("farfield", [("type", "freestream"), ("freestreamValue", "uniform {!r}".format(nut)),
+                          ("value", "uniform {!r}".format(nut))])])
+        files["alphat"] = ("volScalarField", "[1 -1 -1 0 0 0 0]", "0", [
+            ("wall", [("type", "compressible::alphatWallFunction"), ("Prt", "0.85"), ("value", "uniform 0")]),
+            symmetry, ("farfield", [("type", "calculated"), ("value", "uniform 0")])])
+    for name, (cls, dimensions, internal, boundary) in files.items():
+        _write(case, "0", name, "dimensions      {};\n\ninternalField   uniform {};\n\n{}".format(
+            dimensions, internal, _boundary_field(boundary)), cls=cls)
+    return sorted(files)
+
+
+def _constant(case, flow, model):
+    cp = GAMMA / (GAMMA - 1.0) * GAS_CONSTANT
+    if model == "euler":
+        transport = "const", "        mu          0;\n        Pr          0.72;\n"
+    else:
+        transport = "sutherland", "        As          {!r};\n        Ts          {!r};\n".format(
+            SUTHERLAND_AS, SUTHERLAND_TS)
+    _write(case, "constant", "thermophysicalProperties", """thermoType
+{{
+    type            hePsiThermo;
+    mixture         pureMixture;
+    transport       {transport};
+    thermo          hConst;
+    equationOfState perfectGas;
+    specie          specie;
+    energy          sensibleInternalEnergy;
+}}
+
+mixture
+{{
+    specie
+    {{
+        molWeight   28.9644;
+    }}
+    thermodynamics
+    {{
+        Cp          {cp!r};
+        Hf          0;
+    }}
+    transport
+    {{
+{coefficients}    }}
+}}
+""".format(transport=transport[0], cp=cp, coefficients=transport[1]))
+    if model == "euler":
+        turbulence = "simulationType  laminar;\n"
+    else:
+        turbulence = ("simulationType  RAS;\n\nRAS\n{\n    RASModel        SpalartAllmaras;\n"
+                      "    turbulence      on;\n    printCoeffs     off;\n}\n")
+    _write(case, "constant", "turbulenceProperties", turbulence)
+
+
+def _system(case, flow, model, solver, iterations, write_interval, reference, fields, max_courant):
+    lts = solver == "rhoPimpleFoam"
+    solved = [f for f in ("p", "U", "e", "nuTilda") if f in fields or f == "e"]
+    lift = (-math.sin(math.radians(flow["alpha_degrees"])), 0.0, math.cos(math.radians(flow["alpha_degrees"])))
+    drag = (math.cos(math.radians(flow["alpha_degrees"])), 0.0, math.sin(math.radians(flow["alpha_degrees"])))
+    _write(case, "system", "controlDict", """application     {solver};
+startFrom       latestTime;
+startTime       0;
+stopAt          endTime;
+endTime         {iterations};
+deltaT          1;
+writeControl    timeStep;
+writeInterval   {write_interval};
+purgeWrite      2;
+writeFormat     binary;
+writePrecision  12;
+writeCompression off;
+timeFormat      general;
+timePrecision   8;
+runTimeModifiable false;
+
+functions
+{{
+    residuals
+    {{
+        type            solverInfo;
+        libs            ("libutilityFunctionObjects.so");
+        fields          ({solved});
+        writeControl    timeStep;
+        writeInterval   1;
+    }}
+    forceCoeffs
+    {{
+        type            forceCoeffs;
+        libs            ("libforces.so");
+        patches         (wall);
+        rho             rho;
+        rhoInf          {rho!r};
+        pRef            {p!r};
+        magUInf         {speed!r};
+        lRef            {lref!r};
+        Aref            {aref!r};
+        CofR            {cofr};
+        liftDir         {lift};
+        dragDir         {drag};
+        pitchAxis       (0 1 0);
+        writeControl    timeStep;
+        writeInterval   1;
+        log             false;
+    }}
+    wallPressure
+    {{
+        type            surfaces;
+        libs            ("libsampling.so");
+        writeControl    writeTime;
+        surfaceFormat   vtk;
+        formatOptions
+        {{
+            vtk {{ legacy true; format ascii; }}
+        }}
+        interpolationScheme cellPoint;
+        fields          (p);
+        surfaces
+        (
+            wall
+            {{
+                type        patch;
+                patches     (wall);
+                interpolate true;
+            }}
+        );
+    }}
+    MachNo
+    {{
+        type            MachNo;
+        libs            ("libfieldFunctionObjects.so");
+        writeControl    writeTime;
+    }}
+}}
+""".format(solver=solver, iterations=iterations, write_interval=write_interval, solved=" ".join(solved),
+           rho=flow["rho"], p=flow["p"], speed=flow["speed"], lref=reference["length"], aref=reference["area"],
+           cofr=_vector(reference["moment_point"]), lift=_vector(lift), drag=_vector(drag)))
+
+    ddt = "localEuler" if lts else "steadyState"
+    bounded = "" if lts else "bounded "
+    _write(case, "system", "fvSchemes", """ddtSchemes
+{{
+    default         {ddt};
+}}
+
+gradSchemes
+{{
+    default         Gauss linear;
+    limited         cellLimited Gauss linear 1;
+    grad(U)         $limited;
+    grad(e)         $limited;
+    grad(nuTilda)   $limited;
+}}
+
+divSchemes
+{{
+    default         none;
+    div(phi,U)      {bounded}Gauss linearUpwind limited;
+    div(phi,e)      {bounded}Gauss linearUpwind limited;
+    div(phi,K)      {bounded}Gauss linearUpwind limited;
+    div(phi,Ekp)    {bounded}Gauss linearUpwind limited;
+    div(phi,nuTilda) {bounded}Gauss upwind;
+    div(phid,p)     Gauss upwind;
+    div(phiv,p)     Gauss upwind;
+    div((phi|interpolate(rho)),p) {bounded}Gauss upwind;
+    div(((rho*nuEff)*dev2(T(grad(U))))) Gauss linear;
+}}
+
+laplacianSchemes
+{{
+    default         Gauss linear limited corrected 0.5;
+}}
+
+interpolationSchemes
+{{
+    default         linear;
+}}
+
+snGradSchemes
+{{
+    default         limited corrected 0.5;
+}}
+
+wallDist
+{{
+    method          meshWave;
+}}
+""".format(ddt=ddt, bounded=bounded))
+
+    solvers = """solvers
+{
+    p
+    {
+        solver          GAMG;
+        smoother        GaussSeidel;
+        tolerance       1e-12;
+        relTol          0.05;
+    }
+    "(U|e|nuTilda|rho)"
+    {
+        solver          PBiCGStab;
+        preconditioner  DILU;
+        tolerance       1e-12;
+        relTol          0.1;
+    }
+    pFinal
+    {
+        $p;
+    }
+    "(U|e|nuTilda|rho)Final"
+    {
+        $U;
+    }
+}
+"""
+    if lts:
+        algorithm = """PIMPLE
+{{
+    transonic       yes;
+    momentumPredictor yes;
+    nOuterCorrectors 1;
+    nCorrectors     2;
+    nNonOrthogonalCorrectors 1;  // the tip faces are > 70 deg non-orthogonal
+    pMinFactor      0.1;
+    pMaxFactor      2;
+    // Measured on coarse M6 grids (docs/cfd.md): maxCo 2 converges to machine zero, 5 stalls;
+    // OpenFOAM's default smoothing (0.02) keeps the far field's steps tiny for thousands of steps.
+    maxCo           {max_courant!r};
+    rDeltaTSmoothingCoeff 1;
+    rDeltaTDampingCoeff 1;
+    maxDeltaT       1;
+}}
+
+relaxationFactors
+{{
+    equations
+    {{
+        ".*"        1;
+    }}
+}}
+""".format(max_courant=max_courant)
+    else:
+        algorithm = """SIMPLE
+{
+    transonic       yes;
+    consistent      no;
+    nNonOrthogonalCorrectors 0;
+    pMinFactor      0.1;
+    pMaxFactor      2;
+}
+
+relaxationFactors
+{
+    fields
+    {
+        p               1;
+        rho             1;
+    }
+    equations
+    {
+        p               0.3;
+        U               0.5;
+        e               0.5;
+        nuTilda         0.5;
+    }
+}
+"""
+    _write(case, "system", "fvSolution", solvers + "\n" + algorithm)
+    fv_options = os.path.join(case, "system", "fvOptions")
+    if model == "rans":
+        # The RANS start on a y+ ~ 1 grid drove T negative at step 2 without this guard. Not for
+        # euler: there it would clip the tip's trailing-edge corner (925 K on the level-2 grid,
+        # docs/cfd.md) and hide the defect.
+        _write(case, "system", "fvOptions", """limitT
+{{
+    type            limitTemperature;
+    selectionMode   all;
+    min             {:.6g};
+    max             {:.6g};
+}}
+""".format(0.3 * flow["T"], 3.0 * flow["T"]))
+    elif os.path.exists(fv_options):
+        os.remove(fv_options)
+
+
+def write_case(grid_or_refined, case_directory, mach=0.8395, alpha_degrees=3.06, pressure=None,
+               temperature=255.56, reynolds_number=None, model="euler", length_unit=0.001,
+               reference_length=M6_REFERENCE_LENGTH, reference_area=M6_REFERENCE_AREA,
+               moment_point=M6_MOMENT_POINT, iterations=2000, solver="rhoPimpleFoam", write_interval=None,
+               semispan=M6_SEMISPAN, max_courant=2.0, startup_iterations=50, startup_courant=0.5,
+               force=False):
+    """Writes a complete OpenFOAM case and returns its directory.
+
+    grid_or_refined: a bvmesh grid (refine's result or a StructuredGrid), or the path of a case
+    directory holding constant/polyMesh (copied; in model units, so a case written here, already
+    in metres, needs length_unit=1) with patches wall, symmetry and farfield. mach, alpha_degrees (x-z plane, y the span), temperature (K) and pressure (Pa) of the
+    free stream; without a pressure it is set from reynolds_number on reference_length (1e5 Pa
+    when neither is given). model: 'euler' (inviscid, slip wall) or 'rans' (Spalart-Allmaras,
+    Sutherland viscosity, noSlip wall; needs reynolds_number or a pressure). length_unit: metres
+    per model unit of the grid. reference_length (m), reference_area (m^2), moment_point (m): the
+    force coefficients' references. semispan (m): kept for the post-processing's span stations.
+    solver: 'rhoPimpleFoam' (local time stepping) or 'rhoSimpleFoam' (SIMPLE, transonic).
+    iterations: solver steps; write_interval: steps between writes (default iterations).
+    max_courant: the local time step's Courant number (rhoPimpleFoam); the first
+    startup_iterations run at startup_courant, since the impulsive start from the uniform free
+    stream diverged at Courant 2 on the 295 k-cell M6 grid (run_case runs the two stages).
+    force: let the grid writer accept non-positive cells.
+    """
+    if model not in MODELS:
+        raise ValueError("model must be one of {}, got {!r}".format(", ".join(MODELS), model))
+    if solver not in SOLVERS:
+        raise ValueError("solver must be one of {}, got {!r}".format(", ".join(SOLVERS), solver))
+    if not (isinstance(iterations, int) and iterations > 0):
+        raise ValueError("iterations must be a positive integer, got {!r}".format(iterations))
+    write_interval = iterations if write_interval is None else write_interval
+    if not (isinstance(write_interval, int) and write_interval > 0):
+        raise ValueError("write_interval must be a positive integer, got {!r}".format(write_interval))
+    if not (length_unit > 0.0 and math.isfinite(length_unit)):
+        raise ValueError("length_unit must be > 0 (metres per model unit), got {!r}".format(length_unit))
+    if not (reference_length > 0.0 and reference_area > 0.0):
+        raise ValueError("reference_length and reference_area must be > 0, got {!r} and {!r}".format(
+            reference_length, reference_area))
+    if not (max_courant > 0.0 and math.isfinite(max_courant)):
+        raise ValueError("max_courant must be > 0, got {!r}".format(max_courant))
+    if not (startup_courant > 0.0 and math.isfinite(startup_courant)):
+        raise ValueError("startup_courant must be > 0, got {!r}".format(startup_courant))
+    if not (isinstance(startup_iterations, int) and startup_iterations >= 0):
+        raise ValueError("startup_iterations must be an integer >= 0, got {!r}".format(startup_iterations))
+    if iterations % write_interval:
+        raise ValueError("write_interval ({}) must divide iterations ({}): OpenFOAM writes only at write "
+                         "times".format(write_interval, iterations))
+    if len(moment_point) != 3:
+        raise ValueError("moment_point must be 3 coordinates, got {!r}".format(moment_point))
+    if model == "rans" and reynolds_number is None and pressure is None:
+        raise ValueError("model 'rans' needs reynolds_number (or a pressure that sets it)")
+    flow = freestream(mach, alpha_degrees, temperature, pressure, reynolds_number, reference_length)
+
+    case = os.path.abspath(os.fspath(case_directory))
+    try:
+        os.makedirs(case, exist_ok=True)
+        probe = os.path.join(case, ".bvmesh_write_test")
+        with open(probe, "w"):
+            pass
+        os.remove(probe)
+    except OSError as error:
+        raise ValueError("cannot write the case directory {}: {}".format(case, error)) from None
+    for stale in ("0", "system", "postProcessing"):
+        shutil.rmtree(os.path.join(case, stale), ignore_errors=True)
+    for entry in os.listdir(case):
+        if re.fullmatch(r"[0-9.e+-]+", entry) and os.path.isdir(os.path.join(case, entry)):
+            shutil.rmtree(os.path.join(case, entry))  # old time directories
+
+    if isinstance(grid_or_refined, (str, os.PathLike)):
+        source = os.path.abspath(os.fspath(grid_or_refined))
+        check_patches(source)
+        if length_unit != 1.0 and os.path.isfile(os.path.join(source, SETTINGS_FILE)):
+            raise ValueError("{} is a case written by write_case, already in metres: pass length_unit=1 "
+                             "(got {!r})".format(source, length_unit))
+        if source != case:
+            target = os.path.join(case, "constant", "polyMesh")
+            shutil.rmtree(target, ignore_errors=True)
+            shutil.copytree(os.path.join(source, "constant", "polyMesh"), target)
+    else:
+        from . import grid as bvgrid
+
+        bvgrid.write_openfoam(grid_or_refined, case, force)
+    patches = check_patches(case)
+    if length_unit != 1.0:
+        scale_points(case, length_unit)
+
+    fields = _fields(case, flow, model)
+    _constant(case, flow, model)
+    reference = dict(length=reference_length, area=reference_area, moment_point=tuple(moment_point))
+    _system(case, flow, model, solver, iterations, write_interval, reference, fields, max_courant)
+    stages = [dict(end=iterations, max_courant=max_courant, write_interval=write_interval)]
+    if solver == "rhoPimpleFoam" and 0 < startup_iterations < iterations:
+        stages.insert(0, dict(end=startup_iterations, max_courant=startup_courant,
+                              write_interval=startup_iterations))
+    settings = dict(model=model, solver=solver, iterations=iterations, stages=stages, max_courant=max_courant,
+                    length_unit=length_unit,
+                    semispan=semispan, reference=reference, freestream=flow,
+                    wall_faces=patches["wall"]["nFaces"])
+    with open(os.path.join(case, SETTINGS_FILE), "w") as file:
+        json.dump(settings, file, indent=2)
+    open(os.path.join(case, "case.foam"), "w").close()  # for ParaView
+    return case
+
+
+def m6_grid(preset="euler", level=2, edge_points=17, normal_points=None, reynolds_number=11.72e6, wing_file=None):
+    """A grid of the bundled ONERA M6 half wing (mm): the half_wing template fitted at `level`
+    (1e-5 root chord tolerance), the volume mesh (reference length 805 mm) and
+    bvmesh.grid.refine(..., preset, edge_points, normal_points; reynolds_number for 'rans').
+    Euler at level 2 with 17 edge points is the 295 k-cell grid of docs/cfd.md; edge_points=5,
+    normal_points=9 gives 3 k cells."""
+    from . import grid as bvgrid
+    from . import load_core, paths, polyhedra, volume
+
+    core = load_core()
+    wing, _, _ = polyhedra.half_model_target(core.read_cad_file_as_brep(wing_file or paths.EXAMPLE_WING))
+    placed = polyhedra.place("half_wing", wing)
+    fitter = core.SurfaceFitter(wing, placed["mesh"], placed["feature_map"], symmetry_plane=placed["symmetry_plane"],
+                                max_level=level, tolerance=1e-5 * 805.0, check_samples_per_face=0)
+    fitter.run()
+    mesh = volume.offset_and_farfield(fitter, reference_length=805.0)
+    options = dict(edge_points=edge_points)
+    if normal_points is not None:
+        options["normal_points"] = normal_points
+    if preset == "rans":
+        options["reynolds_number"] = reynolds_number
+    return bvgrid.refine(mesh, preset, **options)
+
+
+def read_settings(case):
+    path = os.path.join(case, SETTINGS_FILE)
+    try:
+        with open(path) as file:
+            return json.load(file)
+    except OSError:
+        raise ValueError("{} is not a case written by bvmesh.openfoam_case (no {})".format(
+            case, SETTINGS_FILE)) from None
+
+
+def _write_decompose(case, cores):
+    # Debian's v1912 has no scotch or metis (their stubs stop decomposePar); `simple` splits the
+    # cells sorted along y, the span, into equal parts.
+    _write(case, "system", "decomposeParDict", """numberOfSubdomains {0};
+
+method          simple;
+
+simpleCoeffs
+{{
+    n               (1 {0} 1);
+    delta           0.001;
+}}
+""".format(cores))
+
+
+def _set_entries(path, top_level, **entries):
+    """Sets `key value;` entries of an OpenFOAM dictionary in place: only unindented ones with
+    top_level (function objects have their own writeInterval), else the one entry of that name
+    at any depth."""
+    with open(path) as file:
+        text = file.read()
+    for key, value in entries.items():
+        indent = "" if top_level else r"[ \t]*"
+        text, count = re.subn(r"(?m)^({}{}[ \t]+)[^;\n]*;".format(indent, re.escape(key)),
+                              lambda match: "{}{};".format(match.group(1), value), text)
+        if count != 1:
+            raise ValueError("{}: expected one entry {}, found {}".format(path, key, count))
+    with open(path, "w") as file:
+        file.write(text)
+
+
+def _stop(process):
+    """SIGTERM to the process group, SIGKILL if it is still there after 30 s."""
+    for sent, wait in ((signal.SIGTERM, 30), (signal.SIGKILL, None)):
+        try:
+            os.killpg(process.pid, sent)
+        except ProcessLookupError:
+            return
+        try:
+            process.wait(timeout=wait)
+            return
+        except subprocess.TimeoutExpired:
+            pass
+
+
+def run_case(case, cores=1, nice=19, timeout=None, log_name=None):
+    """Runs the case's solver (under `nice`, on `cores` cores: decomposePar / mpirun / reconstructPar
+    above 1) and returns {iterations, wall_time, log, residuals, coefficients, cores, stopped}.
+    timeout (s) stops the solver and keeps what it wrote (stopped says so).
+    OpenFOAM tools can exit 0 after a failure, so the log is read: a FOAM FATAL, a non-zero exit,
+    no residuals or a non-finite one raise RuntimeError naming the log."""
+    from . import openfoam_post
+
+    environment = openfoam_environment()
+    settings = read_settings(case)
+    solver = settings["solver"]
+    if not (isinstance(cores, int) and cores >= 1):
+        raise ValueError("cores must be a positive integer, got {!r}".format(cores))
+    log = os.path.join(case, log_name or "log.{}".format(solver))
+    command = ["nice", "-n", str(nice)] if nice else []
+
+    stopped = []
+
+    def tool(arguments, log_path, limit=None, mode="w"):
+        with open(log_path, mode) as out:
+            # A session of its own, so that a stop reaches mpirun's ranks too, not only mpirun.
+            process = subprocess.Popen(command + arguments + ["-case", case], stdout=out, stderr=subprocess.STDOUT,
+                                       env=environment, start_new_session=True)
+            try:
+                code = process.wait(timeout=limit)
+            except subprocess.TimeoutExpired:
+                # The last written time step stays usable: stop and read what is there.
+                _stop(process)
+                stopped.append("after {:.0f} s".format(timeout))
+                code = 0
+            except BaseException:
+                _stop(process)
+                raise
+        with open(log_path, errors="replace") as file:
+            text = file.read()
+        if code != 0 or "FOAM FATAL" in text:
+            tail = "\n".join(text.strip().splitlines()[-25:])
+            raise RuntimeError("{} failed (exit {}), see {}:\n{}".format(arguments[0], code, log_path, tail))
+        return text
+
+    if cores > 1 and hasattr(os, "geteuid") and os.geteuid() == 0:
+        # Open MPI refuses root unless told twice.
+        environment.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    start = time.monotonic()
+    for number, stage in enumerate(settings["stages"]):
+        if stopped:
+            break
+        _set_entries(os.path.join(case, "system", "controlDict"), True,
+                     endTime=stage["end"], writeInterval=stage["write_interval"])
+        if solver == "rhoPimpleFoam":
+            _set_entries(os.path.join(case, "system", "fvSolution"), False, maxCo=stage["max_courant"])
+        limit = None if timeout is None else max(1.0, timeout - (time.monotonic() - start))
+        mode = "w" if number == 0 else "a"
+        if cores > 1:
+            _write_decompose(case, cores)
+            tool(["decomposePar", "-force", "-latestTime"], os.path.join(case, "log.decomposePar"))
+            tool(["mpirun", "--oversubscribe", "-np", str(cores), solver, "-parallel"], log, limit, mode)
+            tool(["reconstructPar", "-latestTime"], os.path.join(case, "log.reconstructPar"))
+        else:
+            tool([solver], log, limit, mode)
+    wall_time = time.monotonic() - start
+    residuals = openfoam_post.read_residuals(case)
+    if not residuals or not len(residuals["iteration"]):
+        raise RuntimeError("no residuals recorded by {}, see {}".format(solver, log))
+    import numpy as np
+
+    for name, values in residuals.items():
+        if not np.all(np.isfinite(values)):
+            raise RuntimeError("non-finite {} residual after iteration {}, see {}".format(
+                name, int(residuals["iteration"][np.argmin(np.isfinite(values))]), log))
+    return dict(iterations=int(residuals["iteration"][-1]), wall_time=wall_time, log=log, residuals=residuals,
+                coefficients=openfoam_post.read_force_coefficients(case), cores=cores,
+                stopped=stopped[0] if stopped else None)

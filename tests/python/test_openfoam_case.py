@@ -1,0 +1,338 @@
+"""bvmesh.openfoam_case and bvmesh.openfoam_post: the case generator on a coarse ONERA M6 grid
+run by the real OpenFOAM solvers (residuals finite and falling, read from the function objects,
+since the tools exit 0 on some failures), the Cp cut against closed-form pressure fields on a
+swept tapered wing surface, the measured reference data, and errors that name the problem."""
+
+import math
+import os
+import re
+import shutil
+import tempfile
+import unittest
+
+import numpy as np
+
+import bvmesh.openfoam_case as ofc
+import bvmesh.openfoam_post as post
+
+HAVE_OPENFOAM = shutil.which("rhoPimpleFoam") is not None and os.path.isdir(ofc.OPENFOAM_DIR)
+SEMISPAN = 1.1963
+
+
+def wing_surface(chordwise=64, spanwise=9, thickness=0.1):
+    """A closed elliptic-section wing without twist (x chordwise, y span, z up): leading edge
+    swept 30 deg, chord 0.8 m at the root tapered to 0.45 m at the tip. Returns points (n, 3),
+    quad faces, the wing's chord(y) and leading edge x(y)."""
+    theta = np.linspace(0.0, 2.0 * math.pi, chordwise, endpoint=False)
+    y = np.linspace(0.0, SEMISPAN, spanwise)
+
+    def chord(span):
+        return 0.8 - 0.35 * span / SEMISPAN
+
+    def leading_edge(span):
+        return span * math.tan(math.radians(30.0))
+
+    points = []
+    for span in y:
+        c = chord(span)
+        points.extend(np.column_stack([leading_edge(span) + 0.5 * c * (1.0 + np.cos(theta)),
+                                       np.full_like(theta, span), 0.5 * thickness * c * np.sin(theta)]))
+    faces = []
+    for j in range(spanwise - 1):
+        for i in range(chordwise):
+            a, b = j * chordwise + i, j * chordwise + (i + 1) % chordwise
+            faces.append(np.array([a, b, b + chordwise, a + chordwise]))
+    return np.array(points), faces, chord, leading_edge
+
+
+FREESTREAM = ofc.freestream(0.8395, 3.06, 255.56, pressure=8.0e4)
+
+
+class CpExtraction(unittest.TestCase):
+    def test_linear_pressure_field_is_cut_exactly(self):
+        points, faces, chord, leading_edge = wing_surface()
+        q = 0.5 * FREESTREAM["rho"] * FREESTREAM["speed"] ** 2
+
+        def cp_formula(xyz):
+            return -0.4 + 0.7 * xyz[:, 0] - 3.0 * xyz[:, 2] + 0.2 * xyz[:, 1]
+
+        p = FREESTREAM["p"] + q * cp_formula(points)
+        cp = post.pressure_coefficient(p, FREESTREAM)
+        np.testing.assert_allclose(cp, cp_formula(points), atol=1e-12)
+        for eta in post.STATIONS:
+            y = eta * SEMISPAN
+            lines = post.cut(points, faces, cp, y)
+            self.assertEqual(len(lines), 1)
+            xyz, values = lines[0]
+            self.assertEqual(len(xyz), 64 + 1)  # one point per chordwise edge, the loop closed
+            np.testing.assert_allclose(xyz[:, 1], y, atol=1e-12)
+            np.testing.assert_allclose(values, cp_formula(xyz), atol=1e-12)
+            cut = post.section(points, faces, cp, y)
+            self.assertAlmostEqual(cut["chord"], chord(y), places=12)
+            self.assertAlmostEqual(cut["leading_edge"][0], leading_edge(y), places=12)
+            for name, sign in (("upper", 1.0), ("lower", -1.0)):
+                x_over_c, values = cut[name]
+                self.assertAlmostEqual(x_over_c[0], 0.0, places=12)
+                self.assertAlmostEqual(x_over_c[-1], 1.0, places=12)
+                self.assertTrue(np.all(np.diff(x_over_c) > 0.0))
+                # Cp is exact and linear in z, so it gives back each point's z: positive on the
+                # upper surface, negative on the lower, within the section's thickness.
+                x = leading_edge(y) + x_over_c * chord(y)
+                inner = (x_over_c > 0) & (x_over_c < 1)
+                z = (values - (-0.4 + 0.7 * x + 0.2 * y)) / -3.0
+                self.assertTrue(np.all(sign * z[inner] > 0.0), name)
+                self.assertLess(np.abs(z).max(), 0.05 * chord(y) + 1e-12)
+
+    def test_quadratic_pressure_field_gives_the_interpolation_error_in_closed_form(self):
+        # Cp = cos(pi x / c) (1 - eta^2). The cut edges run spanwise at constant x / c, so the cut
+        # holds the linear interpolant of 1 - eta^2 between the rows eta_j < eta < eta_j+1, which
+        # is 1 - eta^2 - (eta - eta_j)(eta_j+1 - eta) exactly.
+        points, faces, chord, leading_edge = wing_surface(spanwise=9)
+        x_over_c = (points[:, 0] - leading_edge(points[:, 1])) / chord(points[:, 1])
+        cp = np.cos(math.pi * x_over_c) * (1.0 - (points[:, 1] / SEMISPAN) ** 2)
+        rows = np.linspace(0.0, 1.0, 9)
+        for eta in post.STATIONS:
+            j = np.searchsorted(rows, eta) - 1
+            factor = 1.0 - eta ** 2 - (eta - rows[j]) * (rows[j + 1] - eta)
+            cut = post.section(points, faces, cp, eta * SEMISPAN)
+            for name in ("upper", "lower"):
+                x, values = cut[name]
+                self.assertEqual(len(x), 33)
+                np.testing.assert_allclose(values, np.cos(math.pi * x) * factor, atol=1e-12)
+
+    def test_plane_missing_the_wall_and_bad_values(self):
+        points, faces, _, _ = wing_surface()
+        with self.assertRaisesRegex(ValueError, "does not cut the wall"):
+            post.section(points, faces, np.zeros(len(points)), 2.0)
+        with self.assertRaisesRegex(ValueError, "one value per point"):
+            post.cut(points, faces, np.zeros(3), 0.5)
+
+    def test_measured_reference_and_rms(self):
+        sections = post.read_experiment()
+        self.assertEqual([s["eta"] for s in sections], list(post.STATIONS))
+        self.assertEqual([len(s["upper"][0]) + len(s["lower"][0]) for s in sections], [34] * 4 + [45] * 3)
+        first = sections[0]
+        self.assertAlmostEqual(first["upper"][1].min(), -1.0692, places=4)  # suction peak, tap 31
+        # The measurement against itself is 0; shifted by 0.1 it is 0.1 at every tap.
+        self.assertEqual(post.rms_difference(first, first), (0.0, 34))
+        shifted = {name: (x, cp + 0.1) for name, (x, cp) in ((n, first[n]) for n in ("upper", "lower"))}
+        rms, taps = post.rms_difference(shifted, first)
+        self.assertAlmostEqual(rms, 0.1, places=12)
+
+    def test_freestream_from_reynolds_number(self):
+        flow = ofc.freestream(0.8395, 3.06, 255.56, reynolds_number=11.72e6, reference_length=0.64607)
+        self.assertAlmostEqual(flow["reynolds_number"] / 11.72e6, 1.0, places=12)
+        self.assertAlmostEqual(flow["speed"] / math.sqrt(1.4 * ofc.GAS_CONSTANT * 255.56), 0.8395, places=12)
+        self.assertAlmostEqual(math.degrees(math.atan2(flow["velocity"][2], flow["velocity"][0])), 3.06, places=12)
+        self.assertAlmostEqual(flow["p"], flow["rho"] * ofc.GAS_CONSTANT * 255.56, places=6)
+
+
+class Histories(unittest.TestCase):
+    def test_residual_drop_counts_from_where_the_residuals_stay_down(self):
+        residuals = dict(iteration=np.arange(1.0, 7.0), p=np.array([1.0, 1e-4, 1e-2, 5e-4, 1e-4, 1e-5]),
+                         U=np.array([0.5, 1e-3, 1e-3, 1e-4, 1e-4, 1e-5]))
+        # U's peak is 0.5, so U is the worst field at the end: 1e-5 / 0.5.
+        iteration, decades = post.residual_drop(residuals)
+        self.assertEqual(iteration, 4)
+        self.assertAlmostEqual(decades, math.log10(0.5e5), places=12)
+        self.assertEqual(post.residual_drop(residuals, orders=5)[0], None)
+
+    def test_log_wall_time_sums_restarts(self):
+        with tempfile.TemporaryDirectory() as folder:
+            path = os.path.join(folder, "log")
+            with open(path, "w") as file:
+                for step, clock in ((1, 2), (2, 4), (3, 1), (4, 5)):
+                    file.write("Time = {}\n\nExecutionTime = {} s  ClockTime = {} s\n".format(step, clock, clock))
+            self.assertEqual(post.read_log(path), dict(wall_time=9.0, time_steps=4))
+
+
+class Errors(unittest.TestCase):
+    def setUp(self):
+        self.folder = tempfile.TemporaryDirectory()
+
+    def tearDown(self):
+        self.folder.cleanup()
+
+    def fake_case(self, patches):
+        case = tempfile.mkdtemp(dir=self.folder.name)
+        os.makedirs(os.path.join(case, "constant", "polyMesh"))
+        with open(os.path.join(case, "constant", "polyMesh", "boundary"), "w") as file:
+            file.write("FoamFile\n{\n    class polyBoundaryMesh;\n}\n\n%d\n(\n" % len(patches))
+            for name, kind in patches:
+                file.write("    %s\n    {\n        type %s;\n        nFaces 4;\n        startFace 0;\n    }\n"
+                           % (name, kind))
+            file.write(")\n")
+        return case
+
+    def test_bad_inputs_name_the_problem(self):
+        case = self.fake_case([("wall", "wall"), ("symmetry", "symmetryPlane"), ("farfield", "patch")])
+        target = os.path.join(self.folder.name, "case")
+        for options, message in ((dict(mach=0.0), "mach"), (dict(mach=-1.0), "mach"),
+                                 (dict(mach=float("nan")), "mach"), (dict(temperature=0.0), "temperature"),
+                                 (dict(pressure=-5.0), "pressure"), (dict(model="les"), "model"),
+                                 (dict(solver="icoFoam"), "solver"), (dict(iterations=0), "iterations"),
+                                 (dict(iterations=100, write_interval=30), "divide"),
+                                 (dict(model="rans"), "reynolds_number"), (dict(length_unit=0.0), "length_unit"),
+                                 (dict(reference_area=0.0), "reference_area")):
+            with self.assertRaisesRegex(ValueError, message):
+                ofc.write_case(case, target, **options)
+
+    def test_missing_or_mistyped_patch(self):
+        case = self.fake_case([("wall", "wall"), ("symmetry", "symmetryPlane")])
+        with self.assertRaisesRegex(ValueError, "no patch 'farfield'"):
+            ofc.write_case(case, os.path.join(self.folder.name, "case"))
+        case = self.fake_case([("wall", "patch"), ("symmetry", "symmetryPlane"), ("farfield", "patch")])
+        with self.assertRaisesRegex(ValueError, "'wall' .* type patch, expected wall"):
+            ofc.write_case(case, os.path.join(self.folder.name, "case2"))
+        with self.assertRaisesRegex(ValueError, "cannot read the patches"):
+            ofc.write_case(os.path.join(self.folder.name, "nothing"), os.path.join(self.folder.name, "case3"))
+
+    def test_unwritable_directory(self):
+        case = self.fake_case([("wall", "wall"), ("symmetry", "symmetryPlane"), ("farfield", "patch")])
+        blocker = os.path.join(self.folder.name, "a_file")
+        open(blocker, "w").close()
+        with self.assertRaisesRegex(ValueError, "cannot write the case directory"):
+            ofc.write_case(case, os.path.join(blocker, "case"))
+
+    def test_openfoam_missing(self):
+        saved = ofc.OPENFOAM_DIR
+        ofc.OPENFOAM_DIR = os.path.join(self.folder.name, "no_openfoam")
+        try:
+            with self.assertRaisesRegex(ValueError, "OpenFOAM is missing"):
+                ofc.openfoam_environment()
+        finally:
+            ofc.OPENFOAM_DIR = saved
+
+    def test_not_a_bvmesh_case(self):
+        with self.assertRaisesRegex(ValueError, "not a case written by bvmesh"):
+            ofc.read_settings(self.folder.name)
+
+
+@unittest.skipUnless(HAVE_OPENFOAM, "OpenFOAM (rhoPimpleFoam, /usr/share/openfoam) is not installed")
+class CoarseM6Run(unittest.TestCase):
+    """The euler case on a 3 k-cell M6 grid (level 2, 5 edge points, 9 normal points) run by
+    rhoPimpleFoam (LTS, 5 start-up steps then Courant 2) for 20 steps and rhoSimpleFoam for 10."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.folder = tempfile.TemporaryDirectory()
+        cls.grid = ofc.m6_grid("euler", level=2, edge_points=5, normal_points=9)
+        cls.case = ofc.write_case(cls.grid, os.path.join(cls.folder.name, "lts"), iterations=20, write_interval=10,
+                                  startup_iterations=5)
+        cls.result = ofc.run_case(cls.case)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.folder.cleanup()
+
+    def check_residuals(self, result, steps):
+        residuals = result["residuals"]
+        self.assertEqual(result["iterations"], steps)
+        np.testing.assert_array_equal(residuals["iteration"], np.arange(1, steps + 1))
+        self.assertEqual(sorted(f for f in residuals if f != "iteration"), ["U", "e", "p"])
+        for field in ("U", "e", "p"):
+            values = residuals[field]
+            self.assertTrue(np.all(np.isfinite(values)) and np.all(values >= 0.0), field)
+            # Falling: the last residual at least 10 times below the largest.
+            self.assertLess(values[-1], 0.1 * values.max(), field)
+        coefficients = result["coefficients"]
+        self.assertEqual(len(coefficients["Cl"]), steps)
+        self.assertTrue(np.all(np.isfinite(coefficients["Cl"])) and np.all(np.isfinite(coefficients["Cd"])))
+        with open(result["log"]) as file:
+            log = file.read()
+        self.assertNotIn("FOAM FATAL", log)
+        self.assertTrue(log.rstrip().endswith("End"))
+
+    def test_lts_run_residuals_finite_and_falling(self):
+        self.check_residuals(self.result, 20)
+        self.assertEqual(self.result["stopped"], None)
+        with open(os.path.join(self.case, "system", "fvSolution")) as file:
+            self.assertIn("maxCo           2.0;", file.read())  # the second stage ran at Courant 2
+        with open(os.path.join(self.case, "system", "controlDict")) as file:
+            control = file.read()
+        # The stages set the run's write interval, not the function objects' (every step).
+        self.assertEqual(re.findall(r"(?m)^\s*writeInterval\s+(\d+);", control), ["10", "1", "1"])
+        self.assertTrue(os.path.isdir(os.path.join(self.case, "20")))
+
+    def test_case_is_in_metres_with_the_m6_patches(self):
+        patches = ofc.read_boundary(self.case)
+        self.assertEqual({n: p["type"] for n, p in patches.items()},
+                         {"wall": "wall", "symmetry": "symmetryPlane", "farfield": "patch"})
+        self.assertEqual(post.cell_count(self.case), self.grid.grid.cell_count)
+        surface = post.read_vtk_polydata(post.wall_surface_file(self.case))
+        self.assertEqual(len(surface["faces"]), patches["wall"]["nFaces"])
+        # The mm grid scaled to metres: the wall reaches the semispan and its rounded tip cap.
+        span = surface["points"][:, 1].max()
+        self.assertTrue(SEMISPAN < span < 1.03 * SEMISPAN, span)
+        self.assertEqual(surface["point_data"]["p"].shape, (len(surface["points"]),))
+
+    def test_wall_pressure_cut_at_every_station(self):
+        results = post.station_results(self.case)
+        self.assertEqual([r["eta"] for r in results], list(post.STATIONS))
+        for r in results:
+            self.assertTrue(math.isfinite(r["rms"]), r["eta"])
+            self.assertGreater(r["taps"], 30)
+            # The sharp-trailing-edge M6: chord 810.5 mm at the root, trailing edge swept 15.69 deg.
+            expected = 0.81049 - r["y"] * (math.tan(math.radians(30.0)) - math.tan(math.radians(15.69)))
+            self.assertAlmostEqual(r["section"]["chord"], expected, delta=0.01)
+        with tempfile.TemporaryDirectory() as folder:
+            summary = post.write_report(self.case, folder)
+            for name in ["cp_eta_{:.2f}.png".format(eta) for eta in post.STATIONS] + ["convergence.png",
+                                                                                    "upper_surface_cp.png"]:
+                self.assertGreater(os.path.getsize(os.path.join(folder, name)), 1000, name)
+            self.assertEqual(summary["iterations"], 20)
+            with open(os.path.join(folder, "report.md")) as file:
+                self.assertIn("| cells | 3072 |", file.read())
+
+    def test_command_line_writes_a_case_from_a_polymesh_directory(self):
+        from bvmesh.__main__ import main
+
+        target = os.path.join(self.folder.name, "cli")
+        self.assertEqual(main(["openfoam-case", target, "--mesh", self.case, "--length-unit", "1",
+                               "--iterations", "10", "--alpha", "2.5"]), 0)
+        settings = ofc.read_settings(target)
+        self.assertEqual(settings["iterations"], 10)
+        self.assertAlmostEqual(settings["freestream"]["alpha_degrees"], 2.5)
+        self.assertEqual(post.cell_count(target), self.grid.grid.cell_count)
+        self.assertEqual(main(["openfoam-case", target, "--mesh", self.case, "--mach", "0"]), 1)
+        # A case of ours is in metres already: scaling it again would shrink the wing 1000 times.
+        with self.assertRaisesRegex(ValueError, "already in metres"):
+            ofc.write_case(self.case, os.path.join(self.folder.name, "again"))
+
+    def test_rans_case_files(self):
+        # Written only: the RANS case diverges on the coarse rans grid (docs/cfd.md).
+        self.assertFalse(os.path.exists(os.path.join(self.case, "system", "fvOptions")))
+        case = ofc.write_case(self.case, os.path.join(self.folder.name, "rans"), model="rans",
+                              reynolds_number=11.72e6, length_unit=1.0)
+        for name in ("p", "U", "T", "nuTilda", "nut", "alphat"):
+            self.assertTrue(os.path.isfile(os.path.join(case, "0", name)), name)
+
+        def read(*parts):
+            with open(os.path.join(case, *parts)) as file:
+                return file.read()
+
+        self.assertIn("SpalartAllmaras", read("constant", "turbulenceProperties"))
+        self.assertIn("sutherland", read("constant", "thermophysicalProperties"))
+        self.assertRegex(read("0", "U"), r"wall\s*\{\s*type\s+noSlip;")
+        self.assertRegex(read("0", "nut"), r"wall\s*\{\s*type\s+nutUSpaldingWallFunction;")
+        self.assertIn("limitTemperature", read("system", "fvOptions"))
+        flow = ofc.read_settings(case)["freestream"]
+        self.assertAlmostEqual(flow["reynolds_number"] / 11.72e6, 1.0, places=9)
+
+    def test_timeout_stops_the_solver_and_keeps_what_it_wrote(self):
+        case = ofc.write_case(self.case, os.path.join(self.folder.name, "stopped"), iterations=100000,
+                              write_interval=5, length_unit=1.0)
+        result = ofc.run_case(case, timeout=4.0)
+        self.assertEqual(result["stopped"], "after 4 s")
+        self.assertGreater(result["iterations"], 5)
+        self.assertLess(result["wall_time"], 40.0)
+        post.wall_surface_file(case)  # a written time step is there
+
+    def test_simple_run_residuals_finite_and_falling(self):
+        case = ofc.write_case(self.case, os.path.join(self.folder.name, "simple"), solver="rhoSimpleFoam",
+                              iterations=10, length_unit=1.0)
+        self.check_residuals(ofc.run_case(case), 10)
+
+
+if __name__ == "__main__":
+    unittest.main()
