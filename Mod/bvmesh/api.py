@@ -630,10 +630,11 @@ def grid_of(grid_object):
     return volume_grid.refined_grid(grid_object)
 
 
-def span_station(grid_object, eta):
+def span_station(grid_object, eta, span=None):
     """(point, normal) of the cut at fraction `eta` of the span of a VolumeGrid's wall: from the
-    symmetry plane (its normal the span direction) to the wall's far end; without a symmetry plane,
-    across the wall's extent along y."""
+    symmetry plane (its normal the span direction) to the wall's far end, or over `span` (e.g. a
+    wing's reference semispan without its tip cap) when given; without a symmetry plane, across the
+    wall's extent along y."""
     import FreeCAD
 
     from bvmesh.features import volume_grid
@@ -649,17 +650,19 @@ def span_station(grid_object, eta):
         normal = normal / np.linalg.norm(normal)
         if -((wall - origin) @ normal).min() > ((wall - origin) @ normal).max():
             normal = -normal  # the span runs to the side the wall is on
-        low, high = 0.0, float(((wall - origin) @ normal).max())
+        low, high = 0.0, float(((wall - origin) @ normal).max()) if span is None else float(span)
     else:
         origin, normal = np.zeros(3), np.array([0.0, 1.0, 0.0])
         low, high = float(wall[:, 1].min()), float(wall[:, 1].max())
+        if span is not None:
+            high = low + float(span)
     point = origin + (low + eta * (high - low)) * normal
     return FreeCAD.Vector(*point), FreeCAD.Vector(*normal)
 
 
-def make_grid_cut(grid_object, point=None, normal=None, eta=None, metric="block", name="GridCut"):
+def make_grid_cut(grid_object, point=None, normal=None, eta=None, span=None, metric="block", name="GridCut"):
     """A cut plane through a VolumeGrid showing the grid lines around the section: through
-    `point` with `normal`, or at span fraction `eta` (see span_station). metric colours the lines:
+    `point` with `normal`, or at span fraction `eta` of `span` (see span_station). metric colours the lines:
     'block' or a quality metric (scaled_jacobian, non_orthogonality, skewness, aspect_ratio,
     growth_ratio)."""
     import FreeCAD
@@ -669,7 +672,7 @@ def make_grid_cut(grid_object, point=None, normal=None, eta=None, metric="block"
     if eta is not None:
         if point is not None or normal is not None:
             raise ValueError("give either eta or point and normal, not both")
-        point, normal = span_station(grid_object, float(eta))
+        point, normal = span_station(grid_object, float(eta), span)
     if point is None or normal is None:
         raise ValueError("the cut needs eta, or point and normal")
 

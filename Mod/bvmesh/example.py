@@ -63,6 +63,9 @@ VOLUME_WALL_LEVEL = 2
 # Wind-tunnel case 2308 of the M6 (AGARD AR-138): Reynolds number on the mean aerodynamic chord.
 REYNOLDS_NUMBER = 11.72e6
 CUT_ETA = 0.44
+# The M6's reference semispan (the wind-tunnel stations' eta = y / b); the CAD's rounded tip cap
+# reaches 1218.5 mm.
+SEMISPAN = 1196.3
 TARGET_CELLS = 1_000_000
 
 
@@ -84,7 +87,7 @@ def check_mesh(case):
 def _section_window(grid_object, eta):
     """((leading x, trailing x), mean z, point, normal) of the wing section at span fraction eta,
     from the target's CAD faces sliced there."""
-    point, normal = api.span_station(grid_object, eta)
+    point, normal = api.span_station(grid_object, eta, SEMISPAN)
     target = grid_object.VolumeMesh.Fit.Target
     wires = target.Shape.slice(normal, point.dot(normal))
     if not wires:
@@ -155,7 +158,7 @@ def run_volume(fit, chord, files, log=print):
     log("quality: min scaled Jacobian {:.3g}, max non-orthogonality {:.1f} ({:.1f} s)".format(
         quality.MinScaledJacobian, quality.MaxNonOrthogonality, time.time() - stage))
     stage = time.time()
-    cut = api.make_grid_cut(grid_object, eta=CUT_ETA)
+    cut = api.make_grid_cut(grid_object, eta=CUT_ETA, span=SEMISPAN)
     _cut_picture(grid_object, files["cut"])
     log("cut at {:.0f} % span: {} segments ({:.1f} s)".format(100 * CUT_ETA, cut.SegmentCount, time.time() - stage))
     stage = time.time()

@@ -7,7 +7,8 @@ thermophysics, schemes and function objects (residuals, force coefficients, wall
     print(result["iterations"], result["residuals"]["p"][-1])
 
 Pure Python (no FreeCAD); the grid goes through bvmesh.grid.write_openfoam, or an existing case
-directory's constant/polyMesh is copied. Patches must be named wall, symmetry and farfield.
+directory's constant/polyMesh is copied. Patches: wall, the outer ones (farfield, or a box's or
+cylinder's inlet, outlet and side) and symmetry on a half model.
 Units: the grid is in model units (length_unit metres each, 0.001 for mm); the case is in SI.
 The defaults are the ONERA M6 at the AGARD AR-138 test 2308 (see docs/cfd.md).
 """
@@ -35,7 +36,11 @@ M6_REFERENCE_AREA = 0.7532
 M6_MOMENT_POINT = (0.47459, 0.0, 0.0)
 M6_SEMISPAN = 1.1963
 
-PATCHES = {"wall": "wall", "symmetry": "symmetryPlane", "farfield": "patch"}
+PATCHES = {"wall": "wall", "symmetry": "symmetryPlane", "farfield": "patch", "inlet": "patch", "outlet": "patch",
+           "side": "patch"}
+# The outer boundary's patches (a sphere's far field, a box's or cylinder's inlet, outlet and
+# sides): all get the free-stream conditions, which let the flow in or out by its own direction.
+OUTER_PATCHES = ("farfield", "inlet", "outlet", "side")
 MODELS = ("euler", "rans")
 SOLVERS = ("rhoSimpleFoam", "rhoPimpleFoam")
 SETTINGS_FILE = "bvmesh_case.json"
@@ -126,14 +131,19 @@ def read_boundary(case):
 
 
 def check_patches(case):
+    """The mesh's patches, checked: a wall, at least one outer patch, BVMesh's patch types; a
+    symmetry plane when the model is a half model."""
     patches = read_boundary(case)
-    for name, kind in PATCHES.items():
-        if name not in patches:
-            raise ValueError("the mesh of {} has no patch '{}' (patches: {}); BVMesh cases need wall, symmetry "
-                             "and farfield".format(case, name, ", ".join(patches) or "none"))
-        if patches[name]["type"] != kind:
+    if "wall" not in patches or not any(name in patches for name in OUTER_PATCHES):
+        raise ValueError("the mesh of {} needs a patch 'wall' and an outer patch ({}); it has: {}".format(
+            case, ", ".join(OUTER_PATCHES), ", ".join(patches) or "none"))
+    for name, entry in patches.items():
+        if name not in PATCHES:
+            raise ValueError("the mesh of {} has a patch '{}' that BVMesh cases do not know (known: {})".format(
+                case, name, ", ".join(PATCHES)))
+        if entry["type"] != PATCHES[name]:
             raise ValueError("patch '{}' of {} is of type {}, expected {}".format(
-                name, case, patches[name]["type"], kind))
+                name, case, entry["type"], PATCHES[name]))
     return patches
 
 
@@ -156,13 +166,21 @@ def scale_points(case, factor):
         file.write(text[:start] + "(\n" + "\n".join(lines) + "\n)\n")
 
 
-def _boundary_field(entries):
+def _boundary_field(entries, patches):
+    """The boundaryField of the patches the mesh has: the 'farfield' entry for every outer patch,
+    the 'symmetry' entry only for a half model."""
+    expanded = []
+    for name, items in entries:
+        if name == "farfield":
+            expanded += [(outer, items) for outer in OUTER_PATCHES if outer in patches]
+        elif name in patches:
+            expanded.append((name, items))
     return "boundaryField\n{\n" + "".join(
         "    {}\n    {{\n{}    }}\n".format(name, "".join("        {:<16}{};\n".format(k, v) for k, v in items))
-        for name, items in entries) + "}\n"
+        for name, items in expanded) + "}\n"
 
 
-def _fields(case, flow, model):
+def _fields(case, flow, model, patches):
     p, T, U = flow["p"], flow["T"], _vector(flow["velocity"])
     symmetry = ("symmetry", [("type", "symmetryPlane")])
     wall_u = [("type", "slip")] if model == "euler" else [("type", "noSlip")]
@@ -200,7 +218,7 @@ def _fields(case, flow, model):
             symmetry, ("farfield", [("type", "calculated"), ("value", "uniform 0")])])
     for name, (cls, dimensions, internal, boundary) in files.items():
         _write(case, "0", name, "dimensions      {};\n\ninternalField   uniform {};\n\n{}".format(
-            dimensions, internal, _boundary_field(boundary)), cls=cls)
+            dimensions, internal, _boundary_field(boundary, patches)), cls=cls)
     return sorted(files)
 
 
@@ -486,7 +504,7 @@ def write_case(grid_or_refined, case_directory, mach=0.8395, alpha_degrees=3.06,
 
     grid_or_refined: a bvmesh grid (refine's result or a StructuredGrid), or the path of a case
     directory holding constant/polyMesh (copied; in model units, so a case written here, already
-    in metres, needs length_unit=1) with patches wall, symmetry and farfield. mach, alpha_degrees (x-z plane, y the span), temperature (K) and pressure (Pa) of the
+    in metres, needs length_unit=1) with patches wall, outer ones and symmetry on a half model. mach, alpha_degrees (x-z plane, y the span), temperature (K) and pressure (Pa) of the
     free stream; without a pressure it is set from reynolds_number on reference_length (1e5 Pa
     when neither is given). model: 'euler' (inviscid, slip wall) or 'rans' (Spalart-Allmaras,
     Sutherland viscosity, noSlip wall; needs reynolds_number or a pressure). length_unit: metres
@@ -561,7 +579,7 @@ def write_case(grid_or_refined, case_directory, mach=0.8395, alpha_degrees=3.06,
     if length_unit != 1.0:
         scale_points(case, length_unit)
 
-    fields = _fields(case, flow, model)
+    fields = _fields(case, flow, model, patches)
     _constant(case, flow, model)
     reference = dict(length=reference_length, area=reference_area, moment_point=tuple(moment_point))
     _system(case, flow, model, solver, iterations, write_interval, reference, fields, max_courant)

@@ -107,6 +107,11 @@ class VolumeObjects(unittest.TestCase):
             self.assertEqual(export.Written, self.grid.Digest)
             self.assertTrue(os.path.exists(path), path)
         self.assertEqual(sorted(written), ["blocks", "cgns", "gismo", "openfoam", "plot3d", "vtk"])
+        flow_case = os.path.join(self.folder, "sphere_flow")
+        api.export_grid(self.grid, flow_case, file_format="openfoam_case", name="Export")
+        for part in ("0/p", "0/U", "0/T", "constant/thermophysicalProperties", "system/controlDict",
+                     "constant/polyMesh/points"):
+            self.assertTrue(os.path.isfile(os.path.join(flow_case, part)), part)
         self.assertTrue(os.path.isfile(os.path.join(written["openfoam"], "constant", "polyMesh", "owner")))
         blocks = grid_module.load_core().read_block_mesh(written["blocks"])
         self.assertEqual(blocks.block_count, 6)

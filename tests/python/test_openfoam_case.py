@@ -179,8 +179,11 @@ class Errors(unittest.TestCase):
 
     def test_missing_or_mistyped_patch(self):
         case = self.fake_case([("wall", "wall"), ("symmetry", "symmetryPlane")])
-        with self.assertRaisesRegex(ValueError, "no patch 'farfield'"):
+        with self.assertRaisesRegex(ValueError, "needs a patch 'wall' and an outer patch"):
             ofc.write_case(case, os.path.join(self.folder.name, "case"))
+        case = self.fake_case([("wall", "wall"), ("farfield", "patch"), ("nozzle", "patch")])
+        with self.assertRaisesRegex(ValueError, "patch 'nozzle' that BVMesh cases do not know"):
+            ofc.write_case(case, os.path.join(self.folder.name, "case_nozzle"))
         case = self.fake_case([("wall", "patch"), ("symmetry", "symmetryPlane"), ("farfield", "patch")])
         with self.assertRaisesRegex(ValueError, "'wall' .* type patch, expected wall"):
             ofc.write_case(case, os.path.join(self.folder.name, "case2"))

@@ -1,5 +1,6 @@
 """Export of a volume grid (or of the B-spline blocks themselves) to the files solvers read:
-CGNS, an OpenFOAM case's polyMesh, Plot3D, VTK, G+Smo XML, or BVMesh's block file. Recompute
+CGNS, an OpenFOAM case's polyMesh or a complete OpenFOAM flow case, Plot3D, VTK, G+Smo XML, or
+BVMesh's block file. Recompute
 writes the file (each writer writes a temporary file and renames it, so a failed export leaves no
 partial file under the name)."""
 
@@ -12,7 +13,8 @@ TYPE = "BVMesh::Export"
 # format -> (file name endings that select it, needs the grid (else the blocks))
 FORMATS = {
     "cgns": ((".cgns",), True),
-    "openfoam": ((), True),  # a case directory
+    "openfoam": ((), True),  # a case directory: constant/polyMesh
+    "openfoam_case": ((), True),  # a complete flow case (bvmesh.openfoam_case; chosen by name only)
     "plot3d": ((".xyz", ".p3d", ".x"), True),
     "vtk": ((".vtm",), True),
     "gismo": ((".xml",), False),
@@ -45,6 +47,15 @@ def write(source, file_format, path, force=False):
         if not is_type(source, volume_grid.TYPE):
             raise ValueError("{} export needs a volume grid, got {}".format(file_format, source.Label))
         refined = volume_grid.refined_grid(source)
+        if file_format == "openfoam_case":
+            from bvmesh import openfoam_case
+
+            # Free stream and references are openfoam_case's defaults (the M6's wind-tunnel case);
+            # scripts set them with bvmesh.api.write_openfoam_case.
+            openfoam_case.write_case(refined, path, model="rans" if source.Preset == "rans" else "euler",
+                                     reynolds_number=source.VolumeMesh.ReynoldsNumber if source.Preset == "rans" else None,
+                                     force=force)
+            return
         writers = {"cgns": grid.write_cgns, "openfoam": grid.write_openfoam, "plot3d": grid.write_plot3d,
                    "vtk": grid.write_vtk}
         writers[file_format](refined, path, force=force)

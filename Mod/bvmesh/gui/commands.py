@@ -547,6 +547,34 @@ class ExportGrid:
             run_in_transaction("BVMesh export", ["bvmesh.api.export_grid({}, {!r})".format(_object_ref(grid), path)])
 
 
+class OpenFoamCase:
+    def GetResources(self):
+        return _resources("BVMesh_Export", "OpenFOAM flow case",
+                          "Write a complete OpenFOAM case on the grid (compressible, local time stepping; free "
+                          "stream and references: the ONERA M6 wind-tunnel case, change them in the case or with "
+                          "bvmesh.api.write_openfoam_case); run it with bvmesh.openfoam_case.run_case")
+
+    def IsActive(self):
+        return find_object(volume_grid.TYPE) is not None
+
+    def Activated(self):
+        from PySide import QtGui
+
+        from bvmesh.gui import plots, progress
+
+        grid = find_object(volume_grid.TYPE)
+        path = QtGui.QFileDialog.getExistingDirectory(FreeCADGui.getMainWindow(), "OpenFOAM case: parent folder",
+                                                      plots.output_dir())
+        if not path:
+            return
+        import os
+
+        case = os.path.join(path, "{}_case".format(grid.Name))
+        with progress.work_runner_in_gui("OpenFOAM case"):
+            run_in_transaction("BVMesh OpenFOAM case", ["bvmesh.api.export_grid({}, {!r}, file_format='openfoam_case', "
+                                                        "name='OpenFoamCase')".format(_object_ref(grid), case)])
+
+
 STEP_COMMANDS = (
     ("BVMesh_Subdivide", FitStep("subdivide", "BVMesh_Subdivide", "Subdivide",
                                  "Step 1: one Catmull-Clark subdivision of the fitted control mesh")),
@@ -575,7 +603,7 @@ GROUPS = (
                         ("BVMesh_BsplineShell", BsplineShell()), ("BVMesh_ExportStep", ExportStep())]),
     ("BVMesh volume", [("BVMesh_VolumeMesh", MakeVolumeMesh()), ("BVMesh_VolumeGrid", MakeVolumeGrid()),
                        ("BVMesh_GridCut", GridCut()), ("BVMesh_MeshQuality", MeshQuality()),
-                       ("BVMesh_ExportGrid", ExportGrid())]),
+                       ("BVMesh_ExportGrid", ExportGrid()), ("BVMesh_OpenFoamCase", OpenFoamCase())]),
 )
 
 
