@@ -128,6 +128,10 @@ class SphereVolume(unittest.TestCase):
             bvmesh.volume.offset_and_farfield(self.fitter, domain="box", box_half_extent=(1.0, -2.0, 1.0))
         with self.assertRaisesRegex(ValueError, "flow direction"):
             bvmesh.volume.offset_and_farfield(self.fitter, domain="box", flow_direction=(0.0, 0.0, 0.0))
+        with self.assertRaisesRegex(ValueError, r"box half size 1e\+308 is beyond 1e4 reference lengths"):
+            bvmesh.volume.offset_and_farfield(self.fitter, domain="box", box_half_extent=(1e308, 1e308, 1e308))
+        with self.assertRaisesRegex(ValueError, r"target_cells must be 0 \(none\) or up to 2e9"):
+            bvmesh.refine_blocks(result.blocks, target_cells=10 ** 13)
         with self.assertRaisesRegex(ValueError, "beyond the boundary-layer thickness"):
             bvmesh.volume.offset_and_farfield(self.fitter, domain="box", boundary_layer_thickness=0.05,
                                               box_half_extent=(30.0, 0.01, 30.0))

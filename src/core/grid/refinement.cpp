@@ -123,7 +123,10 @@ void checkOptions(const RefinementOptions& options) {
   if (options.edgePoints < 2 || options.edgePoints > 100000) {
     throw InvalidInputError("edge_points must be 2 .. 100000 (got " + std::to_string(options.edgePoints) + ")");
   }
-  if (options.targetCells < 0) throw InvalidInputError("target_cells must be >= 0");
+  // 2e9 cells are 100 GB of points and topology: beyond any machine this runs on.
+  if (options.targetCells < 0 || options.targetCells > 2000000000LL) {
+    throw InvalidInputError("target_cells must be 0 (none) or up to 2e9, got " + std::to_string(options.targetCells));
+  }
   if (options.normalPoints == 0 && options.firstCellHeight == 0.0 && options.yPlus == 0.0) {
     throw InvalidInputError("automatic normal_points (0) needs a first cell height or a y+ target");
   }

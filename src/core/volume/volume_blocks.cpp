@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <sstream>
 #include <string>
 
 #include "core/common/bspline_basis.h"
@@ -309,6 +310,17 @@ VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const Volume
                               std::to_string(half));
     }
     marching.domain.halfExtent[axis] = half > 0.0 ? half : result.farfieldDistance;
+    if (options.domain == DomainShape::Box && marching.domain.halfExtent[axis] > 1e4 * result.referenceLength) {
+      std::ostringstream message;
+      message << "box half size " << marching.domain.halfExtent[axis] << " is beyond 1e4 reference lengths ("
+              << result.referenceLength << ")";
+      throw InvalidInputError(message.str());
+    }
+  }
+  if (options.domain == DomainShape::Box) {
+    // The layers are marched out to the box's nearest face, then stretched onto the box.
+    marching.farfieldDistance = marching.domain.halfExtent.minCoeff();
+    result.farfieldDistance = marching.farfieldDistance;
   }
   const double flow = options.flowDirection.norm();
   if (!std::isfinite(flow) || !(flow > 0.0)) throw InvalidInputError("the flow direction must be a finite, non-zero vector");

@@ -26,8 +26,8 @@ struct VolumeMeshOptions {
   double sharpEdgeSplay = 2.0;  // MarchingOptions::sharpEdgeSplay
   // Far-field boundary around the wall's centre (halved by a symmetry plane): a sphere of radius
   // farfieldDistance (0: 20 reference lengths), a box (half sizes boxHalfExtent, or farfieldDistance
-  // along every axis where 0), or a cylinder along the flow direction (radius and half length
-  // farfieldDistance). Box and cylinder faces are tagged inlet / outlet / side by flowDirection.
+  // along every axis where 0, at most 1e4 reference lengths; the layers are marched to its nearest
+  // face), or a cylinder along the flow direction (radius and half length farfieldDistance). Box and cylinder faces are tagged inlet / outlet / side by flowDirection.
   double farfieldDistance = 0.0;
   double farfieldGrowth = 1.3;
   DomainShape domain = DomainShape::Sphere;
