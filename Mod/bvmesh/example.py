@@ -45,6 +45,13 @@ def _report_lines(fit, shell, chord, tolerance, seconds, files):
                      "{ratio:.2e} | {lt} | {tl} |".format(ratio=row["max_distance"] / chord,
                                                        lt=checked(row["limit_to_target"]),
                                                        tl=checked(row["target_to_limit"]), **row))
+    last = rows[-1] if rows else None
+    if last is not None and last["target_to_limit"] is not None:
+        worst = max(last["limit_to_target"], last["target_to_limit"])
+        if worst > tolerance:
+            lines += ["", "Two-sided check at the last pass: {:.3e} ({:.1e} root chord), above the tolerance: the stop "
+                      "rule looks at the samples only, so 'converged' holds for them, not for the whole surface "
+                      "(target -> limit is the larger).".format(worst, worst / chord)]
     solid = shell.Shape
     lines += [
         "",
