@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -259,6 +260,27 @@ TEST(CadRepair, IgesSurfacesHeldByASingleParentAssociativityAreRead) {
   } catch (const InvalidInputError& error) {
     EXPECT_NE(std::string(error.what()).find("no shape that can be transferred"), std::string::npos) << error.what();
   }
+}
+
+// A reader that dies after reading, while sewing (here: on purpose, SIGSEGV once it has said the
+// read is done, unless sewing is off): the caller gets the faces as read and a note.
+TEST(CadRepair, ReaderDyingWhileSewingGivesTheFacesAsRead) {
+  const std::string real = cadReaderExecutable();
+  const std::string script = kOutputDir + "/reader_dying_while_sewing.sh";
+  std::ofstream(script) << "#!/bin/sh\n"
+                        << "case \" $* \" in *\" --sew off \"*) exec \"" << real << "\" \"$@\";; esac\n"
+                        << "echo 'bvmesh-cad-reader: read' >&2\n"
+                        << "kill -SEGV $$\n";
+  ASSERT_EQ(std::system(("chmod +x '" + script + "'").c_str()), 0);
+  ASSERT_EQ(setenv("BVMESH_CAD_READER", script.c_str(), 1), 0);
+  const RepairedShape read = readShapeFileRepaired(kCapsule);
+  unsetenv("BVMESH_CAD_READER");
+  EXPECT_EQ(summarizeShape(read.shape).faceCount(), 5);
+  EXPECT_FALSE(read.report.sewingAttempted);
+  ASSERT_FALSE(read.report.notes.empty());
+  EXPECT_NE(read.report.notes.back().find("sewing failed in the reader process"), std::string::npos)
+      << read.report.notes.back();
+  EXPECT_NE(read.report.notes.back().find("crashed"), std::string::npos) << read.report.notes.back();
 }
 
 }  // namespace
