@@ -109,6 +109,60 @@ class SewnIges(unittest.TestCase):
         self.assertIn("watertight: no", loose.stdout)
 
 
+class M6RootGap(unittest.TestCase):
+    """The M6 written face by face with its root face moved off the wing by 1e-4 and 1e-2 of the
+    model size: the first gap is sewn and measured, the second left open and named."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.folder = tempfile.TemporaryDirectory()
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.folder.cleanup()
+
+    def write_with_root_gap(self, relative):
+        import FreeCAD
+        import Part
+
+        core = bvmesh.load_core()
+        shape = Part.Shape()
+        shape.importBrepFromString(core.read_cad_file_as_brep(WING))
+        size = shape.BoundBox.DiagonalLength
+        root = max((f for f in shape.Faces if f.Surface.__class__.__name__ == "Plane"), key=lambda f: f.Area)
+        moved = root.copy()
+        moved.translate(FreeCAD.Vector(0, -relative * size, 0))  # the root lies in y = 0, the wing in y > 0
+        faces = [moved if f.isSame(root) else f for f in shape.Faces]
+        path = os.path.join(self.folder.name, "m6_root_gap_{:g}.igs".format(relative))
+        core.write_iges_faces(Part.makeCompound(faces).exportBrepToString(), path)
+        return path, relative * size
+
+    def test_small_gap_is_sewn_and_measured(self):
+        path, gap = self.write_with_root_gap(1e-4)
+        repair = bvmesh.load_core().summarize_file(path)["repair"]
+        self.assertTrue(repair["sewing_applied"], repair["kept_reason"])
+        self.assertTrue(repair["watertight"])
+        self.assertEqual(repair["gaps_closed"], 21)
+        self.assertAlmostEqual(repair["largest_gap_closed"], gap, delta=0.05 * gap)
+
+    def test_wide_gap_is_left_open_and_named(self):
+        path, gap = self.write_with_root_gap(1e-2)
+        report = bvmesh.load_core().summarize_file(path)
+        repair = report["repair"]
+        self.assertFalse(repair["watertight"])
+        gaps = repair["open_gaps"]
+        self.assertGreaterEqual(len(gaps), 3)
+        faces = [{g["face"], g["other_face"]} for g in gaps]
+        common = set.intersection(*faces)
+        self.assertEqual(len(common), 1, "every gap is between the root face and a wing face")
+        self.assertEqual(report["surface_types"][common.pop()], "Plane")
+        for g in gaps:
+            self.assertAlmostEqual(g["width"], gap, delta=0.01 * gap)
+            self.assertLess(abs(g["where"][1]), 1.5 * gap)  # at the root
+        self.assertTrue(any(line.startswith("gaps left open: {} ".format(len(gaps))) for line in repair["lines"]))
+
+
+
 def fit_half_wing(path, level=2):
     """The half_wing template placed on the half model of `path` and fitted with a loose tolerance:
     the placed mesh and the run's result."""
