@@ -69,6 +69,11 @@ class SewnIges(unittest.TestCase):
         self.assertEqual(loose["sharp_edges"], [])
         self.assertFalse(loose["repair"]["sewing_attempted"])
         self.assertIn("sewing: off", " ".join(loose["repair"]["lines"]))
+        # The half model's symmetry plane: the root loop of the sewn faces, in y = 0.
+        rest, _, _ = core.remove_symmetry_face(core.read_cad_file_as_brep(self.wing_iges))
+        point, normal = core.symmetry_plane(core.Target.from_brep(rest))
+        self.assertAlmostEqual(abs(point[1]), 0.0, delta=1e-6)
+        np.testing.assert_allclose(normal, [0.0, 1.0, 0.0], atol=1e-9)
         # From BREP text of the unsewn faces: sewn the same way.
         brep = core.read_cad_file_as_brep(self.wing_iges, sew=False)
         self.assertEqual(len(core.Target.from_brep(brep).report()["sharp_edges"]), len(report["sharp_edges"]))
