@@ -20,10 +20,10 @@ import sys
 FREECAD_LIB = "/usr/lib/freecad-python3/lib"
 
 
-def _info(path, sharp_angle_degrees):
+def _info(path, sharp_angle_degrees, sew=True, sew_tolerance=0.0):
     from bvmesh import api
 
-    report = api.shape_report(path, sharp_angle_degrees)
+    report = api.shape_report(path, sharp_angle_degrees, sew=sew, sew_tolerance=sew_tolerance)
     print(path)
     for line in api.format_shape_report(report):
         print("  " + line)
@@ -68,6 +68,10 @@ def main(argv=None):
     info.add_argument("file")
     info.add_argument("--sharp-angle", type=float, default=30.0,
                       help="dihedral angle in degrees from which an edge is sharp (default 30)")
+    info.add_argument("--sew-tolerance", type=float, default=0.0,
+                      help="sew faces whose edges lie this close (model units; default 0: automatic, "
+                           "from the file's tolerances and the model size)")
+    info.add_argument("--no-sew", action="store_true", help="report the faces as written, unsewn")
     example = commands.add_parser("example", help="run the main job on the bundled ONERA M6 wing")
     example.add_argument("--output", default="bvmesh-example", help="folder for the results")
     example.add_argument("--max-level", type=int, default=5, help="subdivision levels at most (default 5)")
@@ -104,7 +108,7 @@ def main(argv=None):
 
     try:
         if args.command == "info":
-            _info(args.file, args.sharp_angle)
+            _info(args.file, args.sharp_angle, not args.no_sew, args.sew_tolerance)
         elif args.command == "openfoam-case":
             _openfoam_case(args)
         else:

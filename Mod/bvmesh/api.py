@@ -8,12 +8,21 @@ from bvmesh import load_core
 from bvmesh.adapters.shapes import as_shape, brep_to_shape, shape_to_brep
 
 
-def shape_report(shape_or_object, sharp_angle_degrees=30.0):
+def shape_report(shape_or_object, sharp_angle_degrees=30.0, sew=None, sew_tolerance=0.0):
     """What a CAD shape holds, as a dict: face count and surface types, bounding box, and edges
     classified as sharp / smooth / free / seam / non-manifold / degenerate with their dihedral
-    angles. Face i is FreeCAD's Face<i+1>, edge j its Edge<j+1>."""
+    angles, and under "repair" what sewing did (gaps closed and left open, watertight or not).
+    Face i is FreeCAD's Face<i+1>, edge j its Edge<j+1>: of the sewn shape for a file (sewn on
+    reading, as import_cad does; sew=False: as written), of the shape given otherwise (sew=True
+    reports on its sewn copy instead). sew_tolerance: absolute, 0 = automatic."""
+    import os
+
+    core = load_core()
+    if isinstance(shape_or_object, (str, os.PathLike)):
+        return core.summarize_file(os.fspath(shape_or_object), float(sharp_angle_degrees),
+                                   sew is not False, float(sew_tolerance))
     shape = as_shape(shape_or_object)
-    return load_core().summarize_brep(shape_to_brep(shape), float(sharp_angle_degrees))
+    return core.summarize_brep(shape_to_brep(shape), float(sharp_angle_degrees), bool(sew), float(sew_tolerance))
 
 
 def format_shape_report(report):
@@ -42,6 +51,7 @@ def format_shape_report(report):
     ]
     if sharp:
         lines.append("sharp edges: " + ", ".join(sharp))
+    lines.extend(report.get("repair", {}).get("lines", []))
     return lines
 
 
@@ -59,14 +69,19 @@ def make_bspline_face(poles, u_knots, v_knots, u_multiplicities, v_multiplicitie
 
 
 def import_cad(doc, path, name=None):
-    """Reads a STEP / IGES / BREP file with the core and adds it to `doc` as a Part::Feature,
-    which is returned. Nothing is added when the file cannot be read."""
+    """Reads a STEP / IGES / BREP file with the core (its faces sewn, shape_report) and adds it to
+    `doc` as a Part::Feature, which is returned; what sewing did goes to FreeCAD's console.
+    Nothing is added when the file cannot be read."""
     import os
 
-    from bvmesh.adapters.shapes import read_shape_file
+    import FreeCAD
 
-    shape = read_shape_file(path)
+    from bvmesh.adapters.shapes import brep_to_shape
+
+    brep, repair = load_core().read_cad_file(os.fspath(path))
+    shape = brep_to_shape(brep)
     label = name or os.path.splitext(os.path.basename(os.fspath(path)))[0]
+    FreeCAD.Console.PrintMessage("".join("BVMesh import {}: {}\n".format(label, line) for line in repair["lines"]))
     feature = doc.addObject("Part::Feature", "CAD")
     feature.Label = label
     feature.Shape = shape
@@ -143,6 +158,7 @@ def format_target_report(report):
         lines.append("{} gaps between faces, widest {:.3g}".format(len(report["gaps"]), widest))
     if report["untessellated_faces"]:
         lines.append("faces without tessellation: {}".format(report["untessellated_faces"]))
+    lines.extend(report.get("repair", {}).get("lines", []))
     return lines
 
 

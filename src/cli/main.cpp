@@ -1,5 +1,6 @@
 // bvmesh: command-line access to the core, for batch runs without FreeCAD.
-//   bvmesh info FILE [SHARP_ANGLE_DEGREES]   what a STEP / IGES / BREP file holds
+//   bvmesh info FILE [SHARP_ANGLE_DEGREES [SEW_TOLERANCE|off]]
+//     what a STEP / IGES / BREP file holds, after sewing (tolerance 0 or none: automatic)
 #include <cstdlib>
 #include <exception>
 #include <iostream>
@@ -7,19 +8,21 @@
 
 #include "core/cad/isolated_reader.h"
 #include "core/cad/shape_io.h"
+#include "core/cad/shape_repair.h"
 #include "core/cad/shape_summary.h"
 
 namespace {
 
 int printUsage() {
-  std::cerr << "usage: bvmesh info FILE [SHARP_ANGLE_DEGREES]\n";
+  std::cerr << "usage: bvmesh info FILE [SHARP_ANGLE_DEGREES [SEW_TOLERANCE|off]]\n";
   return 2;
 }
 
-int info(const std::string& path, double sharpAngleDegrees) {
+int info(const std::string& path, double sharpAngleDegrees, const bvmesh::cad::RepairOptions& repair) {
   bvmesh::cad::ShapeSummaryOptions options;
   options.sharpAngleDegrees = sharpAngleDegrees;
-  const bvmesh::cad::ShapeSummary summary = bvmesh::cad::summarizeShape(bvmesh::cad::readShapeFileSafely(path), options);
+  const bvmesh::cad::RepairedShape read = bvmesh::cad::readShapeFileRepaired(path, repair);
+  const bvmesh::cad::ShapeSummary summary = bvmesh::cad::summarizeShape(read.shape, options);
   std::cout << path << ": " << summary.solidCount << " solid(s), " << summary.faceCount() << " faces, "
             << summary.edges.size() << " edges, " << summary.vertexCount << " vertices\n";
   for (int i = 0; i < summary.faceCount(); ++i) {
@@ -32,6 +35,7 @@ int info(const std::string& path, double sharpAngleDegrees) {
             << summary.countEdges(EdgeKind::NonManifold) << " non-manifold\n";
   std::cout << "  bounds: (" << summary.boundsMin[0] << ", " << summary.boundsMin[1] << ", " << summary.boundsMin[2]
             << ") .. (" << summary.boundsMax[0] << ", " << summary.boundsMax[1] << ", " << summary.boundsMax[2] << ")\n";
+  for (const std::string& line : bvmesh::cad::describeRepair(read.report)) std::cout << "  " << line << "\n";
   return 0;
 }
 
@@ -40,7 +44,12 @@ int info(const std::string& path, double sharpAngleDegrees) {
 int main(int argc, char** argv) {
   if (argc < 3 || std::string(argv[1]) != "info") return printUsage();
   try {
-    return info(argv[2], argc > 3 ? std::atof(argv[3]) : 30.0);
+    bvmesh::cad::RepairOptions repair;
+    if (argc > 4) {
+      repair.sew = std::string(argv[4]) != "off";
+      repair.tolerance = repair.sew ? std::atof(argv[4]) : 0.0;
+    }
+    return info(argv[2], argc > 3 ? std::atof(argv[3]) : 30.0, repair);
   } catch (const std::exception& error) {
     std::cerr << "bvmesh: " << error.what() << "\n";
     return 1;

@@ -12,6 +12,7 @@
 #include "core/cad/bspline_face.h"
 #include "core/cad/isolated_reader.h"
 #include "core/cad/shape_io.h"
+#include "core/cad/shape_repair.h"
 #include "core/cad/shape_summary.h"
 
 namespace py = pybind11;
@@ -54,7 +55,53 @@ cad::BSplineSurfaceData surfaceData(const py::array_t<double, py::array::c_style
   return data;
 }
 
+cad::RepairOptions repairOptions(bool sew, double tolerance) { return cad::RepairOptions{sew, tolerance}; }
+
+// The summary of a repaired shape with its repair report under "repair".
+py::dict repairedSummary(const cad::RepairedShape& repaired, double sharpAngleDegrees) {
+  py::dict result = summaryToDict(cad::summarizeShape(repaired.shape, summaryOptions(sharpAngleDegrees)));
+  result["repair"] = repairToDict(repaired.report);
+  return result;
+}
+
+constexpr const char* kSewDoc =
+    " sew: sew faces that share edges within sew_tolerance (0: automatic, from the file's own tolerances "
+    "and the model size; see docs/cad_input.md); the result's 'repair' dict says what was sewn, the gaps "
+    "left open and whether the shape is watertight.";
+
 }  // namespace
+
+py::dict repairToDict(const cad::RepairReport& r) {
+  py::list gaps;
+  for (const cad::OpenGap& g : r.openGaps)
+    gaps.append(py::dict(py::arg("edge") = g.edge, py::arg("other_edge") = g.otherEdge, py::arg("face") = g.face,
+                         py::arg("other_face") = g.otherFace, py::arg("width") = g.width,
+                         py::arg("where") = g.where));
+  py::dict d;
+  d["watertight"] = r.watertight();
+  d["sewing_attempted"] = r.sewingAttempted;
+  d["sewing_applied"] = r.sewingApplied;
+  d["kept_reason"] = r.keptReason;
+  d["tolerance"] = r.tolerance;
+  d["file_tolerance"] = r.fileTolerance;
+  d["model_size"] = r.modelSize;
+  d["faces_read"] = r.facesRead;
+  d["faces"] = r.faces;
+  d["free_edges_read"] = r.freeEdgesRead;
+  d["gaps_closed"] = r.gapsClosed;
+  d["largest_gap_closed"] = r.largestGapClosed;
+  d["degenerate_edges_removed"] = r.degenerateEdgesRemoved;
+  d["faces_removed"] = r.facesRemoved;
+  d["open_gaps"] = gaps;
+  d["free_edges"] = r.freeEdges;
+  d["non_manifold_edges"] = r.nonManifoldEdges;
+  d["closed_free_loops"] = r.closedFreeLoops;
+  d["open_free_chains"] = r.openFreeChains;
+  d["made_solid"] = r.madeSolid;
+  d["notes"] = r.notes;
+  d["lines"] = cad::describeRepair(r);
+  return d;
+}
 
 py::dict summaryToDict(const cad::ShapeSummary& summary) {
   py::list edges;
@@ -87,30 +134,64 @@ py::dict summaryToDict(const cad::ShapeSummary& summary) {
 void bindCad(py::module_& module) {
   module.def(
       "summarize_brep",
-      [](const std::string& brep, double sharpAngleDegrees) {
-        return summaryToDict(cad::summarizeShape(cad::readBrepStringSafely(brep), summaryOptions(sharpAngleDegrees)));
+      [](const std::string& brep, double sharpAngleDegrees, bool sew, double sewTolerance) {
+        cad::RepairedShape repaired;
+        {
+          py::gil_scoped_release release;
+          repaired = cad::readBrepStringRepaired(brep, repairOptions(sew, sewTolerance));
+        }
+        return repairedSummary(repaired, sharpAngleDegrees);
       },
-      py::arg("brep"), py::arg("sharp_angle_degrees") = 30.0,
-      "Faces, surface types, bounding box and classified edges of a shape given as BREP text.");
+      py::arg("brep"), py::arg("sharp_angle_degrees") = 30.0, py::arg("sew") = false, py::arg("sew_tolerance") = 0.0,
+      (std::string("Faces, surface types, bounding box and classified edges of a shape given as BREP text. By "
+                   "default unsewn, so that indices are those of the shape given;") + kSewDoc).c_str());
   module.def(
       "summarize_file",
-      [](const std::filesystem::path& file, double sharpAngleDegrees) {
+      [](const std::filesystem::path& file, double sharpAngleDegrees, bool sew, double sewTolerance) {
         const std::string path = file.string();
-        return summaryToDict(cad::summarizeShape(cad::readShapeFileSafely(path), summaryOptions(sharpAngleDegrees)));
+        cad::RepairedShape repaired;
+        {
+          py::gil_scoped_release release;
+          repaired = cad::readShapeFileRepaired(path, repairOptions(sew, sewTolerance));
+        }
+        return repairedSummary(repaired, sharpAngleDegrees);
       },
-      py::arg("path"), py::arg("sharp_angle_degrees") = 30.0,
-      "Like summarize_brep, for a STEP, IGES or BREP file.");
+      py::arg("path"), py::arg("sharp_angle_degrees") = 30.0, py::arg("sew") = true, py::arg("sew_tolerance") = 0.0,
+      (std::string("Like summarize_brep, for a STEP, IGES or BREP file, sewn by default;") + kSewDoc).c_str());
   module.def(
       "read_cad_file_as_brep",
-      [](const std::filesystem::path& file, double seconds, double megabytes) {
+      [](const std::filesystem::path& file, double seconds, double megabytes, bool sew, double sewTolerance) {
         const std::string path = file.string();
         py::gil_scoped_release release;
-        return cad::readShapeFileIsolated(path, cad::ReaderLimits{seconds, megabytes});
+        return cad::readShapeFileIsolated(path, cad::ReaderLimits{seconds, megabytes}, repairOptions(sew, sewTolerance));
       },
       py::arg("path"), py::arg("seconds") = cad::ReaderLimits{}.seconds,
-      py::arg("megabytes") = cad::ReaderLimits{}.memoryMegabytes,
-      "Reads a STEP, IGES or BREP file in a child process limited to `seconds` and `megabytes` (a corrupt "
-      "file gives an error naming it, never a crash or a hang) and returns the shape as BREP text.");
+      py::arg("megabytes") = cad::ReaderLimits{}.memoryMegabytes, py::arg("sew") = true, py::arg("sew_tolerance") = 0.0,
+      (std::string("Reads a STEP, IGES or BREP file in a child process limited to `seconds` and `megabytes` (a "
+                   "corrupt file gives an error naming it, never a crash or a hang) and returns the shape as BREP "
+                   "text.") + kSewDoc).c_str());
+  module.def(
+      "write_iges_faces",
+      [](const std::string& brep, const std::filesystem::path& file) {
+        cad::writeIgesFaces(cad::readBrepStringSafely(brep), file.string());
+      },
+      py::arg("brep"), py::arg("path"),
+      "Writes the faces of a shape (BREP text) to an IGES file each on its own, with no shared edges or "
+      "topology (OpenCASCADE's faces mode), as many design tools write IGES.");
+  module.def(
+      "read_cad_file",
+      [](const std::filesystem::path& file, bool sew, double sewTolerance) {
+        const std::string path = file.string();
+        std::string brep;
+        cad::RepairReport report;
+        {
+          py::gil_scoped_release release;
+          brep = cad::readShapeFileIsolated(path, cad::ReaderLimits{}, repairOptions(sew, sewTolerance), &report);
+        }
+        return py::make_tuple(brep, repairToDict(report));
+      },
+      py::arg("path"), py::arg("sew") = true, py::arg("sew_tolerance") = 0.0,
+      (std::string("(brep, repair): read_cad_file_as_brep with the repair report.") + kSewDoc).c_str());
   module.def(
       "check_brep_text",
       [](const std::string& brep, double seconds, double megabytes) {

@@ -40,6 +40,7 @@ py::dict reportToDict(const target::TargetReport& report) {
   dict["non_manifold_edges"] = report.nonManifoldEdges;
   dict["untessellated_faces"] = report.untessellatedFaces;
   dict["gaps"] = gaps;
+  dict["repair"] = repairToDict(report.repair);
   return dict;
 }
 
@@ -109,29 +110,35 @@ void bindTarget(py::module_& module) {
       .def_static(
           "from_brep",
           [](const std::string& brep, double relativeDeflection, double sharpAngleDeg, double relativeTolerance,
-             int threads) {
-            return targetFrom([&] { return cad::readBrepStringSafely(brep); },
+             int threads, bool sew, double sewTolerance) {
+            return targetFrom([&] { return cad::readBrepStringRepaired(brep, cad::RepairOptions{sew, sewTolerance}); },
                               makeOptions(relativeDeflection, sharpAngleDeg, relativeTolerance, threads));
           },
           py::arg("brep"), py::arg("relative_deflection") = TargetOptions{}.relativeDeflection, py::arg("sharp_angle_deg") = TargetOptions{}.sharpAngleDeg,
           py::arg("relative_tolerance") = TargetOptions{}.relativeTolerance, py::arg("threads") = TargetOptions{}.threads,
+          py::arg("sew") = true, py::arg("sew_tolerance") = 0.0,
           "Target from BREP text (FreeCAD: shape.exportBrepToString()), parsed first in a child process so "
           "that corrupt text cannot crash or hang the caller. Tolerances are relative to the bounding-box "
-          "diagonal; threads=0 uses every hardware thread.")
+          "diagonal; threads=0 uses every hardware thread. sew: faces that share edges within sew_tolerance "
+          "(absolute; 0: automatic) are sewn in that process first (report()['repair'] says what was done; a "
+          "shape whose faces already share their edges is kept as it is, numbering included).")
       .def_static(
           "from_file",
           [](const std::filesystem::path& file, double relativeDeflection, double sharpAngleDeg, double relativeTolerance,
-             int threads) {
-            return targetFrom([&] { return cad::readShapeFileSafely(file.string()); },
+             int threads, bool sew, double sewTolerance) {
+            return targetFrom([&] { return cad::readShapeFileRepaired(file.string(), cad::RepairOptions{sew, sewTolerance}); },
                               makeOptions(relativeDeflection, sharpAngleDeg, relativeTolerance, threads));
           },
           py::arg("path"), py::arg("relative_deflection") = TargetOptions{}.relativeDeflection, py::arg("sharp_angle_deg") = TargetOptions{}.sharpAngleDeg,
           py::arg("relative_tolerance") = TargetOptions{}.relativeTolerance, py::arg("threads") = TargetOptions{}.threads,
+          py::arg("sew") = true, py::arg("sew_tolerance") = 0.0,
           "Target from a STEP (.step/.stp), IGES (.iges/.igs) or BREP (.brep/.brp) file, read in a child "
-          "process under a time and memory limit (a corrupt file gives an error, never a crash or a hang).")
+          "process under a time and memory limit (a corrupt file gives an error, never a crash or a hang). "
+          "sew / sew_tolerance as for from_brep.")
       .def("report", [](const Target& self) { return reportToDict(self.report()); },
            "Faces, surface types, edges (kind, dihedral angle), sharp / free / non-manifold edges, "
-           "gaps between faces wider than the tolerance, model size and tessellation.")
+           "gaps between faces wider than the tolerance, model size and tessellation; 'repair': what reading "
+           "repaired (sewing, gaps closed and left open, watertight).")
       .def("sharp_edges", &Target::sharpEdges, py::arg("angle_deg") = 30.0,
            "Ids of edges between two faces whose normals meet at angle_deg or more.")
       .def("free_edges", &Target::freeEdges, "Ids of edges with one face (not seams).")

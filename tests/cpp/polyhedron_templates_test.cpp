@@ -23,6 +23,7 @@
 #include <sstream>
 #include <string>
 
+#include "core/cad/isolated_reader.h"
 #include "core/cad/shape_io.h"
 #include "core/common/errors.h"
 #include "core/fit/surface_fitter.h"
@@ -271,6 +272,32 @@ TEST(TemplatePlacement, BadTargetsAreExplained) {
   EXPECT_THROW(
       placeTemplate(libraryTemplate("capsule"), sphere, {{{"circumferential", "10"}}, {}, {}, true, {}}),
       InvalidInputError);
+}
+
+// The hemisphere-cylinder written face by face to IGES: read unsewn, the capsule template took
+// the plane faces' outlines for a symmetry plane and its improvement collapsed face 8 (the
+// error was the mesh's own "face 8 is degenerate"); now the placement says why it cannot place.
+// Sewn on reading, it places as on the STEP.
+TEST(PolyhedronTemplates, CapsuleOnAnUnsewnTargetSaysWhyItCannotPlace) {
+  const std::string step = std::string(BVMESH_TEST_DATA_DIR) + "/hemisph-cyl.stp";
+  const std::string iges = std::string(BVMESH_TEST_OUTPUT_DIR) + "/hemisph-cyl_capsule_faces.igs";
+  cad::writeIgesFaces(cad::readShapeFile(step), iges);
+  const target::Target unsewn(cad::readShapeFileRepaired(iges, cad::RepairOptions{false, 0.0}));
+  try {
+    placeTemplate(libraryTemplate("capsule"), unsewn);
+    ADD_FAILURE() << "the capsule must not place on the unsewn faces";
+  } catch (const InvalidInputError& error) {
+    const std::string message = error.what();
+    EXPECT_EQ(message.rfind("template 'capsule' cannot be placed on this target: ", 0), 0u) << message;
+    EXPECT_NE(message.find("read unsewn"), std::string::npos) << message;
+  }
+  const target::Target sewn(cad::readShapeFileRepaired(iges));
+  const target::Target fromStep(cad::readShapeFileRepaired(step));
+  const PlacedPolyhedron onIges = placeTemplate(libraryTemplate("capsule"), sewn);
+  const PlacedPolyhedron onStep = placeTemplate(libraryTemplate("capsule"), fromStep);
+  EXPECT_EQ(onIges.parameters, onStep.parameters);
+  ASSERT_EQ(onIges.mesh.numVertices(), onStep.mesh.numVertices());
+  EXPECT_LT((onIges.mesh.vertices() - onStep.mesh.vertices()).cwiseAbs().maxCoeff(), 1e-3 * sewn.report().diagonal);
 }
 
 }  // namespace

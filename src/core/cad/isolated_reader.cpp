@@ -15,6 +15,7 @@
 #include <iostream>
 #include <iterator>
 #include <new>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -44,15 +45,35 @@ struct Descriptor {
   }
 };
 
+// The child's line on stderr once the file is read (before sewing).
+constexpr const char* kReadDoneMarker = "bvmesh-cad-reader: read";
+
 struct ChildResult {
   int status = 0;
   bool timedOut = false;
+  bool readDone = false;  // the child got past reading (kReadDoneMarker), so any failure was in sewing
   std::string out, err;
 };
 
+// Takes the marker out of the child's stderr (what is left is its error message).
+void takeMarker(ChildResult& result) {
+  const std::string marker = std::string(kReadDoneMarker) + "\n";
+  const size_t at = result.err.find(marker);
+  if (at == std::string::npos) return;
+  result.readDone = true;
+  result.err.erase(at, marker.size());
+}
+
+bool succeeded(const ChildResult& result) {
+  return !result.timedOut && WIFEXITED(result.status) && WEXITSTATUS(result.status) == 0 && !result.out.empty();
+}
+
+
+
 // Runs the reader on `argument` with `input` on its stdin; collects stdout and stderr until it
 // exits or the wall-clock limit passes (then it is killed).
-ChildResult runChild(const std::string& argument, const std::string& input, const ReaderLimits& limits) {
+ChildResult runChild(const std::string& argument, const std::string& input, const ReaderLimits& limits,
+                     const RepairOptions& repair) {
   const std::string executable = cadReaderExecutable();
   if (access(executable.c_str(), X_OK) != 0) {
     throw SolverError("the CAD reader \"" + executable + "\" is missing or not executable (build the project, or set "
@@ -71,7 +92,12 @@ ChildResult runChild(const std::string& argument, const std::string& input, cons
   posix_spawn_file_actions_adddup2(&actions, err[1], 2);
   const std::string seconds = std::to_string(limits.seconds);
   const std::string megabytes = std::to_string(limits.memoryMegabytes);
-  std::vector<std::string> words{executable, "--seconds", seconds, "--megabytes", megabytes, "--", argument};
+  std::ostringstream sew;
+  sew.precision(17);
+  if (repair.sew) sew << repair.tolerance;
+  else sew << "off";
+  std::vector<std::string> words{executable, "--seconds", seconds, "--megabytes", megabytes, "--sew", sew.str(), "--",
+                                 argument};
   std::vector<char*> argv;
   for (std::string& word : words) argv.push_back(word.data());
   argv.push_back(nullptr);
@@ -121,6 +147,7 @@ ChildResult runChild(const std::string& argument, const std::string& input, cons
   toChild.close();
   while (waitpid(pid, &result.status, 0) < 0 && errno == EINTR) {
   }
+  takeMarker(result);
   return result;
 }
 
@@ -154,6 +181,20 @@ std::string outcome(const ChildResult& result, const std::string& what, const Re
   return result.out;
 }
 
+// The child's stdout: the repair report, then the BREP text.
+std::string splitReport(const std::string& out, RepairReport* report) {
+  const std::string begin = std::string(kRepairReportBegin) + "\n";
+  const std::string end = std::string(kRepairReportEnd) + "\n";
+  // OCCT's readers print progress to stdout before it (IGES: "Total number of loaded entities").
+  size_t start = out.compare(0, begin.size(), begin) == 0 ? 0 : out.find("\n" + begin);
+  if (start == std::string::npos) throw SolverError("the CAD reader sent no repair report");
+  if (out[start] == '\n') ++start;
+  const size_t stop = out.find(end, start + begin.size());
+  if (stop == std::string::npos) throw SolverError("the CAD reader's repair report is cut short");
+  if (report != nullptr) *report = decodeRepairReport(out.substr(start + begin.size(), stop - start - begin.size()));
+  return out.substr(stop + end.size());
+}
+
 void applyLimits(const ReaderLimits& limits) {
 #if !defined(__SANITIZE_ADDRESS__)
   // (AddressSanitizer builds reserve terabytes of shadow address space: no address-space limit.)
@@ -174,23 +215,69 @@ std::string cadReaderExecutable() {
   return BVMESH_CAD_READER_DEFAULT;
 }
 
-std::string readShapeFileIsolated(const std::string& path, const ReaderLimits& limits) {
-  checkLimits(limits);
-  if (path.empty() || path[0] == '-') {
-    // Never let a path be taken for an option of the reader.
-    return readShapeFileIsolated("./" + path, limits);
+namespace {
+
+// Runs the child; when it read the input but failed while sewing (a crash, the time or memory
+// limit), runs it again without sewing so the faces as read still arrive, with a note saying why.
+std::string runRepairing(const std::string& argument, const std::string& input, const ReaderLimits& limits,
+                         const RepairOptions& repair, const std::string& what, RepairReport* report) {
+  ChildResult result = runChild(argument, input, limits, repair);
+  if (repair.sew && result.readDone && !succeeded(result)) {
+    std::string why;
+    try {
+      outcome(result, what, limits);
+      why = "it gave no shape";
+    } catch (const std::exception& error) {
+      why = error.what();
+    }
+    std::string brep = splitReport(outcome(runChild(argument, input, limits, RepairOptions{false, 0.0}), what, limits), report);
+    if (report != nullptr) report->notes.push_back("sewing failed in the reader process, the faces are kept as read: " + why);
+    return brep;
   }
-  return outcome(runChild(path, "", limits), "\"" + path + "\"", limits);
+  return splitReport(outcome(result, what, limits), report);
 }
 
-std::string checkBrepStringIsolated(const std::string& brep, const ReaderLimits& limits) {
+void checkRepair(const RepairOptions& repair) {
+  if (!(repair.tolerance >= 0.0) || !std::isfinite(repair.tolerance))
+    throw InvalidInputError("the sewing tolerance must be 0 (automatic) or positive, got " +
+                            std::to_string(repair.tolerance));
+}
+
+}  // namespace
+
+std::string readShapeFileIsolated(const std::string& path, const ReaderLimits& limits, const RepairOptions& repair,
+                                  RepairReport* report) {
   checkLimits(limits);
+  checkRepair(repair);
+  if (path.empty() || path[0] == '-') {
+    // Never let a path be taken for an option of the reader.
+    return readShapeFileIsolated("./" + path, limits, repair, report);
+  }
+  return runRepairing(path, "", limits, repair, "\"" + path + "\"", report);
+}
+
+std::string checkBrepStringIsolated(const std::string& brep, const ReaderLimits& limits, const RepairOptions& repair,
+                                    RepairReport* report) {
+  checkLimits(limits);
+  checkRepair(repair);
   if (brep.find_first_not_of(" \t\r\n") == std::string::npos) throw InvalidInputError("BREP text is empty");
-  return outcome(runChild("-", brep, limits), "BREP text", limits);
+  return runRepairing("-", brep, limits, repair, "BREP text", report);
 }
 
 TopoDS_Shape readShapeFileSafely(const std::string& path, const ReaderLimits& limits) {
   return readBrepString(readShapeFileIsolated(path, limits));
+}
+
+RepairedShape readShapeFileRepaired(const std::string& path, const RepairOptions& repair, const ReaderLimits& limits) {
+  RepairedShape result;
+  result.shape = readBrepString(readShapeFileIsolated(path, limits, repair, &result.report));
+  return result;
+}
+
+RepairedShape readBrepStringRepaired(const std::string& brep, const RepairOptions& repair) {
+  RepairedShape result;
+  result.shape = readBrepString(checkBrepStringIsolated(brep, brepTextLimits(brep.size()), repair, &result.report));
+  return result;
 }
 
 ReaderLimits brepTextLimits(size_t bytes) {
@@ -203,17 +290,30 @@ TopoDS_Shape readBrepStringSafely(const std::string& brep) {
   return readBrepString(checkBrepStringIsolated(brep, brepTextLimits(brep.size())));
 }
 
-int runCadReader(const std::string& path, const ReaderLimits& limits) {
+int runCadReader(const std::string& path, const ReaderLimits& limits, const RepairOptions& repair) {
   applyLimits(limits);
   try {
-    std::string brep;
+    TopoDS_Shape shape;
+    std::vector<std::string> notes;
     if (path == "-") {
       std::string text((std::istreambuf_iterator<char>(std::cin)), std::istreambuf_iterator<char>());
-      brep = writeBrepString(readBrepString(text));
+      shape = readBrepString(text);
     } else {
-      brep = writeBrepString(readShapeFile(path));
+      shape = readShapeFile(path, &notes);
     }
-    std::cout << brep;
+    // From here on the file is read: the parent retries without sewing if sewing crashes or hangs.
+    std::cerr << kReadDoneMarker << std::endl;
+    RepairedShape repaired;
+    try {
+      repaired = repairShape(shape, repair);
+    } catch (const std::exception& error) {
+      // Faces that cannot be sewn still make a target: the shape as read, with the reason.
+      repaired = repairShape(shape, RepairOptions{false, repair.tolerance});
+      notes.push_back(std::string("sewing failed, the faces are kept as read: ") + error.what());
+    }
+    repaired.report.notes.insert(repaired.report.notes.begin(), notes.begin(), notes.end());
+    const std::string brep = writeBrepString(repaired.shape);
+    std::cout << "\n" << kRepairReportBegin << "\n" << encodeRepairReport(repaired.report) << kRepairReportEnd << "\n" << brep;
     std::cout.flush();
     return std::cout ? 0 : 1;
   } catch (const std::bad_alloc&) {

@@ -4,6 +4,13 @@
 #include <BRep_Builder.hxx>
 #include <IFSelect_ReturnStatus.hxx>
 #include <IGESControl_Reader.hxx>
+#include <IGESControl_Writer.hxx>
+#include <IGESData_IGESEntity.hxx>
+#include <IGESData_IGESModel.hxx>
+#include <IGESToBRep.hxx>
+#include <Interface_EntityIterator.hxx>
+#include <Interface_Graph.hxx>
+#include <TopExp_Explorer.hxx>
 #include <Interface_Check.hxx>
 #include <Interface_CheckIterator.hxx>
 #include <XSControl_WorkSession.hxx>
@@ -14,6 +21,7 @@
 #include <cctype>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 
 #include "core/common/errors.h"
@@ -29,9 +37,53 @@ std::string lowerCaseExtension(const std::string& path) {
   return extension;
 }
 
-// STEP and IGES share XSControl_Reader's transfer interface.
-TopoDS_Shape readWithExchangeReader(XSControl_Reader& reader, const std::string& path,
-                                    const char* format) {
+bool hasFace(const TopoDS_Shape& shape) {
+  return !shape.IsNull() && TopExp_Explorer(shape, TopAbs_FACE).More();
+}
+
+// OCCT takes as IGES roots only entities that no other entity references (and that its actor
+// recognizes). Surfaces that are members of an associativity OCCT does not transfer (402 form 9,
+// single parent, as some writers group untrimmed 128 patches) are no roots then, and the file
+// reads as empty (FreeCAD's Part.read gives a null shape). Transfers every surface entity that
+// no transferable curve, surface or B-rep entity uses (those come with their user) and says so
+// in `note`; returns how many were transferred.
+int transferUnrootedIgesSurfaces(IGESControl_Reader& reader, std::string& note) {
+  const Handle(IGESData_IGESModel) model = reader.IGESModel();
+  if (model.IsNull()) return 0;
+  const Interface_Graph& graph = reader.WS()->Graph();
+  std::map<std::string, int> users;  // "402 form 9" -> surfaces it held
+  int transferred = 0;
+  int candidates = 0;
+  for (int i = 1; i <= model->NbEntities(); ++i) {
+    const Handle(IGESData_IGESEntity) entity = model->Entity(i);
+    if (entity.IsNull() || !(IGESToBRep::IsBasicSurface(entity) || IGESToBRep::IsTopoSurface(entity))) continue;
+    bool usedByTransferable = false;
+    std::string user;
+    for (Interface_EntityIterator it = graph.Sharings(entity); it.More(); it.Next()) {
+      const Handle(IGESData_IGESEntity) other = Handle(IGESData_IGESEntity)::DownCast(it.Value());
+      if (other.IsNull()) continue;
+      if (IGESToBRep::IsCurveAndSurface(other) || IGESToBRep::IsBRepEntity(other)) usedByTransferable = true;
+      user = std::to_string(other->TypeNumber()) + " form " + std::to_string(other->FormNumber());
+    }
+    if (usedByTransferable) continue;
+    ++candidates;
+    if (!user.empty()) ++users[user];
+    if (reader.TransferEntity(entity)) ++transferred;
+  }
+  if (transferred > 0) {
+    std::string held;
+    for (const auto& [name, count] : users) held += std::string(held.empty() ? "" : ", ") + name + " (" + std::to_string(count) + ")";
+    note = "IGES: no root entity gave a face (OpenCASCADE transfers only entities no other entity references" +
+           (held.empty() ? std::string() : "; the surfaces are members of entity " + held) + "): " +
+           std::to_string(transferred) + " of " + std::to_string(candidates) + " surface entities read directly";
+  }
+  return transferred;
+}
+
+// STEP and IGES share XSControl_Reader's transfer interface; `iges` is the same reader when the
+// file is IGES.
+TopoDS_Shape readWithExchangeReader(XSControl_Reader& reader, const std::string& path, const char* format,
+                                    IGESControl_Reader* iges, std::vector<std::string>* notes) {
   if (reader.ReadFile(path.c_str()) != IFSelect_RetDone) {
     throw InvalidInputError("cannot read \"" + path + "\" as " + format + ": the file is corrupt or not " + format);
   }
@@ -52,8 +104,14 @@ TopoDS_Shape readWithExchangeReader(XSControl_Reader& reader, const std::string&
     throw InvalidInputError("\"" + path + "\" is a corrupt " + format + " file: " + std::to_string(failed) +
                             " entities failed to load (" + failures + (failed > 3 ? "; ..." : "") + ")");
   }
-  if (reader.TransferRoots() == 0) {
-    throw InvalidInputError("\"" + path + "\" holds no shape that can be transferred from " + format);
+  const int roots = reader.TransferRoots();
+  if (iges != nullptr && (roots == 0 || !hasFace(reader.OneShape()))) {
+    std::string note;
+    if (transferUnrootedIgesSurfaces(*iges, note) > 0 && notes != nullptr) notes->push_back(note);
+  }
+  if (reader.NbShapes() == 0) {
+    throw InvalidInputError("\"" + path + "\" holds no shape that can be transferred from " + format +
+                            (iges != nullptr ? " (no root entity, and no surface entity that could be read directly)" : ""));
   }
   TopoDS_Shape shape = reader.OneShape();
   if (shape.IsNull()) throw InvalidInputError("\"" + path + "\" holds no shape");
@@ -89,7 +147,7 @@ std::string writeBrepString(const TopoDS_Shape& shape) {
   });
 }
 
-TopoDS_Shape readShapeFile(const std::string& path) {
+TopoDS_Shape readShapeFile(const std::string& path, std::vector<std::string>* notes) {
   std::error_code error;
   if (!std::filesystem::is_regular_file(path, error)) {
     throw InvalidInputError("CAD file \"" + path + "\" does not exist or is not a file");
@@ -100,11 +158,11 @@ TopoDS_Shape readShapeFile(const std::string& path) {
   return translateOcctErrors("reading \"" + path + "\"", [&] {
     if (extension == ".step" || extension == ".stp") {
       STEPControl_Reader reader;
-      return readWithExchangeReader(reader, path, "STEP");
+      return readWithExchangeReader(reader, path, "STEP", nullptr, notes);
     }
     if (extension == ".iges" || extension == ".igs") {
       IGESControl_Reader reader;
-      return readWithExchangeReader(reader, path, "IGES");
+      return readWithExchangeReader(reader, path, "IGES", &reader, notes);
     }
     if (extension == ".brep" || extension == ".brp") {
       std::ifstream file(path);
@@ -114,6 +172,16 @@ TopoDS_Shape readShapeFile(const std::string& path) {
     }
     throw InvalidInputError("CAD file \"" + path + "\" has extension \"" + extension +
                             "\"; expected .step, .stp, .iges, .igs, .brep or .brp");
+  });
+}
+
+void writeIgesFaces(const TopoDS_Shape& shape, const std::string& path) {
+  if (shape.IsNull() || !hasFace(shape)) throw InvalidInputError("cannot write \"" + path + "\": the shape has no face");
+  translateOcctErrors("writing \"" + path + "\"", [&] {
+    IGESControl_Writer writer("MM", 0);  // mode 0: faces, no B-rep topology
+    for (TopExp_Explorer face(shape, TopAbs_FACE); face.More(); face.Next()) writer.AddShape(face.Current());
+    writer.ComputeModel();
+    if (!writer.Write(path.c_str())) throw SolverError("cannot write the IGES file \"" + path + "\"");
   });
 }
 

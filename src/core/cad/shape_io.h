@@ -5,6 +5,7 @@
 #include <TopoDS_Shape.hxx>
 
 #include <string>
+#include <vector>
 
 namespace bvmesh::cad {
 
@@ -16,7 +17,13 @@ std::string writeBrepString(const TopoDS_Shape& shape);
 
 // Reads a STEP (.step/.stp), IGES (.iges/.igs) or BREP (.brep/.brp) file, chosen by its extension
 // (case-insensitive). Throws InvalidInputError naming the file when it is missing, unreadable,
-// of another format, or holds no shape.
-TopoDS_Shape readShapeFile(const std::string& path);
+// of another format, or holds no shape. `notes` (optional) gets what the reader did besides the
+// plain transfer (IGES surfaces read directly when no root entity gives a face).
+TopoDS_Shape readShapeFile(const std::string& path, std::vector<std::string>* notes = nullptr);
+
+// Writes the faces of `shape` to an IGES file as many design tools do: each face an entity of its
+// own (OCCT's faces mode: trimmed surface 144 over its surface), no shared edges or topology.
+// Throws InvalidInputError for a shape without faces and SolverError when the file cannot be written.
+void writeIgesFaces(const TopoDS_Shape& shape, const std::string& path);
 
 }  // namespace bvmesh::cad

@@ -12,6 +12,7 @@
 
 #include "core/common/closest_point.h"
 #include "core/common/errors.h"
+#include "core/polyhedron/draft_check.h"
 #include "core/polyhedron/target_analysis.h"
 
 namespace bvmesh::polyhedron {
@@ -1444,6 +1445,7 @@ PlacedPolyhedron placeTemplate(const PolyhedronTemplate& polyhedronTemplate, con
   Vec reference = frameMid(frame);
   if (plane)
     reference -= (reference - plane->point).dot(plane->normal.normalized()) * plane->normal.normalized();
+  checkPlacedFaces(polyhedronTemplate.name, draft.vertices, draft.faces, target);
   ControlMesh mesh = draft.build(reference);
   FeatureMapping mapping = mapFeatures(mesh, target, curves, options.mapping);
   if (options.improve) {
@@ -1456,7 +1458,17 @@ PlacedPolyhedron placeTemplate(const PolyhedronTemplate& polyhedronTemplate, con
       if (polyhedronTemplate.pushOutPasses >= 0) improvement.pushOutPasses = polyhedronTemplate.pushOutPasses;
     }
     improvement.symmetryPlane = plane;
-    improvePolyhedron(mesh, target, mapping.map, improvement);
+    try {
+      improvePolyhedron(mesh, target, mapping.map, improvement);
+    } catch (const InvalidInputError& error) {
+      // The moved vertices failed the mesh's own check: say so as the template's failure.
+      std::string choices;
+      for (const auto& [name, value] : used) choices += (choices.empty() ? "" : ", ") + name + "=" + value;
+      throw InvalidInputError(placementFailure(polyhedronTemplate.name,
+                                               std::string("improving the polyhedron placed with ") + choices +
+                                                   " would make it invalid (" + error.what() + ")",
+                                               target));
+    }
     mapping = mapFeatures(mesh, target, curves, options.mapping);
   }
   return PlacedPolyhedron{

@@ -615,6 +615,10 @@ Target::Target(const TopoDS_Shape& shape, const TargetOptions& options) : data_(
   if (data_->triangles.rows() == 0) throw TopologyError("Target: no face of the shape could be tessellated");
 }
 
+Target::Target(const cad::RepairedShape& shape, const TargetOptions& options) : Target(shape.shape, options) {
+  data_->report.repair = shape.report;
+}
+
 Target::~Target() = default;
 Target::Target(Target&&) noexcept = default;
 Target& Target::operator=(Target&&) noexcept = default;

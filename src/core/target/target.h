@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 
+#include "core/cad/shape_repair.h"
 #include "core/cad/shape_summary.h"
 #include "core/common/types.h"
 
@@ -62,6 +63,7 @@ struct TargetReport {
   std::vector<int> nonManifoldEdges;    // edges of three or more faces
   std::vector<int> untessellatedFaces;  // faces BRepMesh could not mesh: not found by cold starts
   std::vector<GapReport> gaps;
+  cad::RepairReport repair;  // what reading did to the shape (sewing, gaps, watertightness)
 };
 
 enum class ProjectionStatus : std::uint8_t {
@@ -97,6 +99,8 @@ class Target {
 public:
   // Throws InvalidInputError for a null shape and TopologyError for a shape without faces.
   explicit Target(const TopoDS_Shape& shape, const TargetOptions& options = {});
+  // A shape as read and repaired (cad::readShapeFileRepaired): its repair report goes into report().
+  explicit Target(const cad::RepairedShape& shape, const TargetOptions& options = {});
   ~Target();
   Target(Target&&) noexcept;
   Target& operator=(Target&&) noexcept;

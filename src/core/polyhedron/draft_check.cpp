@@ -1,0 +1,63 @@
+#include "core/polyhedron/draft_check.h"
+
+#include <Eigen/Geometry>
+
+#include <cstdio>
+
+#include "core/common/errors.h"
+
+namespace bvmesh::polyhedron {
+namespace {
+
+// What about the target likely made vertices collapse, for the message.
+std::string likelyCause(const target::Target& target) {
+  const target::TargetReport& report = target.report();
+  const cad::RepairReport& repair = report.repair;
+  const int free = static_cast<int>(report.freeEdges.size());
+  if (free == 0) return "the target is watertight, so the template's parameters do not suit its shape";
+  std::string cause = "the target has " + std::to_string(free) + " free edges";
+  if (repair.sewingAttempted && !repair.sewingApplied)
+    cause += " and its faces could not be sewn (" + repair.keptReason + ")";
+  else if (!repair.sewingAttempted && repair.freeEdgesRead > 0)
+    cause += " and was read unsewn: read it with sewing on (the default)";
+  if (!repair.openGaps.empty()) cause += "; " + std::to_string(repair.openGaps.size()) + " gaps are left open";
+  // Templates find a body's ends, creases and symmetry plane from how its faces share edges.
+  return cause + " (templates find ends, creases and symmetry planes from the edges faces share)";
+}
+
+}  // namespace
+
+std::string placementFailure(const std::string& templateName, const std::string& what, const target::Target& target) {
+  return "template '" + templateName + "' cannot be placed on this target: " + what + "; " + likelyCause(target);
+}
+
+void checkPlacedFaces(const std::string& templateName, const std::vector<Eigen::Vector3d>& vertices,
+                      const std::vector<std::vector<int>>& faces, const target::Target& target) {
+  // Tolerances relative to the target's size, as ControlMesh's own check is to the mesh's.
+  const double size = target.report().diagonal > 0.0 ? target.report().diagonal : 1.0;
+  const double lengthTolerance = 1e-9 * size;
+  for (std::size_t f = 0; f < faces.size(); ++f) {
+    const std::vector<int>& face = faces[f];
+    Eigen::Vector3d area = Eigen::Vector3d::Zero();
+    for (std::size_t i = 0; i < face.size(); ++i) {
+      const int a = face[i], b = face[(i + 1) % face.size()];
+      const Eigen::Vector3d& pa = vertices[static_cast<std::size_t>(a)];
+      const Eigen::Vector3d& pb = vertices[static_cast<std::size_t>(b)];
+      if ((pb - pa).norm() <= lengthTolerance) {
+        char where[96];
+        std::snprintf(where, sizeof(where), "(%.6g, %.6g, %.6g)", pa.x(), pa.y(), pa.z());
+        throw InvalidInputError(placementFailure(templateName,
+                                                 "its face " + std::to_string(f) + " collapses, vertices " +
+                                                     std::to_string(a) + " and " + std::to_string(b) +
+                                                     " land on the same target point " + where,
+                                                 target));
+      }
+      area += (pa - vertices[static_cast<std::size_t>(face[0])]).cross(pb - vertices[static_cast<std::size_t>(face[0])]);
+    }
+    if (0.5 * area.norm() <= 1e-12 * size * size)
+      throw InvalidInputError(placementFailure(
+          templateName, "its face " + std::to_string(f) + " has no area (its vertices lie on a line)", target));
+  }
+}
+
+}  // namespace bvmesh::polyhedron

@@ -1,0 +1,25 @@
+// The check a template's placed polyhedron passes before it becomes a ControlMesh: a template
+// never hands on an invalid mesh. When vertices of a face coincide or a face has no area, the
+// placement stops with an error that names the template, the face, its vertices and what about
+// the target likely caused it (the capsule on a hemisphere-cylinder read unsewn took its plane
+// faces' outlines for a symmetry plane, and snapping onto it collapsed face 8).
+#pragma once
+
+#include <Eigen/Core>
+
+#include <string>
+#include <vector>
+
+#include "core/target/target.h"
+
+namespace bvmesh::polyhedron {
+
+// "template '<name>' cannot be placed on this target: <what>; <what about the target likely
+// caused it>" (its free edges, unsewn faces, gaps left open).
+std::string placementFailure(const std::string& templateName, const std::string& what, const target::Target& target);
+
+// vertices: the draft's points; faces: vertex indices per face. Throws InvalidInputError.
+void checkPlacedFaces(const std::string& templateName, const std::vector<Eigen::Vector3d>& vertices,
+                      const std::vector<std::vector<int>>& faces, const target::Target& target);
+
+}  // namespace bvmesh::polyhedron
