@@ -8,7 +8,7 @@ on PYTHONPATH; scripts/setup.sh sets that up).
                   bvmesh-example); --surface-only stops after the surface
   openfoam-case CASE
                   a steady compressible OpenFOAM case (bvmesh.openfoam_case): the mesh from
-                  --mesh (an OpenFOAM case directory with patches wall, farfield or a box.s
+                  --mesh (an OpenFOAM case directory with patches wall, farfield or a box's
                   inlet / outlet / side, and symmetry on a half model, in
                   --length-unit metres per unit) or the bundled M6 grid built here; --run runs
                   the solver, --report DIR writes the Cp comparison and convergence report
