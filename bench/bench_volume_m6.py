@@ -1,5 +1,6 @@
 """The volume stage on the ONERA M6 (the main job's setting): the block mesh from the fitted wall at
-surface levels 2, 3, 4 (time, peak memory, blocks and poles, or where the marching folds), each
+surface levels 2, 3, 4 (time, peak memory, blocks and poles, or where the marching folds; the fit
+stops at level 3 when it reaches the main job's tolerance there), each
 against the fit to that level measured in the same run; then the Euler grid of about 1 M cells
 from the level-2 blocks, against per-point evaluation of the same blocks measured in the same run.
 
@@ -46,7 +47,8 @@ def fitted(target, mesh, features, plane, level):
 def main(max_level):
     target, _, plane = polyhedra.half_model_target(Part.read(paths.EXAMPLE_WING))
     mesh, features = polyhedra.place_template(target, "half_wing")
-    print("| level | control points | fit s | volume s | volume / fit | peak MB | blocks | poles | outcome |")
+    print("| level asked / reached | control points | fit s | volume s | volume / fit | peak MB | blocks | poles | "
+          "outcome |")
     print("|---|---|---|---|---|---|---|---|---|")
     level2 = None
     for level in range(2, max_level + 1):
@@ -55,13 +57,13 @@ def main(max_level):
             seconds, volume = timed(lambda: bvmesh.volume.offset_and_farfield(
                 fitter, reference_length=ROOT_CHORD, reynolds_number=REYNOLDS_NUMBER))
         except bvmesh.SolverError as error:
-            print("| {} | {} | {:.2f} | - | - | {:.0f} | - | - | {} |".format(
-                level, fitter.mesh.num_vertices, fit_seconds, peak_megabytes(), str(error).split(" (")[0]))
+            print("| {} / {} | {} | {:.2f} | - | - | {:.0f} | - | - | {} |".format(
+                level, fitter.level, fitter.mesh.num_vertices, fit_seconds, peak_megabytes(), str(error).split(" (")[0]))
             continue
         blocks = volume.blocks
         poles = sum(int(np.prod(blocks.poles(b).shape[:3])) for b in range(blocks.block_count))
-        print("| {} | {} | {:.2f} | {:.2f} | {:.2f} | {:.0f} | {} | {} | {} control layers |".format(
-            level, fitter.mesh.num_vertices, fit_seconds, seconds, seconds / fit_seconds, peak_megabytes(),
+        print("| {} / {} | {} | {:.2f} | {:.2f} | {:.2f} | {:.0f} | {} | {} | {} control layers |".format(
+            level, fitter.level, fitter.mesh.num_vertices, fit_seconds, seconds, seconds / fit_seconds, peak_megabytes(),
             blocks.block_count, poles, len(volume.layer_distance)))
         if level == 2:
             level2 = volume
