@@ -56,6 +56,7 @@ class Proxy:
             shown = obj.Document.Meta.get(VISIBLE_ON_OPEN)
             if shown is not None:
                 obj.ViewObject.Visibility = obj.Name in shown.split()
+                view_providers.fit_view_once(obj.Document)
 
     def execute(self, obj):
         # FreeCAD only prints a failed recompute; keep the message for the API to raise.

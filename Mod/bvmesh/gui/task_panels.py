@@ -270,6 +270,8 @@ class _OptionsPanel(_Panel):
         if not done:
             self.form.labelStatus.setText("Not done: see the Report view.")
             return False
+        if self.obj is None and self.source is not None and self.source.ViewObject is not None:
+            self.source.ViewObject.Visibility = False  # the new stage's object is what to look at now
         FreeCADGui.Control.closeDialog()
         return True
 

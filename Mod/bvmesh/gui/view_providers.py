@@ -29,6 +29,29 @@ def attach(obj):
         obj.ViewObject.Lighting = "Two side"  # both sides of the surface show their colours
 
 
+_fitted_documents = set()
+
+
+def fit_view_once(doc):
+    """Fits the 3D view of a document written headless to what it shows, once, after it opened
+    (its camera is in the GUI's view state, which a headless writer has not written)."""
+    if doc.Name in _fitted_documents:
+        return
+    _fitted_documents.add(doc.Name)
+
+    def fit():
+        import FreeCADGui
+
+        gui_document = FreeCADGui.getDocument(doc.Name)
+        if gui_document is not None and gui_document.activeView() is not None:
+            gui_document.activeView().viewIsometric()
+            gui_document.activeView().fitAll()
+
+    from PySide import QtCore
+
+    QtCore.QTimer.singleShot(0, fit)
+
+
 def block_colors(blocks):
     """A distinct, light colour per block number (golden-ratio hues), for faces and cut lines."""
     return [colorsys.hsv_to_rgb((0.61803398875 * b) % 1.0, 0.45, 0.95) for b in blocks]
