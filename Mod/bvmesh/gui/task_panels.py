@@ -15,7 +15,25 @@ UI_DIR = os.path.join(paths.RESOURCES_DIR, "ui")
 
 
 def load_form(name):
-    return FreeCADGui.PySideUic.loadUi(os.path.join(UI_DIR, name + ".ui"))
+    """The form of resources/ui/<name>.ui, its named widgets also as attributes.
+
+    PySide's own loader, not FreeCADGui.PySideUic.loadUi: that one hands back wrappers PySide does
+    not track, so when the task dialog deletes a closed form its wrappers stay registered, and a
+    new form allocated at the same address came back as the old, deleted widget (measured: 'Internal
+    C++ object already deleted' in the second panel, now and then)."""
+    from PySide import QtCore, QtGui, QtUiTools
+
+    file = QtCore.QFile(os.path.join(UI_DIR, name + ".ui"))
+    if not file.open(QtCore.QFile.ReadOnly):
+        raise OSError("cannot read the form {}".format(file.fileName()))
+    try:
+        form = QtUiTools.QUiLoader().load(file)
+    finally:
+        file.close()
+    for child in form.findChildren(QtGui.QWidget):
+        if child.objectName():
+            setattr(form, child.objectName(), child)
+    return form
 
 
 def panel_for(obj):
