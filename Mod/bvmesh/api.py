@@ -653,10 +653,10 @@ def span_station(grid_object, eta, span=None):
     wall's extent along y."""
     import FreeCAD
 
-    from bvmesh.features import volume_grid
+    from bvmesh.features import volume_mesh
 
     grid = grid_of(grid_object).grid
-    wall = np.concatenate([volume_grid.face_points(grid.points(b), name).reshape(-1, 3)
+    wall = np.concatenate([volume_mesh.face_array(grid.points(b), name).reshape(-1, 3)
                            for b in range(grid.block_count) for name, face in grid.faces(b).items()
                            if face["condition"] == "wall"])
     fit = grid_object.VolumeMesh.Fit

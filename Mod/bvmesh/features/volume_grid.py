@@ -60,12 +60,6 @@ def grid_digest(grid):
     return digest.hexdigest()
 
 
-def face_points(points, face):
-    """The (n_a, n_b, 3) points of a grid block face (u_min .. w_max)."""
-    direction, end = divmod(volume_mesh_feature.FACE_NAMES.index(face), 2)
-    return np.take(points, -1 if end else 0, axis=direction)
-
-
 def boundary_lines_shape(grid, conditions):
     """A compound of the grid lines on the block faces whose condition is in `conditions`."""
     import FreeCAD
@@ -77,7 +71,7 @@ def boundary_lines_shape(grid, conditions):
         for name, face in grid.faces(b).items():
             if face["condition"] not in conditions:
                 continue
-            sheet = face_points(points, name)
+            sheet = volume_mesh_feature.face_array(points, name)
             for line in list(sheet) + list(np.swapaxes(sheet, 0, 1)):
                 wires.append(Part.makePolygon([FreeCAD.Vector(*map(float, p)) for p in line]))
     return Part.makeCompound(wires) if wires else Part.Shape()

@@ -78,16 +78,20 @@ def knots_and_multiplicities(full):
     return [float(k) for k in knots], [int(c) for c in counts]
 
 
-def face_surface(blocks, block, face):
-    """(poles (n_a, n_b, 3), knots a, knots b) of a block face: a, b its two other directions in
-    increasing order, as BlockMesh.faces orients them."""
-    poles = blocks.poles(block)
+def face_array(array, face):
+    """The (n_a, n_b, ...) sheet of a block's (n_u, n_v, n_w, ...) array (poles or grid points) on
+    `face` (u_min .. w_max): a, b its two other directions in increasing order, as BlockMesh.faces
+    orients them."""
     direction, end = divmod(FACE_NAMES.index(face), 2)
-    index = -1 if end else 0
-    grid = np.take(poles, index, axis=direction)
+    return np.take(array, -1 if end else 0, axis=direction)
+
+
+def face_surface(blocks, block, face):
+    """(poles (n_a, n_b, 3), knots a, knots b) of a block face."""
+    direction = FACE_NAMES.index(face) // 2
     others = [d for d in range(3) if d != direction]
     knots = blocks.knots(block)
-    return grid, knots[others[0]], knots[others[1]]
+    return face_array(blocks.poles(block), face), knots[others[0]], knots[others[1]]
 
 
 def boundary_faces_shape(blocks, conditions):

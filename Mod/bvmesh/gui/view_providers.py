@@ -29,20 +29,26 @@ def attach(obj):
         obj.ViewObject.Lighting = "Two side"  # both sides of the surface show their colours
 
 
-_fitted_documents = set()
+_fits_pending = set()
 
 
 def fit_view_once(doc):
-    """Fits the 3D view of a document written headless to what it shows, once, after it opened
-    (its camera is in the GUI's view state, which a headless writer has not written)."""
-    if doc.Name in _fitted_documents:
+    """Fits the 3D view of a document written headless to what it shows, once after it opened
+    (its camera is in the GUI's view state, which a headless writer has not written): every object
+    restored asks, the first request of the opening is carried out."""
+    name = doc.Name
+    if name in _fits_pending:
         return
-    _fitted_documents.add(doc.Name)
+    _fits_pending.add(name)
 
     def fit():
+        import FreeCAD
         import FreeCADGui
 
-        gui_document = FreeCADGui.getDocument(doc.Name)
+        _fits_pending.discard(name)
+        if name not in FreeCAD.listDocuments():
+            return  # closed before the view came up
+        gui_document = FreeCADGui.getDocument(name)
         if gui_document is not None and gui_document.activeView() is not None:
             gui_document.activeView().viewIsometric()
             gui_document.activeView().fitAll()
