@@ -432,7 +432,7 @@ def fit_to_tolerance(fit):
 
 def convergence_table(fit):
     """One dict per pass: level, correction, control_points, max_distance, rms_distance,
-    limit_to_target and target_to_limit (None when not checked)."""
+    limit_to_target, target_to_limit and target_to_limit_beyond_cad (None when not checked)."""
     from bvmesh.features.surface_fit import convergence_table as table
 
     return table(fit)
@@ -496,11 +496,15 @@ def plot_convergence(fit, path, title=None):
     axes = figure.add_subplot(1, 1, 1)
     axes.semilogy(passes, [r["max_distance"] for r in rows], "o-", color="tab:red", label="max distance")
     axes.semilogy(passes, [r["rms_distance"] for r in rows], "s-", color="tab:blue", label="RMS distance")
-    checked = [(i, r["limit_to_target"], r["target_to_limit"]) for i, r in zip(passes, rows)
-               if r["limit_to_target"] is not None]
+    checked = [(i, r) for i, r in zip(passes, rows) if r["limit_to_target"] is not None]
     if checked:
-        axes.semilogy([c[0] for c in checked], [max(c[1], c[2]) for c in checked], "D", color="black",
-                      label="two-sided check")
+        # What the stop rule holds against the tolerance; the raw target side, where the CAD's own
+        # tolerance at its edges is larger, as open symbols.
+        axes.semilogy([i for i, _ in checked],
+                      [max(r["limit_to_target"], r["target_to_limit_beyond_cad"] or 0.0) for _, r in checked],
+                      "D", color="black", label="two-sided check")
+        axes.semilogy([i for i, _ in checked], [r["target_to_limit"] for _, r in checked], "D", color="black",
+                      markerfacecolor="none", label="target -> limit, before the CAD edge tolerance")
     if fit.AbsoluteTolerance > 0:
         axes.axhline(fit.AbsoluteTolerance, color="tab:green", linestyle="--", label="tolerance")
     for i in range(1, len(rows)):
@@ -510,7 +514,10 @@ def plot_convergence(fit, path, title=None):
     axes.set_xticklabels(["{}.{}".format(r["level"], r["correction"]) for r in rows], fontsize=7)
     axes.set_xlabel("pass (level.correction)")
     axes.set_ylabel("distance to target (model units)")
-    axes.set_title(title or "Convergence of {}".format(fit.Label))
+    label = title or "Convergence of {}".format(fit.Label)
+    if fit.StopReason:
+        label += " ({} at level {})".format(fit.StopReason, fit.Level)
+    axes.set_title(label, fontsize=10)
     axes.grid(True, which="both", alpha=0.3)
     axes.legend(fontsize=8)
     figure.tight_layout()

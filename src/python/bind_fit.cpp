@@ -130,6 +130,7 @@ py::dict recordToDict(const fit::PassRecord& record) {
   dict["rms_distance"] = record.rmsDistance;
   dict["limit_to_target"] = record.check ? py::cast(record.check->limitToTarget) : py::none();
   dict["target_to_limit"] = record.check ? py::cast(record.check->targetToLimit) : py::none();
+  dict["target_to_limit_beyond_cad"] = record.check ? py::cast(record.check->targetToLimitBeyondCad) : py::none();
   dict["seconds"] = record.seconds;
   return dict;
 }
@@ -264,7 +265,10 @@ void bindFit(py::module_& module) {
              const fit::TwoSidedDistance d = exclusive(f, [&] { return f.twoSidedDistance(samplesPerFace); });
              return py::dict(py::arg("limit_to_target") = d.limitToTarget, py::arg("target_to_limit") = d.targetToLimit,
                              py::arg("limit_to_target_at") = d.limitToTargetAt,
-                             py::arg("target_to_limit_at") = d.targetToLimitAt);
+                             py::arg("target_to_limit_at") = d.targetToLimitAt,
+                             py::arg("cad_tolerance_at_target_to_limit") = d.cadToleranceAtTargetToLimit,
+                             py::arg("target_to_limit_beyond_cad") = d.targetToLimitBeyondCad,
+                             py::arg("target_to_limit_beyond_cad_at") = d.targetToLimitBeyondCadAt);
            }, py::arg("samples_per_face") = 4)
       .def_property_readonly("history", [](const SharedFitter& f) {
              return historyToList(exclusive(f, [&] { return f.history(); }));
@@ -285,13 +289,16 @@ void bindFit(py::module_& module) {
              py::dict result;
              result["reason"] = fit::stopReasonName(summary.reason);
              result["tolerance"] = summary.tolerance;
+             result["detail"] = summary.detail;
              result["history"] = historyToList(summary.history);
              return result;
            }, py::arg("progress") = py::none(), py::arg("cancel") = py::none(),
            "Fits to the tolerance: progress(record) is called after every pass; cancel (a callable\n"
            "returning True, or a threading.Event) stops after the current step. Keyword options\n"
            "override the fitter's (as set_options). Returns {reason: 'converged' | 'stagnated' |\n"
-           "'max_level' | 'cancelled', tolerance, history: [records]}. One fitter may be used from several\n"
+           "'max_level' | 'check_failed' | 'cancelled', tolerance, detail: which distance is above the\n"
+           "tolerance and where (empty when converged), history: [records]}. 'converged' needs the samples\n"
+           "and the two-sided check (check_samples_per_face > 0) within the tolerance. One fitter may be used from several\n"
            "threads: its calls run one after the other.");
 }
 

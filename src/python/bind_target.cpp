@@ -206,6 +206,8 @@ void bindTarget(py::module_& module) {
           (std::string("Nearest intersection of the lines p + s d (either sign of s) with the trimmed "
                        "surface; lines that miss get the closest point with status FALLBACK.") + kResultDoc).c_str())
       .def_property_readonly("mesh_nodes", &Target::meshNodes, "(N, 3) nodes of the tessellation index")
+      .def_property_readonly("mesh_node_tolerances", &Target::meshNodeTolerances,
+                             "(N,) the CAD's own tolerance at each node: its edges' and vertices' where it lies on them")
       .def_property_readonly("mesh_triangles", &Target::meshTriangles, "(T, 3) node ids of its triangles")
       .def_property_readonly("mesh_triangle_faces", &Target::meshTriangleFaces, "(T,) face of each triangle");
 }

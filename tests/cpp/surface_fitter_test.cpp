@@ -296,6 +296,38 @@ TEST(SurfaceFitter, ConvergesToATolerance) {
   EXPECT_LE(fitter.level(), 4);
 }
 
+// The stop rule: a tolerance between the level-2 samples' distance and the level-2 two-sided
+// check's is met by the samples but not by the check, so the fit is not "converged" there: with
+// one level more it goes on and converges by both measures; without, it stops as check_failed and
+// says which side of the check is above the tolerance.
+TEST(SurfaceFitter, ConvergedOnlyWhenTheTwoSidedCheckAgrees) {
+  FitOptions measureOnly = studyOptions(2);
+  SurfaceFitter probe(sphereTarget(), cube(), {}, measureOnly);
+  probe.run();
+  const double samples = probe.history().back().maxDistance;
+  const TwoSidedDistance check = probe.twoSidedDistance(4);
+  const double checked = std::max(check.limitToTarget, check.targetToLimitBeyondCad);
+  ASSERT_GT(checked, 1.2 * samples);  // the denser check sees more than the samples
+
+  FitOptions options = studyOptions(2);
+  options.tolerance = 0.5 * (samples + checked);
+  options.checkSamplesPerFace = 4;
+  options.stagnationRatio = 0.9;
+  const FitSummary stopped = SurfaceFitter(sphereTarget(), cube(), {}, options).run();
+  EXPECT_EQ(stopped.reason, StopReason::CheckFailed);
+  EXPECT_LE(stopped.history.back().maxDistance, options.tolerance);
+  EXPECT_NE(stopped.detail.find("two-sided check above it"), std::string::npos) << stopped.detail;
+
+  options.maxLevel = 3;
+  SurfaceFitter fitter(sphereTarget(), cube(), {}, options);
+  const FitSummary summary = fitter.run();
+  EXPECT_EQ(summary.reason, StopReason::Converged) << summary.detail;
+  EXPECT_EQ(fitter.level(), 3);
+  ASSERT_TRUE(summary.history.back().check.has_value());
+  EXPECT_TRUE(summary.history.back().check->within(options.tolerance));
+  EXPECT_TRUE(summary.detail.empty());
+}
+
 // A half sphere (z >= 0 cut away: the sphere below the xy plane is the target) fitted by the
 // lower half of a cube whose boundary loop must stay in the plane z = 0.
 TEST(SurfaceFitter, SymmetryPlaneKeepsTheBoundaryInThePlane) {

@@ -193,12 +193,12 @@ def run():
     watcher.stop()
     main_window().statusBar().messageChanged.disconnect(messages.append)
     check(len(labels) == 1, "the fit showed its progress dialog")
-    ends = [m for m in messages if m.startswith("BVMesh fit: ") and m.split(": ", 1)[1] in
-            ("converged", "stagnated", "max_level")]
+    ends = [m for m in messages if m.startswith("BVMesh fit: ") and m.split(": ", 1)[1].split(" ")[0] in
+            ("converged", "stagnated", "max_level", "check_failed")]
     check(len(ends) == 1, "the status bar told how the fit ended: {}".format(ends or messages[-3:]))
     check(len(ticks) >= 0.5 * seconds / 0.1, "the GUI kept processing events during the {:.1f} s fit ({} timer "
           "ticks)".format(seconds, len(ticks)))
-    check(fit.Steps[-1] == "fit" and fit.Level == 3 and fit.StopReason in ("converged", "stagnated", "max_level"),
+    check(fit.Steps[-1] == "fit" and fit.Level == 3 and fit.StopReason in ("converged", "stagnated", "max_level", "check_failed"),
           "the fit ran to level {} ({})".format(fit.Level, fit.StopReason))
     check(fit.HistoryMax[-1] < 0.5 * fit.HistoryMax[0] and fit.HistoryRms[-1] < 0.1 * fit.HistoryRms[0],
           "the fit really fitted: max {:.3g} -> {:.3g}, RMS {:.3g} -> {:.3g}".format(

@@ -115,6 +115,28 @@ class PlacementTest(unittest.TestCase):
         boundary = np.unique(np.asarray(fitter.mesh.boundary_edges))
         np.testing.assert_allclose(np.asarray(fitter.mesh.vertices)[boundary, 1], 0.0, atol=1e-12)
 
+    def test_m6_fit_is_not_converged_while_the_two_sided_check_fails(self):
+        # At level 3 every sample is within 1e-5 of the root chord, but the limit surface rounds
+        # the 2.3 degree kink where the tip's leading-edge patches meet the wing (CAD tolerance
+        # 6e-4 there) by 9.5e-3 mm: not converged, and the stop says where.
+        placed = polyhedra.place("half_wing", self.wing)
+        tolerance = 1e-5 * placed["planform"]["root_chord"]
+        fitter = bvmesh.SurfaceFitter(self.wing, placed["mesh"], placed["feature_map"],
+                                      symmetry_plane=placed["symmetry_plane"], tolerance=tolerance, max_level=3)
+        result = fitter.run()
+        self.assertEqual(result["reason"], "check_failed", result["detail"])
+        last = result["history"][-1]
+        self.assertLessEqual(last["max_distance"], tolerance)
+        self.assertGreater(last["target_to_limit_beyond_cad"], tolerance)
+        self.assertIn("target -> limit", result["detail"])
+        self.assertIn("1196.30", result["detail"])  # on the tip crease y = 1196.3
+        # The CAD's own tolerance per tessellation node: its edges' (up to 3.3e-2 mm on the tip's
+        # leading-edge patches) on boundary nodes, its faces' inside.
+        tolerances = np.asarray(self.wing.mesh_node_tolerances)
+        self.assertEqual(tolerances.shape, (len(self.wing.mesh_nodes),))
+        self.assertAlmostEqual(tolerances.max(), 0.0332, delta=1e-4)
+        self.assertLess(np.median(tolerances), 1e-6)
+
     def test_placed_half_wing_fits_from_python(self):
         placed = polyhedra.place("half_wing", self.wing)
         fitter = bvmesh.SurfaceFitter(self.wing, placed["mesh"], placed["feature_map"],

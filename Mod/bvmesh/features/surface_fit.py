@@ -112,6 +112,8 @@ class SurfaceFitProxy(Proxy):
             ("ControlCreases", "App::PropertyIntegerList", "Crease vertex pairs of the fitted mesh, flattened"),
             ("ControlCorners", "App::PropertyIntegerList", "Corner vertices of the fitted mesh"),
             ("StopReason", "App::PropertyString", "Why the last fit step stopped"),
+            ("StopDetail", "App::PropertyString",
+             "Which distance was above the tolerance at the stop, and where (empty when converged)"),
             ("AbsoluteTolerance", "App::PropertyFloat", "The tolerance in model units"),
             ("MaxDistance", "App::PropertyFloat", "Max distance of the limit samples to the target"),
             ("RmsDistance", "App::PropertyFloat", "RMS distance of the limit samples to the target"),
@@ -125,6 +127,9 @@ class SurfaceFitProxy(Proxy):
              "Convergence table: two-sided check, limit surface to target (-1: not checked)"),
             ("HistoryTargetToLimit", "App::PropertyFloatList",
              "Convergence table: two-sided check, target to limit surface (-1: not checked)"),
+            ("HistoryTargetToLimitBeyondCad", "App::PropertyFloatList",
+             "Convergence table: target to limit surface beyond the CAD's own tolerance at each "
+             "target point, the side the stop rule holds against the tolerance (-1: not checked)"),
         ):
             add_property(obj, type_name, name, r, doc, mode=READ_ONLY)
 
@@ -195,6 +200,7 @@ class SurfaceFitProxy(Proxy):
             if result["reason"] == "cancelled":
                 raise FitCancelled("the fit was cancelled")
             summary["reason"] = result["reason"]
+            summary["detail"] = result["detail"]
             return
         if name == "subdivide":
             fitter.subdivide()
@@ -221,7 +227,7 @@ class SurfaceFitProxy(Proxy):
                 fitter, applied, summary, projection = (state[k] for k in ("fitter", "applied", "summary", "projection"))
             else:
                 self._state = None
-                fitter, applied, summary = self._new_fitter(obj), [], {"reason": ""}
+                fitter, applied, summary = self._new_fitter(obj), [], {"reason": "", "detail": ""}
                 fitter.record(False)
                 projection = fitter.project()
             # Every step is followed by the same calls whether it is replayed or appended, so
@@ -248,6 +254,7 @@ class SurfaceFitProxy(Proxy):
         obj.ControlCreases = [int(i) for pair in mesh.creases for i in pair]
         obj.ControlCorners = [int(i) for i in mesh.corners]
         obj.StopReason = summary["reason"]
+        obj.StopDetail = summary["detail"]
         obj.AbsoluteTolerance = fitter.absolute_tolerance
         distances = [float(d) for d in projection["distances"]]
         obj.SampleDistances = distances
@@ -261,6 +268,8 @@ class SurfaceFitProxy(Proxy):
         obj.HistoryRms = [r["rms_distance"] for r in history]
         obj.HistoryLimitToTarget = [-1.0 if r["limit_to_target"] is None else r["limit_to_target"] for r in history]
         obj.HistoryTargetToLimit = [-1.0 if r["target_to_limit"] is None else r["target_to_limit"] for r in history]
+        obj.HistoryTargetToLimitBeyondCad = [-1.0 if r["target_to_limit_beyond_cad"] is None
+                                             else r["target_to_limit_beyond_cad"] for r in history]
         obj.Shape = polyhedron_feature.wireframe(mesh.vertices, mesh.edges)
 
 
@@ -293,14 +302,17 @@ def wall_at_level(obj, level):
 def convergence_table(obj):
     """The convergence table of a SurfaceFit object: one dict per pass."""
     rows = []
+    beyond_cad = list(obj.HistoryTargetToLimitBeyondCad)  # empty in documents saved before it existed
     for i, level in enumerate(obj.HistoryLevel):
-        check = (obj.HistoryLimitToTarget[i], obj.HistoryTargetToLimit[i])
+        check = (obj.HistoryLimitToTarget[i], obj.HistoryTargetToLimit[i],
+                 beyond_cad[i] if i < len(beyond_cad) else -1.0)
         rows.append({
             "level": level, "correction": obj.HistoryCorrection[i],
             "control_points": obj.HistoryControlPoints[i],
             "max_distance": obj.HistoryMax[i], "rms_distance": obj.HistoryRms[i],
             "limit_to_target": None if check[0] < 0 else check[0],
             "target_to_limit": None if check[1] < 0 else check[1],
+            "target_to_limit_beyond_cad": None if check[2] < 0 else check[2],
         })
     return rows
 

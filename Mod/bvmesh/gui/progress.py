@@ -64,7 +64,9 @@ class GuiFitRunner:
             dialog.deleteLater()
         if "error" in outcome:
             raise outcome["error"]
-        status.showMessage("BVMesh fit: {}".format(outcome["summary"]["reason"]), 10000)
+        summary = outcome["summary"]
+        status.showMessage("BVMesh fit: {}{}".format(summary["reason"],
+                                                     " " + summary["detail"] if summary.get("detail") else ""), 10000)
         return outcome["summary"]
 
 

@@ -77,12 +77,19 @@ TwoSidedDistance measureTwoSidedDistance(const ControlMesh& mesh, const Subdivis
                                    grid.row(tri[2]).transpose()) - p).squaredNorm();
   };
   const target::Points& nodes = target.meshNodes();
+  const Eigen::VectorXd& cadTolerance = target.meshNodeTolerances();
   for (Eigen::Index i = 0; i < nodes.rows(); ++i) {
     double best = 0.0;
     tree.nearest(nodes.row(i).transpose(), squaredDistance, best);
-    if (std::sqrt(best) > result.targetToLimit) {
-      result.targetToLimit = std::sqrt(best);
+    const double distance = std::sqrt(best);
+    if (distance > result.targetToLimit) {
+      result.targetToLimit = distance;
       result.targetToLimitAt = nodes.row(i).transpose();
+      result.cadToleranceAtTargetToLimit = cadTolerance[i];
+    }
+    if (distance - cadTolerance[i] > result.targetToLimitBeyondCad) {
+      result.targetToLimitBeyondCad = distance - cadTolerance[i];
+      result.targetToLimitBeyondCadAt = nodes.row(i).transpose();
     }
   }
   return result;

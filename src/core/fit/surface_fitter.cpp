@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iomanip>
 #include <limits>
 #include <map>
 #include <sstream>
@@ -647,9 +648,45 @@ const char* stopReasonName(StopReason reason) {
     case StopReason::Converged: return "converged";
     case StopReason::Stagnated: return "stagnated";
     case StopReason::MaxLevel: return "max_level";
+    case StopReason::CheckFailed: return "check_failed";
     case StopReason::Cancelled: return "cancelled";
   }
   return "max_level";
+}
+
+std::string stopDetail(StopReason reason, double tolerance, const PassRecord& last) {
+  if (reason == StopReason::Converged) return "";
+  if (reason == StopReason::Cancelled) return "cancelled at level " + std::to_string(last.level);
+  std::ostringstream text;
+  text.precision(3);
+  auto at = [&](const Eigen::Vector3d& p) {
+    text << " at (" << std::fixed << std::setprecision(2) << p.x() << ", " << p.y() << ", " << p.z() << ")"
+         << std::defaultfloat << std::setprecision(3);
+  };
+  text << "at level " << last.level << ": ";
+  if (last.maxDistance > tolerance) {
+    text << "samples up to " << last.maxDistance << " from the target, above the tolerance " << tolerance;
+  } else {
+    text << "samples within the tolerance " << tolerance << " (up to " << last.maxDistance << ")";
+  }
+  if (last.check) {
+    const TwoSidedDistance& check = *last.check;
+    if (check.within(tolerance)) {
+      text << "; two-sided check within it";
+    } else {
+      text << "; two-sided check above it:";
+      if (check.limitToTarget > tolerance) {
+        text << " limit -> target " << check.limitToTarget;
+        at(check.limitToTargetAt);
+      }
+      if (check.targetToLimitBeyondCad > tolerance) {
+        if (check.limitToTarget > tolerance) text << ",";
+        text << " target -> limit " << check.targetToLimitBeyondCad << " beyond the CAD's own tolerance";
+        at(check.targetToLimitBeyondCadAt);
+      }
+    }
+  }
+  return text.str();
 }
 
 FitSummary SurfaceFitter::run(const ProgressCallback& progress, const std::atomic<bool>* cancel) {
@@ -663,12 +700,19 @@ FitSummary SurfaceFitter::run(const ProgressCallback& progress, const std::atomi
     if (progress) progress(latest);
     return latest.maxDistance;
   };
-  auto finish = [&](StopReason reason) {
-    if (reason != StopReason::Cancelled && s.options.checkSamplesPerFace > 0 && !s.history.back().check) {
-      s.history.back().check = twoSidedDistance(s.options.checkSamplesPerFace);
-      if (progress) progress(s.history.back());
+  // The two-sided check of the current state (the last record), measured once.
+  auto check = [&]() -> const std::optional<TwoSidedDistance>& {
+    PassRecord& last = s.history.back();
+    if (s.options.checkSamplesPerFace > 0 && !last.check) {
+      last.check = twoSidedDistance(s.options.checkSamplesPerFace);
+      if (progress) progress(last);
     }
+    return last.check;
+  };
+  auto finish = [&](StopReason reason) {
+    if (reason != StopReason::Cancelled) check();
     summary.reason = reason;
+    summary.detail = stopDetail(reason, s.tolerance, s.history.back());
     summary.history.assign(s.history.begin() + static_cast<std::ptrdiff_t>(firstRecord), s.history.end());
     return summary;
   };
@@ -684,8 +728,10 @@ FitSummary SurfaceFitter::run(const ProgressCallback& progress, const std::atomi
   }
   double previousLevelBest = distance;
   while (true) {
-    if (distance <= s.tolerance) return finish(StopReason::Converged);
-    if (s.level >= s.options.maxLevel) return finish(StopReason::MaxLevel);
+    // Converged only when the independent check agrees with the samples; otherwise go on.
+    const bool samplesWithin = distance <= s.tolerance;
+    if (samplesWithin && (!check() || check()->within(s.tolerance))) return finish(StopReason::Converged);
+    if (s.level >= s.options.maxLevel) return finish(samplesWithin ? StopReason::CheckFailed : StopReason::MaxLevel);
     if (cancelled()) return finish(StopReason::Cancelled);
     subdivide();
     double levelBest = std::numeric_limits<double>::infinity();

@@ -12,6 +12,7 @@
 #include <functional>
 #include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include "core/fit/least_squares.h"
@@ -76,6 +77,15 @@ struct TwoSidedDistance {
   double targetToLimit = 0.0;  // max over target tessellation nodes of the distance to the limit surface
   Eigen::Vector3d limitToTargetAt = Eigen::Vector3d::Zero();  // the limit surface point of that max
   Eigen::Vector3d targetToLimitAt = Eigen::Vector3d::Zero();  // the target node of that max
+  // A node on a CAD edge is only as precise as the edge's own tolerance (its faces may be that far
+  // apart there): max over nodes of (distance - the CAD's tolerance at the node), at least 0, and
+  // the node of that max. This, not targetToLimit, is held against the fitting tolerance.
+  double targetToLimitBeyondCad = 0.0;
+  Eigen::Vector3d targetToLimitBeyondCadAt = Eigen::Vector3d::Zero();
+  double cadToleranceAtTargetToLimit = 0.0;  // the CAD's tolerance at targetToLimitAt
+
+  // Both sides within `tolerance` (the target side beyond the CAD's own tolerance).
+  bool within(double tolerance) const { return limitToTarget <= tolerance && targetToLimitBeyondCad <= tolerance; }
 };
 
 // One pass of the iteration: the state after a step, measured.
@@ -91,16 +101,23 @@ struct PassRecord {
   double seconds = 0.0;      // wall time since the previous record
 };
 
-enum class StopReason { Converged, Stagnated, MaxLevel, Cancelled };
+// Converged: the samples and the two-sided check (when checkSamplesPerFace > 0) are within the
+// tolerance. CheckFailed: the samples are, the check is not, and no level is left.
+enum class StopReason { Converged, Stagnated, MaxLevel, CheckFailed, Cancelled };
 
-// "converged", "stagnated", "max_level" or "cancelled".
+// "converged", "stagnated", "max_level", "check_failed" or "cancelled".
 const char* stopReasonName(StopReason reason);
 
 struct FitSummary {
   StopReason reason = StopReason::MaxLevel;
   double tolerance = 0.0;  // the absolute tolerance used
+  // Which distance is above the tolerance, by how much and where; empty when converged.
+  std::string detail;
   std::vector<PassRecord> history;
 };
+
+// The summary's detail for a fit in `history` that stopped for `reason`.
+std::string stopDetail(StopReason reason, double tolerance, const PassRecord& last);
 
 using ProgressCallback = std::function<void(const PassRecord&)>;
 

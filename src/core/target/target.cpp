@@ -8,6 +8,7 @@
 #include <GCPnts_TangentialDeflection.hxx>
 #include <GeomAdaptor_Curve.hxx>
 #include <Geom_BSplineSurface.hxx>
+#include <Poly_PolygonOnTriangulation.hxx>
 #include <Poly_Triangulation.hxx>
 #include <Precision.hxx>
 #include <TopExp.hxx>
@@ -177,10 +178,32 @@ void measureSize(Target::Data& data) {
   data.convergence = 1e-14 * data.diagonal;
 }
 
+// Raises the tolerance of the face's boundary nodes (1-based in `mesh`, 0-based in `tolerance`)
+// to that of the edges and end vertices they lie on.
+void markBoundaryTolerances(const TopoDS_Face& face, const Handle(Poly_Triangulation)& mesh,
+                            const TopLoc_Location& location, double* tolerance) {
+  for (TopExp_Explorer it(face, TopAbs_EDGE); it.More(); it.Next()) {
+    const TopoDS_Edge& edge = TopoDS::Edge(it.Current());
+    const Handle(Poly_PolygonOnTriangulation) polygon = BRep_Tool::PolygonOnTriangulation(edge, mesh, location);
+    if (polygon.IsNull()) continue;
+    TopoDS_Vertex first, last;
+    TopExp::Vertices(edge, first, last);
+    const int count = polygon->NbNodes();
+    for (int k = 1; k <= count; ++k) {
+      double edgeTolerance = BRep_Tool::Tolerance(edge);
+      if (k == 1 && !first.IsNull()) edgeTolerance = std::max(edgeTolerance, BRep_Tool::Tolerance(first));
+      if (k == count && !last.IsNull()) edgeTolerance = std::max(edgeTolerance, BRep_Tool::Tolerance(last));
+      double& node = tolerance[polygon->Node(k) - 1];
+      node = std::max(node, edgeTolerance);
+    }
+  }
+}
+
 void tessellate(Target::Data& data) {
   BRepMesh_IncrementalMesh mesher(data.shape, data.deflection, false, data.options.angularDeflection, true);
   std::vector<Eigen::Vector3d> nodes;
   std::vector<Eigen::Vector2d> uv;
+  std::vector<double> tolerance;
   std::vector<Eigen::Vector3i> triangles;
   std::vector<int> triangleFaces;
   for (std::size_t f = 0; f < data.faces.size(); ++f) {
@@ -193,7 +216,9 @@ void tessellate(Target::Data& data) {
       nodes.push_back(toEigen(mesh->Node(n).Transformed(transform)));
       const gp_Pnt2d p = mesh->UVNode(n);
       uv.emplace_back(p.X(), p.Y());
+      tolerance.push_back(BRep_Tool::Tolerance(data.faces[f].face));
     }
+    markBoundaryTolerances(data.faces[f].face, mesh, location, &tolerance[static_cast<std::size_t>(offset)]);
     for (int t = 1; t <= mesh->NbTriangles(); ++t) {
       int a, b, c;
       mesh->Triangle(t).Get(a, b, c);
@@ -203,6 +228,7 @@ void tessellate(Target::Data& data) {
   }
   data.nodes.resize(static_cast<Eigen::Index>(nodes.size()), 3);
   data.nodeUV.resize(static_cast<Eigen::Index>(nodes.size()), 2);
+  data.nodeTolerance = Eigen::Map<const Eigen::VectorXd>(tolerance.data(), static_cast<Eigen::Index>(tolerance.size()));
   for (std::size_t n = 0; n < nodes.size(); ++n) {
     data.nodes.row(static_cast<Eigen::Index>(n)) = nodes[n].transpose();
     data.nodeUV.row(static_cast<Eigen::Index>(n)) = uv[n].transpose();
@@ -673,6 +699,7 @@ Points Target::edgePolyline(int edge) const {
 }
 
 const Points& Target::meshNodes() const { return data_->nodes; }
+const Eigen::VectorXd& Target::meshNodeTolerances() const { return data_->nodeTolerance; }
 const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& Target::meshTriangles() const { return data_->triangles; }
 const Eigen::VectorXi& Target::meshTriangleFaces() const { return data_->triangleFaces; }
 

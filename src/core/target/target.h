@@ -140,6 +140,9 @@ public:
 
   // Triangles of the index: #T x 3 node ids into nodes (#N x 3) and the face of each triangle.
   const Points& meshNodes() const;
+  // #N: how precisely the CAD itself places each node: the largest OCCT tolerance of the edges
+  // and vertices the node lies on (where neighbouring faces may be that far apart), else its face's.
+  const Eigen::VectorXd& meshNodeTolerances() const;
   const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& meshTriangles() const;
   const Eigen::VectorXi& meshTriangleFaces() const;
 

@@ -141,6 +141,7 @@ struct Target::Data {
 
   Points nodes;                                                // #N x 3
   Params nodeUV;                                               // #N x 2 (u, v) on the node's face
+  Eigen::VectorXd nodeTolerance;                               // #N, see Target::meshNodeTolerances
   Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor> triangles;  // #T x 3
   Eigen::VectorXi triangleFaces;                               // #T
   std::vector<double> triangleSize;                            // #T longest edge length
