@@ -68,6 +68,7 @@ class Marcher {
     // than the boundary layer is thick, next to a sharp edge), the lines' directions are smoothed
     // there alone, so the wall stays orthogonal everywhere else.
     RowMatrixX3d lines = splayedAtSharpEdges(options_.sharpEdgeSplay * options_.boundaryLayerThickness);
+    const Eigen::VectorXd reach = foldLimitedReach(lines);
     std::vector<RowMatrixX3d> blLayers;
     for (int repair = 0;; ++repair) {
       blLayers.clear();
@@ -76,7 +77,7 @@ class Marcher {
       int worstQuad = -1;
       int worstLayer = 1;
       for (int k = 0; k < nBl; ++k) {
-        RowMatrixX3d layer = front_.points + blDistance[static_cast<size_t>(k)] * lines;
+        RowMatrixX3d layer = front_.points + blDistance[static_cast<size_t>(k)] * (reach.asDiagonal() * lines);
         keepOnPlane(layer);
         const RowMatrixX3d& below = k == 0 ? front_.points : blLayers.back();
         const auto [layerWorst, quad] = markPoorCells(below, layer, bad);
@@ -303,6 +304,55 @@ class Marcher {
       }
     }
     return sharp;
+  }
+
+  // Per point, the fraction of the boundary-layer thickness its grid line reaches. Straight lines
+  // that converge or shear against their neighbours (a concave corner such as a wing-body junction,
+  // splayed lines over wall cells much smaller than the layer is thick) fold a cell at some
+  // distance; each wall quad's column is sampled for the first distance where a thin cell of it
+  // falls below the quality threshold, its points' lines stop at half of that, and the fraction
+  // rises back to 1 over a few cells around such a place so that the boundary layer's top has no
+  // step. 1 wherever the whole thickness is safe.
+  Eigen::VectorXd foldLimitedReach(const RowMatrixX3d& lines) const {
+    constexpr int kSamples = 32;
+    constexpr double kShareOfFold = 0.5;
+    constexpr double kRisePerCell = 0.25;
+    const double thickness = options_.boundaryLayerThickness;
+    const Eigen::Index n = front_.points.rows();
+    Eigen::VectorXd reach = Eigen::VectorXd::Ones(n);
+    for (size_t quad = 0; quad < front_.quads.size(); ++quad) {
+      std::array<Vector3d, 8> corners;
+      for (int s = 0; s < kSamples; ++s) {
+        const double lower = thickness * s / kSamples;
+        const double upper = thickness * (s + 1) / kSamples;
+        for (int k = 0; k < 4; ++k) {
+          const int p = front_.quads[quad][static_cast<size_t>(k)];
+          corners[static_cast<size_t>(k)] = (front_.points.row(p) + lower * lines.row(p)).transpose();
+          corners[static_cast<size_t>(k + 4)] = (front_.points.row(p) + upper * lines.row(p)).transpose();
+        }
+        if (hexScaledJacobian(corners) >= options_.minScaledJacobian) continue;
+        // Only a converging column (its cross-section shrinking: a concave corner) is stopped; a
+        // column poor from the wall on, or one diverging around a convex sharp edge, is the splay
+        // band's and the local repair's to mend.
+        const auto area = [&](int base) {
+          return (corners[static_cast<size_t>(base + 2)] - corners[static_cast<size_t>(base)])
+              .cross(corners[static_cast<size_t>(base + 3)] - corners[static_cast<size_t>(base + 1)])
+              .norm();
+        };
+        if (s > 0 && area(4) < area(0) * (1.0 - 1e-9)) {
+          for (int p : front_.quads[quad]) reach[p] = std::min(reach[p], kShareOfFold * lower / thickness);
+        }
+        break;
+      }
+    }
+    for (int round = 0; round < static_cast<int>(std::ceil(1.0 / kRisePerCell)); ++round) {
+      Eigen::VectorXd next = reach;
+      for (Eigen::Index p = 0; p < n; ++p) {
+        for (int q : neighbours_[static_cast<size_t>(p)]) next[p] = std::min(next[p], reach[q] + kRisePerCell);
+      }
+      reach = std::move(next);
+    }
+    return reach;
   }
 
   // Boundary-layer grid-line directions: the wall normals, except in a band of geodesic width
