@@ -1,11 +1,19 @@
-// Volume output costs: the B-spline blocks around the limit surface of a cube (refined 3 times)
-// refined into a stretched, point-matched grid of about 1 M cells (first cell height 1e-5 of the
-// body, growth <= 1.2), against per-point evaluation of as many points measured in the same run
-// (the naive way: basis functions and 64-pole sums for every point on its own); then each writer
-// and the quality metrics, with time and the growth of the peak resident memory per cell.
+// Volume output costs: B-spline blocks refined into a stretched, point-matched grid of about 1 M
+// cells, against per-point evaluation of as many points measured in the same run (the naive way:
+// BsplineVolume::evaluate, basis functions and 64-pole sums for every point on its own, at a
+// lattice of the same size as each block's grid); then each writer and the quality metrics. Each
+// step runs in a child process of its own, so its peak memory is its own and not the largest of
+// the steps before it.
 //
-//   build/bench/bench_grid [target_cells]   (default 1000000)
-#include <chrono>
+//   build/bench/bench_grid [target_cells]
+//       the blocks around the limit surface of a cube (refined 3 times), first cell height 1e-5
+//       of the body, growth <= 1.2
+//   build/bench/bench_grid target_cells block_file reference_length reynolds_number
+//       a block file (BlockMesh.write; bench_volume_m6.py writes the M6's) refined with the
+//       euler and rans presets of bvmesh.grid, the writers on the euler grid
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -20,79 +28,135 @@
 #include "core/io/plot3d_io.h"
 #include "core/io/vtk_writer.h"
 #include "core/quality/cell_quality.h"
+#include "core/volume/block_mesh_io.h"
 #include "core/volume/volume_blocks.h"
 #include "bench_common.h"
 
 namespace {
 
-// Runs `step`, prints its time and how far it raised the peak memory, per cell.
+using bvmesh::grid::RefinementOptions;
+
+constexpr double kCoordinateBytes = 24.0;  // three doubles per point
+
+// Runs `step` in a forked copy of this process (which starts at this one's resident size) and
+// prints its time and how far it raised the resident memory, per cell: what the step itself
+// needs, whatever the steps before it needed.
 void measure(const char* name, long long cells, const std::function<void()>& step) {
-  const long before = peakKilobytes();
-  const auto start = Clock::now();
-  step();
-  const double time = seconds(start);
-  const double grown = 1024.0 * static_cast<double>(peakKilobytes() - before);
-  std::printf("%-28s %8.3f s   peak memory +%6.1f bytes/cell\n", name, time, grown / static_cast<double>(cells));
+  std::fflush(stdout);
+  const pid_t child = fork();
+  if (child == 0) {
+    const long before = peakKilobytes();
+    const auto start = Clock::now();
+    step();
+    const double time = seconds(start);
+    const double grown = 1024.0 * static_cast<double>(peakKilobytes() - before);
+    std::printf("| %-30s | %8.3f | %8.1f |\n", name, time, grown / static_cast<double>(cells));
+    std::fflush(stdout);
+    _exit(0);
+  }
+  int status = 0;
+  waitpid(child, &status, 0);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) std::printf("| %-30s | failed | |\n", name);
+}
+
+// Refinement against per-point evaluation of as many points, block by block, in the same run.
+void compareWithPerPoint(const char* preset, const bvmesh::volume::BlockMesh& blocks, const RefinementOptions& options) {
+  std::fflush(stdout);
+  const pid_t child = fork();
+  if (child == 0) {
+    const long before = peakKilobytes();
+    const auto start = Clock::now();
+    const bvmesh::grid::RefinedGrid refined = bvmesh::grid::refineBlockMesh(blocks, options);
+    const double refineTime = seconds(start);
+    const double grown = 1024.0 * static_cast<double>(peakKilobytes() - before);
+    const bvmesh::grid::StructuredGrid& grid = refined.grid;
+    const auto cells = static_cast<double>(grid.cellCount());
+    const auto points = static_cast<double>(grid.pointCount());
+    double naiveTime = 0.0;
+    for (int b = 0; b < grid.blockCount(); ++b) {
+      const auto& volume = blocks.blocks()[static_cast<size_t>(b)].volume;
+      const auto& size = grid.blocks()[static_cast<size_t>(b)].size;
+      bvmesh::RowMatrixX3d parameters(grid.blocks()[static_cast<size_t>(b)].pointCount(), 3);
+      Eigen::Index row = 0;
+      for (int k = 0; k < size[2]; ++k) {
+        for (int j = 0; j < size[1]; ++j) {
+          for (int i = 0; i < size[0]; ++i, ++row) {
+            const std::array<int, 3> ijk{i, j, k};
+            for (int d = 0; d < 3; ++d) {
+              const double fraction = static_cast<double>(ijk[static_cast<size_t>(d)]) / (size[static_cast<size_t>(d)] - 1);
+              parameters(row, d) = volume.lower(d) + (volume.upper(d) - volume.lower(d)) * fraction;
+            }
+          }
+        }
+      }
+      bvmesh::RowMatrixX3d x;
+      const auto naiveStart = Clock::now();
+      volume.evaluate(parameters, x);
+      naiveTime += seconds(naiveStart);
+    }
+    std::printf("| %-5s | %d | %.0f | %.0f | %d | %.3g..%.3g | %.4f | %.3f | %.1f | %.1f | %.2f | %.1f |\n", preset,
+                grid.blockCount(), cells, points, refined.normalPoints, refined.firstCellHeightMin,
+                refined.firstCellHeightMax, refined.growthMax, refineTime, points / refineTime / 1e6,
+                points / naiveTime / 1e6, naiveTime / refineTime, (grown - kCoordinateBytes * points) / cells);
+    std::fflush(stdout);
+    _exit(0);
+  }
+  int status = 0;
+  waitpid(child, &status, 0);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) std::printf("| %-5s | failed |\n", preset);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
   const long long target = argc > 1 ? std::atoll(argv[1]) : 1000000;
-  bvmesh::volume::VolumeMeshOptions volumeOptions;
-  volumeOptions.boundaryLayerThickness = 0.02;
-  volumeOptions.farfieldDistance = 40.0;
-  const bvmesh::volume::VolumeMesh volume = bvmesh::volume::generateVolumeMesh(refinedCube(3), volumeOptions);
-
-  bvmesh::grid::RefinementOptions options;
-  options.normalPoints = 0;
-  options.firstCellHeight = 1e-5 * 2.0;
+  std::optional<bvmesh::volume::BlockMesh> blocks;
+  std::vector<std::pair<const char*, RefinementOptions>> presets;
+  RefinementOptions options;
   options.targetCells = target;
-  const auto refineStart = Clock::now();
-  const long beforeRefine = peakKilobytes();
-  const bvmesh::grid::RefinedGrid refined = bvmesh::grid::refineBlockMesh(volume.blocks, options);
-  const double refineTime = seconds(refineStart);
-  const bvmesh::grid::StructuredGrid& grid = refined.grid;
-  const long long cells = grid.cellCount();
-  const long long points = grid.pointCount();
-  std::printf("grid: %d blocks, %lld cells, %lld points, %d wall-normal points, first height %.3g..%.3g, growth <= %.4f\n",
-              grid.blockCount(), cells, points, refined.normalPoints, refined.firstCellHeightMin,
-              refined.firstCellHeightMax, refined.growthMax);
-  std::printf("%-28s %8.3f s   %.1f M points/s, peak memory +%.1f bytes/cell\n", "refinement", refineTime,
-              static_cast<double>(points) / refineTime / 1e6,
-              1024.0 * static_cast<double>(peakKilobytes() - beforeRefine) / static_cast<double>(cells));
-
-  // Baseline: as many points evaluated one by one at scattered parameters of the blocks.
-  const auto& blocks = volume.blocks.blocks();
-  const Eigen::Index perBlock = points / static_cast<Eigen::Index>(blocks.size());
-  const auto naiveStart = Clock::now();
-  for (const auto& block : blocks) {
-    bvmesh::RowMatrixX3d parameters(perBlock, 3);
-    for (Eigen::Index p = 0; p < perBlock; ++p) {
-      for (int d = 0; d < 3; ++d) {
-        const double fraction = static_cast<double>((static_cast<unsigned long long>(p) * (d + 7) * 2654435761ull) % 100000) / 99999.0;
-        parameters(p, d) = block.volume.lower(d) + (block.volume.upper(d) - block.volume.lower(d)) * fraction;
-      }
-    }
-    bvmesh::RowMatrixX3d x;
-    block.volume.evaluate(parameters, x);
+  if (argc > 4) {
+    blocks = bvmesh::volume::readBlockMeshFile(argv[2]);
+    options.normalPoints = 49;  // bvmesh.grid.PRESETS
+    options.growth = 1.2;
+    presets.emplace_back("euler", options);
+    options.normalPoints = 0;
+    options.yPlus = 1.0;
+    options.referenceLength = std::atof(argv[3]);
+    options.reynoldsNumber = std::atof(argv[4]);
+    presets.emplace_back("rans", options);
+  } else {
+    bvmesh::volume::VolumeMeshOptions volumeOptions;
+    volumeOptions.boundaryLayerThickness = 0.02;
+    volumeOptions.farfieldDistance = 40.0;
+    blocks = bvmesh::volume::generateVolumeMesh(refinedCube(3), volumeOptions).blocks;
+    options.normalPoints = 0;
+    options.firstCellHeight = 1e-5 * 2.0;
+    presets.emplace_back("wall", options);
   }
-  const double naiveTime = seconds(naiveStart);
-  std::printf("%-28s %8.3f s   %.1f M points/s; refinement / per-point = %.2f\n", "per-point evaluation (baseline)",
-              naiveTime, static_cast<double>(points) / naiveTime / 1e6, naiveTime / refineTime);
+  std::printf("| grid | blocks | cells | points | wall-normal points | first height | growth max | refinement s | "
+              "M points/s | per-point M points/s | ratio | peak bytes/cell beyond coordinates |\n");
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const auto& [name, presetOptions] : presets) compareWithPerPoint(name, *blocks, presetOptions);
 
+  // The writers on the first preset's grid.
+  const bvmesh::grid::StructuredGrid grid = bvmesh::grid::refineBlockMesh(*blocks, presets.front().second).grid;
+  const long long cells = grid.cellCount();
   const std::filesystem::path folder = std::filesystem::temp_directory_path() / "bvmesh_bench_grid";
   std::filesystem::remove_all(folder);
   std::filesystem::create_directories(folder);
-  std::optional<bvmesh::grid::HexTopology> topology;
-  measure("hex topology", cells, [&] { topology.emplace(grid); });
-  measure("quality (all metrics)", cells, [&] { bvmesh::quality::measureCellQuality(*topology); });
+  std::printf("\n%s grid, %lld cells, %lld points (coordinates %.0f MB):\n\n", presets.front().first, cells,
+              static_cast<long long>(grid.pointCount()), kCoordinateBytes * static_cast<double>(grid.pointCount()) / 1048576.0);
+  std::printf("| step | s | peak bytes/cell |\n|---|---|---|\n");
+  measure("hex topology", cells, [&] { const bvmesh::grid::HexTopology topology(grid); });
+  const bvmesh::grid::HexTopology topology(grid);
+  measure("quality (all metrics)", cells, [&] { bvmesh::quality::measureCellQuality(topology); });
   measure("CGNS", cells, [&] { bvmesh::io::writeCgns(grid, (folder / "grid.cgns").string()); });
-  measure("OpenFOAM polyMesh", cells, [&] { bvmesh::io::writeOpenFoamCase(*topology, (folder / "case").string()); });
+  measure("OpenFOAM polyMesh", cells, [&] { bvmesh::io::writeOpenFoamCase(topology, (folder / "case").string()); });
+  measure("OpenFOAM with its topology", cells, [&] {
+    bvmesh::io::writeOpenFoamCase(bvmesh::grid::HexTopology(grid), (folder / "case2").string());
+  });
   measure("Plot3D binary", cells, [&] { bvmesh::io::writePlot3d(grid, (folder / "grid.p3d").string()); });
   measure("VTK multiblock", cells, [&] { bvmesh::io::writeVtk(grid, (folder / "grid.vtm").string()); });
-  std::printf("peak memory %.0f MB; coordinates %.0f MB\n", peakKilobytes() / 1024.0,
-              static_cast<double>(points) * 24.0 / 1048576.0);
   std::filesystem::remove_all(folder);
   return 0;
 }

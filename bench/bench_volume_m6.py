@@ -1,8 +1,10 @@
 """The volume stage on the ONERA M6 (the main job's setting): the block mesh from the fitted wall at
 surface levels 2, 3, 4 (time, peak memory, blocks and poles, or where the marching folds; the fit
 stops at level 3 when it reaches the main job's tolerance there), each
-against the fit to that level measured in the same run; then the Euler grid of about 1 M cells
-from the level-2 blocks, against per-point evaluation of the same blocks measured in the same run.
+against the fit to that level measured in the same run; then the euler and rans grids of about
+1 M cells from the level-2 blocks, against per-point evaluation of as many points of the same
+blocks measured in the same run, and the CGNS and OpenFOAM writers on the euler grid. The
+level-2 blocks are left in a file for build/bench/bench_grid, which measures each step's memory.
 
     PYTHONPATH=Mod:/usr/lib/freecad-python3/lib /usr/bin/python3 bench/bench_volume_m6.py [max_level]
 """
@@ -10,6 +12,7 @@ from the level-2 blocks, against per-point evaluation of the same blocks measure
 import os
 import resource
 import sys
+import tempfile
 import time
 
 import numpy as np
@@ -69,22 +72,47 @@ def main(max_level):
             level2 = volume
     if level2 is None:
         return
-    refine_seconds, refined = timed(lambda: bvmesh.grid.refine(level2, "euler", target_cells=1_000_000))
-    points = refined.grid.point_count
-    # The baseline: the core's per-point evaluation (BlockMesh.evaluate, one basis evaluation per
-    # point, threaded) of block 0 at as many random parameters.
-    blocks = level2.blocks
-    ni, nj, nk = refined.grid.size(0)
-    samples = np.random.default_rng(1).random((points // 4, 3))
-    per_point_seconds, _ = timed(lambda: blocks.evaluate(0, samples))
-    per_point_seconds *= 4
-    per_point_rate = points / per_point_seconds
-    rate = points / refine_seconds
+    block_file = os.path.join(tempfile.gettempdir(), "bvmesh_m6_level2.blocks")
+    level2.blocks.write(block_file)
     print()
-    print("Euler grid from the level-2 blocks: {} cells, {} points in {:.2f} s: {:.2f} M points/s; per-point "
-          "evaluation {:.3f} M points/s: {:.1f}x".format(refined.grid.cell_count, points, refine_seconds, rate / 1e6,
-                                                         per_point_rate / 1e6, rate / per_point_rate))
-    print("block 0 grid {} x {} x {}; peak memory {:.0f} MB".format(ni, nj, nk, peak_megabytes()))
+    print("Grids of about 1 M cells from the level-2 blocks (written to {}, for bench_grid) against per-point "
+          "evaluation (BlockMesh.evaluate) of as many points, block by block at a lattice of each block's grid "
+          "size, in the same run:".format(block_file))
+    print()
+    print("| preset | cells | points | wall-normal points | refinement s | M points/s | per-point M points/s | ratio |")
+    print("|---|---|---|---|---|---|---|---|")
+    grids = {}
+    for preset in ("euler", "rans"):
+        refine_seconds, refined = timed(lambda: bvmesh.grid.refine(
+            level2, preset, target_cells=1_000_000, reynolds_number=REYNOLDS_NUMBER))
+        grids[preset] = refined
+        points = refined.grid.point_count
+        per_point_seconds = 0.0
+        for b in range(refined.grid.block_count):
+            parameters = lattice(level2.blocks, b, refined.grid.size(b))
+            per_point_seconds += timed(lambda: level2.blocks.evaluate(b, parameters))[0]
+        print("| {} | {} | {} | {} | {:.3f} | {:.2f} | {:.2f} | {:.1f} |".format(
+            preset, refined.grid.cell_count, points, refined.normal_points, refine_seconds, points / refine_seconds / 1e6,
+            points / per_point_seconds / 1e6, per_point_seconds / refine_seconds))
+    print()
+    print("Writers on the euler grid (bvmesh.grid.write_*, each with its check for non-positive cells):")
+    print()
+    print("| writer | s |")
+    print("|---|---|")
+    with tempfile.TemporaryDirectory() as folder:
+        for name, write in (("CGNS", lambda: bvmesh.grid.write_cgns(grids["euler"], os.path.join(folder, "m6.cgns"))),
+                            ("OpenFOAM", lambda: bvmesh.grid.write_openfoam(grids["euler"], os.path.join(folder, "m6")))):
+            print("| {} | {:.2f} |".format(name, timed(write)[0]))
+    print()
+    print("peak memory {:.0f} MB (the fit's; bench_grid on the block file measures each step's own)".format(
+        peak_megabytes()))
+
+
+def lattice(blocks, block, size):
+    """Parameters of an ni x nj x nk lattice over the block's parameter box, i fastest."""
+    axes = [np.linspace(knots[0], knots[-1], n) for knots, n in zip(blocks.knots(block), size)]
+    w, v, u = np.meshgrid(axes[2], axes[1], axes[0], indexing="ij")
+    return np.column_stack([u.ravel(), v.ravel(), w.ravel()])
 
 
 if __name__ == "__main__":

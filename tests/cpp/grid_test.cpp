@@ -184,6 +184,55 @@ TEST(GridRefinement, EveryOrientationAndAMirroredBlockArePointMatched) {
   EXPECT_FALSE(refined.grid.viscousWall());
 }
 
+// An unwarped block of [x0, x0 + 1] x [0, 1] x [0, 1] with its wall at z = 1, the upper end of w,
+// whose w knots are `wKnots` and whose poles in w are at z = (Greville)^2: straight wall-normal
+// lines parameterised unevenly.
+volume::Block upperWallBlock(double x0, const std::vector<double>& wKnots) {
+  const std::vector<double> knots = uniformClampedKnots(3, 1);
+  const std::vector<double> across = grevilleAbscissae(knots, 3);
+  const std::vector<double> along = grevilleAbscissae(wKnots, 3);
+  RowMatrixX3d poles(static_cast<Eigen::Index>(16 * along.size()), 3);
+  Eigen::Index row = 0;
+  for (const double w : along) {
+    for (const double v : across) {
+      for (const double u : across) poles.row(row++) = Vector3d(x0 + u, v, w * w).transpose();
+    }
+  }
+  volume::Block block;
+  block.volume = volume::BsplineVolume({3, 3, 3}, {knots, knots, wKnots}, poles);
+  block.faces[5].condition = volume::BoundaryCondition::Wall;
+  return block;
+}
+
+TEST(GridRefinement, UpperEndWallsOnUnevenKnotsFollowTheLawInEveryBlock) {
+  // Two blocks with different w knot vectors, refined together (their wall-normal lines share
+  // threads and chunks): every line runs down from z = 1 by the geometric law of its own length,
+  // to the accuracy of the arc-length inversion on the long last span (~1e-4), and its first
+  // spacing is exact.
+  std::vector<volume::Block> blocks{upperWallBlock(0.0, {0, 0, 0, 0, 0.1, 0.3, 1, 1, 1, 1}),
+                                    upperWallBlock(2.0, {0, 0, 0, 0, 0.6, 1, 1, 1, 1})};
+  RefinementOptions options;
+  options.edgePoints = 7;
+  options.normalPoints = 0;
+  options.firstCellHeight = 1e-3;
+  const RefinedGrid refined = refineBlockMesh(volume::BlockMesh(std::move(blocks)), options);
+  const int points = refined.normalPoints;
+  const std::vector<double> law = geometricDistances(points, 1e-3, geometricGrowth(points, 1e-3, 1.0), 1.0);
+  for (const GridBlock& block : refined.grid.blocks()) {
+    ASSERT_EQ(block.size[2], points);
+    for (int j = 0; j < block.size[1]; ++j) {
+      for (int i = 0; i < block.size[0]; ++i) {
+        for (int k = 0; k < points; ++k) {
+          const double z = block.points(block.index(i, j, k), 2);
+          EXPECT_NEAR(1.0 - z, law[static_cast<size_t>(points - 1 - k)], 2e-4) << i << " " << j << " " << k;
+        }
+        EXPECT_NEAR(block.points(block.index(i, j, points - 1), 2) - block.points(block.index(i, j, points - 2), 2),
+                    1e-3, 1e-15);
+      }
+    }
+  }
+}
+
 TEST(GridRefinement, BlocksStackedOnAWallBlockAreRefused) {
   const test::BoxBlocks box = test::boxBlocks(0.0, true, 2);
   RefinementOptions options;

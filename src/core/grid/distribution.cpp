@@ -30,11 +30,14 @@ void checkPoints(int points, const char* what) {
   if (points < 2) throw InvalidInputError(std::string(what) + ": " + std::to_string(points) + " points (at least 2)");
 }
 
-// (r^n - 1) / (r - 1) without cancellation near r = 1.
-double geometricSum(double growth, int intervals) {
-  const double excess = growth - 1.0;
+// (r^n - 1) / (r - 1) without cancellation near r = 1, from r - 1 and log r.
+double geometricSum(double excess, double logGrowth, int intervals) {
   if (std::abs(excess) < 1e-300) return intervals;
-  return std::expm1(intervals * std::log1p(excess)) / excess;
+  return std::expm1(intervals * logGrowth) / excess;
+}
+
+double geometricSum(double growth, int intervals) {
+  return geometricSum(growth - 1.0, std::log1p(growth - 1.0), intervals);
 }
 
 // Vinokur's formula as published.
@@ -150,7 +153,9 @@ double geometricGrowth(int points, double firstSpacing, double length) {
 
 std::vector<double> geometricDistances(int points, double firstSpacing, double growth, double length) {
   std::vector<double> distance(static_cast<size_t>(points), 0.0);
-  for (int k = 1; k < points; ++k) distance[static_cast<size_t>(k)] = firstSpacing * geometricSum(growth, k);
+  const double excess = growth - 1.0;
+  const double logGrowth = std::log1p(excess);  // once for every k
+  for (int k = 1; k < points; ++k) distance[static_cast<size_t>(k)] = firstSpacing * geometricSum(excess, logGrowth, k);
   distance.back() = length;
   return distance;
 }
@@ -198,32 +203,40 @@ CurveSamples::CurveSamples(const std::vector<double>& knots, int degree, int int
 ArcLength::ArcLength(const BsplineCurve& curve, int intervalsPerSpan)
     : ArcLength(curve, CurveSamples(curve.knots, curve.degree, intervalsPerSpan)) {}
 
-ArcLength::ArcLength(const BsplineCurve& curve, const CurveSamples& samples) {
+void ArcLength::tabulate(const BsplineCurve& curve, const CurveSamples& samples) {
   const size_t ends = samples.ends_;
   const size_t order = static_cast<size_t>(samples.order_);
-  auto speedAt = [&](size_t m) {
-    Eigen::Vector3d tangent = Eigen::Vector3d::Zero();
-    for (size_t r = 0; r < order; ++r) {
-      tangent += samples.derivatives_[m * order + r] * curve.poles.row(samples.first_[m] + static_cast<int>(r)).transpose();
+  // Every wall-normal grid line tabulates its arc length: tight loops over raw rows, the square
+  // roots taken as one array (packed instructions).
+  speed_.resize(samples.parameters_.size());
+  const double* poles = curve.poles.data();
+  for (size_t m = 0; m < speed_.size(); ++m) {
+    const double* derivative = &samples.derivatives_[m * order];
+    const double* pole = poles + 3 * samples.first_[m];
+    double x = 0.0, y = 0.0, z = 0.0;
+    for (size_t r = 0; r < order; ++r, pole += 3) {
+      x += derivative[r] * pole[0];
+      y += derivative[r] * pole[1];
+      z += derivative[r] * pole[2];
     }
-    return tangent.norm();
-  };
+    speed_[m] = x * x + y * y + z * z;
+  }
+  Eigen::Map<Eigen::ArrayXd> speed(speed_.data(), static_cast<Eigen::Index>(speed_.size()));
+  speed = speed.sqrt();
   parameter_.assign(samples.parameters_.begin(), samples.parameters_.begin() + static_cast<std::ptrdiff_t>(ends));
   arc_.assign(ends, 0.0);
-  slope_.resize(ends);
-  std::vector<double> speed(ends);
-  for (size_t m = 0; m < ends; ++m) speed[m] = speedAt(m);
   for (size_t m = 1; m < ends; ++m) {
-    arc_[m] = arc_[m - 1] + (parameter_[m] - parameter_[m - 1]) / 6.0 * (speed[m - 1] + 4.0 * speedAt(ends + m - 1) + speed[m]);
+    arc_[m] = arc_[m - 1] + (parameter_[m] - parameter_[m - 1]) / 6.0 * (speed_[m - 1] + 4.0 * speed_[ends + m - 1] + speed_[m]);
   }
   // Where the curve stops (zero speed), dt/ds is unbounded: fall back to the chord's slope.
   const double meanSpeed = arc_.back() / (parameter_.back() - parameter_.front());
+  slope_.resize(ends);
   for (size_t m = 0; m < ends; ++m) {
     const size_t a = m == 0 ? 0 : m - 1;
     const size_t b = m + 1 == ends ? m : m + 1;
     const double chord = arc_[b] - arc_[a];
     const double fallback = chord > 0.0 ? (parameter_[b] - parameter_[a]) / chord : 0.0;
-    slope_[m] = speed[m] > 1e-9 * meanSpeed ? 1.0 / speed[m] : fallback;
+    slope_[m] = speed_[m] > 1e-9 * meanSpeed ? 1.0 / speed_[m] : fallback;
   }
 }
 

@@ -56,14 +56,19 @@ class CurveSamples {
 // Hermite interpolation of t(s) (dt/ds = 1 / |C'(t)|).
 class ArcLength {
  public:
-  ArcLength(const BsplineCurve& curve, const CurveSamples& samples);
+  ArcLength() = default;  // no table until tabulate()
+  ArcLength(const BsplineCurve& curve, const CurveSamples& samples) { tabulate(curve, samples); }
   ArcLength(const BsplineCurve& curve, int intervalsPerSpan);
+  // Tabulates `curve` afresh in the storage of the last table (one ArcLength serves a thread's
+  // wall-normal lines one after the other without allocating).
+  void tabulate(const BsplineCurve& curve, const CurveSamples& samples);
   double length() const { return arc_.back(); }
   // The parameter at arc length s (0 <= s <= length()) from the curve's start.
   double parameterAt(double s) const;
 
  private:
   std::vector<double> parameter_, arc_, slope_;  // t_m, s(t_m), dt/ds at t_m
+  std::vector<double> speed_;                    // |C'| at the samples (kept for its storage)
 };
 
 // The parameter t (from t0 towards the curve's other end, in `direction` +1 or -1) whose point is

@@ -134,6 +134,29 @@ void checkOptions(const RefinementOptions& options) {
 
 std::string blockText(size_t b) { return "block " + std::to_string(b); }
 
+// What the wall-normal lines measure: the first point's distance from the wall, the largest
+// ratio of consecutive spacings.
+struct LineMeasures {
+  double firstHeightMin = std::numeric_limits<double>::infinity();
+  double firstHeightMax = 0.0;
+  double growthMax = 0.0;
+
+  void add(const LineMeasures& other) {
+    firstHeightMin = std::min(firstHeightMin, other.firstHeightMin);
+    firstHeightMax = std::max(firstHeightMax, other.firstHeightMax);
+    growthMax = std::max(growthMax, other.growthMax);
+  }
+};
+
+// One wall-normal line at a time: a thread reuses its storage from column to column.
+struct WallLine {
+  size_t block = std::numeric_limits<size_t>::max();  // whose knots `curve` has
+  BsplineCurve curve;
+  ArcLength arc;
+  std::vector<double> distance;
+  LineMeasures measured;  // over the thread's lines so far
+};
+
 }  // namespace
 
 RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& options) {
@@ -300,52 +323,72 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
   // Automatic: the edges' estimate served the cell target; the lines themselves decide.
   const bool automaticNormal = options.normalPoints == 0;
   if (automaticNormal) normalPoints = 2;
-  struct Column {
-    BsplineCurve curve;
-    ArcLength arc;
-  };
   std::vector<std::optional<CurveSamples>> columnSamples(blockCount);
+  // The columns of every wall block numbered one block after the other, so that one pool of
+  // threads shares them all (blocks differ in size by orders of magnitude).
+  std::vector<std::int64_t> columnOffset{0};
   for (size_t b = 0; b < blockCount; ++b) {
     const int n = plans[b].normalDirection;
-    if (n >= 0) columnSamples[b].emplace(blocks[b].volume.knots(n), blocks[b].volume.degree(n), kIntervalsPerSpan);
-  }
-  auto column = [&](size_t b, const std::array<int, 3>& ijk) {
-    const BlockPlan& plan = plans[b];
-    const auto [t1, t2] = otherDirections(plan.normalDirection);
-    const BsplineCurve curve =
-        blocks[b].volume.isoCurve(plan.normalDirection, pointParameter(plan, t1, ijk), pointParameter(plan, t2, ijk));
-    const ArcLength arc(curve, *columnSamples[b]);
-    if (!(arc.length() > 0.0)) {
-      throw InvalidInputError(blockText(b) + " has a wall-normal line of zero length at (" + std::to_string(ijk[0]) +
-                              ", " + std::to_string(ijk[1]) + ", " + std::to_string(ijk[2]) + ")");
+    std::int64_t columns = 0;
+    if (n >= 0) {
+      columnSamples[b].emplace(blocks[b].volume.knots(n), blocks[b].volume.degree(n), kIntervalsPerSpan);
+      const auto [t1, t2] = otherDirections(n);
+      columns = static_cast<std::int64_t>(plans[b].size[static_cast<size_t>(t1)]) * plans[b].size[static_cast<size_t>(t2)];
     }
-    return Column{curve, arc};
+    columnOffset.push_back(columnOffset.back() + columns);
+  }
+  // Calls work(b, ijk) for the columns [begin, end) (ijk with index 0 along the normal).
+  auto forColumns = [&](std::int64_t begin, std::int64_t end, auto&& work) {
+    size_t b = static_cast<size_t>(std::upper_bound(columnOffset.begin(), columnOffset.end(), begin) - columnOffset.begin()) - 1;
+    for (std::int64_t c = begin; c < end; ++c) {
+      while (c >= columnOffset[b + 1]) ++b;
+      const auto [t1, t2] = otherDirections(plans[b].normalDirection);
+      const int n1 = plans[b].size[static_cast<size_t>(t1)];
+      const std::int64_t local = c - columnOffset[b];
+      std::array<int, 3> ijk{0, 0, 0};
+      ijk[static_cast<size_t>(t1)] = static_cast<int>(local % n1);
+      ijk[static_cast<size_t>(t2)] = static_cast<int>(local / n1);
+      work(b, ijk);
+    }
   };
-  auto forEachColumn = [&](size_t b, auto&& work) {
-    const BlockPlan& plan = plans[b];
-    const auto [t1, t2] = otherDirections(plan.normalDirection);
-    const int n1 = plan.size[static_cast<size_t>(t1)];
-    const int n2 = plan.size[static_cast<size_t>(t2)];
-    parallelChunks(static_cast<std::int64_t>(n1) * n2, 64, [&](std::int64_t begin, std::int64_t end) {
-      for (std::int64_t c = begin; c < end; ++c) {
-        std::array<int, 3> ijk{0, 0, 0};
-        ijk[static_cast<size_t>(t1)] = static_cast<int>(c % n1);
-        ijk[static_cast<size_t>(t2)] = static_cast<int>(c / n1);
-        work(ijk);
-      }
+  // Calls work(b, ijk, line) for every column, `line` holding its wall-normal line and arc
+  // length; returns what the work measured into the lines.
+  auto forEveryColumn = [&](auto&& work) {
+    LineMeasures measured;
+    std::mutex guard;
+    parallelChunks(columnOffset.back(), 64, [&](std::int64_t begin, std::int64_t end) {
+      WallLine line;
+      forColumns(begin, end, [&](size_t b, const std::array<int, 3>& ijk) {
+        const BlockPlan& plan = plans[b];
+        const BsplineVolume& volume = blocks[b].volume;
+        const int n = plan.normalDirection;
+        const auto [t1, t2] = otherDirections(n);
+        if (line.block != b) {
+          line.block = b;
+          line.curve.degree = volume.degree(n);
+          line.curve.knots = volume.knots(n);
+        }
+        volume.isoCurvePoles(n, pointParameter(plan, t1, ijk), pointParameter(plan, t2, ijk), line.curve.poles);
+        line.arc.tabulate(line.curve, *columnSamples[b]);
+        if (!(line.arc.length() > 0.0)) {
+          throw InvalidInputError(blockText(b) + " has a wall-normal line of zero length at (" + std::to_string(ijk[0]) +
+                                  ", " + std::to_string(ijk[1]) + ", " + std::to_string(ijk[2]) + ")");
+        }
+        work(b, ijk, line);
+      });
+      const std::lock_guard<std::mutex> lock(guard);
+      measured.add(line.measured);
     });
+    return measured;
   };
   if (automaticNormal) {
     // The fewest points that keep every line's growth within the maximum.
-    for (size_t b = 0; b < blockCount; ++b) {
-      if (plans[b].normalDirection < 0) continue;
-      std::mutex guard;
-      forEachColumn(b, [&](const std::array<int, 3>& ijk) {
-        const int needed = geometricPointsNeeded(firstHeight, options.growth, column(b, ijk).arc.length());
-        const std::lock_guard<std::mutex> lock(guard);
-        normalPoints = std::max(normalPoints, needed);
-      });
-    }
+    std::mutex guard;
+    forEveryColumn([&](size_t, const std::array<int, 3>&, const WallLine& line) {
+      const int needed = geometricPointsNeeded(firstHeight, options.growth, line.arc.length());
+      const std::lock_guard<std::mutex> lock(guard);
+      normalPoints = std::max(normalPoints, needed);
+    });
   }
   for (size_t b = 0; b < blockCount; ++b) {
     BlockPlan& plan = plans[b];
@@ -357,59 +400,81 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
   }
   for (size_t b = 0; b < blockCount; ++b) {
     const BlockPlan& plan = plans[b];
+    if (plan.normalDirection >= 0) continue;
+    // No wall-normal direction: every parameter blended from the block's edges.
     GridBlock& grid = gridBlocks[b];
-    if (plan.normalDirection < 0) {
-      // No wall-normal direction: every parameter blended from the block's edges.
-      RowMatrixX3d parameters(grid.pointCount(), 3);
-      for (int k = 0; k < grid.size[2]; ++k) {
-        for (int j = 0; j < grid.size[1]; ++j) {
-          for (int i = 0; i < grid.size[0]; ++i) {
-            const std::array<int, 3> ijk{i, j, k};
-            for (int d = 0; d < 3; ++d) parameters(grid.index(i, j, k), d) = pointParameter(plan, d, ijk);
-          }
+    RowMatrixX3d parameters(grid.pointCount(), 3);
+    for (int k = 0; k < grid.size[2]; ++k) {
+      for (int j = 0; j < grid.size[1]; ++j) {
+        for (int i = 0; i < grid.size[0]; ++i) {
+          const std::array<int, 3> ijk{i, j, k};
+          for (int d = 0; d < 3; ++d) parameters(grid.index(i, j, k), d) = pointParameter(plan, d, ijk);
         }
       }
-      blocks[b].volume.evaluate(parameters, grid.points);
-      continue;
     }
-    const int n = plan.normalDirection;
-    const int points = plan.size[static_cast<size_t>(n)];
-    forEachColumn(b, [&](const std::array<int, 3>& base) {
-      const Column line = column(b, base);
-      const double length = line.arc.length();
-      const double height = firstHeight > 0.0 ? firstHeight
-                                              : length * (options.growth - 1.0) /
-                                                    std::expm1((points - 1) * std::log(options.growth));
-      std::vector<double> distance;
-      if (firstHeight > 0.0 && options.distribution == WallDistribution::Tanh) {
-        distance = tanhWallFractions(points, height / length);
-        for (double& x : distance) x *= length;
-      } else {
-        const double growth = firstHeight > 0.0 ? geometricGrowth(points, height, length) : options.growth;
-        if (growth > options.growth * (1.0 + 1e-12)) {
-          throw InvalidInputError(blockText(b) + ": a first cell height of " + std::to_string(height) + " over " +
-                                  std::to_string(length) + " with " + std::to_string(points) +
-                                  " wall-normal points needs a growth ratio of " + std::to_string(growth) +
-                                  ", above the maximum " + std::to_string(options.growth) + "; at least " +
-                                  std::to_string(geometricPointsNeeded(height, options.growth, length)) +
-                                  " points are needed (normal_points = 0 picks them)");
-        }
-        distance = geometricDistances(points, height, growth, length);
-      }
-      const int step = plan.wallEnd == 0 ? 1 : -1;
-      const double wallParameter = parameterAtEnd(blocks[b].volume, n, plan.wallEnd);
-      std::array<int, 3> ijk = base;
-      for (int k = 0; k < points; ++k) {
-        const double s = distance[static_cast<size_t>(k)];
-        double t = line.arc.parameterAt(plan.wallEnd == 0 ? s : length - s);
-        if (k == 0) t = wallParameter;
-        else if (k == 1) t = parameterAtDistance(line.curve, wallParameter, step, height, t);  // exact first height
-        else if (k == points - 1) t = parameterAtEnd(blocks[b].volume, n, 1 - plan.wallEnd);
-        ijk[static_cast<size_t>(n)] = plan.wallEnd == 0 ? k : points - 1 - k;
-        grid.points.row(grid.index(ijk[0], ijk[1], ijk[2])) = line.curve.point(t).transpose();
-      }
-    });
+    blocks[b].volume.evaluate(parameters, grid.points);
   }
+  const int points = normalPoints;
+  // Without a first cell height every line has the same geometric law up to its length: its
+  // sums 1 + g + ... + g^(k-1) serve them all.
+  const std::vector<double> unitSums =
+      firstHeight > 0.0 ? std::vector<double>{} : geometricDistances(points, 1.0, options.growth, 1.0);
+  const LineMeasures measured = forEveryColumn([&](size_t b, const std::array<int, 3>& base, WallLine& line) {
+    const BlockPlan& plan = plans[b];
+    GridBlock& grid = gridBlocks[b];
+    const int n = plan.normalDirection;
+    const double length = line.arc.length();
+    const double height = firstHeight > 0.0 ? firstHeight
+                                            : length * (options.growth - 1.0) /
+                                                  std::expm1((points - 1) * std::log(options.growth));
+    std::vector<double>& distance = line.distance;
+    if (firstHeight == 0.0) {
+      distance.resize(static_cast<size_t>(points));
+      for (size_t k = 0; k < distance.size(); ++k) distance[k] = height * unitSums[k];
+      distance.back() = length;
+    } else if (options.distribution == WallDistribution::Tanh) {
+      distance = tanhWallFractions(points, height / length);
+      for (double& x : distance) x *= length;
+    } else {
+      const double growth = geometricGrowth(points, height, length);
+      if (growth > options.growth * (1.0 + 1e-12)) {
+        throw InvalidInputError(blockText(b) + ": a first cell height of " + std::to_string(height) + " over " +
+                                std::to_string(length) + " with " + std::to_string(points) +
+                                " wall-normal points needs a growth ratio of " + std::to_string(growth) +
+                                ", above the maximum " + std::to_string(options.growth) + "; at least " +
+                                std::to_string(geometricPointsNeeded(height, options.growth, length)) +
+                                " points are needed (normal_points = 0 picks them)");
+      }
+      distance = geometricDistances(points, height, growth, length);
+    }
+    const int step = plan.wallEnd == 0 ? 1 : -1;
+    const double wallParameter = parameterAtEnd(blocks[b].volume, n, plan.wallEnd);
+    std::array<int, 3> ijk = base;
+    Eigen::Vector3d previousPoint;
+    double previousStep = 0.0;
+    for (int k = 0; k < points; ++k) {
+      const double s = distance[static_cast<size_t>(k)];
+      double t = line.arc.parameterAt(plan.wallEnd == 0 ? s : length - s);
+      if (k == 0) t = wallParameter;
+      else if (k == 1) t = parameterAtDistance(line.curve, wallParameter, step, height, t);  // exact first height
+      else if (k == points - 1) t = parameterAtEnd(blocks[b].volume, n, 1 - plan.wallEnd);
+      ijk[static_cast<size_t>(n)] = plan.wallEnd == 0 ? k : points - 1 - k;
+      const Eigen::Vector3d point = line.curve.point(t);
+      grid.points.row(grid.index(ijk[0], ijk[1], ijk[2])) = point.transpose();
+      // Measured here, where the line's points are at hand (in the grid they lie far apart).
+      if (k > 0) {
+        const double gap = (point - previousPoint).norm();
+        if (k == 1) {
+          line.measured.firstHeightMin = std::min(line.measured.firstHeightMin, gap);
+          line.measured.firstHeightMax = std::max(line.measured.firstHeightMax, gap);
+        } else {
+          line.measured.growthMax = std::max(line.measured.growthMax, gap / previousStep);
+        }
+        previousStep = gap;
+      }
+      previousPoint = point;
+    }
+  });
 
   // Shared points made identical (the first block's copy wins), after checking they agree.
   std::vector<std::array<volume::BlockFace, 6>> faces;
@@ -420,7 +485,12 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
     faces.push_back(grid.faces);
     sizes.push_back(grid.size);
     offset.push_back(offset.back() + grid.pointCount());
-    extent = std::max(extent, (grid.points.colwise().maxCoeff() - grid.points.colwise().minCoeff()).norm());
+    Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), high = -low;
+    for (Eigen::Index r = 0; r < grid.points.rows(); ++r) {
+      low = low.cwiseMin(grid.points.row(r).transpose());
+      high = high.cwiseMax(grid.points.row(r).transpose());
+    }
+    extent = std::max(extent, (high - low).norm());
   }
   const std::vector<Eigen::Index> roots = volume::sharedGridRoots(faces, sizes);
   auto locate = [&](Eigen::Index global) {
@@ -444,36 +514,9 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
   RefinedGrid result;
   result.normalPoints = normalPoints;
   result.firstCellHeightAsked = firstHeight;
-  result.firstCellHeightMin = std::numeric_limits<double>::infinity();
-  bool anyWall = false;
-  for (size_t b = 0; b < blockCount; ++b) {
-    const BlockPlan& plan = plans[b];
-    if (plan.normalDirection < 0) continue;
-    anyWall = true;
-    const GridBlock& grid = gridBlocks[b];
-    const int n = plan.normalDirection;
-    const auto [t1, t2] = otherDirections(n);
-    for (int i2 = 0; i2 < grid.size[static_cast<size_t>(t2)]; ++i2) {
-      for (int i1 = 0; i1 < grid.size[static_cast<size_t>(t1)]; ++i1) {
-        auto at = [&](int k) {
-          std::array<int, 3> ijk{};
-          ijk[static_cast<size_t>(t1)] = i1;
-          ijk[static_cast<size_t>(t2)] = i2;
-          ijk[static_cast<size_t>(n)] = plan.wallEnd == 0 ? k : grid.size[static_cast<size_t>(n)] - 1 - k;
-          return grid.points.row(grid.index(ijk[0], ijk[1], ijk[2]));
-        };
-        double previous = (at(1) - at(0)).norm();
-        result.firstCellHeightMin = std::min(result.firstCellHeightMin, previous);
-        result.firstCellHeightMax = std::max(result.firstCellHeightMax, previous);
-        for (int k = 2; k < grid.size[static_cast<size_t>(n)]; ++k) {
-          const double step = (at(k) - at(k - 1)).norm();
-          result.growthMax = std::max(result.growthMax, step / previous);
-          previous = step;
-        }
-      }
-    }
-  }
-  if (!anyWall) result.firstCellHeightMin = 0.0;
+  result.firstCellHeightMin = columnOffset.back() > 0 ? measured.firstHeightMin : 0.0;
+  result.firstCellHeightMax = measured.firstHeightMax;
+  result.growthMax = measured.growthMax;
   result.grid = StructuredGrid(std::move(gridBlocks), firstHeight > 0.0);
   return result;
 }

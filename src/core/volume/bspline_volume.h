@@ -39,13 +39,16 @@ class BsplineVolume {
   void evaluate(const RowMatrixX3d& parameters, RowMatrixX3d& points, RowMatrixX3d* du = nullptr,
                 RowMatrixX3d* dv = nullptr, RowMatrixX3d* dw = nullptr) const;
 
-  // The tensor grid of parameters u x v x w: point (a, b, c) at row a + #u * (b + #v * c). The
-  // basis is computed once per parameter and the sums are taken one direction at a time, which
-  // is what makes grid evaluation fast (see bench_volume).
   // The iso-parametric curve along `direction` (0 u, 1 v, 2 w) at parameters a, b of the two other
   // directions in increasing order: its poles are the block's poles summed over those directions.
   BsplineCurve isoCurve(int direction, double a, double b) const;
+  // Only its poles, into `poles` (#poles along `direction` x 3; its storage is reused when the
+  // size matches, so a loop over many lines allocates nothing).
+  void isoCurvePoles(int direction, double a, double b, RowMatrixX3d& poles) const;
 
+  // The tensor grid of parameters u x v x w: point (a, b, c) at row a + #u * (b + #v * c). The
+  // basis is computed once per parameter and the sums are taken one direction at a time, which
+  // is what makes grid evaluation fast (see bench_volume).
   void evaluateGrid(const std::vector<double>& u, const std::vector<double>& v, const std::vector<double>& w,
                     RowMatrixX3d& points, RowMatrixX3d* du = nullptr, RowMatrixX3d* dv = nullptr,
                     RowMatrixX3d* dw = nullptr) const;
