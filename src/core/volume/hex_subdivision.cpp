@@ -202,6 +202,18 @@ Topology buildTopology(const HexMesh& mesh) {
   return topology;
 }
 
+// Runs `work`, prefixing the message of what the surface stage throws with `context` (same type).
+template <class Work>
+auto withContext(const std::string& context, Work&& work) {
+  try {
+    return work();
+  } catch (const TopologyError& error) {
+    throw TopologyError(context + error.what());
+  } catch (const InvalidInputError& error) {
+    throw InvalidInputError(context + error.what());
+  }
+}
+
 // The boundary as the surface stage's control mesh: quads pointing out, points renumbered
 // (local vertex v is mesh point `points[v]`), creases as given plus condition changes.
 struct BoundarySurface {
@@ -309,13 +321,11 @@ BoundarySurface buildBoundary(const HexMesh& mesh, const Topology& topology) {
     }
     corners.push_back(localOf[static_cast<size_t>(p)]);
   }
-  try {
+  return withContext("the boundary surface (face f = boundary face f): ", [&]() -> BoundarySurface {
     return {std::move(points), std::move(boundary.faces), std::move(boundary.quads),
             ControlMesh(std::move(vertices), std::vector<int>(boundaryCount, 4), std::move(faceIndices),
                         std::move(creasePairs), Eigen::VectorXd(), std::move(corners))};
-  } catch (const TopologyError& error) {
-    throw TopologyError(std::string("the boundary surface of the hex mesh: ") + error.what());
-  }
+  });
 }
 
 }  // namespace
@@ -342,7 +352,8 @@ HexSubdivisionResult subdivideHexMesh(const HexMesh& mesh, const SubdivisionOpti
   validateCells(mesh);
   const Topology topology = buildTopology(mesh);
   const BoundarySurface boundary = buildBoundary(mesh, topology);
-  const SubdivisionResult surface = subdivide(boundary.controlMesh, options);
+  const SubdivisionResult surface = withContext("the refined boundary surface (face f = refined boundary face f): ",
+                                                [&] { return subdivide(boundary.controlMesh, options); });
 
   const int pointCount = static_cast<int>(mesh.points.rows());
   const int edgeBase = pointCount;
