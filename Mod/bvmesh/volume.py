@@ -40,6 +40,20 @@ def offset_and_farfield(fit_or_mesh, symmetry_plane=None, **options):
 HEX_MESH_KEYS = ("points", "cells", "boundary_faces", "boundary_conditions", "creases", "corners")
 
 
+def _hex_mesh_of(mesh, caller):
+    core = load_core()
+    if isinstance(mesh, core.VolumeMesh):
+        mesh = mesh.blocks
+    if isinstance(mesh, core.BlockMesh):
+        mesh = core.hex_mesh_of_blocks(mesh)
+    if not isinstance(mesh, dict):
+        raise TypeError("{} takes a VolumeMesh, a BlockMesh or a hex mesh dict, got {}".format(caller, type(mesh).__name__))
+    missing = [key for key in HEX_MESH_KEYS[:4] if key not in mesh]
+    if missing:
+        raise ValueError("the hex mesh has no {}".format(", ".join(missing)))
+    return mesh
+
+
 def subdivide(mesh, steps=1):
     """`steps` volumetric Catmull-Clark steps of a hexahedral mesh (docs/volume.md).
 
@@ -51,23 +65,27 @@ def subdivide(mesh, steps=1):
     points' = S @ points (the product of the steps' operators). Raises ValueError naming the cell,
     face or crease for a mesh it cannot refine."""
     core = load_core()
-    if isinstance(mesh, core.VolumeMesh):
-        mesh = mesh.blocks
-    if isinstance(mesh, core.BlockMesh):
-        mesh = core.hex_mesh_of_blocks(mesh)
-    if not isinstance(mesh, dict):
-        raise TypeError("subdivide takes a VolumeMesh, a BlockMesh or a hex mesh dict, got {}".format(type(mesh).__name__))
+    mesh = _hex_mesh_of(mesh, "subdivide")
     if not isinstance(steps, int) or isinstance(steps, bool) or steps < 1:
         raise ValueError("steps must be an int >= 1, got {!r}".format(steps))
-    missing = [key for key in HEX_MESH_KEYS[:4] if key not in mesh]
-    if missing:
-        raise ValueError("the hex mesh has no {}".format(", ".join(missing)))
     operator = None
     for _ in range(steps):
         mesh = core.subdivide_hex_mesh(*(mesh.get(key) for key in HEX_MESH_KEYS))
         operator = mesh["operator"] if operator is None else mesh["operator"] @ operator
     mesh["operator"] = operator
     return mesh
+
+
+def fit_on_volume(mesh, target, passes=3, **options):
+    """Fitting that goes on after the volume exists (docs/volume.md): one volumetric Catmull-Clark
+    step, `passes` passes of limit samples, projection onto `target` and least squares on the wall
+    faces, the interior points following the wall harmonically (the rest of the boundary held).
+
+    mesh: as subdivide takes it. target: a bvmesh.Target. options: those of bvmesh.SurfaceFitter
+    (symmetry_plane, tolerance, weights, solver, ...). Returns subdivide's dict for one step with
+    the fitted points, plus 'wall' (the last pass's record: max_distance, rms_distance, ...) and
+    'min_scaled_jacobian'. Raises bvmesh.SolverError naming the cell when one turns over."""
+    return load_core().subdivide_and_fit_volume(_hex_mesh_of(mesh, "fit_on_volume"), target, passes, **options)
 
 
 def write_hex_vtk(mesh, path):

@@ -12,6 +12,7 @@
 #include "arrays.h"
 #include "bindings.h"
 #include "block_faces.h"
+#include "hex_mesh.h"
 #include "core/mesh/control_mesh.h"
 #include "core/surface/limit_points.h"
 #include "core/grid/subdivision_refinement.h"
@@ -55,64 +56,6 @@ volume::VolumeMesh generate(const surface::QuadControlMesh& wall, const py::obje
   }
   py::gil_scoped_release release;
   return volume::generateVolumeMesh(wall, options);
-}
-
-// An (n, columns) integer array as n rows of ids; an empty sequence is n = 0.
-template <size_t columns>
-std::vector<std::array<int, columns>> indexRowsOf(const py::object& object, const char* name) {
-  const py::array array = py::array::ensure(object);
-  if (array && array.ndim() == 1 && array.shape(0) == 0) return {};
-  if (!array || array.ndim() != 2 || array.shape(1) != static_cast<py::ssize_t>(columns)) {
-    throw py::value_error(std::string(name) + " must be an integer array of shape (n, " + std::to_string(columns) + ")" +
-                          (array ? ", got " + shapeText(array) : std::string()));
-  }
-  const std::vector<int> flat = intsOf(array.attr("reshape")(-1), name);
-  std::vector<std::array<int, columns>> rows(flat.size() / columns);
-  for (size_t r = 0; r < rows.size(); ++r) std::copy_n(flat.begin() + static_cast<std::ptrdiff_t>(columns * r), columns, rows[r].begin());
-  return rows;
-}
-
-template <size_t columns>
-py::array_t<int> indexRowsArray(const std::vector<std::array<int, columns>>& rows) {
-  py::array_t<int> out({static_cast<py::ssize_t>(rows.size()), static_cast<py::ssize_t>(columns)});
-  for (size_t r = 0; r < rows.size(); ++r) std::copy(rows[r].begin(), rows[r].end(), out.mutable_data() + columns * r);
-  return out;
-}
-
-py::dict hexMeshDict(const volume::HexMesh& mesh) {
-  py::dict out;
-  out["points"] = rowsArray(mesh.points);
-  out["cells"] = indexRowsArray(mesh.cells);
-  out["boundary_faces"] = indexRowsArray(mesh.boundaryFaces);
-  py::list conditions;
-  for (auto c : mesh.boundaryConditions) conditions.append(volume::boundaryConditionName(c));
-  out["boundary_conditions"] = conditions;
-  std::vector<std::array<int, 2>> creases(static_cast<size_t>(mesh.creases.rows()));
-  for (size_t c = 0; c < creases.size(); ++c) creases[c] = {mesh.creases(static_cast<Eigen::Index>(c), 0), mesh.creases(static_cast<Eigen::Index>(c), 1)};
-  out["creases"] = indexRowsArray(creases);
-  out["corners"] = mesh.corners;
-  return out;
-}
-
-volume::HexMesh hexMeshOf(const py::object& points, const py::object& cells, const py::object& boundaryFaces,
-                          const py::object& boundaryConditions, const py::object& creases, const py::object& corners) {
-  volume::HexMesh mesh;
-  mesh.points = rowsOf(points, "points", 3);
-  mesh.cells = indexRowsOf<8>(cells, "cells");
-  mesh.boundaryFaces = indexRowsOf<4>(boundaryFaces, "boundary_faces");
-  for (const py::handle& name : boundaryConditions) {
-    const std::string word = py::str(name);
-    const auto condition = volume::findBoundaryCondition(word);
-    if (!condition) throw py::value_error("boundary_conditions: unknown boundary condition '" + word + "'");
-    mesh.boundaryConditions.push_back(*condition);
-  }
-  if (!creases.is_none()) {
-    const auto pairs = indexRowsOf<2>(creases, "creases");
-    mesh.creases.resize(static_cast<Eigen::Index>(pairs.size()), 2);
-    for (size_t c = 0; c < pairs.size(); ++c) mesh.creases.row(static_cast<Eigen::Index>(c)) << pairs[c][0], pairs[c][1];
-  }
-  if (!corners.is_none()) mesh.corners = intsOf(corners, "corners");
-  return mesh;
 }
 
 }  // namespace

@@ -1,7 +1,7 @@
 """Volumetric Catmull-Clark from Python: the volume mesh around a fitted sphere refined by
 subdivision into a grid that quality, checkMesh and VTK accept, the operator against the points it
-maps, the M6 volume refined without an inverted cell, the raw hex mesh interface on a hand-made
-mesh, and errors that name the problem."""
+maps, the wall fitted again after a volume step, the M6 volume refined without an inverted cell,
+the raw hex mesh interface on a hand-made mesh, and errors that name the problem."""
 
 import os
 import subprocess
@@ -62,6 +62,7 @@ class SphereSubdivision(unittest.TestCase):
         fitter.run()
         cls.volume = bvmesh.volume.offset_and_farfield(fitter, boundary_layer_thickness=0.05,
                                                        farfield_distance=20.0, reference_length=1.0)
+        cls.target, cls.fitter = target, fitter
         cls.grids = {k: bvmesh.grid.refine(cls.volume, method="subdivision", steps=k) for k in (1, 2)}
         cls.folder = tempfile.TemporaryDirectory()
 
@@ -99,6 +100,24 @@ class SphereSubdivision(unittest.TestCase):
         self.assertLess(deviations[1], deviations[0])
         bspline = bvmesh.grid.refine(self.volume, "euler", edge_points=9, normal_points=17)
         self.assertLess(wall_deviation(bspline.grid), deviations[1] / 10)
+
+    def test_fitting_goes_on_after_the_volume_exists(self):
+        # One volume step with 3 passes on the wall: closer to the sphere than the level-2 surface
+        # fit the volume was made from, the interior still valid.
+        fitted = bvmesh.volume.fit_on_volume(self.volume, self.target, passes=3, tolerance=1e-9,
+                                             check_samples_per_face=0)
+        surface = self.fitter.record(False)["max_distance"]
+        self.assertLess(fitted["wall"]["max_distance"], surface / 2)
+        self.assertEqual(fitted["wall"]["failed_projections"], 0)
+        self.assertGreater(fitted["min_scaled_jacobian"], 0.3)
+        refined = bvmesh.volume.subdivide(self.volume)
+        self.assertEqual(len(fitted["points"]), len(refined["points"]))
+        np.testing.assert_array_equal(fitted["cells"], refined["cells"])
+        # The wall moved, the far field did not.
+        wall = np.unique(fitted["boundary_faces"][[c == "wall" for c in fitted["boundary_conditions"]]])
+        far = np.unique(fitted["boundary_faces"][[c == "farfield" for c in fitted["boundary_conditions"]]])
+        self.assertGreater(np.abs(fitted["points"][wall] - refined["points"][wall]).max(), 1e-4)
+        np.testing.assert_array_equal(fitted["points"][far], refined["points"][far])
 
     def test_checkmesh_fails_only_on_the_thin_wall_cells(self):
         case = os.path.join(self.folder.name, "subdivided")

@@ -17,10 +17,8 @@ namespace {
 // The corner at (x, y, z), at index x + 2 y + 4 z: kHexCornerBits inverted.
 constexpr std::array<int, 8> kCornerOfBits{0, 1, 3, 2, 4, 5, 7, 6};
 
-// The 12 edges (4 along x, 4 along y, 4 along z) and the 6 faces (x min, x max, y min, y max,
-// z min, z max: BlockFaceSide order), counter-clockwise seen from outside a right-handed cell.
-constexpr std::array<std::array<int, 2>, 12> kCellEdges{
-    {{0, 1}, {3, 2}, {4, 5}, {7, 6}, {0, 3}, {1, 2}, {4, 7}, {5, 6}, {0, 4}, {1, 5}, {2, 6}, {3, 7}}};
+// The 6 faces (x min, x max, y min, y max, z min, z max: BlockFaceSide order), counter-clockwise
+// seen from outside a right-handed cell.
 constexpr std::array<std::array<int, 4>, 6> kCellFaces{
     {{0, 4, 7, 3}, {1, 2, 6, 5}, {0, 1, 5, 4}, {3, 7, 6, 2}, {0, 3, 2, 1}, {4, 5, 6, 7}}};
 
@@ -54,7 +52,7 @@ std::array<LatticePosition, 27> makeLattice() {
         ends[static_cast<size_t>(side)] = kCornerOfBits[static_cast<size_t>(bits[0] + 2 * bits[1] + 4 * bits[2])];
       }
       for (int e = 0; e < 12; ++e) {
-        const auto& edge = kCellEdges[static_cast<size_t>(e)];
+        const auto& edge = kHexCellEdges[static_cast<size_t>(e)];
         if ((edge[0] == ends[0] && edge[1] == ends[1]) || (edge[0] == ends[1] && edge[1] == ends[0])) position.local = e;
       }
     } else if (middle == 2) {
@@ -173,7 +171,7 @@ Topology buildTopology(const HexMesh& mesh) {
   for (size_t c = 0; c < cellCount; ++c) {
     const auto& cell = mesh.cells[c];
     for (size_t e = 0; e < 12; ++e) {
-      const auto key = edgeKey(cell[static_cast<size_t>(kCellEdges[e][0])], cell[static_cast<size_t>(kCellEdges[e][1])]);
+      const auto key = edgeKey(cell[static_cast<size_t>(kHexCellEdges[e][0])], cell[static_cast<size_t>(kHexCellEdges[e][1])]);
       topology.cellEdges[12 * c + e] = topology.edgeOfKey.try_emplace(key, topology.edgeCount()).first->second;
     }
     for (int side = 0; side < 6; ++side) {
@@ -330,7 +328,7 @@ BoundarySurface buildBoundary(const HexMesh& mesh, const Topology& topology) {
 
 }  // namespace
 
-std::array<double, 8> cornerJacobians(const RowMatrixX3d& points, const std::array<int, 8>& cell) {
+std::array<double, 8> cornerJacobians(const RowMatrixX3d& points, const std::array<int, 8>& cell, bool scaled) {
   std::array<double, 8> result{};
   for (size_t c = 0; c < 8; ++c) {
     const auto& bits = kHexCornerBits[c];
@@ -342,6 +340,7 @@ std::array<double, 8> cornerJacobians(const RowMatrixX3d& points, const std::arr
       // Along +x, +y, +z whichever side the corner is on, so every corner measures the same frame.
       const double sign = bits[d] == 0 ? 1.0 : -1.0;
       edges[d] = sign * (points.row(neighbour) - points.row(cell[c])).transpose();
+      if (scaled) edges[d].normalize();
     }
     result[c] = edges[0].cross(edges[1]).dot(edges[2]);
   }

@@ -57,8 +57,13 @@ struct HexSubdivisionResult {
 // stage cannot subdivide (non-manifold edges).
 HexSubdivisionResult subdivideHexMesh(const HexMesh& mesh, const SubdivisionOptions& options = {});
 
+// The 12 edges of a cell as corner pairs: 4 along x, 4 along y, 4 along z.
+inline constexpr std::array<std::array<int, 2>, 12> kHexCellEdges{
+    {{0, 1}, {3, 2}, {4, 5}, {7, 6}, {0, 3}, {1, 2}, {4, 7}, {5, 6}, {0, 4}, {1, 5}, {2, 6}, {3, 7}}};
+
 // The 8 corner Jacobian determinants of a cell (corner order as HexMesh::cells): the volume
-// spanned at each corner by its three edges, in the right-handed frame.
-std::array<double, 8> cornerJacobians(const RowMatrixX3d& points, const std::array<int, 8>& cell);
+// spanned at each corner by its three edges, in the right-handed frame; `scaled`: of the edges'
+// unit vectors (1 at a right-angled corner).
+std::array<double, 8> cornerJacobians(const RowMatrixX3d& points, const std::array<int, 8>& cell, bool scaled = false);
 
 }  // namespace bvmesh::volume
