@@ -1,12 +1,16 @@
-// What the volume benchmarks share: wall-clock seconds, the peak resident memory, and the wall
-// they grow their meshes around (the Catmull-Clark limit surface of a cube refined `levels`
-// times, 6 * 4^levels quads).
+// What the benchmarks share: wall-clock seconds, the peak resident memory, growth exponents, and
+// the wall they grow their meshes around (the Catmull-Clark limit surface of a cube refined
+// `levels` times, 6 * 4^levels quads).
 #pragma once
 
 #include <sys/resource.h>
 
 #include <array>
 #include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <string>
 #include <vector>
 
 #include "core/subdiv/subdivision.h"
@@ -20,6 +24,31 @@ inline long peakKilobytes() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);
   return usage.ru_maxrss;
+}
+
+// The peak resident memory in MB since the last resetPeak() (Linux >= 4.0: writing 5 to
+// clear_refs resets VmHWM), so that each stage of a run reports its own.
+inline double vmHwmMegabytes() {
+  std::ifstream status("/proc/self/status");
+  for (std::string line; std::getline(status, line);) {
+    if (line.rfind("VmHWM:", 0) == 0) return std::atof(line.c_str() + 6) / 1024.0;
+  }
+  return 0.0;
+}
+
+inline void resetPeak() { std::ofstream("/proc/self/clear_refs") << "5"; }
+
+// Least-squares slope of log y over log x: the growth exponent (1 = linear).
+inline double slope(const std::vector<double>& x, const std::vector<double>& y) {
+  const size_t k = x.size();
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (size_t i = 0; i < k; ++i) {
+    sx += std::log(x[i]);
+    sy += std::log(y[i]);
+    sxx += std::log(x[i]) * std::log(x[i]);
+    sxy += std::log(x[i]) * std::log(y[i]);
+  }
+  return (static_cast<double>(k) * sxy - sx * sy) / (static_cast<double>(k) * sxx - sx * sx);
 }
 
 inline bvmesh::surface::QuadControlMesh refinedCube(int levels) {

@@ -27,6 +27,7 @@
 #include "core/subdiv/limit_samples.h"
 #include "core/subdiv/osd_refiner.h"
 #include "core/subdiv/subdivision.h"
+#include "bench_common.h"
 
 namespace {
 
@@ -93,17 +94,6 @@ void osdLimitStencils(const ControlMesh& mesh, const std::vector<bvmesh::Surface
   if (table->GetNumStencils() != static_cast<int>(at.size())) std::abort();
 }
 
-double vmHwmMegabytes() {
-  std::ifstream status("/proc/self/status");
-  for (std::string line; std::getline(status, line);) {
-    if (line.rfind("VmHWM:", 0) == 0) return std::atof(line.c_str() + 6) / 1024.0;
-  }
-  return 0.0;
-}
-
-// Resets the peak so that each stage reports its own (Linux >= 4.0: write 5 to clear_refs).
-void resetPeak() { std::ofstream("/proc/self/clear_refs") << "5"; }
-
 Figures measure(int n, int m) {
   Figures figures{};
   using Clock = std::chrono::steady_clock;
@@ -128,18 +118,6 @@ Figures measure(int n, int m) {
   stage(3, [&] { const bvmesh::LimitEvaluator evaluator(*mesh); });
   stage(4, [&] { osdLimitStencils(*mesh, locations); });
   return figures;
-}
-
-double slope(const std::vector<double>& x, const std::vector<double>& y) {
-  const size_t k = x.size();
-  double sx = 0, sy = 0, sxx = 0, sxy = 0;
-  for (size_t i = 0; i < k; ++i) {
-    sx += std::log(x[i]);
-    sy += std::log(y[i]);
-    sxx += std::log(x[i]) * std::log(x[i]);
-    sxy += std::log(x[i]) * std::log(y[i]);
-  }
-  return (k * sxy - sx * sy) / (k * sxx - sx * sx);
 }
 
 }  // namespace

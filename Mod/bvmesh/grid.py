@@ -9,7 +9,8 @@ the files flow solvers read.
 
 One B-spline mesh serves both presets: `euler` (no wall clustering, every wall-normal line grows
 by the same ratio) and `rans` (first cell height for y+ ~ 1 by the flat-plate estimate, as many
-wall-normal points as keep the growth ratio at most 1.2).
+wall-normal points as keep the growth ratio at most 1.2). `refine(..., method="subdivision",
+steps=k)` is the other refinement: k volumetric Catmull-Clark steps of the blocks' control mesh.
 """
 
 from . import load_core
@@ -32,16 +33,40 @@ def _grid_of(grid):
     raise TypeError("expected a bvmesh grid (refine's result or a StructuredGrid), got {}".format(type(grid).__name__))
 
 
-def refine(blocks, preset="euler", **options):
-    """Evaluates the blocks on a stretched, point-matched grid.
+def _blocks_of(blocks, caller):
+    core = load_core()
+    if isinstance(blocks, core.VolumeMesh):
+        return blocks.blocks
+    if isinstance(blocks, core.BlockMesh):
+        return blocks
+    raise TypeError("{} takes a VolumeMesh or a BlockMesh, got {}".format(caller, type(blocks).__name__))
+
+
+def refine(blocks, preset="euler", method="bspline", steps=None, **options):
+    """Refines the blocks into a point-matched grid.
 
     blocks: a VolumeMesh (offset_and_farfield's result; its reference length is used) or a
-    BlockMesh. preset: 'euler' or 'rans' (see the module doc), or None for options alone. options:
-    those of bvmesh._core.refine_blocks (normal_points, first_cell_height, y_plus,
-    reynolds_number, reference_length, growth, distribution, edge_points, tangential_spacing,
-    target_cells, edge_end_spacing), overriding the preset's. Returns a RefinedGrid (.grid, and
-    the measured first cell heights and growth)."""
+    BlockMesh. method 'bspline': the blocks evaluated on a stretched grid; preset: 'euler' or
+    'rans' (see the module doc), or None for options alone; options: those of
+    bvmesh._core.refine_blocks (normal_points, first_cell_height, y_plus, reynolds_number,
+    reference_length, growth, distribution, edge_points, tangential_spacing, target_cells,
+    edge_end_spacing), overriding the preset's. Returns a RefinedGrid (.grid, and the measured
+    first cell heights and growth).
+
+    method 'subdivision': `steps` volumetric Catmull-Clark steps of the control mesh
+    (docs/volume.md); no stretching, so preset and options do not apply. Returns a
+    StructuredGrid, which quality() and the writers take as they take a RefinedGrid."""
     core = load_core()
+    if method == "subdivision":
+        if options:
+            raise ValueError("method='subdivision' takes steps only, not {}".format(", ".join(sorted(options))))
+        if not isinstance(steps, int) or isinstance(steps, bool) or steps < 1:
+            raise ValueError("method='subdivision' needs steps, an int >= 1, got {!r}".format(steps))
+        return core.subdivide_blocks(_blocks_of(blocks, "refine"), steps)
+    if method != "bspline":
+        raise ValueError("method must be 'bspline' or 'subdivision', got {!r}".format(method))
+    if steps is not None:
+        raise ValueError("steps applies to method='subdivision' only")
     settings = {}
     if preset is not None:
         if preset not in PRESETS:
@@ -50,9 +75,7 @@ def refine(blocks, preset="euler", **options):
     settings.update(options)
     if isinstance(blocks, core.VolumeMesh):
         settings.setdefault("reference_length", blocks.reference_length)
-        blocks = blocks.blocks
-    elif not isinstance(blocks, core.BlockMesh):
-        raise TypeError("refine takes a VolumeMesh or a BlockMesh, got {}".format(type(blocks).__name__))
+    blocks = _blocks_of(blocks, "refine")
     if settings.get("y_plus", 0.0) > 0.0 and not settings.get("first_cell_height", 0.0):
         if not settings.get("reynolds_number", 0.0) > 0.0:
             raise ValueError("a y+ target (the rans preset) needs reynolds_number (based on reference_length)")
@@ -152,10 +175,7 @@ def write_vtk(grid, path, report=None, force=False):
 def write_gismo(blocks, path):
     """The B-spline blocks themselves as G+Smo XML, for isogeometric analysis (a VolumeMesh or a
     BlockMesh)."""
-    core = load_core()
-    if isinstance(blocks, core.VolumeMesh):
-        blocks = blocks.blocks
-    core.write_gismo(blocks, str(path))
+    load_core().write_gismo(_blocks_of(blocks, "write_gismo"), str(path))
 
 
 def plane_cut(grid, point, normal):

@@ -3,6 +3,7 @@
     import bvmesh.volume
     mesh = bvmesh.volume.offset_and_farfield(fitter, reference_length=805.0)
     mesh.blocks.evaluate_grid(0, u, v, w)        # the mesh function of one block
+    refined = bvmesh.volume.subdivide(mesh, steps=2)  # volumetric Catmull-Clark of its control mesh
 
 Works in plain /usr/bin/python3 and in freecadcmd; the geometry is all in the compiled core.
 """
@@ -34,3 +35,75 @@ def offset_and_farfield(fit_or_mesh, symmetry_plane=None, **options):
         raise TypeError("offset_and_farfield takes a bvmesh.SurfaceFitter or a bvmesh.ControlMesh, got {}".format(
             type(fit_or_mesh).__name__))
     return core.generate_volume_mesh(wall, symmetry_plane=symmetry_plane, **options)
+
+
+HEX_MESH_KEYS = ("points", "cells", "boundary_faces", "boundary_conditions", "creases", "corners")
+
+
+def _hex_mesh_of(mesh, caller):
+    core = load_core()
+    if isinstance(mesh, core.VolumeMesh):
+        mesh = mesh.blocks
+    if isinstance(mesh, core.BlockMesh):
+        mesh = core.hex_mesh_of_blocks(mesh)
+    if not isinstance(mesh, dict):
+        raise TypeError("{} takes a VolumeMesh, a BlockMesh or a hex mesh dict, got {}".format(caller, type(mesh).__name__))
+    missing = [key for key in HEX_MESH_KEYS[:4] if key not in mesh]
+    if missing:
+        raise ValueError("the hex mesh has no {}".format(", ".join(missing)))
+    return mesh
+
+
+def subdivide(mesh, steps=1):
+    """`steps` volumetric Catmull-Clark steps of a hexahedral mesh (docs/volume.md).
+
+    mesh: a VolumeMesh or BlockMesh (its control mesh, cells made right-handed), or a dict with
+    'points' (#P, 3), 'cells' (#C, 8; right-handed, corners 000 100 110 010 001 101 111 011),
+    'boundary_faces' (#B, 4) with 'boundary_conditions' (#B names), and optionally 'creases'
+    (#K, 2 point pairs on the boundary) and 'corners' (point ids). Returns a dict of the same keys
+    for the refined mesh, plus 'operator': the scipy.sparse.csr_matrix S with
+    points' = S @ points (the product of the steps' operators). Raises ValueError naming the cell,
+    face or crease for a mesh it cannot refine."""
+    core = load_core()
+    mesh = _hex_mesh_of(mesh, "subdivide")
+    if not isinstance(steps, int) or isinstance(steps, bool) or steps < 1:
+        raise ValueError("steps must be an int >= 1, got {!r}".format(steps))
+    operator = None
+    for _ in range(steps):
+        mesh = core.subdivide_hex_mesh(*(mesh.get(key) for key in HEX_MESH_KEYS))
+        operator = mesh["operator"] if operator is None else mesh["operator"] @ operator
+    mesh["operator"] = operator
+    return mesh
+
+
+def fit_on_volume(mesh, target, passes=3, **options):
+    """Fitting that goes on after the volume exists (docs/volume.md): one volumetric Catmull-Clark
+    step, `passes` passes of limit samples, projection onto `target` and least squares on the wall
+    faces, the interior points following the wall harmonically (the rest of the boundary held).
+
+    mesh: as subdivide takes it. target: a bvmesh.Target. options: those of bvmesh.SurfaceFitter
+    (symmetry_plane, tolerance, weights, solver, ...). Returns subdivide's dict for one step with
+    the fitted points, plus 'wall' (the last pass's record: max_distance, rms_distance, ...) and
+    'min_scaled_jacobian'. Raises bvmesh.SolverError naming the cell when one turns over."""
+    return load_core().subdivide_and_fit_volume(_hex_mesh_of(mesh, "fit_on_volume"), target, passes, **options)
+
+
+def write_hex_vtk(mesh, path):
+    """A hex mesh dict (subdivide's result) as a legacy VTK unstructured grid (ASCII): its cells
+    as VTK_HEXAHEDRON (same corner order) with cell data 'cell' numbering them. For meshes that are not block-structured; a block mesh's
+    refinement is a grid (bvmesh.grid.refine(..., method='subdivision')) with its own writers."""
+    import numpy as np
+
+    points = np.asarray(mesh["points"], dtype=float)
+    cells = np.asarray(mesh["cells"], dtype=np.int64)
+    with open(path, "w") as file:
+        file.write("# vtk DataFile Version 3.0\nbvmesh hex mesh\nASCII\nDATASET UNSTRUCTURED_GRID\n")
+        file.write("POINTS {} double\n".format(len(points)))
+        np.savetxt(file, points, fmt="%.17g")
+        file.write("CELLS {} {}\n".format(len(cells), 9 * len(cells)))
+        np.savetxt(file, np.hstack([np.full((len(cells), 1), 8), cells]), fmt="%d")
+        file.write("CELL_TYPES {}\n".format(len(cells)))
+        np.savetxt(file, np.full(len(cells), 12), fmt="%d")
+        file.write("CELL_DATA {}\nSCALARS cell int 1\nLOOKUP_TABLE default\n".format(len(cells)))
+        np.savetxt(file, np.arange(len(cells)), fmt="%d")
+    return path

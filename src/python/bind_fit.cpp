@@ -12,6 +12,8 @@
 #include "bindings.h"
 #include "conversions.h"
 #include "core/fit/surface_fitter.h"
+#include "core/fit/volume_fit.h"
+#include "hex_mesh.h"
 
 namespace py = pybind11;
 
@@ -300,6 +302,35 @@ void bindFit(py::module_& module) {
            "tolerance and where (empty when converged), history: [records]}. 'converged' needs the samples\n"
            "and the two-sided check (check_samples_per_face > 0) within the tolerance. One fitter may be used from several\n"
            "threads: its calls run one after the other.");
+
+  module.def(
+      "subdivide_and_fit_volume",
+      [](const py::dict& mesh, std::shared_ptr<target::Target> target, int passes, const py::kwargs& kwargs) {
+        FitOptions options;
+        applyOptions(options, kwargs);
+        for (const char* key : {"points", "cells", "boundary_faces", "boundary_conditions"}) {
+          if (!mesh.contains(key)) throw py::value_error(std::string("the hex mesh has no ") + key);
+        }
+        auto get = [&](const char* key) { return mesh.contains(key) ? py::object(mesh[key]) : py::object(py::none()); };
+        const volume::HexMesh hex = hexMeshOf(get("points"), get("cells"), get("boundary_faces"), get("boundary_conditions"),
+                                              get("creases"), get("corners"));
+        fit::VolumeFitResult result = [&] {
+          py::gil_scoped_release release;
+          return fit::subdivideAndFitVolume(hex, std::move(target), options, passes);
+        }();
+        py::dict out = hexMeshDict(result.mesh);
+        out["operator"] = std::move(result.subdivisionOperator);
+        out["wall"] = recordToDict(result.wall);
+        out["min_scaled_jacobian"] = result.minScaledJacobian;
+        return out;
+      },
+      py::arg("mesh"), py::arg("target"), py::arg("passes") = 3,
+      "Fitting after the volume exists: one volumetric Catmull-Clark step of the hex mesh (a dict as\n"
+      "bvmesh.volume.subdivide takes), `passes` passes of limit samples, projection onto `target` and\n"
+      "least squares on its wall faces, the interior following harmonically. Keyword options: those\n"
+      "of SurfaceFitter (symmetry_plane, weights, solver, ...). Returns the refined mesh dict with\n"
+      "'operator' (the step's), 'wall' (the last pass's record) and 'min_scaled_jacobian'; raises\n"
+      "bvmesh.SolverError naming the cell when one turns over.");
 }
 
 }  // namespace bvmesh::python

@@ -13,6 +13,7 @@
 #include "block_faces.h"
 #include "core/grid/plane_cut.h"
 #include "core/grid/refinement.h"
+#include "core/grid/subdivision_refinement.h"
 #include "core/io/cgns_writer.h"
 #include "core/io/gismo_writer.h"
 #include "core/io/openfoam_writer.h"
@@ -165,6 +166,17 @@ every line grows by exactly `growth`. distribution: 'geometric' or 'tanh'. Tange
 edge_points per block edge, or the count tangential_spacing needs, or the spacing that gives about
 target_cells cells; uniform in arc length, clustered to edge_end_spacing at block corners if > 0.
 Returns a RefinedGrid.)doc");
+
+  module.def(
+      "subdivide_blocks",
+      [](const volume::BlockMesh& blocks, int steps) {
+        py::gil_scoped_release release;
+        return grid::subdivideBlockMesh(blocks, steps);
+      },
+      py::arg("blocks"), py::arg("steps"),
+      "`steps` volumetric Catmull-Clark steps of the blocks' control mesh, as a StructuredGrid: each block of "
+      "(n_u, n_v, n_w) poles becomes (2^steps (n_u - 1) + 1, ...) points, connections and conditions kept "
+      "(docs/volume.md, 'Refinement of a block mesh by subdivision').");
 
   module.def(
       "grid_quality",

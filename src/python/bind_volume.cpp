@@ -1,5 +1,7 @@
 // The volume stage: the block mesh around a fitted wall (offset and far field by marching), its
-// B-spline blocks as numpy arrays, their evaluation, and the block file.
+// B-spline blocks as numpy arrays, their evaluation, the block file, and volumetric subdivision of
+// hexahedral meshes.
+#include <pybind11/eigen.h>
 #include <pybind11/numpy.h>
 #include <pybind11/stl.h>
 #include <pybind11/stl/filesystem.h>
@@ -10,9 +12,12 @@
 #include "arrays.h"
 #include "bindings.h"
 #include "block_faces.h"
+#include "hex_mesh.h"
 #include "core/mesh/control_mesh.h"
 #include "core/surface/limit_points.h"
+#include "core/grid/subdivision_refinement.h"
 #include "core/volume/block_mesh_io.h"
+#include "core/volume/hex_subdivision.h"
 #include "core/volume/volume_blocks.h"
 
 namespace py = pybind11;
@@ -216,6 +221,36 @@ farfield_distance (0: 20 L), 'box' of half sizes box_half_extent (x, y, z; farfi
 0 or None), or 'cylinder' along flow_direction of radius and half length farfield_distance. The
 blocks' outer faces are 'farfield' on a sphere, else 'inlet' / 'outlet' / 'side' by where they face
 the flow. Returns a VolumeMesh; its .blocks is a BlockMesh with one block per wall patch.)doc");
+
+  module.def(
+      "hex_mesh_of_blocks", [](const BlockMesh& blocks) { return hexMeshDict(grid::hexMeshOfBlocks(blocks)); },
+      py::arg("blocks"),
+      "The blocks' control mesh as subdivide_hex_mesh takes it: BlockMesh.control_mesh() with every cell "
+      "right-handed (a left-handed block's cells with i reversed), plus empty 'creases' and 'corners'.");
+
+  module.def(
+      "subdivide_hex_mesh",
+      [](const py::object& points, const py::object& cells, const py::object& boundaryFaces,
+         const py::object& boundaryConditions, const py::object& creases, const py::object& corners) {
+        const volume::HexMesh mesh = hexMeshOf(points, cells, boundaryFaces, boundaryConditions, creases, corners);
+        volume::HexSubdivisionResult result = [&] {
+          py::gil_scoped_release release;
+          return volume::subdivideHexMesh(mesh);
+        }();
+        py::dict out = hexMeshDict(result.mesh);
+        out["operator"] = std::move(result.subdivisionOperator);
+        return out;
+      },
+      py::arg("points"), py::arg("cells"), py::arg("boundary_faces"), py::arg("boundary_conditions"),
+      py::arg("creases") = py::none(), py::arg("corners") = py::none(),
+      R"doc(One step of volumetric Catmull-Clark (docs/volume.md).
+
+points (#P, 3); cells (#C, 8) right-handed, corners 000 100 110 010 001 101 111 011; boundary_faces
+(#B, 4), every face of exactly one cell, with boundary_conditions (#B names: wall, symmetry,
+farfield, inlet, outlet, side); creases (#K, 2) point pairs on the boundary and corners (ids) kept
+sharp. Returns the refined mesh as a dict of the same keys, plus 'operator', the (#P', #P)
+scipy.sparse.csr_matrix S with points' = S @ points. Children of cell c are cells 8c .. 8c+7,
+of boundary face f faces 4f .. 4f+3.)doc");
 }
 
 }  // namespace bvmesh::python

@@ -117,6 +117,14 @@ TEST(ControlMesh, RejectsBadValuesAndIndices) {
   line.sizes = {3, 3};
   line.indices = {0, 1, 2, 0, 2, 3};
   expectError<InvalidInputError>([&] { fromData(line); }, "face 0 is degenerate: its area is zero");
+
+  // A face ten million times smaller than the mesh is small, not degenerate.
+  MeshData far = cubeData();
+  far.vertices.row(0) << 1e7, 1e7, 1e7;
+  far.vertices.row(1) = far.vertices.row(0) + Eigen::RowVector3d(1.0, 0.0, 0.0);
+  far.vertices.row(2) = far.vertices.row(0) + Eigen::RowVector3d(1.0, 1.0, 0.0);
+  far.vertices.row(3) = far.vertices.row(0) + Eigen::RowVector3d(0.0, 1.0, 0.0);
+  EXPECT_NO_THROW(fromData(far));
 }
 
 TEST(ControlMesh, RejectsBadConnectivity) {

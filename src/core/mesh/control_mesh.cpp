@@ -239,18 +239,24 @@ void ControlMesh::validateGeometry(const RowMatrixX3d& vertices) const {
   const double lengthTolerance = 1e-12;
   for (int f = 0; f < numFaces(); ++f) {
     const int size = faceSize(f);
+    // The area is judged against the face's own size (a small face far from a large mesh's
+    // centre, e.g. a boundary-layer face in a far-field mesh, is not degenerate), with the
+    // corners taken relative to the first one so that rounding scales with the face too.
+    const Eigen::Vector3d origin = (vertices.row(faceVertex(f, 0)).transpose() - centre) / scale;
     Eigen::Vector3d areaVector = Eigen::Vector3d::Zero();
+    double squaredEdges = 0.0;
     for (int i = 0; i < size; ++i) {
       const int a = faceVertex(f, i), b = faceVertex(f, (i + 1) % size);
-      const Eigen::Vector3d pa = (vertices.row(a).transpose() - centre) / scale;
-      const Eigen::Vector3d pb = (vertices.row(b).transpose() - centre) / scale;
+      const Eigen::Vector3d pa = (vertices.row(a).transpose() - centre) / scale - origin;
+      const Eigen::Vector3d pb = (vertices.row(b).transpose() - centre) / scale - origin;
       if ((pb - pa).norm() <= lengthTolerance) {
         throw InvalidInputError("face " + std::to_string(f) + " is degenerate: vertices " +
                                 std::to_string(a) + " and " + std::to_string(b) + " coincide");
       }
       areaVector += pa.cross(pb);
+      squaredEdges += (pb - pa).squaredNorm();
     }
-    if (0.5 * areaVector.norm() <= lengthTolerance) {
+    if (0.5 * areaVector.norm() <= 1e-12 * squaredEdges) {
       throw InvalidInputError("face " + std::to_string(f) + " is degenerate: its area is zero");
     }
   }

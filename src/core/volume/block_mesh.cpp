@@ -51,6 +51,15 @@ const char* boundaryConditionName(BoundaryCondition condition) {
   return "";
 }
 
+std::optional<BoundaryCondition> findBoundaryCondition(const std::string& name) {
+  for (BoundaryCondition c : {BoundaryCondition::Connected, BoundaryCondition::Wall, BoundaryCondition::Symmetry,
+                              BoundaryCondition::Farfield, BoundaryCondition::Inlet, BoundaryCondition::Outlet,
+                              BoundaryCondition::Side}) {
+    if (name == boundaryConditionName(c)) return c;
+  }
+  return std::nullopt;
+}
+
 const char* blockFaceName(int face) {
   static const char* names[] = {"u_min", "u_max", "v_min", "v_max", "w_min", "w_max"};
   return face >= 0 && face < 6 ? names[face] : "(no face)";

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,8 @@ enum class BlockFaceSide { UMin = 0, UMax = 1, VMin = 2, VMax = 3, WMin = 4, WMa
 enum class BoundaryCondition { Connected, Wall, Symmetry, Farfield, Inlet, Outlet, Side };
 
 const char* boundaryConditionName(BoundaryCondition condition);
+// The condition boundaryConditionName calls `name`, if any.
+std::optional<BoundaryCondition> findBoundaryCondition(const std::string& name);
 const char* blockFaceName(int face);
 
 // Face indexing shared by pole grids and point grids of `counts` (per direction): the two

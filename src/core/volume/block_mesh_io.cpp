@@ -5,6 +5,7 @@
 #include <fstream>
 #include <iomanip>
 #include <limits>
+#include <optional>
 #include <sstream>
 
 #include "core/common/atomic_file.h"
@@ -17,12 +18,9 @@ constexpr const char* kMagic = "bvmesh-blocks";
 constexpr int kVersion = 1;
 
 BoundaryCondition conditionOf(const std::string& word, const std::string& where) {
-  for (BoundaryCondition c : {BoundaryCondition::Connected, BoundaryCondition::Wall, BoundaryCondition::Symmetry,
-                              BoundaryCondition::Farfield, BoundaryCondition::Inlet, BoundaryCondition::Outlet,
-                              BoundaryCondition::Side}) {
-    if (word == boundaryConditionName(c)) return c;
-  }
-  throw InvalidInputError(where + ": unknown boundary condition '" + word + "'");
+  const std::optional<BoundaryCondition> condition = findBoundaryCondition(word);
+  if (!condition) throw InvalidInputError(where + ": unknown boundary condition '" + word + "'");
+  return *condition;
 }
 
 // Reads whitespace-separated tokens and counts lines, for messages that say where.
