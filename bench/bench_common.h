@@ -4,6 +4,8 @@
 #pragma once
 
 #include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <array>
 #include <chrono>
@@ -11,6 +13,7 @@
 #include <cstdlib>
 #include <fstream>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include "core/subdiv/subdivision.h"
@@ -37,6 +40,28 @@ inline double vmHwmMegabytes() {
 }
 
 inline void resetPeak() { std::ofstream("/proc/self/clear_refs") << "5"; }
+
+// Runs `measure` in a forked child, so that each run's peak memory is its own, and hands its
+// (trivially copyable) result back through a pipe. False when the child failed.
+template <class Figures, class Measure>
+bool measureInChild(Measure&& measure, Figures& figures) {
+  static_assert(std::is_trivially_copyable_v<Figures>, "the figures travel through a pipe as bytes");
+  int channel[2];
+  if (pipe(channel) != 0) return false;
+  const pid_t child = fork();
+  if (child == 0) {
+    close(channel[0]);
+    const Figures measured = measure();
+    const ssize_t written = write(channel[1], &measured, sizeof measured);
+    _exit(written == static_cast<ssize_t>(sizeof measured) ? 0 : 1);
+  }
+  close(channel[1]);
+  const ssize_t got = read(channel[0], &figures, sizeof figures);
+  close(channel[0]);
+  int status = 0;
+  waitpid(child, &status, 0);
+  return got == static_cast<ssize_t>(sizeof figures) && status == 0;
+}
 
 // Least-squares slope of log y over log x: the growth exponent (1 = linear).
 inline double slope(const std::vector<double>& x, const std::vector<double>& y) {

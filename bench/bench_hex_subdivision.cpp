@@ -7,9 +7,6 @@
 // the log-log growth exponents (1 = linear).
 //
 //   build/bench/bench_hex_subdivision [max_cells]      (default 1100000)
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <cstdio>
 #include <cstdlib>
 #include <vector>
@@ -98,22 +95,8 @@ int main(int argc, char** argv) {
   std::vector<Figures> results;
   for (const auto& [levels, layers] : shapes) {
     if (6L * (1L << (2 * levels)) * layers > maxCells) break;
-    int channel[2];
-    if (pipe(channel) != 0) return 1;
-    const pid_t child = fork();
-    if (child == 0) {
-      close(channel[0]);
-      const Figures figures = measure(levels, layers);
-      const ssize_t written = write(channel[1], &figures, sizeof figures);
-      _exit(written == static_cast<ssize_t>(sizeof figures) ? 0 : 1);
-    }
-    close(channel[1]);
     Figures figures{};
-    const ssize_t got = read(channel[0], &figures, sizeof figures);
-    close(channel[0]);
-    int status = 0;
-    waitpid(child, &status, 0);
-    if (got != static_cast<ssize_t>(sizeof figures) || status != 0) {
+    if (!measureInChild([&] { return measure(levels, layers); }, figures)) {
       std::fprintf(stderr, "cube shell level %d x %d layers failed\n", levels, layers);
       return 1;
     }

@@ -8,9 +8,6 @@
 // limit operator build to the baseline and the log-log growth exponents.
 //
 //   build/bench/bench_subdivision [max_faces]      (default 1000000)
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -131,22 +128,8 @@ int main(int argc, char** argv) {
   std::printf("\n");
   for (const auto& [n, m] : shapes) {
     if (n * m > maxFaces) break;
-    int channel[2];
-    if (pipe(channel) != 0) return 1;
-    const pid_t child = fork();
-    if (child == 0) {
-      close(channel[0]);
-      const Figures figures = measure(n, m);
-      const ssize_t written = write(channel[1], &figures, sizeof figures);
-      _exit(written == static_cast<ssize_t>(sizeof figures) ? 0 : 1);
-    }
-    close(channel[1]);
     Figures figures{};
-    const ssize_t got = read(channel[0], &figures, sizeof figures);
-    close(channel[0]);
-    int status = 0;
-    waitpid(child, &status, 0);
-    if (got != static_cast<ssize_t>(sizeof figures) || status != 0) {
+    if (!measureInChild([&] { return measure(n, m); }, figures)) {
       std::fprintf(stderr, "size %d x %d failed\n", n, m);
       return 1;
     }

@@ -5,19 +5,9 @@ import unittest
 
 import numpy as np
 
-import FreeCAD  # noqa: F401  -- Part needs it loaded first
-import Part
-
 import bvmesh
 
-A = 1.0 / np.sqrt(3.0)
-CUBE_VERTICES = A * np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
-                              [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], dtype=float)
-CUBE_FACES = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]
-
-
-def sphere_target():
-    return bvmesh.Target.from_brep(Part.makeSphere(1.0).exportBrepToString())
+from fixtures import CUBE_FACES, CUBE_VERTICES, sphere_target
 
 
 class FitterSteps(unittest.TestCase):

@@ -13,38 +13,20 @@ import unittest
 
 import numpy as np
 
-import FreeCAD  # noqa: F401  -- Part needs it loaded first
-import Part
-
 import bvmesh
 import bvmesh.grid
 import bvmesh.volume
+from fixtures import OPENFOAM, check_mesh, failed_checks, sphere_volume
 
-A = 1.0 / np.sqrt(3.0)
-CUBE_VERTICES = A * np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
-                              [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], dtype=float)
-CUBE_FACES = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]
-OPENFOAM = dict(os.environ, WM_PROJECT_DIR="/usr/share/openfoam")
 # checkMesh -allGeometry flags every cell of a large aspect ratio three ways: the aspect ratio
 # itself, the cell determinant (which scales as (h / a)^4) and flat decomposition tets (whose
 # quality scales likewise). A y+ ~ 1 grid has them by design; no other check may fail.
 ASPECT_RATIO_CHECKS = ("aspect ratio", "small determinant", "face tets")
 
 
-def check_mesh(case):
-    """checkMesh's output; it exits 0 whatever it finds, so callers parse it."""
-    result = subprocess.run(["checkMesh", "-allGeometry", "-allTopology", "-case", case], env=OPENFOAM,
-                            capture_output=True, text=True, timeout=600)
-    return result.stdout + result.stderr
-
-
 def read_text(*parts):
     with open(os.path.join(*parts)) as file:
         return file.read()
-
-
-def failed_checks(output):
-    return [line.strip() for line in output.splitlines() if line.strip().startswith("***")]
 
 
 def flat_plate_height(y_plus, reynolds, length):
@@ -55,12 +37,7 @@ def flat_plate_height(y_plus, reynolds, length):
 class SphereGrids(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        target = bvmesh.Target.from_brep(Part.makeSphere(1.0).exportBrepToString())
-        fitter = bvmesh.SurfaceFitter(target, bvmesh.ControlMesh(CUBE_VERTICES, CUBE_FACES), max_level=3,
-                                      tolerance=1e-9)
-        fitter.run()
-        cls.volume = bvmesh.volume.offset_and_farfield(fitter, boundary_layer_thickness=0.05,
-                                                       farfield_distance=20.0, reference_length=1.0)
+        _, _, cls.volume = sphere_volume(3)
         cls.euler = bvmesh.grid.refine(cls.volume, "euler", edge_points=9, normal_points=33)
         cls.rans = bvmesh.grid.refine(cls.volume, "rans", edge_points=9, reynolds_number=1e6)
         cls.folder = tempfile.TemporaryDirectory()

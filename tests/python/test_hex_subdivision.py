@@ -4,24 +4,16 @@ maps, the wall fitted again after a volume step, the M6 volume refined without a
 the raw hex mesh interface on a hand-made mesh, and errors that name the problem."""
 
 import os
-import subprocess
 import tempfile
 import unittest
 
 import numpy as np
 
-import FreeCAD  # noqa: F401  -- Part needs it loaded first
-import Part
-
 import bvmesh
 import bvmesh.grid
 import bvmesh.volume
+from fixtures import check_mesh, failed_checks, sphere_volume
 
-A = 1.0 / np.sqrt(3.0)
-CUBE_VERTICES = A * np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
-                              [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], dtype=float)
-CUBE_FACES = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]
-OPENFOAM = dict(os.environ, WM_PROJECT_DIR="/usr/share/openfoam")
 
 
 def two_cubes():
@@ -56,13 +48,7 @@ def wall_deviation(grid):
 class SphereSubdivision(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        target = bvmesh.Target.from_brep(Part.makeSphere(1.0).exportBrepToString())
-        fitter = bvmesh.SurfaceFitter(target, bvmesh.ControlMesh(CUBE_VERTICES, CUBE_FACES), max_level=2,
-                                      tolerance=1e-9)
-        fitter.run()
-        cls.volume = bvmesh.volume.offset_and_farfield(fitter, boundary_layer_thickness=0.05,
-                                                       farfield_distance=20.0, reference_length=1.0)
-        cls.target, cls.fitter = target, fitter
+        cls.target, cls.fitter, cls.volume = sphere_volume(2)
         cls.grids = {k: bvmesh.grid.refine(cls.volume, method="subdivision", steps=k) for k in (1, 2)}
         cls.folder = tempfile.TemporaryDirectory()
 
@@ -122,9 +108,8 @@ class SphereSubdivision(unittest.TestCase):
     def test_checkmesh_fails_only_on_the_thin_wall_cells(self):
         case = os.path.join(self.folder.name, "subdivided")
         bvmesh.grid.write_openfoam(self.grids[1], case)
-        output = subprocess.run(["checkMesh", "-allGeometry", "-allTopology", "-case", case], env=OPENFOAM,
-                                capture_output=True, text=True, timeout=600).stdout
-        failed = [line.strip() for line in output.splitlines() if line.strip().startswith("***")]
+        output = check_mesh(case)
+        failed = failed_checks(output)
         # The boundary-layer control cells are 20 to 1 flat; checkMesh calls their determinant small.
         self.assertTrue(all("small determinant" in line for line in failed), failed)
         self.assertIn("cells:", output)

@@ -17,6 +17,7 @@ import Part
 
 import bvmesh
 from bvmesh import _core
+from fixtures import CUBE_FACES, CUBE_VERTICES, sphere_target
 
 DATA = os.environ.get("BVMESH_TEST_DATA_DIR", os.path.join(os.path.dirname(__file__), "..", "data"))
 HEMISPHERE = os.path.join(DATA, "hemisph-cyl.stp")
@@ -123,16 +124,10 @@ class CorruptBrepText(unittest.TestCase):
             _core.read_cad_file_as_brep(WING, seconds=-1.0)
 
 
-A = 1.0 / np.sqrt(3.0)
-CUBE_VERTICES = A * np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
-                              [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], dtype=float)
-CUBE_FACES = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]
-
-
 class SharedObjectsUnderThreads(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        cls.target = bvmesh.Target.from_brep(Part.makeSphere(1.0).exportBrepToString())
+        cls.target = sphere_target()
 
     def test_one_fitter_from_three_threads(self):
         # run() in two threads and set_options / level / mesh in a third: segfaulted or gave
@@ -189,7 +184,7 @@ print("projected", len(points))
 class SizesIdsAndOptions(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        cls.target = bvmesh.Target.from_brep(Part.makeSphere(1.0).exportBrepToString())
+        cls.target = sphere_target()
 
     def fitter(self, **options):
         return bvmesh.SurfaceFitter(self.target, bvmesh.ControlMesh(CUBE_VERTICES, CUBE_FACES), **options)

@@ -7,16 +7,10 @@ import unittest
 
 import numpy as np
 
-import FreeCAD  # noqa: F401  -- Part needs it loaded first
-import Part
-
 import bvmesh
 import bvmesh.volume
 
-A = 1.0 / np.sqrt(3.0)
-CUBE_VERTICES = A * np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
-                              [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], dtype=float)
-CUBE_FACES = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]
+from fixtures import CUBE_FACES, CUBE_VERTICES, check_mesh, sphere_target
 
 
 def greville(knots):
@@ -27,7 +21,7 @@ def greville(knots):
 class SphereVolume(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        target = bvmesh.Target.from_brep(Part.makeSphere(1.0).exportBrepToString())
+        target = sphere_target()
         cls.fitter = bvmesh.SurfaceFitter(target, bvmesh.ControlMesh(CUBE_VERTICES, CUBE_FACES), max_level=4,
                                           tolerance=1e-9)
         cls.fitter.run()
@@ -306,7 +300,6 @@ class M6Volume(unittest.TestCase):
     def test_euler_grid_in_openfoam(self):
         import re
         import shutil
-        import subprocess
 
         import bvmesh.grid
 
@@ -315,9 +308,7 @@ class M6Volume(unittest.TestCase):
         grid = bvmesh.grid.refine(self.mesh, "euler", edge_points=17)
         with tempfile.TemporaryDirectory() as case:
             bvmesh.grid.write_openfoam(grid, case)
-            report = subprocess.run(["checkMesh", "-allGeometry", "-allTopology", "-case", case],
-                                    env=dict(os.environ, WM_PROJECT_DIR="/usr/share/openfoam"),
-                                    capture_output=True, text=True, timeout=300).stdout
+            report = check_mesh(case, timeout=300)
         # No non-positive cell; the faces that checkMesh still fails (tets, small determinants,
         # severe non-orthogonality: 1407 faces) are all at the tip (y > 1159 mm), see docs/volume.md.
         self.assertIn("Cell volumes OK", report)
