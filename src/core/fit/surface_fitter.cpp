@@ -730,7 +730,10 @@ FitSummary SurfaceFitter::run(const ProgressCallback& progress, const std::atomi
   while (true) {
     // Converged only when the independent check agrees with the samples; otherwise go on.
     const bool samplesWithin = distance <= s.tolerance;
-    if (samplesWithin && (!check() || check()->within(s.tolerance))) return finish(StopReason::Converged);
+    if (samplesWithin) {
+      const std::optional<TwoSidedDistance>& checked = check();
+      if (!checked || checked->within(s.tolerance)) return finish(StopReason::Converged);
+    }
     if (s.level >= s.options.maxLevel) return finish(samplesWithin ? StopReason::CheckFailed : StopReason::MaxLevel);
     if (cancelled()) return finish(StopReason::Cancelled);
     subdivide();

@@ -116,7 +116,7 @@ struct FitSummary {
   std::vector<PassRecord> history;
 };
 
-// The summary's detail for a fit in `history` that stopped for `reason`.
+// The summary's detail for a fit that stopped for `reason` in the state `last` records.
 std::string stopDetail(StopReason reason, double tolerance, const PassRecord& last);
 
 using ProgressCallback = std::function<void(const PassRecord&)>;

@@ -188,13 +188,14 @@ void markBoundaryTolerances(const TopoDS_Face& face, const Handle(Poly_Triangula
     if (polygon.IsNull()) continue;
     TopoDS_Vertex first, last;
     TopExp::Vertices(edge, first, last);
+    const double edgeTolerance = BRep_Tool::Tolerance(edge);
     const int count = polygon->NbNodes();
     for (int k = 1; k <= count; ++k) {
-      double edgeTolerance = BRep_Tool::Tolerance(edge);
-      if (k == 1 && !first.IsNull()) edgeTolerance = std::max(edgeTolerance, BRep_Tool::Tolerance(first));
-      if (k == count && !last.IsNull()) edgeTolerance = std::max(edgeTolerance, BRep_Tool::Tolerance(last));
+      double here = edgeTolerance;
+      if (k == 1 && !first.IsNull()) here = std::max(here, BRep_Tool::Tolerance(first));
+      if (k == count && !last.IsNull()) here = std::max(here, BRep_Tool::Tolerance(last));
       double& node = tolerance[polygon->Node(k) - 1];
-      node = std::max(node, edgeTolerance);
+      node = std::max(node, here);
     }
   }
 }
