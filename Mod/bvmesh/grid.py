@@ -54,14 +54,18 @@ def refine(blocks, preset="euler", method="bspline", steps=None, **options):
     first cell heights and growth).
 
     method 'subdivision': `steps` volumetric Catmull-Clark steps of the control mesh
-    (docs/volume.md); no stretching, so preset and options do not apply. Returns a
-    StructuredGrid, which quality() and the writers take as they take a RefinedGrid."""
+    (docs/volume.md); no stretching, so preset and options do not apply. blocks may also be a
+    ControlVolume (bvmesh.volume.control_volume): its wall points then end on the fitted limit
+    surface. Returns a StructuredGrid, which quality() and the writers take as they take a
+    RefinedGrid."""
     core = load_core()
     if method == "subdivision":
         if options:
             raise ValueError("method='subdivision' takes steps only, not {}".format(", ".join(sorted(options))))
         if not isinstance(steps, int) or isinstance(steps, bool) or steps < 1:
             raise ValueError("method='subdivision' needs steps, an int >= 1, got {!r}".format(steps))
+        if isinstance(blocks, core.ControlVolume):
+            return core.subdivide_control_volume(blocks, steps)
         return core.subdivide_blocks(_blocks_of(blocks, "refine"), steps)
     if method != "bspline":
         raise ValueError("method must be 'bspline' or 'subdivision', got {!r}".format(method))

@@ -24,17 +24,36 @@ def offset_and_farfield(fit_or_mesh, symmetry_plane=None, **options):
     Returns a bvmesh.VolumeMesh; raises ValueError (bvmesh.InvalidInputError) for a bad wall or
     option and bvmesh.SolverError when the marching would fold, naming where.
     """
+    wall, symmetry_plane = _wall_of(fit_or_mesh, symmetry_plane, "offset_and_farfield")
+    return load_core().generate_volume_mesh(wall, symmetry_plane=symmetry_plane, **options)
+
+
+def control_volume(fit_or_mesh, symmetry_plane=None, **options):
+    """The volume control mesh marched from the fitted wall's own Catmull-Clark control mesh: the
+    fit's control faces (with their creases and corners) are the wall faces, the control vertices
+    march along their mean limit normals with the options and rules of offset_and_farfield.
+
+    Its wall refines under bvmesh.volume.subdivide exactly as the surface fit refines, so
+    fit_on_volume continues the fit from it at the next level (the B-spline blocks' control nets
+    are the charts' clamped nets, about 1 % off the fit), and bvmesh.grid.refine(volume,
+    method="subdivision", steps=k) makes a grid of it whose wall lies on the fitted surface.
+    fit_or_mesh, symmetry_plane and options as for offset_and_farfield. Returns a
+    bvmesh.ControlVolume (.hex_mesh(), .block_count, .cell_count, .layer_distance, ...).
+    """
+    wall, symmetry_plane = _wall_of(fit_or_mesh, symmetry_plane, "control_volume")
+    return load_core().control_volume_mesh(wall, symmetry_plane=symmetry_plane, **options)
+
+
+def _wall_of(fit_or_mesh, symmetry_plane, caller):
     core = load_core()
     if isinstance(fit_or_mesh, core.SurfaceFitter):
         if symmetry_plane is None:
             symmetry_plane = fit_or_mesh.options.get("symmetry_plane")
-        wall = fit_or_mesh.mesh
-    elif isinstance(fit_or_mesh, core.ControlMesh):
-        wall = fit_or_mesh
-    else:
-        raise TypeError("offset_and_farfield takes a bvmesh.SurfaceFitter or a bvmesh.ControlMesh, got {}".format(
-            type(fit_or_mesh).__name__))
-    return core.generate_volume_mesh(wall, symmetry_plane=symmetry_plane, **options)
+        return fit_or_mesh.mesh, symmetry_plane
+    if isinstance(fit_or_mesh, core.ControlMesh):
+        return fit_or_mesh, symmetry_plane
+    raise TypeError("{} takes a bvmesh.SurfaceFitter or a bvmesh.ControlMesh, got {}".format(
+        caller, type(fit_or_mesh).__name__))
 
 
 HEX_MESH_KEYS = ("points", "cells", "boundary_faces", "boundary_conditions", "creases", "corners")
@@ -46,8 +65,11 @@ def _hex_mesh_of(mesh, caller):
         mesh = mesh.blocks
     if isinstance(mesh, core.BlockMesh):
         mesh = core.hex_mesh_of_blocks(mesh)
+    if isinstance(mesh, core.ControlVolume):
+        mesh = mesh.hex_mesh()
     if not isinstance(mesh, dict):
-        raise TypeError("{} takes a VolumeMesh, a BlockMesh or a hex mesh dict, got {}".format(caller, type(mesh).__name__))
+        raise TypeError("{} takes a VolumeMesh, a BlockMesh, a ControlVolume or a hex mesh dict, got {}".format(
+            caller, type(mesh).__name__))
     missing = [key for key in HEX_MESH_KEYS[:4] if key not in mesh]
     if missing:
         raise ValueError("the hex mesh has no {}".format(", ".join(missing)))
@@ -57,7 +79,8 @@ def _hex_mesh_of(mesh, caller):
 def subdivide(mesh, steps=1):
     """`steps` volumetric Catmull-Clark steps of a hexahedral mesh (docs/volume.md).
 
-    mesh: a VolumeMesh or BlockMesh (its control mesh, cells made right-handed), or a dict with
+    mesh: a VolumeMesh or BlockMesh (its control mesh, cells made right-handed), a ControlVolume
+    (control_volume's result: the wall's creases and corners kept), or a dict with
     'points' (#P, 3), 'cells' (#C, 8; right-handed, corners 000 100 110 010 001 101 111 011),
     'boundary_faces' (#B, 4) with 'boundary_conditions' (#B names), and optionally 'creases'
     (#K, 2 point pairs on the boundary) and 'corners' (point ids). Returns a dict of the same keys

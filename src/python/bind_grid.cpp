@@ -179,6 +179,17 @@ Returns a RefinedGrid.)doc");
       "(docs/volume.md, 'Refinement of a block mesh by subdivision').");
 
   module.def(
+      "subdivide_control_volume",
+      [](const volume::ControlVolume& volume, int steps) {
+        py::gil_scoped_release release;
+        return grid::subdivideControlVolume(volume, steps);
+      },
+      py::arg("volume"), py::arg("steps"),
+      "`steps` volumetric Catmull-Clark steps of a ControlVolume, as a StructuredGrid of its blocks, the wall "
+      "points moved to their limit positions: the grid's wall lies on the fit's limit surface "
+      "(docs/volume.md, 'The control volume').");
+
+  module.def(
       "grid_quality",
       [](const StructuredGrid& g) {
         std::optional<grid::HexTopology> topology;

@@ -17,6 +17,7 @@
 #include "core/surface/limit_points.h"
 #include "core/grid/subdivision_refinement.h"
 #include "core/volume/block_mesh_io.h"
+#include "core/volume/control_volume.h"
 #include "core/volume/hex_subdivision.h"
 #include "core/volume/volume_blocks.h"
 
@@ -42,20 +43,53 @@ std::vector<double> parametersOf(const py::object& object, const char* name) {
   return std::vector<double>(array.data(), array.data() + array.size());
 }
 
-volume::VolumeMesh generate(const surface::QuadControlMesh& wall, const py::object& symmetryPlane,
-                            const volume::VolumeMeshOptions& base) {
-  volume::VolumeMeshOptions options = base;
-  if (!symmetryPlane.is_none()) {
-    const py::sequence plane = symmetryPlane.cast<py::sequence>();
-    if (plane.size() != 2) throw py::value_error("symmetry_plane must be (point, normal) or None");
-    const RowMatrixXd point = rowsOf(py::array::ensure(plane[0]).reshape({1, 3}), "symmetry_plane point", 3);
-    const RowMatrixXd normal = rowsOf(py::array::ensure(plane[1]).reshape({1, 3}), "symmetry_plane normal", 3);
-    options.hasSymmetryPlane = true;
-    options.planePoint = point.row(0).transpose();
-    options.planeNormal = normal.row(0).transpose();
-  }
-  py::gil_scoped_release release;
-  return volume::generateVolumeMesh(wall, options);
+void setSymmetryPlane(const py::object& symmetryPlane, volume::VolumeMeshOptions& options) {
+  if (symmetryPlane.is_none()) return;
+  const py::sequence plane = symmetryPlane.cast<py::sequence>();
+  if (plane.size() != 2) throw py::value_error("symmetry_plane must be (point, normal) or None");
+  const RowMatrixXd point = rowsOf(py::array::ensure(plane[0]).reshape({1, 3}), "symmetry_plane point", 3);
+  const RowMatrixXd normal = rowsOf(py::array::ensure(plane[1]).reshape({1, 3}), "symmetry_plane normal", 3);
+  options.hasSymmetryPlane = true;
+  options.planePoint = point.row(0).transpose();
+  options.planeNormal = normal.row(0).transpose();
+}
+
+// generate_volume_mesh and control_volume_mesh take the same marching options: one signature,
+// `make(wall, options)` doing the work without the GIL.
+template <typename Make>
+void defineMarchingFunction(py::module_& module, const char* name, Make make, const char* doc) {
+  module.def(
+      name,
+      [make](const ControlMesh& wall, const py::object& symmetryPlane, double referenceLength, double reynoldsNumber,
+             double boundaryLayerThickness, int boundaryLayerLayers, double boundaryLayerGrowth, double sharpEdgeSplay,
+             double farfieldDistance, double farfieldGrowth, double smoothing, double minScaledJacobian, int maxLayers,
+             const std::string& domain, const py::object& boxHalfExtent, const py::object& flowDirection) {
+        volume::VolumeMeshOptions options;
+        setSymmetryPlane(symmetryPlane, options);
+        options.domain = volume::domainShapeOf(domain);
+        if (!boxHalfExtent.is_none()) {
+          options.boxHalfExtent = rowsOf(py::array::ensure(boxHalfExtent).reshape({1, 3}), "box_half_extent", 3).row(0).transpose();
+        }
+        options.flowDirection = rowsOf(py::array::ensure(flowDirection).reshape({1, 3}), "flow_direction", 3).row(0).transpose();
+        options.referenceLength = referenceLength;
+        options.reynoldsNumber = reynoldsNumber;
+        options.boundaryLayerThickness = boundaryLayerThickness;
+        options.boundaryLayerLayers = boundaryLayerLayers;
+        options.boundaryLayerGrowth = boundaryLayerGrowth;
+        options.sharpEdgeSplay = sharpEdgeSplay;
+        options.farfieldDistance = farfieldDistance;
+        options.farfieldGrowth = farfieldGrowth;
+        options.smoothing = smoothing;
+        options.minScaledJacobian = minScaledJacobian;
+        options.maxLayers = maxLayers;
+        return make(surface::toQuadControlMesh(wall), options);
+      },
+      py::arg("wall"), py::arg("symmetry_plane") = py::none(), py::arg("reference_length") = 0.0,
+      py::arg("reynolds_number") = 5e6, py::arg("boundary_layer_thickness") = 0.0, py::arg("boundary_layer_layers") = 4,
+      py::arg("boundary_layer_growth") = 1.2, py::arg("sharp_edge_splay") = 2.0, py::arg("farfield_distance") = 0.0,
+      py::arg("farfield_growth") = 1.3, py::arg("smoothing") = 1.0, py::arg("min_scaled_jacobian") = 0.05,
+      py::arg("max_layers") = 400, py::arg("domain") = "sphere", py::arg("box_half_extent") = py::none(),
+      py::arg("flow_direction") = std::vector<double>{1.0, 0.0, 0.0}, doc);
 }
 
 }  // namespace
@@ -177,37 +211,12 @@ void bindVolume(py::module_& module) {
       .def_readonly("farfield_faces_across_domain_edges", &volume::VolumeMesh::farfieldFacesAcrossDomainEdges,
                     "Far-field block faces that bend around an edge of a box or cylinder domain.");
 
-  module.def(
-      "generate_volume_mesh",
-      [](const ControlMesh& wall, const py::object& symmetryPlane, double referenceLength, double reynoldsNumber,
-         double boundaryLayerThickness, int boundaryLayerLayers, double boundaryLayerGrowth, double sharpEdgeSplay, double farfieldDistance,
-         double farfieldGrowth, double smoothing, double minScaledJacobian, int maxLayers, const std::string& domain,
-         const py::object& boxHalfExtent, const py::object& flowDirection) {
-        volume::VolumeMeshOptions options;
-        options.domain = volume::domainShapeOf(domain);
-        if (!boxHalfExtent.is_none()) {
-          options.boxHalfExtent = rowsOf(py::array::ensure(boxHalfExtent).reshape({1, 3}), "box_half_extent", 3).row(0).transpose();
-        }
-        options.flowDirection = rowsOf(py::array::ensure(flowDirection).reshape({1, 3}), "flow_direction", 3).row(0).transpose();
-        options.referenceLength = referenceLength;
-        options.reynoldsNumber = reynoldsNumber;
-        options.boundaryLayerThickness = boundaryLayerThickness;
-        options.boundaryLayerLayers = boundaryLayerLayers;
-        options.boundaryLayerGrowth = boundaryLayerGrowth;
-        options.sharpEdgeSplay = sharpEdgeSplay;
-        options.farfieldDistance = farfieldDistance;
-        options.farfieldGrowth = farfieldGrowth;
-        options.smoothing = smoothing;
-        options.minScaledJacobian = minScaledJacobian;
-        options.maxLayers = maxLayers;
-        return generate(surface::toQuadControlMesh(wall), symmetryPlane, options);
+  defineMarchingFunction(
+      module, "generate_volume_mesh",
+      [](const surface::QuadControlMesh& wall, const volume::VolumeMeshOptions& options) {
+        py::gil_scoped_release release;
+        return volume::generateVolumeMesh(wall, options);
       },
-      py::arg("wall"), py::arg("symmetry_plane") = py::none(), py::arg("reference_length") = 0.0,
-      py::arg("reynolds_number") = 5e6, py::arg("boundary_layer_thickness") = 0.0, py::arg("boundary_layer_layers") = 4,
-      py::arg("boundary_layer_growth") = 1.2, py::arg("sharp_edge_splay") = 2.0, py::arg("farfield_distance") = 0.0, py::arg("farfield_growth") = 1.3,
-      py::arg("smoothing") = 1.0, py::arg("min_scaled_jacobian") = 0.05, py::arg("max_layers") = 400,
-      py::arg("domain") = "sphere", py::arg("box_half_extent") = py::none(),
-      py::arg("flow_direction") = std::vector<double>{1.0, 0.0, 0.0},
       R"doc(The block-structured B-spline volume mesh around the limit surface of a fitted wall.
 
 wall: an all-quad bvmesh.ControlMesh (e.g. SurfaceFitter.mesh), outward oriented, closed or open only
@@ -221,6 +230,36 @@ farfield_distance (0: 20 L), 'box' of half sizes box_half_extent (x, y, z; farfi
 0 or None), or 'cylinder' along flow_direction of radius and half length farfield_distance. The
 blocks' outer faces are 'farfield' on a sphere, else 'inlet' / 'outlet' / 'side' by where they face
 the flow. Returns a VolumeMesh; its .blocks is a BlockMesh with one block per wall patch.)doc");
+
+  py::class_<volume::ControlVolume>(module, "ControlVolume",
+                                    "The volume control mesh marched from a fit's own control mesh (control_volume_mesh).")
+      .def("hex_mesh", [](const volume::ControlVolume& v) { return hexMeshDict(v.mesh); },
+           "The hex mesh as subdivide_hex_mesh and subdivide_and_fit_volume take it (points, cells, boundary_faces, "
+           "boundary_conditions, creases, corners: the wall's creases and corners).")
+      .def_readonly("wall_vertices", &volume::ControlVolume::wallVertices,
+                    "Layer k's points are k * wall_vertices + v, v the wall's control vertex.")
+      .def_property_readonly("block_count", [](const volume::ControlVolume& v) { return static_cast<int>(v.blocks.size()); })
+      .def_property_readonly("cell_count", [](const volume::ControlVolume& v) { return static_cast<long long>(v.mesh.cells.size()); })
+      .def_readonly("block_chart", &volume::ControlVolume::blockChart)
+      .def_readonly("layer_distance", &volume::ControlVolume::layerDistance)
+      .def_readonly("layer_min_scaled_jacobian", &volume::ControlVolume::layerMinScaledJacobian)
+      .def_readonly("reference_length", &volume::ControlVolume::referenceLength)
+      .def_readonly("boundary_layer_thickness", &volume::ControlVolume::boundaryLayerThickness)
+      .def_readonly("farfield_distance", &volume::ControlVolume::farfieldDistance);
+
+  defineMarchingFunction(
+      module, "control_volume_mesh",
+      [](const surface::QuadControlMesh& wall, const volume::VolumeMeshOptions& options) {
+        py::gil_scoped_release release;
+        return volume::controlVolumeMesh(wall, options);
+      },
+      R"doc(The volume control mesh marched from the fitted wall's own Catmull-Clark control mesh (docs/volume.md).
+
+Takes the wall and the options of generate_volume_mesh and marches the same way, from the wall's
+control vertices along their mean limit normals; returns a ControlVolume. Its hex mesh's wall faces
+are the fit's control faces with their creases and corners, so volumetric subdivision refines the
+wall exactly as the surface fit does; its cells are grouped in blocks (the wall's charts, split to
+meet side to side, times the layers) for subdivide_control_volume.)doc");
 
   module.def(
       "hex_mesh_of_blocks", [](const BlockMesh& blocks) { return hexMeshDict(grid::hexMeshOfBlocks(blocks)); },

@@ -108,6 +108,33 @@ inline QuadControlMesh subdivide(const QuadControlMesh& mesh, int levels) {
   return toQuadControlMesh(refined);
 }
 
+// The cube refined twice, its upper half (faces with z >= 0): open on the plane z = 0, its open
+// boundary's vertices exactly on it.
+inline QuadControlMesh upperHalfOfRefinedCube() {
+  const QuadControlMesh whole = subdivide(cube(), 2);
+  std::vector<Eigen::Vector3d> points;
+  std::vector<std::array<int, 4>> quads;
+  std::vector<int> id(static_cast<size_t>(whole.vertices.rows()), -1);
+  for (Eigen::Index f = 0; f < whole.faces.rows(); ++f) {
+    double z = 0;
+    for (int k = 0; k < 4; ++k) z += whole.vertices(whole.faces(f, k), 2);
+    if (z < 0) continue;
+    std::array<int, 4> quad{};
+    for (int k = 0; k < 4; ++k) {
+      int& v = id[static_cast<size_t>(whole.faces(f, k))];
+      if (v < 0) {
+        v = static_cast<int>(points.size());
+        Eigen::Vector3d x = whole.vertices.row(whole.faces(f, k)).transpose();
+        if (std::abs(x.z()) < 1e-12) x.z() = 0.0;
+        points.push_back(x);
+      }
+      quad[static_cast<size_t>(k)] = v;
+    }
+    quads.push_back(quad);
+  }
+  return makeQuadControlMesh(points, quads);
+}
+
 // The cube refined once with the equator loop (z = 0) made an infinitely sharp crease.
 inline QuadControlMesh cubeWithCreasedEquator() {
   QuadControlMesh mesh = subdivide(cube(), 1);

@@ -282,29 +282,7 @@ TEST(VolumeMesh, AroundTheLimitSurfaceOfARefinedCube) {
 }
 
 TEST(VolumeMesh, HalfModelKeepsTheSymmetryPlane) {
-  // The cube cut at z = 0 by keeping its upper half: open on the plane z = 0.
-  const surface::QuadControlMesh whole = surface::testing::subdivide(surface::testing::cube(), 2);
-  std::vector<Vector3d> points;
-  std::vector<std::array<int, 4>> quads;
-  std::vector<int> id(static_cast<size_t>(whole.vertices.rows()), -1);
-  for (Eigen::Index f = 0; f < whole.faces.rows(); ++f) {
-    double z = 0;
-    for (int k = 0; k < 4; ++k) z += whole.vertices(whole.faces(f, k), 2);
-    if (z < 0) continue;
-    std::array<int, 4> quad{};
-    for (int k = 0; k < 4; ++k) {
-      int& v = id[static_cast<size_t>(whole.faces(f, k))];
-      if (v < 0) {
-        v = static_cast<int>(points.size());
-        Vector3d x = whole.vertices.row(whole.faces(f, k)).transpose();
-        if (std::abs(x.z()) < 1e-12) x.z() = 0.0;
-        points.push_back(x);
-      }
-      quad[static_cast<size_t>(k)] = v;
-    }
-    quads.push_back(quad);
-  }
-  const surface::QuadControlMesh half = surface::makeQuadControlMesh(points, quads);
+  const surface::QuadControlMesh half = surface::testing::upperHalfOfRefinedCube();
   VolumeMeshOptions options;
   options.boundaryLayerThickness = 0.05;
   options.farfieldDistance = 20.0;

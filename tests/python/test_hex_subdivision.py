@@ -12,7 +12,7 @@ import numpy as np
 import bvmesh
 import bvmesh.grid
 import bvmesh.volume
-from fixtures import check_mesh, failed_checks, sphere_volume
+from fixtures import CUBE_FACES, CUBE_VERTICES, check_mesh, failed_checks, sphere_target, sphere_volume
 
 
 
@@ -157,6 +157,76 @@ class M6Subdivision(unittest.TestCase):
         self.assertEqual(grid.block_count, 24)
         self.assertEqual(grid.cell_count, 8 * len(bvmesh._core.hex_mesh_of_blocks(volume.blocks)["cells"]))
         self.assertGreater(bvmesh.grid.quality(grid)["summary"]["scaled_jacobian"]["min"], 0.0)
+
+    def test_fitting_goes_on_from_the_control_volume(self):
+        # The control volume keeps the trailing edge's and the tip's creases and corners, so one
+        # volume step fits the wall as the surface fit's level 3 does, and no cell turns over.
+        from test_volume import fit_m6, m6_wing
+
+        fitter, _ = fit_m6(level=2)
+        volume = bvmesh.volume.control_volume(fitter, reference_length=805.0)
+        self.assertEqual(len(volume.hex_mesh()["creases"]), len(fitter.mesh.creases))
+        fitted = bvmesh.volume.fit_on_volume(volume, m6_wing()[0], passes=3,
+                                             symmetry_plane=fitter.options["symmetry_plane"],
+                                             tolerance=1e-5 * 805.0, check_samples_per_face=0)
+        level3, _ = fit_m6(level=3)
+        self.assertLess(fitted["wall"]["max_distance"], 1.01 * level3.record(False)["max_distance"])
+        self.assertGreater(fitted["min_scaled_jacobian"], 0.0)
+
+
+class ControlVolumeOfTheSphereFit(unittest.TestCase):
+    """The volume control mesh marched from the level-2 sphere fit's own control mesh: its wall
+    refines exactly as the surface fit does, so fitting goes on from it as the surface fit would,
+    and its grid's wall points lie on the fitted limit surface."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.target = sphere_target()
+        cls.fitter = bvmesh.SurfaceFitter(cls.target, bvmesh.ControlMesh(CUBE_VERTICES, CUBE_FACES), max_level=2,
+                                          tolerance=1e-9, check_samples_per_face=0)
+        cls.fitter.run()
+        cls.volume = bvmesh.volume.control_volume(cls.fitter, boundary_layer_thickness=0.05, farfield_distance=20.0,
+                                                  reference_length=1.0)
+
+    def test_wall_refines_as_the_surface_fit(self):
+        refined = bvmesh.volume.subdivide(self.volume, steps=2)
+        wall = np.unique(refined["boundary_faces"][[c == "wall" for c in refined["boundary_conditions"]]])
+        surface = np.asarray(self.fitter.mesh.subdivide().subdivide().vertices)
+        self.assertEqual(len(wall), len(surface))
+        tree_distance = np.array([np.linalg.norm(surface - p, axis=1).min() for p in refined["points"][wall]])
+        self.assertLess(tree_distance.max(), 1e-13)
+        # The B-spline blocks' control mesh does not: its wall nets are the charts' clamped nets.
+        blocks = bvmesh.volume.subdivide(bvmesh.volume.offset_and_farfield(
+            self.fitter, boundary_layer_thickness=0.05, farfield_distance=20.0, reference_length=1.0), steps=2)
+        block_wall = np.unique(blocks["boundary_faces"][[c == "wall" for c in blocks["boundary_conditions"]]])
+        self.assertGreater(np.abs(np.linalg.norm(blocks["points"][block_wall], axis=1) - 1.0).max(), 1e-3)
+
+    def test_fitting_goes_on_as_the_surface_fit_would(self):
+        fitted = bvmesh.volume.fit_on_volume(self.volume, self.target, passes=3, tolerance=1e-9,
+                                             check_samples_per_face=0)
+        level3 = bvmesh.SurfaceFitter(self.target, bvmesh.ControlMesh(CUBE_VERTICES, CUBE_FACES), max_level=3,
+                                      tolerance=1e-9, check_samples_per_face=0)
+        level3.run()
+        surface = level3.record(False)["max_distance"]
+        self.assertLess(fitted["wall"]["max_distance"], 1.02 * surface)
+        self.assertGreater(fitted["min_scaled_jacobian"], 0.5)
+
+    def test_grid_wall_lies_on_the_fitted_surface(self):
+        grid = bvmesh.grid.refine(self.volume, method="subdivision", steps=1)
+        self.assertEqual(grid.block_count, self.volume.block_count)
+        self.assertEqual(grid.cell_count, 8 * self.volume.cell_count)
+        wall = np.concatenate([grid.points(b)[:, :, 0, :].reshape(-1, 3) for b in range(grid.block_count)])
+        # The grid's wall points are the limit points at the fit's vertices, edge midpoints and face
+        # centres: its samples, whose largest distance from the sphere the fit reports.
+        self.assertAlmostEqual(np.abs(np.linalg.norm(wall, axis=1) - 1.0).max(),
+                               self.fitter.record(False)["max_distance"], delta=1e-12)
+        self.assertGreater(bvmesh.grid.quality(grid)["summary"]["scaled_jacobian"]["min"], 0.3)
+
+    def test_errors_name_the_problem(self):
+        with self.assertRaisesRegex(TypeError, "control_volume takes a bvmesh.SurfaceFitter or a bvmesh.ControlMesh"):
+            bvmesh.volume.control_volume(self.volume)
+        with self.assertRaisesRegex(bvmesh.InvalidInputError, "far-field distance 0.010000 is not beyond"):
+            bvmesh.volume.control_volume(self.fitter, boundary_layer_thickness=0.05, farfield_distance=0.01)
 
 
 class HexMeshInterface(unittest.TestCase):

@@ -166,15 +166,21 @@ class SphereVolume(unittest.TestCase):
 DATA = os.environ.get("BVMESH_TEST_DATA_DIR") or os.path.join(os.path.dirname(__file__), "..", "data")
 
 
-def fit_m6(level):
-    """The half_wing template fitted to the sharp-trailing-edge M6 (root chord 805 mm): the fitter
-    and its run's result."""
+def m6_wing():
+    """The sharp-trailing-edge M6 without its root face, as a target, and the half_wing template
+    placed on it."""
     from bvmesh import polyhedra
 
     core = bvmesh.load_core()
     wing, _, _ = polyhedra.half_model_target(core.read_cad_file_as_brep(
         os.path.join(DATA, "AileM6_with_sharp_TE.stp")))
-    placed = polyhedra.place("half_wing", wing)
+    return wing, polyhedra.place("half_wing", wing)
+
+
+def fit_m6(level):
+    """The half_wing template fitted to the sharp-trailing-edge M6 (root chord 805 mm): the fitter
+    and its run's result."""
+    wing, placed = m6_wing()
     fitter = bvmesh.SurfaceFitter(wing, placed["mesh"], placed["feature_map"],
                                   symmetry_plane=placed["symmetry_plane"], max_level=level,
                                   tolerance=1e-5 * 805.0, check_samples_per_face=0)

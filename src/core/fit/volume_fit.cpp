@@ -18,51 +18,6 @@ namespace {
 using volume::BoundaryCondition;
 using volume::HexMesh;
 
-// The wall faces as the surface fit's control mesh: `points[v]` is mesh point of local vertex v.
-struct WallSurface {
-  std::vector<int> points;
-  ControlMesh mesh;
-};
-
-WallSurface wallSurface(const HexMesh& mesh) {
-  std::vector<int> localOf(static_cast<size_t>(mesh.points.rows()), -1);
-  std::vector<int> points;
-  std::vector<int> indices;
-  for (size_t f = 0; f < mesh.boundaryFaces.size(); ++f) {
-    if (mesh.boundaryConditions[f] != BoundaryCondition::Wall) continue;
-    // Refined boundary faces point out of the mesh, into the body; the surface fit's wall points
-    // out of the body (its limit normals meet the target's), so each quad is taken reversed.
-    const std::array<int, 4>& quad = mesh.boundaryFaces[f];
-    for (int p : {quad[0], quad[3], quad[2], quad[1]}) {
-      if (localOf[static_cast<size_t>(p)] < 0) {
-        localOf[static_cast<size_t>(p)] = static_cast<int>(points.size());
-        points.push_back(p);
-      }
-      indices.push_back(localOf[static_cast<size_t>(p)]);
-    }
-  }
-  if (indices.empty()) throw InvalidInputError("continued fitting needs wall faces; the hex mesh has none");
-  RowMatrixX3d vertices(static_cast<Eigen::Index>(points.size()), 3);
-  for (size_t v = 0; v < points.size(); ++v) vertices.row(static_cast<Eigen::Index>(v)) = mesh.points.row(points[v]);
-  const std::vector<int> sizes(indices.size() / 4, 4);
-  // The mesh's creases that are edges of the wall (those along its border with another condition
-  // are its boundary, sharp anyway) and its corners on the wall.
-  const ControlMesh plain(vertices, sizes, indices);
-  std::vector<std::array<int, 2>> creases;
-  for (Eigen::Index c = 0; c < mesh.creases.rows(); ++c) {
-    const int a = localOf[static_cast<size_t>(mesh.creases(c, 0))], b = localOf[static_cast<size_t>(mesh.creases(c, 1))];
-    if (a >= 0 && b >= 0 && plain.findEdge(a, b) >= 0 && !plain.isBoundaryEdge(plain.findEdge(a, b))) creases.push_back({a, b});
-  }
-  RowMatrixX2i creasePairs(static_cast<Eigen::Index>(creases.size()), 2);
-  for (size_t c = 0; c < creases.size(); ++c) creasePairs.row(static_cast<Eigen::Index>(c)) << creases[c][0], creases[c][1];
-  std::vector<int> corners;
-  for (int p : mesh.corners) {
-    if (localOf[static_cast<size_t>(p)] >= 0) corners.push_back(localOf[static_cast<size_t>(p)]);
-  }
-  return {std::move(points), ControlMesh(std::move(vertices), sizes, std::move(indices), std::move(creasePairs),
-                                         Eigen::VectorXd(), std::move(corners))};
-}
-
 // Displacements of the points that are not on the boundary: sum over edges w_ij (d_i - d_j) = 0
 // at each, with the boundary points' displacements given.
 RowMatrixX3d harmonicDisplacement(const HexMesh& mesh, const std::vector<char>& onBoundary, const RowMatrixX3d& boundaryMoves) {
@@ -127,7 +82,7 @@ VolumeFitResult subdivideAndFitVolume(const HexMesh& mesh, std::shared_ptr<const
   if (passes < 1) throw InvalidInputError("continued fitting needs passes >= 1, got " + std::to_string(passes));
   volume::HexSubdivisionResult refined = volume::subdivideHexMesh(mesh, options.subdivision);
   HexMesh& result = refined.mesh;
-  WallSurface wall = wallSurface(result);
+  volume::WallControlMesh wall = volume::wallControlMesh(result);
   SurfaceFitter fitter(std::move(target), std::move(wall.mesh), {}, options);
   fitter.correctParameters(passes);
 

@@ -9,6 +9,7 @@
 
 #include "core/grid/structured_grid.h"
 #include "core/volume/block_mesh.h"
+#include "core/volume/control_volume.h"
 #include "core/volume/hex_subdivision.h"
 
 namespace bvmesh::grid {
@@ -22,5 +23,11 @@ volume::HexMesh hexMeshOfBlocks(const volume::BlockMesh& blocks);
 // InvalidInputError for steps < 0 or a grid that would pass 2^31 points, and what
 // volume::subdivideHexMesh throws for the control mesh.
 StructuredGrid subdivideBlockMesh(const volume::BlockMesh& blocks, int steps);
+
+// `steps` >= 0 subdivision steps of the control volume marched from the fit's own control mesh
+// (volume/control_volume.h), as a grid with its blocks, and the wall points then moved to their
+// limit positions: the grid's wall lies on the fitted limit surface at level L + steps, which is
+// the surface fit's subdivision to that level. Throws as subdivideBlockMesh.
+StructuredGrid subdivideControlVolume(const volume::ControlVolume& volume, int steps);
 
 }  // namespace bvmesh::grid

@@ -488,4 +488,76 @@ HexSubdivisionResult subdivideHexMesh(const HexMesh& mesh, const SubdivisionOpti
   return result;
 }
 
+HexBlock refineHexBlock(const HexBlock& old, const HexMesh& refined) {
+  HexBlock next;
+  next.reversed = old.reversed;
+  for (size_t d = 0; d < 3; ++d) next.size[d] = 2 * old.size[d] - 1;
+  next.pointAt.assign(static_cast<size_t>(next.size[0]) * static_cast<size_t>(next.size[1]) * static_cast<size_t>(next.size[2]), -1);
+  next.cellAt.assign(old.cellAt.size() * 8, -1);
+  for (int k = 0; k + 1 < old.size[2]; ++k) {
+    for (int j = 0; j + 1 < old.size[1]; ++j) {
+      for (int i = 0; i + 1 < old.size[0]; ++i) {
+        const int cell = old.cellAt[old.cell(i, j, k)];
+        for (int child = 0; child < 8; ++child) {
+          const std::array<int, 3> octant{child & 1, child >> 1 & 1, child >> 2 & 1};
+          const int blockX = old.reversed ? 1 - octant[0] : octant[0];
+          const int childCell = 8 * cell + child;
+          next.cellAt[next.cell(2 * i + blockX, 2 * j + octant[1], 2 * k + octant[2])] = childCell;
+          const std::array<int, 8>& corners = refined.cells[static_cast<size_t>(childCell)];
+          for (int q = 0; q < 8; ++q) {
+            // Corner q of the child at (x, y, z) = octant + corner bits in the cell's frame.
+            const auto& bits = kHexCornerBits[static_cast<size_t>(q)];
+            const int x = octant[0] + bits[0];
+            const int y = octant[1] + bits[1];
+            const int z = octant[2] + bits[2];
+            next.pointAt[next.point(2 * i + (old.reversed ? 2 - x : x), 2 * j + y, 2 * k + z)] = corners[static_cast<size_t>(q)];
+          }
+        }
+      }
+    }
+  }
+  return next;
+}
+
+
+
+WallControlMesh wallControlMesh(const HexMesh& mesh) {
+  std::vector<int> localOf(static_cast<size_t>(mesh.points.rows()), -1);
+  std::vector<int> points;
+  std::vector<int> indices;
+  for (size_t f = 0; f < mesh.boundaryFaces.size(); ++f) {
+    if (mesh.boundaryConditions[f] != BoundaryCondition::Wall) continue;
+    // Refined boundary faces point out of the mesh, into the body; the surface fit's wall points
+    // out of the body (its limit normals meet the target's), so each quad is taken reversed.
+    const std::array<int, 4>& quad = mesh.boundaryFaces[f];
+    for (int p : {quad[0], quad[3], quad[2], quad[1]}) {
+      if (localOf[static_cast<size_t>(p)] < 0) {
+        localOf[static_cast<size_t>(p)] = static_cast<int>(points.size());
+        points.push_back(p);
+      }
+      indices.push_back(localOf[static_cast<size_t>(p)]);
+    }
+  }
+  if (indices.empty()) throw InvalidInputError("continued fitting needs wall faces; the hex mesh has none");
+  RowMatrixX3d vertices(static_cast<Eigen::Index>(points.size()), 3);
+  for (size_t v = 0; v < points.size(); ++v) vertices.row(static_cast<Eigen::Index>(v)) = mesh.points.row(points[v]);
+  const std::vector<int> sizes(indices.size() / 4, 4);
+  // The mesh's creases that are edges of the wall (those along its border with another condition
+  // are its boundary, sharp anyway) and its corners on the wall.
+  const ControlMesh plain(vertices, sizes, indices);
+  std::vector<std::array<int, 2>> creases;
+  for (Eigen::Index c = 0; c < mesh.creases.rows(); ++c) {
+    const int a = localOf[static_cast<size_t>(mesh.creases(c, 0))], b = localOf[static_cast<size_t>(mesh.creases(c, 1))];
+    if (a >= 0 && b >= 0 && plain.findEdge(a, b) >= 0 && !plain.isBoundaryEdge(plain.findEdge(a, b))) creases.push_back({a, b});
+  }
+  RowMatrixX2i creasePairs(static_cast<Eigen::Index>(creases.size()), 2);
+  for (size_t c = 0; c < creases.size(); ++c) creasePairs.row(static_cast<Eigen::Index>(c)) << creases[c][0], creases[c][1];
+  std::vector<int> corners;
+  for (int p : mesh.corners) {
+    if (localOf[static_cast<size_t>(p)] >= 0) corners.push_back(localOf[static_cast<size_t>(p)]);
+  }
+  return {std::move(points), ControlMesh(std::move(vertices), sizes, std::move(indices), std::move(creasePairs),
+                                         Eigen::VectorXd(), std::move(corners))};
+}
+
 }  // namespace bvmesh::volume

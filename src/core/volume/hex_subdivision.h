@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/common/types.h"
+#include "core/mesh/control_mesh.h"
 #include "core/subdiv/subdivision.h"
 #include "core/volume/block_mesh.h"
 
@@ -56,6 +57,38 @@ struct HexSubdivisionResult {
 // cells that both see it with the same orientation, and for a boundary surface the surface
 // stage cannot subdivide (non-manifold edges).
 HexSubdivisionResult subdivideHexMesh(const HexMesh& mesh, const SubdivisionOptions& options = {});
+
+// The boundary faces tagged Wall as a surface control mesh pointing out of the body (the surface
+// fit's orientation), with the mesh's creases along it (not those on its border, which is sharp
+// anyway) and its corners on it; local vertex v is mesh point points[v]. Throws InvalidInputError
+// when the mesh has no wall face.
+struct WallControlMesh {
+  std::vector<int> points;
+  ControlMesh mesh;
+};
+WallControlMesh wallControlMesh(const HexMesh& mesh);
+
+// A structured block of a hex mesh: the point at each (i, j, k) lattice position and the cell at
+// each cell position, i fastest. `reversed`: the block is left-handed, so its cells were taken
+// with i reversed (corner (x, y, z) of a cell sits at lattice offset (1 - x, y, z)).
+struct HexBlock {
+  std::array<int, 3> size{};  // points per direction
+  std::vector<int> pointAt;
+  std::vector<int> cellAt;
+  bool reversed = false;
+
+  size_t point(int i, int j, int k) const {
+    return static_cast<size_t>(i) + static_cast<size_t>(size[0]) * (static_cast<size_t>(j) + static_cast<size_t>(size[1]) * static_cast<size_t>(k));
+  }
+  size_t cell(int i, int j, int k) const {
+    return static_cast<size_t>(i) +
+           static_cast<size_t>(size[0] - 1) * (static_cast<size_t>(j) + static_cast<size_t>(size[1] - 1) * static_cast<size_t>(k));
+  }
+};
+
+// The block after one step of subdivideHexMesh, whose result is `refined`: (2 n - 1) points per
+// direction, the children of its cells placed on its lattice.
+HexBlock refineHexBlock(const HexBlock& block, const HexMesh& refined);
 
 // The 12 edges of a cell as corner pairs: 4 along x, 4 along y, 4 along z.
 inline constexpr std::array<std::array<int, 2>, 12> kHexCellEdges{

@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <sstream>
 #include <string>
 
 #include "core/common/bspline_basis.h"
@@ -23,20 +22,6 @@ using Eigen::Vector3d;
 const char* sideName(ChartSide side) {
   static const char* names[] = {"v_min", "u_max", "v_max", "u_min"};
   return names[static_cast<int>(side)];
-}
-
-int blockFaceOf(ChartSide side) {
-  switch (side) {
-    case ChartSide::UMin:
-      return static_cast<int>(BlockFaceSide::UMin);
-    case ChartSide::UMax:
-      return static_cast<int>(BlockFaceSide::UMax);
-    case ChartSide::VMin:
-      return static_cast<int>(BlockFaceSide::VMin);
-    case ChartSide::VMax:
-      return static_cast<int>(BlockFaceSide::VMax);
-  }
-  return 0;
 }
 
 // Position (i, j) in a patch's pole grid of entry t along a side.
@@ -185,18 +170,6 @@ WallGrid wallGrid(const std::vector<WallPatch>& patches) {
   return grid;
 }
 
-// Volume enclosed by the front (with the symmetry plane closing a half model): negative when the
-// wall is oriented inwards.
-double enclosedVolume(const MarchingFront& front, const Vector3d& origin) {
-  double volume = 0.0;
-  for (const auto& q : front.quads) {
-    const Vector3d a = front.points.row(q[0]).transpose() - origin, b = front.points.row(q[1]).transpose() - origin;
-    const Vector3d c = front.points.row(q[2]).transpose() - origin, d = front.points.row(q[3]).transpose() - origin;
-    volume += (a.dot(b.cross(c)) + a.dot(c.cross(d))) / 6.0;
-  }
-  return volume;
-}
-
 // Averaging knots for interpolation at increasing parameters t_0 = 0 ... t_K = 1 (de Boor).
 std::vector<double> averagingKnots(const std::vector<double>& t) {
   const int n = static_cast<int>(t.size());
@@ -233,10 +206,7 @@ VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const Volume
 
   VolumeMesh result;
   for (double deviation : bsplines.maxDeviation) result.wallMaxDeviation = std::max(result.wallMaxDeviation, deviation);
-  const Vector3d planeNormal = options.planeNormal.normalized();
-  if (options.hasSymmetryPlane && !(options.planeNormal.norm() > 0 && options.planePoint.allFinite() && planeNormal.allFinite())) {
-    throw InvalidInputError("the symmetry plane needs a finite point and a non-zero normal");
-  }
+  const Vector3d planeNormal = symmetryPlaneNormal(options);
   // Open sides must lie on the symmetry plane.
   for (size_t p = 0; p < patches.size(); ++p) {
     for (int s = 0; s < 4; ++s) {
@@ -263,80 +233,13 @@ VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const Volume
     }
   }
 
-  Vector3d centre = 0.5 * (grid.lo + grid.hi);
-  if (options.hasSymmetryPlane) centre -= (centre - options.planePoint).dot(planeNormal) * planeNormal;
-  if (enclosedVolume(front, centre) <= 0.0) {
-    throw InvalidInputError("the wall surface is oriented inwards (its faces' normals point into the body): "
-                            "reverse the order of every face's vertices");
-  }
-
-  const Vector3d extent = grid.hi - grid.lo;
-  auto positiveOrZero = [](double value, const char* name) {
-    if (!(value >= 0) || !std::isfinite(value)) {
-      throw InvalidInputError(std::string(name) + " must be positive (or 0 for the default), got " + std::to_string(value));
-    }
-  };
-  positiveOrZero(options.referenceLength, "reference length");
-  positiveOrZero(options.boundaryLayerThickness, "boundary-layer thickness");
-  positiveOrZero(options.farfieldDistance, "far-field distance");
-  if (!(options.reynoldsNumber >= 1e3 && options.reynoldsNumber <= 1e10)) {
-    throw InvalidInputError("Reynolds number must be in [1e3, 1e10], got " + std::to_string(options.reynoldsNumber));
-  }
-  result.referenceLength = options.referenceLength > 0 ? options.referenceLength : extent.maxCoeff();
-  result.boundaryLayerThickness = options.boundaryLayerThickness > 0
-                                      ? options.boundaryLayerThickness
-                                      : 0.37 * result.referenceLength * std::pow(options.reynoldsNumber, -0.2);
-  result.farfieldDistance = options.farfieldDistance > 0 ? options.farfieldDistance : 20.0 * result.referenceLength;
-  result.domainCentre = centre;
-  if (result.farfieldDistance <= result.boundaryLayerThickness) {
-    throw InvalidInputError("far-field distance " + std::to_string(result.farfieldDistance) +
-                            " is not beyond the boundary-layer thickness " + std::to_string(result.boundaryLayerThickness));
-  }
-
-  MarchingOptions marching;
-  marching.boundaryLayerThickness = result.boundaryLayerThickness;
-  marching.boundaryLayerLayers = options.boundaryLayerLayers;
-  marching.boundaryLayerGrowth = options.boundaryLayerGrowth;
-  marching.sharpEdgeSplay = options.sharpEdgeSplay;
-  marching.farfieldDistance = result.farfieldDistance;
-  marching.farfieldGrowth = options.farfieldGrowth;
-  marching.domain.shape = options.domain;
-  marching.domain.centre = centre;
-  marching.domain.size = result.farfieldDistance;
-  for (int axis = 0; axis < 3; ++axis) {
-    const double half = options.boxHalfExtent[axis];
-    if (!(half >= 0.0) || !std::isfinite(half)) {
-      throw InvalidInputError("box half sizes must be positive (or 0 for the far-field distance), got " +
-                              std::to_string(half));
-    }
-    marching.domain.halfExtent[axis] = half > 0.0 ? half : result.farfieldDistance;
-    if (options.domain == DomainShape::Box && marching.domain.halfExtent[axis] > 1e4 * result.referenceLength) {
-      std::ostringstream message;
-      message << "box half size " << marching.domain.halfExtent[axis] << " is beyond 1e4 reference lengths ("
-              << result.referenceLength << ")";
-      throw InvalidInputError(message.str());
-    }
-  }
-  if (options.domain == DomainShape::Box) {
-    // The layers are marched out to the box's nearest face, then stretched onto the box.
-    marching.farfieldDistance = marching.domain.halfExtent.minCoeff();
-    result.farfieldDistance = marching.farfieldDistance;
-  }
-  const double flow = options.flowDirection.norm();
-  if (!std::isfinite(flow) || !(flow > 0.0)) throw InvalidInputError("the flow direction must be a finite, non-zero vector");
-  marching.domain.flowDirection = options.flowDirection / flow;
-  marching.domain.validate();
-  if (options.domain == DomainShape::Box && marching.domain.halfExtent.minCoeff() <= result.boundaryLayerThickness) {
-    throw InvalidInputError("the box's half sizes must be beyond the boundary-layer thickness " +
-                            std::to_string(result.boundaryLayerThickness));
-  }
-  result.domain = marching.domain;
-  marching.planePoint = options.planePoint;
-  marching.planeNormal = planeNormal;
-  marching.smoothing = options.smoothing;
-  marching.minScaledJacobian = options.minScaledJacobian;
-  marching.maxLayers = options.maxLayers;
-  const MarchingResult layers = marchLayers(front, marching);
+  const ResolvedVolumeOptions resolved = resolveVolumeOptions(options, front);
+  result.referenceLength = resolved.referenceLength;
+  result.boundaryLayerThickness = resolved.boundaryLayerThickness;
+  result.farfieldDistance = resolved.farfieldDistance;
+  result.domainCentre = resolved.domainCentre;
+  result.domain = resolved.marching.domain;
+  const MarchingResult layers = marchLayers(front, resolved.marching);
   result.layerDistance = layers.layerDistance;
   result.layerMinScaledJacobian = layers.layerMinScaledJacobian;
 
@@ -460,18 +363,7 @@ VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const Volume
     block.faces[static_cast<size_t>(BlockFaceSide::WMin)].condition = BoundaryCondition::Wall;
     block.faces[static_cast<size_t>(BlockFaceSide::WMax)].condition =
         outerCondition(result.domain, layerPoles[p].back(), result.farfieldFacesAcrossDomainEdges);
-    for (int s = 0; s < 4; ++s) {
-      const PatchSideLink& link = patch.sides[static_cast<size_t>(s)];
-      BlockFace& face = block.faces[static_cast<size_t>(blockFaceOf(static_cast<ChartSide>(s)))];
-      if (link.patch < 0) {
-        face.condition = BoundaryCondition::Symmetry;
-        continue;
-      }
-      face.condition = BoundaryCondition::Connected;
-      face.neighbour.block = link.patch;
-      face.neighbour.face = blockFaceOf(link.side);
-      face.neighbour.reverseFirst = link.reversed;
-    }
+    setLateralFaces(patch, block.faces);
     blocks.push_back(std::move(block));
     result.blockChart.push_back(patch.chart);
   }

@@ -62,6 +62,20 @@ PatchSurface restrictPatch(const PatchSurface& patch, double u0, double u1, doub
   return result;
 }
 
+int blockFaceOf(ChartSide side) {
+  switch (side) {
+    case ChartSide::UMin:
+      return static_cast<int>(BlockFaceSide::UMin);
+    case ChartSide::UMax:
+      return static_cast<int>(BlockFaceSide::UMax);
+    case ChartSide::VMin:
+      return static_cast<int>(BlockFaceSide::VMin);
+    case ChartSide::VMax:
+      return static_cast<int>(BlockFaceSide::VMax);
+  }
+  return 0;
+}
+
 bool alongU(ChartSide side) { return side == ChartSide::VMin || side == ChartSide::VMax; }
 
 }  // namespace
@@ -89,9 +103,7 @@ Eigen::Vector3d PatchSurface::point(double u, double v, Eigen::Vector3d* normal)
   return x;
 }
 
-std::vector<WallPatch> conformingWallPatches(const surface::LimitBSplines& bsplines,
-                                             const surface::QuadControlMesh& mesh) {
-  const surface::ChartLayout& layout = bsplines.layout;
+std::vector<WallPatch> conformingPatchLayout(const surface::ChartLayout& layout, const surface::QuadControlMesh& mesh) {
   const size_t chartCount = layout.charts.size();
   // Cut positions per chart along u and v (chart cell lines), closed under propagation across
   // shared segments: a cut that ends inside a neighbour's side continues through the neighbour.
@@ -141,7 +153,6 @@ std::vector<WallPatch> conformingWallPatches(const surface::LimitBSplines& bspli
   std::vector<WallPatch> patches;
   for (size_t c = 0; c < chartCount; ++c) {
     const surface::QuadChart& chart = layout.charts[c];
-    const PatchSurface whole = patchOf(bsplines.surfaces[c]);
     const std::vector<int> us(cutsU[c].begin(), cutsU[c].end());
     const std::vector<int> vs(cutsV[c].begin(), cutsV[c].end());
     for (size_t a = 0; a + 1 < us.size(); ++a) {
@@ -150,7 +161,6 @@ std::vector<WallPatch> conformingWallPatches(const surface::LimitBSplines& bspli
         patch.chart = static_cast<int>(c);
         patch.uRange = {us[a], us[a + 1]};
         patch.vRange = {vs[b], vs[b + 1]};
-        patch.surface = restrictPatch(whole, us[a], us[a + 1], vs[b], vs[b + 1]);
         for (int i = us[a]; i <= us[a + 1]; ++i) {
           patch.sideVertices[static_cast<size_t>(ChartSide::VMin)].push_back(chart.vertex(i, vs[b]));
           patch.sideVertices[static_cast<size_t>(ChartSide::VMax)].push_back(chart.vertex(i, vs[b + 1]));
@@ -199,6 +209,33 @@ std::vector<WallPatch> conformingWallPatches(const surface::LimitBSplines& bspli
     }
   }
   return patches;
+}
+
+std::vector<WallPatch> conformingWallPatches(const surface::LimitBSplines& bsplines,
+                                             const surface::QuadControlMesh& mesh) {
+  std::vector<WallPatch> patches = conformingPatchLayout(bsplines.layout, mesh);
+  std::vector<PatchSurface> charts;
+  for (const cad::BSplineSurfaceData& surface : bsplines.surfaces) charts.push_back(patchOf(surface));
+  for (WallPatch& patch : patches) {
+    patch.surface = restrictPatch(charts[static_cast<size_t>(patch.chart)], patch.uRange[0], patch.uRange[1],
+                                  patch.vRange[0], patch.vRange[1]);
+  }
+  return patches;
+}
+
+void setLateralFaces(const WallPatch& patch, std::array<BlockFace, 6>& faces) {
+  for (int s = 0; s < 4; ++s) {
+    const PatchSideLink& link = patch.sides[static_cast<size_t>(s)];
+    BlockFace& face = faces[static_cast<size_t>(blockFaceOf(static_cast<ChartSide>(s)))];
+    if (link.patch < 0) {
+      face.condition = BoundaryCondition::Symmetry;
+      continue;
+    }
+    face.condition = BoundaryCondition::Connected;
+    face.neighbour.block = link.patch;
+    face.neighbour.face = blockFaceOf(link.side);
+    face.neighbour.reverseFirst = link.reversed;
+  }
 }
 
 }  // namespace bvmesh::volume

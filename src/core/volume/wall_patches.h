@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/surface/limit_bsplines.h"
+#include "core/volume/block_mesh.h"
 
 namespace bvmesh::volume {
 
@@ -38,15 +39,24 @@ struct WallPatch {
   int chart = -1;
   std::array<int, 2> uRange{0, 0};  // chart cells [first, last) along u
   std::array<int, 2> vRange{0, 0};
-  PatchSurface surface;
+  PatchSurface surface;  // empty from conformingPatchLayout
   std::array<std::vector<int>, 4> sideVertices;  // control-mesh vertices along each side, by increasing parameter
   std::array<PatchSideLink, 4> sides;             // per ChartSide
   std::array<bool, 4> creaseSide{false, false, false, false};  // side on a crease of the control mesh
 };
 
-// Splits the charts of `bsplines` (built from `mesh`) into conforming patches and links their
-// sides. Throws TopologyError when a side has more than one neighbour after splitting.
+// Splits the charts of `layout` (of `mesh`) into conforming patches and links their sides, without
+// surfaces: the patches as rectangles of control-mesh faces. Throws TopologyError when a side has
+// more than one neighbour after splitting.
+std::vector<WallPatch> conformingPatchLayout(const surface::ChartLayout& layout, const surface::QuadControlMesh& mesh);
+
+// The same with each patch's surface: its piece of its chart's B-spline surface in `bsplines`
+// (built from `mesh`).
 std::vector<WallPatch> conformingWallPatches(const surface::LimitBSplines& bsplines,
                                              const surface::QuadControlMesh& mesh);
+
+// The lateral faces (u_min ... v_max) of the block standing on `patch` (block numbers = patch
+// numbers): connected to the block on the neighbouring patch, or symmetry where the side is open.
+void setLateralFaces(const WallPatch& patch, std::array<BlockFace, 6>& faces);
 
 }  // namespace bvmesh::volume

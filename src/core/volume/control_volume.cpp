@@ -1,0 +1,211 @@
+#include "core/volume/control_volume.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <string>
+#include <utility>
+
+#include "core/common/errors.h"
+#include "core/subdiv/limit_evaluator.h"
+#include "core/surface/limit_points.h"
+#include "core/volume/wall_patches.h"
+
+namespace bvmesh::volume {
+namespace {
+
+using Eigen::Vector3d;
+
+// Per wall vertex the mean of the unit limit normals of its faces at it: one normal where the
+// limit surface is smooth, the mean of both sides' at a crease (the grid line then leaves along
+// it, as the B-spline blocks' lines do at chart borders on creases). A face whose limit normal
+// vanishes at the vertex (a corner with a single crease, where the limit tangents are parallel)
+// gives its control face's normal instead.
+RowMatrixX3d meanLimitNormals(const surface::QuadControlMesh& wall) {
+  const ControlMesh mesh = surface::toControlMesh(wall);
+  const LimitEvaluator evaluator(mesh);
+  const std::vector<int> ptex = ptexFaceOffsets(mesh);
+  const auto faces = static_cast<int>(wall.faces.rows());
+  std::vector<SurfaceLocation> locations;
+  locations.reserve(static_cast<size_t>(4 * faces));
+  for (int f = 0; f < faces; ++f) {
+    for (int k = 0; k < 4; ++k) locations.push_back(cornerLocation(mesh, ptex, f, k));
+  }
+  const LimitEvaluation limit = evaluator.evaluate(wall.vertices, locations);
+  RowMatrixX3d normals = RowMatrixX3d::Zero(wall.vertices.rows(), 3);
+  for (int f = 0; f < faces; ++f) {
+    const Vector3d a = wall.vertices.row(wall.faces(f, 0)), b = wall.vertices.row(wall.faces(f, 1));
+    const Vector3d c = wall.vertices.row(wall.faces(f, 2)), d = wall.vertices.row(wall.faces(f, 3));
+    const Vector3d faceNormal = (c - a).cross(d - b).normalized();
+    for (int k = 0; k < 4; ++k) {
+      const Vector3d n = limit.normals.row(4 * f + k);
+      normals.row(wall.faces(f, k)) += (n.norm() > 0.5 && n.allFinite() ? n : faceNormal).transpose();
+    }
+  }
+  for (Eigen::Index v = 0; v < normals.rows(); ++v) {
+    const double length = normals.row(v).norm();
+    if (!(length > 1e-12)) {
+      const Vector3d x = wall.vertices.row(v);
+      throw SolverError("the wall has no normal at control vertex " + std::to_string(v) + " (" + std::to_string(x.x()) +
+                        ", " + std::to_string(x.y()) + ", " + std::to_string(x.z()) +
+                        "): its faces' normals cancel (a folded wall)");
+    }
+    normals.row(v) /= length;
+  }
+  return normals;
+}
+
+using Edge = std::pair<int, int>;
+
+// Boundary edges of the wall (edges of one face), in the direction their face runs them.
+std::vector<Edge> boundaryEdges(const surface::QuadControlMesh& wall) {
+  std::map<Edge, int> uses;
+  for (Eigen::Index f = 0; f < wall.faces.rows(); ++f) {
+    for (int k = 0; k < 4; ++k) {
+      const int a = wall.faces(f, k), b = wall.faces(f, (k + 1) % 4);
+      ++uses[{std::min(a, b), std::max(a, b)}];
+    }
+  }
+  std::vector<Edge> edges;
+  for (Eigen::Index f = 0; f < wall.faces.rows(); ++f) {
+    for (int k = 0; k < 4; ++k) {
+      const int a = wall.faces(f, k), b = wall.faces(f, (k + 1) % 4);
+      if (uses[{std::min(a, b), std::max(a, b)}] == 1) edges.emplace_back(a, b);
+    }
+  }
+  return edges;
+}
+
+}  // namespace
+
+ControlVolume controlVolumeMesh(const surface::QuadControlMesh& wall, const VolumeMeshOptions& options) {
+  surface::validateQuadControlMesh(wall);
+  const Vector3d planeNormal = symmetryPlaneNormal(options);
+  const auto wallVertices = static_cast<int>(wall.vertices.rows());
+  const auto quads = static_cast<int>(wall.faces.rows());
+
+  MarchingFront front;
+  front.points = wall.vertices;
+  front.normals = meanLimitNormals(wall);
+  front.onSymmetryPlane.assign(static_cast<size_t>(wallVertices), 0);
+  for (int f = 0; f < quads; ++f) {
+    front.quads.push_back({wall.faces(f, 0), wall.faces(f, 1), wall.faces(f, 2), wall.faces(f, 3)});
+    front.quadNames.push_back("wall control face " + std::to_string(f));
+  }
+  // The open boundary must lie on the symmetry plane; its vertices are put on it exactly, so that
+  // the symmetry faces swept from it are planar (volumetric subdivision keeps them so).
+  const std::vector<Edge> openEdges = boundaryEdges(wall);
+  const double size = (front.points.colwise().maxCoeff() - front.points.colwise().minCoeff()).norm();
+  std::vector<int> facesAt(static_cast<size_t>(wallVertices), 0);
+  for (int f = 0; f < quads; ++f) {
+    for (int k = 0; k < 4; ++k) ++facesAt[static_cast<size_t>(wall.faces(f, k))];
+  }
+  for (const auto& [a, b] : openEdges) {
+    for (int v : {a, b}) {
+      if (!options.hasSymmetryPlane) {
+        throw InvalidInputError("the wall is open at control vertex " + std::to_string(v) +
+                                ": close it, or give the symmetry plane it lies on (a half model)");
+      }
+      const double off = (front.points.row(v).transpose() - options.planePoint).dot(planeNormal);
+      if (std::abs(off) > 1e-6 * size) {
+        throw InvalidInputError("the wall's open boundary at control vertex " + std::to_string(v) + " lies " +
+                                std::to_string(std::abs(off)) + " off the symmetry plane");
+      }
+      front.points.row(v) -= off * planeNormal.transpose();
+      front.onSymmetryPlane[static_cast<size_t>(v)] = 1;
+    }
+  }
+
+  const ResolvedVolumeOptions resolved = resolveVolumeOptions(options, front);
+  const MarchingResult marched = marchLayers(front, resolved.marching);
+  const auto layers = static_cast<int>(marched.layers.size());
+
+  ControlVolume result;
+  result.wallVertices = wallVertices;
+  result.layerDistance = marched.layerDistance;
+  result.layerMinScaledJacobian = marched.layerMinScaledJacobian;
+  result.referenceLength = resolved.referenceLength;
+  result.boundaryLayerThickness = resolved.boundaryLayerThickness;
+  result.farfieldDistance = resolved.farfieldDistance;
+
+  HexMesh& mesh = result.mesh;
+  mesh.points.resize(static_cast<Eigen::Index>(layers) * wallVertices, 3);
+  for (int k = 0; k < layers; ++k) {
+    mesh.points.middleRows(static_cast<Eigen::Index>(k) * wallVertices, wallVertices) = marched.layers[static_cast<size_t>(k)];
+  }
+  auto at = [wallVertices](int layer, int vertex) { return layer * wallVertices + vertex; };
+  // One block of cells per conforming wall patch, i fastest: a chart cell's corners run
+  // counter-clockwise seen from the side marched to, so every cell is right-handed.
+  const surface::ChartLayout layout = surface::buildChartLayout(wall);
+  const std::vector<WallPatch> patches = conformingPatchLayout(layout, wall);
+  for (const WallPatch& patch : patches) {
+    const surface::QuadChart& chart = layout.charts[static_cast<size_t>(patch.chart)];
+    HexBlock block;
+    block.size = {patch.uRange[1] - patch.uRange[0] + 1, patch.vRange[1] - patch.vRange[0] + 1, layers};
+    block.pointAt.resize(static_cast<size_t>(block.size[0]) * static_cast<size_t>(block.size[1]) * static_cast<size_t>(layers));
+    for (int k = 0; k < layers; ++k) {
+      for (int j = 0; j < block.size[1]; ++j) {
+        for (int i = 0; i < block.size[0]; ++i) {
+          block.pointAt[block.point(i, j, k)] = at(k, chart.vertex(patch.uRange[0] + i, patch.vRange[0] + j));
+        }
+      }
+    }
+    for (int k = 0; k + 1 < layers; ++k) {
+      for (int j = 0; j + 1 < block.size[1]; ++j) {
+        for (int i = 0; i + 1 < block.size[0]; ++i) {
+          std::array<int, 8> cell{};
+          for (size_t q = 0; q < 8; ++q) {
+            const auto& bits = kHexCornerBits[q];
+            cell[q] = block.pointAt[block.point(i + bits[0], j + bits[1], k + bits[2])];
+          }
+          block.cellAt.push_back(static_cast<int>(mesh.cells.size()));
+          mesh.cells.push_back(cell);
+        }
+      }
+    }
+    std::array<BlockFace, 6> faces;
+    faces[static_cast<size_t>(BlockFaceSide::WMin)].condition = BoundaryCondition::Wall;
+    const Vector3d middle = mesh.points.row(block.pointAt[block.point(block.size[0] / 2, block.size[1] / 2, layers - 1)]);
+    faces[static_cast<size_t>(BlockFaceSide::WMax)].condition = resolved.marching.domain.conditionAt(middle);
+    setLateralFaces(patch, faces);
+    result.blocks.push_back(std::move(block));
+    result.blockFaces.push_back(faces);
+    result.blockChart.push_back(patch.chart);
+  }
+  for (const auto& q : front.quads) {
+    mesh.boundaryFaces.push_back(q);
+    mesh.boundaryConditions.push_back(BoundaryCondition::Wall);
+  }
+  // The outer faces carry their block's condition, as the block faces do.
+  for (size_t b = 0; b < result.blocks.size(); ++b) {
+    const HexBlock& block = result.blocks[b];
+    for (int j = 0; j + 1 < block.size[1]; ++j) {
+      for (int i = 0; i + 1 < block.size[0]; ++i) {
+        auto corner = [&](int x, int y) { return block.pointAt[block.point(i + x, j + y, layers - 1)]; };
+        mesh.boundaryFaces.push_back({corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)});
+        mesh.boundaryConditions.push_back(result.blockFaces[b][static_cast<size_t>(BlockFaceSide::WMax)].condition);
+      }
+    }
+  }
+  for (int k = 0; k + 1 < layers; ++k) {
+    for (const auto& [a, b] : openEdges) {
+      mesh.boundaryFaces.push_back({at(k, a), at(k, b), at(k + 1, b), at(k + 1, a)});
+      mesh.boundaryConditions.push_back(BoundaryCondition::Symmetry);
+    }
+  }
+  mesh.creases = wall.creases;
+  mesh.corners = wall.corners;
+  // The surface stage makes a boundary vertex of one face a corner (OpenSubdiv's edge-and-corner
+  // boundary rule); on the volume's closed boundary it has only the two wall / symmetry creases,
+  // so it is made one explicitly for the wall to refine as the fit does.
+  for (const auto& [a, b] : openEdges) {
+    if (facesAt[static_cast<size_t>(a)] == 1 && std::find(mesh.corners.begin(), mesh.corners.end(), a) == mesh.corners.end()) {
+      mesh.corners.push_back(a);
+    }
+  }
+  return result;
+}
+
+}  // namespace bvmesh::volume

@@ -1,0 +1,119 @@
+#include "core/volume/volume_options.h"
+
+#include <Eigen/Geometry>
+
+#include <cmath>
+#include <sstream>
+#include <string>
+
+#include "core/common/errors.h"
+
+namespace bvmesh::volume {
+namespace {
+
+using Eigen::Vector3d;
+
+// Volume enclosed by the front (with the symmetry plane closing a half model): negative when the
+// wall is oriented inwards.
+double enclosedVolume(const MarchingFront& front, const Vector3d& origin) {
+  double volume = 0.0;
+  for (const auto& q : front.quads) {
+    const Vector3d a = front.points.row(q[0]).transpose() - origin, b = front.points.row(q[1]).transpose() - origin;
+    const Vector3d c = front.points.row(q[2]).transpose() - origin, d = front.points.row(q[3]).transpose() - origin;
+    volume += (a.dot(b.cross(c)) + a.dot(c.cross(d))) / 6.0;
+  }
+  return volume;
+}
+
+void positiveOrZero(double value, const char* name) {
+  if (!(value >= 0) || !std::isfinite(value)) {
+    throw InvalidInputError(std::string(name) + " must be positive (or 0 for the default), got " + std::to_string(value));
+  }
+}
+
+}  // namespace
+
+Vector3d symmetryPlaneNormal(const VolumeMeshOptions& options) {
+  const Vector3d normal = options.planeNormal.normalized();
+  if (options.hasSymmetryPlane && !(options.planeNormal.norm() > 0 && options.planePoint.allFinite() && normal.allFinite())) {
+    throw InvalidInputError("the symmetry plane needs a finite point and a non-zero normal");
+  }
+  return normal;
+}
+
+ResolvedVolumeOptions resolveVolumeOptions(const VolumeMeshOptions& options, const MarchingFront& front) {
+  const Vector3d planeNormal = symmetryPlaneNormal(options);
+  const Vector3d lo = front.points.colwise().minCoeff().transpose();
+  const Vector3d hi = front.points.colwise().maxCoeff().transpose();
+  ResolvedVolumeOptions result;
+  Vector3d centre = 0.5 * (lo + hi);
+  if (options.hasSymmetryPlane) centre -= (centre - options.planePoint).dot(planeNormal) * planeNormal;
+  if (enclosedVolume(front, centre) <= 0.0) {
+    throw InvalidInputError("the wall surface is oriented inwards (its faces' normals point into the body): "
+                            "reverse the order of every face's vertices");
+  }
+
+  const Vector3d extent = hi - lo;
+  positiveOrZero(options.referenceLength, "reference length");
+  positiveOrZero(options.boundaryLayerThickness, "boundary-layer thickness");
+  positiveOrZero(options.farfieldDistance, "far-field distance");
+  if (!(options.reynoldsNumber >= 1e3 && options.reynoldsNumber <= 1e10)) {
+    throw InvalidInputError("Reynolds number must be in [1e3, 1e10], got " + std::to_string(options.reynoldsNumber));
+  }
+  result.referenceLength = options.referenceLength > 0 ? options.referenceLength : extent.maxCoeff();
+  result.boundaryLayerThickness = options.boundaryLayerThickness > 0
+                                      ? options.boundaryLayerThickness
+                                      : 0.37 * result.referenceLength * std::pow(options.reynoldsNumber, -0.2);
+  result.farfieldDistance = options.farfieldDistance > 0 ? options.farfieldDistance : 20.0 * result.referenceLength;
+  result.domainCentre = centre;
+  if (result.farfieldDistance <= result.boundaryLayerThickness) {
+    throw InvalidInputError("far-field distance " + std::to_string(result.farfieldDistance) +
+                            " is not beyond the boundary-layer thickness " + std::to_string(result.boundaryLayerThickness));
+  }
+
+  MarchingOptions& marching = result.marching;
+  marching.boundaryLayerThickness = result.boundaryLayerThickness;
+  marching.boundaryLayerLayers = options.boundaryLayerLayers;
+  marching.boundaryLayerGrowth = options.boundaryLayerGrowth;
+  marching.sharpEdgeSplay = options.sharpEdgeSplay;
+  marching.farfieldDistance = result.farfieldDistance;
+  marching.farfieldGrowth = options.farfieldGrowth;
+  marching.domain.shape = options.domain;
+  marching.domain.centre = centre;
+  marching.domain.size = result.farfieldDistance;
+  for (int axis = 0; axis < 3; ++axis) {
+    const double half = options.boxHalfExtent[axis];
+    if (!(half >= 0.0) || !std::isfinite(half)) {
+      throw InvalidInputError("box half sizes must be positive (or 0 for the far-field distance), got " +
+                              std::to_string(half));
+    }
+    marching.domain.halfExtent[axis] = half > 0.0 ? half : result.farfieldDistance;
+    if (options.domain == DomainShape::Box && marching.domain.halfExtent[axis] > 1e4 * result.referenceLength) {
+      std::ostringstream message;
+      message << "box half size " << marching.domain.halfExtent[axis] << " is beyond 1e4 reference lengths ("
+              << result.referenceLength << ")";
+      throw InvalidInputError(message.str());
+    }
+  }
+  if (options.domain == DomainShape::Box) {
+    // The layers are marched out to the box's nearest face, then stretched onto the box.
+    marching.farfieldDistance = marching.domain.halfExtent.minCoeff();
+    result.farfieldDistance = marching.farfieldDistance;
+  }
+  const double flow = options.flowDirection.norm();
+  if (!std::isfinite(flow) || !(flow > 0.0)) throw InvalidInputError("the flow direction must be a finite, non-zero vector");
+  marching.domain.flowDirection = options.flowDirection / flow;
+  marching.domain.validate();
+  if (options.domain == DomainShape::Box && marching.domain.halfExtent.minCoeff() <= result.boundaryLayerThickness) {
+    throw InvalidInputError("the box's half sizes must be beyond the boundary-layer thickness " +
+                            std::to_string(result.boundaryLayerThickness));
+  }
+  marching.planePoint = options.planePoint;
+  marching.planeNormal = planeNormal;
+  marching.smoothing = options.smoothing;
+  marching.minScaledJacobian = options.minScaledJacobian;
+  marching.maxLayers = options.maxLayers;
+  return result;
+}
+
+}  // namespace bvmesh::volume

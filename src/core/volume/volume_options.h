@@ -1,0 +1,58 @@
+// The volume mesh's options and their resolution into the marching's: the defaults filled in
+// from the wall (reference length, boundary-layer estimate, far-field distance), the domain set up
+// around the wall's centre, every value checked. Shared by the B-spline blocks (volume_blocks.h)
+// and the Catmull-Clark volume control mesh (control_volume.h), which march the same way.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "core/volume/domain.h"
+#include "core/volume/marching.h"
+
+namespace bvmesh::volume {
+
+struct VolumeMeshOptions {
+  // Reference length (root chord of a wing, length of a body); 0: the wall's largest extent.
+  double referenceLength = 0.0;
+  // Boundary-layer estimate when its thickness is 0: turbulent flat plate at the reference length,
+  // delta = 0.37 L Re^-0.2.
+  double reynoldsNumber = 5e6;
+  double boundaryLayerThickness = 0.0;
+  int boundaryLayerLayers = 4;
+  double boundaryLayerGrowth = 1.2;
+  double sharpEdgeSplay = 2.0;  // MarchingOptions::sharpEdgeSplay
+  // Far-field boundary around the wall's centre (halved by a symmetry plane): a sphere of radius
+  // farfieldDistance (0: 20 reference lengths), a box (half sizes boxHalfExtent, or farfieldDistance
+  // along every axis where 0, at most 1e4 reference lengths; the layers are marched to its nearest
+  // face), or a cylinder along the flow direction (radius and half length farfieldDistance). Box and cylinder faces are tagged inlet / outlet / side by flowDirection.
+  double farfieldDistance = 0.0;
+  double farfieldGrowth = 1.3;
+  DomainShape domain = DomainShape::Sphere;
+  Eigen::Vector3d boxHalfExtent = Eigen::Vector3d::Zero();
+  Eigen::Vector3d flowDirection = Eigen::Vector3d::UnitX();
+  double smoothing = 1.0;
+  double minScaledJacobian = 0.05;
+  int maxLayers = 400;
+  // Symmetry plane of a half model: the wall's open boundary must lie on it.
+  bool hasSymmetryPlane = false;
+  Eigen::Vector3d planePoint = Eigen::Vector3d::Zero();
+  Eigen::Vector3d planeNormal = Eigen::Vector3d::UnitY();
+};
+
+struct ResolvedVolumeOptions {
+  MarchingOptions marching;
+  double referenceLength = 0.0;
+  double boundaryLayerThickness = 0.0;
+  double farfieldDistance = 0.0;  // marched to: a box's nearest face
+  Eigen::Vector3d domainCentre = Eigen::Vector3d::Zero();
+};
+
+// The unit normal of the options' symmetry plane. Throws InvalidInputError when the model is a
+// half model whose plane has a non-finite point or a zero normal.
+Eigen::Vector3d symmetryPlaneNormal(const VolumeMeshOptions& options);
+
+// The marching set-up for `front` (the wall to march, its symmetry-plane points marked). Throws
+// InvalidInputError naming the option for a bad value, and for a front oriented inwards.
+ResolvedVolumeOptions resolveVolumeOptions(const VolumeMeshOptions& options, const MarchingFront& front);
+
+}  // namespace bvmesh::volume
