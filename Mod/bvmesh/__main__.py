@@ -77,6 +77,10 @@ def main(argv=None):
     example.add_argument("--output", default="bvmesh-example", help="folder for the results")
     example.add_argument("--max-level", type=int, default=5, help="subdivision levels at most (default 5)")
     example.add_argument("--surface-only", action="store_true", help="stop after the surface stage")
+    example.add_argument("--grid-method", choices=("bspline", "subdivision"), default="bspline",
+                         help="bspline: the blocks evaluated on the Euler grid (default); subdivision: the fit's "
+                              "control mesh marched and refined by volumetric Catmull-Clark")
+    example.add_argument("--subdivision-steps", type=int, default=1, help="with --grid-method subdivision (default 1)")
     cfd = commands.add_parser("openfoam-case", help="write (and run) an OpenFOAM case on a BVMesh grid")
     cfd.add_argument("case", help="case directory to write")
     cfd.add_argument("--mesh", help="OpenFOAM case directory whose constant/polyMesh is used "
@@ -116,7 +120,8 @@ def main(argv=None):
             from bvmesh import example as main_job
 
             _info(paths.EXAMPLE_WING, 30.0)
-            main_job.run(args.output, max_level=args.max_level, volume=not args.surface_only)
+            main_job.run(args.output, max_level=args.max_level, volume=not args.surface_only,
+                         grid_method=args.grid_method, subdivision_steps=args.subdivision_steps)
     except (InvalidInputError, SolverError, ValueError, RuntimeError) as error:
         print("bvmesh: {}".format(error), file=sys.stderr)
         return 1

@@ -619,35 +619,41 @@ def volume_mesh_of(volume_mesh_object):
 
 
 def make_volume_grid(volume_mesh_object, preset="euler", name="VolumeGrid", show=None, distribution="geometric",
-                     **options):
+                     method="bspline", **options):
     """The B-spline blocks of a VolumeMesh evaluated on a stretched, point-matched grid. preset:
     'euler' (no wall clustering) or 'rans' (first cell for y+ ~ 1). options: those of
     bvmesh.grid.refine (normal_points, first_cell_height, y_plus, reynolds_number, growth,
     edge_points, tangential_spacing, target_cells, edge_end_spacing); reynolds_number defaults to
-    the volume mesh's. show: the boundary faces whose grid lines are shown."""
+    the volume mesh's. method 'subdivision' (option steps, default 1): instead, the control volume
+    of the same fit, wall level and marching options (bvmesh.volume.control_volume) refined by
+    volumetric Catmull-Clark, its wall on the fitted surface, no wall clustering. show: the
+    boundary faces whose grid lines are shown."""
     from bvmesh.features import volume_grid
 
     def fill(obj):
         obj.VolumeMesh = volume_mesh_object
         obj.Preset = preset
         obj.Distribution = distribution
-        _set_options(obj, volume_grid.OPTIONS, options, "volume grid")
+        obj.Method = method
+        _set_options(obj, volume_grid.OPTIONS + volume_grid.SUBDIVISION_OPTIONS, options, "volume grid")
         _set_display(obj, volume_grid.DISPLAY, show)
 
     return _new_object(volume_grid.create, volume_mesh_object.Document, name, fill)
 
 
-def set_grid_options(grid_object, preset=None, distribution=None, show=None, **options):
+def set_grid_options(grid_object, preset=None, distribution=None, method=None, show=None, **options):
     """Changes the refinement of a VolumeGrid (as make_volume_grid) and recomputes; on a failure
     the object keeps its previous options."""
     from bvmesh.features import volume_grid
 
-    return _set_and_recompute(grid_object, volume_grid.OPTIONS, volume_grid.DISPLAY, options, show, "volume grid",
-                              {"Preset": preset, "Distribution": distribution})
+    return _set_and_recompute(grid_object, volume_grid.OPTIONS + volume_grid.SUBDIVISION_OPTIONS, volume_grid.DISPLAY,
+                              options, show, "volume grid",
+                              {"Preset": preset, "Distribution": distribution, "Method": method})
 
 
 def grid_of(grid_object):
-    """The bvmesh.RefinedGrid of a VolumeGrid object (for bvmesh.grid's functions)."""
+    """The grid of a VolumeGrid object for bvmesh.grid's functions: a bvmesh.RefinedGrid, or a
+    bvmesh.StructuredGrid for method 'subdivision'."""
     from bvmesh.features import volume_grid
 
     return volume_grid.refined_grid(grid_object)
@@ -662,7 +668,9 @@ def span_station(grid_object, eta, span=None):
 
     from bvmesh.features import volume_mesh
 
-    grid = grid_of(grid_object).grid
+    from bvmesh.features import volume_grid
+
+    grid = volume_grid.structured_grid(grid_object)
     wall = np.concatenate([volume_mesh.face_array(grid.points(b), name).reshape(-1, 3)
                            for b in range(grid.block_count) for name, face in grid.faces(b).items()
                            if face["condition"] == "wall"])

@@ -131,10 +131,7 @@ def _volume_report(vm, grid_object, quality, cgns, case, verdict, seconds):
         "{:.4g}, Re {:.4g}); far field: sphere of radius {:.6g} ({:.1f} reference lengths).".format(
             vm.BlockCount, vm.ControlLayers, vm.BoundaryLayerThicknessUsed, vm.ReferenceLengthUsed,
             vm.ReynoldsNumber, vm.FarfieldDistanceUsed, vm.FarfieldDistanceUsed / vm.ReferenceLengthUsed),
-        "Grid: preset {}, {} cells, {} points over the blocks, {} points on the wall-normal lines, first cell "
-        "height {:.4g} .. {:.4g}, largest wall-normal growth {:.4g}.".format(
-            grid_object.Preset, grid_object.CellCount, grid_object.PointCount, grid_object.NormalPointsUsed,
-            grid_object.FirstCellHeightMin, grid_object.FirstCellHeightMax, grid_object.GrowthMax),
+        _grid_line(grid_object),
         "Cells with a non-positive scaled Jacobian: {}; with a face above 70 degrees of non-orthogonality: "
         "{}.".format(quality.NonPositiveCells, quality.CellsAbove70Degrees),
         "checkMesh on {}: {}".format(os.path.basename(case), verdict),
@@ -146,9 +143,24 @@ def _volume_report(vm, grid_object, quality, cgns, case, verdict, seconds):
     return lines
 
 
-def run_volume(fit, chord, files, log=print):
+def _grid_line(grid_object):
+    if grid_object.Method == "subdivision":
+        return ("Grid: the fit's control mesh marched (the volume mesh's options) and refined by {} volumetric "
+                "Catmull-Clark step(s), the wall on the fitted surface, no wall law; {} cells, {} points over the "
+                "blocks, {} points on the wall-normal lines.".format(
+                    grid_object.SubdivisionSteps, grid_object.CellCount, grid_object.PointCount,
+                    grid_object.NormalPointsUsed))
+    return ("Grid: preset {}, {} cells, {} points over the blocks, {} points on the wall-normal lines, first cell "
+            "height {:.4g} .. {:.4g}, largest wall-normal growth {:.4g}.".format(
+                grid_object.Preset, grid_object.CellCount, grid_object.PointCount, grid_object.NormalPointsUsed,
+                grid_object.FirstCellHeightMin, grid_object.FirstCellHeightMax, grid_object.GrowthMax))
+
+
+def run_volume(fit, chord, files, log=print, grid_method="bspline", subdivision_steps=1):
     """The volume stage of the main job on a fitted M6: volume mesh, Euler grid, cut, quality,
-    CGNS and OpenFOAM files, pictures and report. Returns the volume objects by name."""
+    CGNS and OpenFOAM files, pictures and report. grid_method 'subdivision': the grid is the
+    control volume refined by `subdivision_steps` volumetric Catmull-Clark steps instead of the
+    blocks evaluated. Returns the volume objects by name."""
     started = time.time()
     stage = time.time()
     wall_level = VOLUME_WALL_LEVEL if fit.Level > VOLUME_WALL_LEVEL else -1
@@ -157,8 +169,13 @@ def run_volume(fit, chord, files, log=print):
     log("volume mesh: {} blocks, {} control layers, far field {:.0f} ({:.1f} s)".format(
         vm.BlockCount, vm.ControlLayers, vm.FarfieldDistanceUsed, time.time() - stage))
     stage = time.time()
-    grid_object = api.make_volume_grid(vm, "euler", target_cells=TARGET_CELLS, show=("wall",))
-    log("grid: euler, {} cells ({:.1f} s)".format(grid_object.CellCount, time.time() - stage))
+    if grid_method == "subdivision":
+        grid_object = api.make_volume_grid(vm, method="subdivision", steps=subdivision_steps, show=("wall",))
+        what = "{} subdivision step(s) of the control volume".format(subdivision_steps)
+    else:
+        grid_object = api.make_volume_grid(vm, "euler", target_cells=TARGET_CELLS, show=("wall",))
+        what = "euler"
+    log("grid: {}, {} cells ({:.1f} s)".format(what, grid_object.CellCount, time.time() - stage))
     stage = time.time()
     quality = api.make_mesh_quality(grid_object, histogram_path=files["quality"])
     log("quality: min scaled Jacobian {:.3g}, max non-orthogonality {:.1f} ({:.1f} s)".format(
@@ -181,9 +198,11 @@ def run_volume(fit, chord, files, log=print):
     return {"volume_mesh": vm, "grid": grid_object, "quality": quality, "cut": cut, "check_mesh": verdict}
 
 
-def run(output_dir, max_level=5, relative_tolerance=1e-5, volume=True, log=print):
+def run(output_dir, max_level=5, relative_tolerance=1e-5, volume=True, log=print, grid_method="bspline",
+        subdivision_steps=1):
     """Runs the example and returns a dict of the files written and the fit's outcome.
-    relative_tolerance is relative to the root chord. volume=False stops after the surface stage."""
+    relative_tolerance is relative to the root chord. volume=False stops after the surface stage.
+    grid_method, subdivision_steps: as run_volume takes them."""
     import FreeCAD
 
     os.makedirs(output_dir, exist_ok=True)
@@ -226,7 +245,7 @@ def run(output_dir, max_level=5, relative_tolerance=1e-5, volume=True, log=print
                     "cut": os.path.join(output_dir, "M6_cut_eta044.png"),
                     "quality": os.path.join(output_dir, "M6_quality.png"),
                 })
-                outcome.update(run_volume(fit, chord, files, log))
+                outcome.update(run_volume(fit, chord, files, log, grid_method, subdivision_steps))
                 _show_final_objects(doc, outcome["grid"])
             else:
                 _show_final_objects(doc, shell)

@@ -67,6 +67,27 @@ class MainJob(unittest.TestCase):
         self.assertIn("| 2 |", text)
         self.assertIn("valid: True", text)
 
+    def test_subdivision_grid_method(self):
+        # --grid-method subdivision: the grid is the fit's control mesh marched and refined once.
+        output = tempfile.mkdtemp(prefix="bvmesh-example-subdivision-")
+        result = example.run(output, max_level=2, log=lambda line: None, grid_method="subdivision")
+        files = result["files"]
+        with open(files["volume_report"]) as report:
+            volume_report = report.read()
+        self.assertIn("refined by 1 volumetric Catmull-Clark step(s)", volume_report)
+        self.assertIn("Cells with a non-positive scaled Jacobian: 0;", volume_report)
+        doc = FreeCAD.openDocument(files["document"])
+        try:
+            grid_object = doc.getObject("VolumeGrid")
+            self.assertEqual(grid_object.Method, "subdivision")
+            self.assertGreater(grid_object.CellCount, 600000)
+            self.assertIn("{} cells".format(grid_object.CellCount), volume_report)
+        finally:
+            FreeCAD.closeDocument(doc.Name)
+        cgns = subprocess.run(["cgnscheck", files["cgns"]], capture_output=True, text=True, timeout=600).stdout
+        self.assertIn("checking complete", cgns)
+        self.assertNotRegex(cgns, r"(?i)error", cgns)
+
 
 if __name__ == "__main__":
     unittest.main()

@@ -175,6 +175,37 @@ class VolumeObjects(unittest.TestCase):
             self.doc.removeObject(vm.Name)
 
 
+    def test_subdivision_method_refines_the_control_volume(self):
+        # Method subdivision: the fit's control mesh marched with the volume mesh's options and
+        # refined once; its wall points lie on the fitted sphere as the fit's limit samples do.
+        grid = api.make_volume_grid(self.volume, method="subdivision", steps=1, name="SubdividedGrid")
+        try:
+            self.assertTrue(grid.isValid())
+            structured = api.grid_of(grid)
+            self.assertEqual(grid.CellCount, structured.cell_count)
+            self.assertEqual(grid.FirstCellHeightAsked, 0.0)
+            wall = np.concatenate([structured.points(b)[:, :, 0, :].reshape(-1, 3) for b in range(structured.block_count)])
+            radii = np.linalg.norm(wall, axis=1)
+            self.assertLessEqual(np.abs(radii - RADIUS).max(), self.fit.MaxDistance * (1 + 1e-9))
+            quality = api.make_mesh_quality(grid, name="SubdividedQuality")
+            self.assertEqual(quality.Cells, grid.CellCount)
+            self.assertGreater(quality.MinScaledJacobian, 0.2)
+            path = os.path.join(self.folder, "subdivided.cgns")
+            api.export_grid(grid, path)
+            self.assertGreater(os.path.getsize(path), 0)
+            cells, digest = grid.CellCount, grid.Digest
+            api.set_grid_options(grid, steps=2)
+            self.assertEqual(grid.CellCount, 8 * cells)
+            # Back to the B-spline blocks: the evaluated grid with its wall law again.
+            api.set_grid_options(grid, method="bspline")
+            self.assertNotEqual(grid.Digest, digest)
+            self.assertGreater(grid.FirstCellHeightMin, 0.0)
+        finally:
+            for name in ("SubdividedQuality", "SubdividedGrid"):
+                if self.doc.getObject(name) is not None:
+                    self.doc.removeObject(name)
+
+
 class SaveAndReopen(unittest.TestCase):
     def test_reopened_document_recomputes_identical_blocks_and_points(self):
         folder = tempfile.mkdtemp(prefix="bvmesh-volume-reopen-")

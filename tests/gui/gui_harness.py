@@ -28,8 +28,11 @@ def settle(milliseconds=300):
     loop.exec_()
 
 
-def when_shown(find, act, timeout_ms=20000):
-    """Polls (in the event loop) until find() returns a widget, then calls act(widget) once."""
+def when_shown(find, act, timeout_ms=60000):
+    """Polls (in the event loop) until find() returns a widget, then calls act(widget) once. Past
+    the deadline it stops, and a modal dialog still open then (one the test did not expect, which
+    would block the test for good) is named and rejected, so the test goes on to fail instead of
+    hanging."""
     deadline = time.time() + timeout_ms / 1000.0
     timer = QtCore.QTimer()
 
@@ -40,6 +43,11 @@ def when_shown(find, act, timeout_ms=20000):
             act(widget)
         elif time.time() > deadline:
             timer.stop()
+            modal = QtGui.QApplication.activeModalWidget()
+            if modal is not None:
+                print("the awaited widget did not appear within {:.0f} s; rejecting the modal {} '{}'".format(
+                    timeout_ms / 1000.0, type(modal).__name__, modal.windowTitle()), flush=True)
+                modal.reject()
 
     timer.timeout.connect(poll)
     timer.start(20)

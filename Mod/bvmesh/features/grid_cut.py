@@ -16,7 +16,7 @@ def cell_values(refined, metric):
     from bvmesh import grid
 
     if metric == "block":
-        g = refined.grid
+        g = volume_grid.structured_of(refined)
         return np.repeat(np.arange(g.block_count, dtype=float),
                          [int(np.prod(np.asarray(g.size(b)) - 1)) for b in range(g.block_count)])
     return np.asarray(grid.quality(refined)[metric], dtype=float)

@@ -1,5 +1,6 @@
 """The volume grid: a volume mesh's B-spline blocks evaluated on a stretched, point-matched grid
-(bvmesh.grid.refine), the grid a flow solver reads. Like the volume mesh, the points are not stored
+(bvmesh.grid.refine), the grid a flow solver reads; or (Method subdivision) the control volume of
+the same fit and options refined by volumetric Catmull-Clark, its wall on the fitted surface. Like the volume mesh, the points are not stored
 in the document (a million-cell grid is tens of megabytes): they are evaluated again when asked for
 after loading, and must match the saved digest. Its shape is the grid lines on the shown boundary
 faces."""
@@ -13,6 +14,7 @@ from bvmesh.features.common import READ_ONLY, RecomputedProxy, add_property, run
 
 TYPE = "BVMesh::VolumeGrid"
 PRESETS = ["euler", "rans"]
+METHODS = ["bspline", "subdivision"]
 DISTRIBUTIONS = ["geometric", "tanh"]
 
 # (property, option of bvmesh.grid.refine, type, default, description); a value of -1 (counts) or
@@ -33,6 +35,11 @@ OPTIONS = (
      "About this many cells (sets the tangential spacing); 0: EdgePoints"),
     ("EdgeEndSpacing", "edge_end_spacing", "App::PropertyFloat", 0.0,
      "Spacing at the ends of tangential block edges (leading and trailing edge, tip); 0: uniform"),
+)
+# Refinement by subdivision (Method subdivision): (property, option, type, default, description).
+SUBDIVISION_OPTIONS = (
+    ("SubdivisionSteps", "steps", "App::PropertyInteger", 1,
+     "Method subdivision: volumetric Catmull-Clark steps of the control volume (8 times the cells each)"),
 )
 DISPLAY = (("ShowWall", "wall", True), ("ShowSymmetry", "symmetry", True), ("ShowFarfield", "farfield", False))
 
@@ -88,6 +95,15 @@ class VolumeGridProxy(RecomputedProxy):
                             "euler: no wall clustering; rans: first cell for y+ ~ 1 (flat-plate estimate)")
             obj.Preset = PRESETS
             obj.Preset = "euler"
+        if "Method" not in obj.PropertiesList:
+            obj.addProperty("App::PropertyEnumeration", "Method", "Refinement",
+                            "bspline: the blocks evaluated with the wall law; subdivision: volumetric "
+                            "Catmull-Clark of the fit's control mesh marched (wall on the fitted surface, "
+                            "no wall clustering)")
+            obj.Method = METHODS
+            obj.Method = "bspline"
+        for prop, _, type_name, default, doc in SUBDIVISION_OPTIONS:
+            add_property(obj, type_name, prop, "Refinement", doc, default)
         if "Distribution" not in obj.PropertiesList:
             obj.addProperty("App::PropertyEnumeration", "Distribution", "Refinement", "Wall-normal point distribution")
             obj.Distribution = DISTRIBUTIONS
@@ -111,38 +127,68 @@ class VolumeGridProxy(RecomputedProxy):
             add_property(obj, type_name, name, r, doc, mode=READ_ONLY)
 
     def key(self, obj):
-        data = repr((obj.VolumeMesh.Digest, obj.Preset, sorted(refine_options(obj).items())))
+        if obj.Method == "subdivision":
+            data = repr((obj.VolumeMesh.Proxy.key(obj.VolumeMesh), obj.Method, obj.SubdivisionSteps))
+        else:
+            data = repr((obj.VolumeMesh.Digest, obj.Preset, sorted(refine_options(obj).items())))
         return hashlib.sha1(data.encode()).hexdigest()
 
     def make(self, obj):
-        from bvmesh import grid
+        from bvmesh import grid, volume
 
-        volume = volume_mesh_feature.volume_mesh(obj.VolumeMesh)
+        if obj.Method == "subdivision":
+            wall, plane, settings = volume_mesh_feature.marching_inputs(obj.VolumeMesh)
+            steps = obj.SubdivisionSteps
+
+            def subdivide():
+                control = volume.control_volume(wall(), symmetry_plane=plane, **settings)
+                return grid.refine(control, method="subdivision", steps=steps)
+
+            return run_work("subdividing the control volume of {}".format(obj.Label), subdivide)
+        blocks = volume_mesh_feature.volume_mesh(obj.VolumeMesh)
         preset, settings = obj.Preset, refine_options(obj)
-        return run_work("evaluating the grid of {}".format(obj.Label), lambda: grid.refine(volume, preset, **settings))
+        return run_work("evaluating the grid of {}".format(obj.Label), lambda: grid.refine(blocks, preset, **settings))
 
-    def digest_of(self, refined):
-        return grid_digest(refined.grid)
+    def digest_of(self, result):
+        return grid_digest(structured_of(result))
 
     def compute(self, obj):
         if obj.VolumeMesh is None:
             raise ValueError("the volume grid needs a volume mesh")
-        refined, made = self.fresh_result(obj)
+        result, made = self.fresh_result(obj)
+        structured = structured_of(result)
         if made:
-            obj.CellCount = refined.grid.cell_count
-            obj.PointCount = refined.grid.point_count
-            obj.NormalPointsUsed = refined.normal_points
-            obj.FirstCellHeightAsked = refined.first_cell_height_asked
-            obj.FirstCellHeightMin = refined.first_cell_height_min
-            obj.FirstCellHeightMax = refined.first_cell_height_max
-            obj.GrowthMax = refined.growth_max
+            obj.CellCount = structured.cell_count
+            obj.PointCount = structured.point_count
+            if obj.Method == "subdivision":
+                # No wall law was asked: the wall-normal lines are the control layers' refinement.
+                walls = [b for b in range(structured.block_count) if structured.faces(b)["w_min"]["condition"] == "wall"]
+                obj.NormalPointsUsed = structured.size(walls[0])[2] if walls else 0
+                obj.FirstCellHeightAsked = obj.FirstCellHeightMin = obj.FirstCellHeightMax = obj.GrowthMax = 0.0
+            else:
+                obj.NormalPointsUsed = result.normal_points
+                obj.FirstCellHeightAsked = result.first_cell_height_asked
+                obj.FirstCellHeightMin = result.first_cell_height_min
+                obj.FirstCellHeightMax = result.first_cell_height_max
+                obj.GrowthMax = result.growth_max
         conditions = {condition for prop, condition, _ in DISPLAY if getattr(obj, prop)}
-        obj.Shape = boundary_lines_shape(refined.grid, conditions)
+        obj.Shape = boundary_lines_shape(structured, conditions)
+
+
+def structured_of(result):
+    """The StructuredGrid of a refinement's result (a RefinedGrid, or the StructuredGrid itself)."""
+    return getattr(result, "grid", result)
 
 
 def refined_grid(obj):
-    """The bvmesh.RefinedGrid of a VolumeGrid object."""
+    """The grid of a VolumeGrid object as bvmesh.grid's functions take it: a bvmesh.RefinedGrid, or
+    for Method subdivision a bvmesh.StructuredGrid."""
     return obj.Proxy.result(obj)
+
+
+def structured_grid(obj):
+    """The bvmesh.StructuredGrid (points and blocks) of a VolumeGrid object."""
+    return structured_of(refined_grid(obj))
 
 
 def create(doc, name="VolumeGrid"):

@@ -62,6 +62,16 @@ def symmetry_plane(fit):
     return (point.x, point.y, point.z), (normal.x, normal.y, normal.z)
 
 
+def marching_inputs(obj):
+    """(function giving the wall's control mesh, symmetry plane, marching options) of a VolumeMesh
+    object: what its blocks are marched from, and what a control volume of the same fit is."""
+    fit = obj.Fit
+    if fit is None or not fit.ControlVertices:
+        raise ValueError("the volume mesh needs a computed surface fit")
+    wall, _ = surface_fit.wall_at_level(fit, obj.WallLevel)
+    return wall, symmetry_plane(fit), options(obj)
+
+
 def blocks_digest(blocks):
     """SHA-1 of every block's degrees, knots and poles (bit for bit)."""
     digest = hashlib.sha1()
@@ -167,11 +177,7 @@ class VolumeMeshProxy(RecomputedProxy):
     def make(self, obj):
         from bvmesh import volume
 
-        fit = obj.Fit
-        if fit is None or not fit.ControlVertices:
-            raise ValueError("the volume mesh needs a computed surface fit")
-        plane, settings = symmetry_plane(fit), options(obj)
-        wall, _ = surface_fit.wall_at_level(fit, obj.WallLevel)
+        wall, plane, settings = marching_inputs(obj)
         return run_work("marching the boundary layer and the far field of {}".format(obj.Label),
                         lambda: volume.offset_and_farfield(wall(), symmetry_plane=plane, **settings))
 

@@ -305,5 +305,6 @@ class VolumeMeshPanel(_OptionsPanel):
 class VolumeGridPanel(_OptionsPanel):
     form_name, title = "volume_grid", "Volume grid"
     create_function, set_function = "make_volume_grid", "set_grid_options"
-    options, display = volume_grid.OPTIONS, volume_grid.DISPLAY
-    combos = (("Preset", "preset", volume_grid.PRESETS), ("Distribution", "distribution", volume_grid.DISTRIBUTIONS))
+    options, display = volume_grid.OPTIONS + volume_grid.SUBDIVISION_OPTIONS, volume_grid.DISPLAY
+    combos = (("Method", "method", volume_grid.METHODS), ("Preset", "preset", volume_grid.PRESETS),
+              ("Distribution", "distribution", volume_grid.DISTRIBUTIONS))
