@@ -62,8 +62,8 @@ BlockHexMesh blockHexMesh(const volume::BlockMesh& blocks) {
   return result;
 }
 
-// The limit positions of a control mesh's vertices.
-RowMatrixX3d limitPositions(const ControlMesh& mesh) {
+// The limit positions of a control mesh's vertices for the given control points.
+RowMatrixX3d limitPositions(const ControlMesh& mesh, const RowMatrixX3d& controlPoints) {
   const LimitEvaluator evaluator(mesh);
   const std::vector<int> ptex = ptexFaceOffsets(mesh);
   std::vector<SurfaceLocation> locations(static_cast<size_t>(mesh.numVertices()));
@@ -76,28 +76,63 @@ RowMatrixX3d limitPositions(const ControlMesh& mesh) {
       locations[v] = cornerLocation(mesh, ptex, f, k);
     }
   }
-  return evaluator.evaluate(mesh.vertices(), locations).positions;
+  return evaluator.evaluate(controlPoints, locations).positions;
 }
 
 // `steps` subdivision steps of `mesh`, its blocks followed through them, as a grid with the given
-// block faces. wallAtLimit: the wall points end on the wall's limit surface.
+// block faces. With `wallDirections` (#P x 3, the direction each point's wall-normal line leaves
+// the wall in; empty: none) the wall points end on the wall's limit surface and the first point
+// off the wall on each wall-normal line is put along the limit of those directions, at its
+// distance: the subdivided directions are those of the marching (along the normals, splayed at
+// sharp edges) where the interior rules alone tilt the first cells.
 StructuredGrid subdivideHexBlocks(HexMesh mesh, std::vector<volume::HexBlock> lattices,
-                                  const std::vector<std::array<volume::BlockFace, 6>>& faces, int steps, bool wallAtLimit) {
+                                  const std::vector<std::array<volume::BlockFace, 6>>& faces, int steps,
+                                  RowMatrixX3d wallDirections) {
   if (steps < 0) throw InvalidInputError("subdivision steps must be >= 0, got " + std::to_string(steps));
   const double pointsAfter = static_cast<double>(mesh.points.rows()) * std::pow(8.0, steps);
   if (pointsAfter > static_cast<double>(std::numeric_limits<int>::max())) {
     throw InvalidInputError(std::to_string(steps) + " subdivision steps would make about " + std::to_string(pointsAfter) +
                             " points, more than the 2^31 a hex mesh can number");
   }
+  const bool shapeWall = wallDirections.rows() > 0;
   for (int step = 0; step < steps; ++step) {
     volume::HexSubdivisionResult refined = volume::subdivideHexMesh(mesh);
     for (volume::HexBlock& lattice : lattices) lattice = volume::refineHexBlock(lattice, refined.mesh);
+    if (shapeWall) wallDirections = refined.subdivisionOperator * wallDirections;
     mesh = std::move(refined.mesh);
   }
-  if (wallAtLimit) {
+  if (shapeWall) {
     const volume::WallControlMesh wall = volume::wallControlMesh(mesh);
-    const RowMatrixX3d limit = limitPositions(wall.mesh);
-    for (size_t v = 0; v < wall.points.size(); ++v) mesh.points.row(wall.points[v]) = limit.row(static_cast<Eigen::Index>(v));
+    RowMatrixX3d wallPoints(static_cast<Eigen::Index>(wall.points.size()), 3);
+    RowMatrixX3d wallFieldPoints(static_cast<Eigen::Index>(wall.points.size()), 3);
+    for (size_t v = 0; v < wall.points.size(); ++v) {
+      wallPoints.row(static_cast<Eigen::Index>(v)) = mesh.points.row(wall.points[v]);
+      wallFieldPoints.row(static_cast<Eigen::Index>(v)) = wallDirections.row(wall.points[v]);
+    }
+    const RowMatrixX3d limit = limitPositions(wall.mesh, wallPoints);
+    const RowMatrixX3d direction = limitPositions(wall.mesh, wallFieldPoints);
+    std::vector<Eigen::Index> localOf(static_cast<size_t>(mesh.points.rows()), -1);
+    for (size_t v = 0; v < wall.points.size(); ++v) {
+      localOf[static_cast<size_t>(wall.points[v])] = static_cast<Eigen::Index>(v);
+      mesh.points.row(wall.points[v]) = limit.row(static_cast<Eigen::Index>(v));
+    }
+    // The first point off the wall on every wall-normal line (blocks standing on the wall at k = 0).
+    for (size_t b = 0; b < lattices.size(); ++b) {
+      if (faces[b][static_cast<size_t>(volume::BlockFaceSide::WMin)].condition != volume::BoundaryCondition::Wall) continue;
+      const volume::HexBlock& lattice = lattices[b];
+      for (int j = 0; j < lattice.size[1]; ++j) {
+        for (int i = 0; i < lattice.size[0]; ++i) {
+          const int onWall = lattice.pointAt[lattice.point(i, j, 0)];
+          const int above = lattice.pointAt[lattice.point(i, j, 1)];
+          const Eigen::Index v = localOf[static_cast<size_t>(onWall)];
+          if (v < 0) continue;
+          const Eigen::RowVector3d d = direction.row(v);
+          if (!(d.norm() > 0.0)) continue;
+          const double height = (mesh.points.row(above) - mesh.points.row(onWall)).norm();
+          mesh.points.row(above) = mesh.points.row(onWall) + height * d.normalized();
+        }
+      }
+    }
   }
   std::vector<GridBlock> gridBlocks;
   for (size_t b = 0; b < lattices.size(); ++b) {
@@ -122,11 +157,18 @@ StructuredGrid subdivideBlockMesh(const volume::BlockMesh& blocks, int steps) {
   BlockHexMesh current = blockHexMesh(blocks);
   std::vector<std::array<volume::BlockFace, 6>> faces;
   for (const volume::Block& block : blocks.blocks()) faces.push_back(block.faces);
-  return subdivideHexBlocks(std::move(current.mesh), std::move(current.lattices), faces, steps, false);
+  return subdivideHexBlocks(std::move(current.mesh), std::move(current.lattices), faces, steps, RowMatrixX3d());
 }
 
 StructuredGrid subdivideControlVolume(const volume::ControlVolume& volume, int steps) {
-  return subdivideHexBlocks(volume.mesh, volume.blocks, volume.blockFaces, steps, true);
+  // Every point's wall-normal direction: its column's marched direction off the wall.
+  RowMatrixX3d directions(volume.mesh.points.rows(), 3);
+  const int wall = volume.wallVertices;
+  for (Eigen::Index p = 0; p < directions.rows(); ++p) {
+    const Eigen::Index v = p % wall;
+    directions.row(p) = (volume.mesh.points.row(wall + v) - volume.mesh.points.row(v)).normalized();
+  }
+  return subdivideHexBlocks(volume.mesh, volume.blocks, volume.blockFaces, steps, std::move(directions));
 }
 
 }  // namespace bvmesh::grid
