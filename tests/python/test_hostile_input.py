@@ -229,6 +229,21 @@ class SizesIdsAndOptions(unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "the result of cancel\\(\\) must be True or False"):
             fitter.run(cancel=lambda: "yes")
 
+    def test_non_finite_control_points_are_named(self):
+        # NaN or infinite control points gave NaN limit points before.
+        mesh = bvmesh.ControlMesh(CUBE_VERTICES, CUBE_FACES)
+        evaluator = bvmesh.LimitEvaluator(mesh)
+        samples = bvmesh.LimitSamples(mesh)
+        fitter = self.fitter(max_level=1)
+        for bad in (np.nan, np.inf, -np.inf):
+            points = np.array(CUBE_VERTICES, dtype=float)
+            points[5, 2] = bad
+            for call in (lambda: evaluator.evaluate(points, [0], [0.5], [0.5]),
+                         lambda: samples.positions_for(points), lambda: samples.normals_for(points),
+                         lambda: fitter.set_vertices(points)):
+                with self.assertRaisesRegex(bvmesh.InvalidInputError, "vertex 5 has a non-finite coordinate"):
+                    call()
+
 
 if __name__ == "__main__":
     unittest.main()
