@@ -366,5 +366,17 @@ TEST(Target, RejectsBadInput) {
   EXPECT_THROW(target.projectAlong(points, Points::Zero(3, 3)), InvalidInputError);
 }
 
+TEST(Target, TooSmallForOcctIsNamedAsSuch) {
+  // A sphere of radius 1e-8 gave BRepMesh's "invalid parameter value" (a SolverError).
+  try {
+    const Target tiny(BRepPrimAPI_MakeSphere(1e-8).Shape());
+    FAIL() << "a target below OCCT's precision accepted";
+  } catch (const InvalidInputError& error) {
+    EXPECT_NE(std::string(error.what()).find("the target is too small, 3.46e-08 across"), std::string::npos)
+        << error.what();
+  }
+  EXPECT_NO_THROW(Target(BRepPrimAPI_MakeSphere(1e-3).Shape()));
+}
+
 }  // namespace
 }  // namespace bvmesh::target

@@ -16,7 +16,7 @@ import FreeCAD  # noqa: F401  -- Part needs it loaded first
 import Part
 
 import bvmesh
-from bvmesh import _core
+from bvmesh import _core, polyhedra
 from fixtures import CUBE_FACES, CUBE_VERTICES, sphere_target
 
 DATA = os.environ.get("BVMESH_TEST_DATA_DIR", os.path.join(os.path.dirname(__file__), "..", "data"))
@@ -243,6 +243,34 @@ class SizesIdsAndOptions(unittest.TestCase):
                          lambda: fitter.set_vertices(points)):
                 with self.assertRaisesRegex(bvmesh.InvalidInputError, "vertex 5 has a non-finite coordinate"):
                     call()
+
+
+class TemplatesOnUnsuitableTargets(unittest.TestCase):
+    """A template that cannot be placed says why in terms of the target, never by an error about a
+    mesh the placement made on the way."""
+
+    def assertPlacementRefused(self, target, name, pattern):
+        with self.assertRaises(bvmesh.InvalidInputError) as caught:
+            polyhedra.place_template(target, name)
+        message = str(caught.exception)
+        self.assertRegex(message, "^template '{}' cannot be placed on this target: {}".format(name, pattern))
+        self.assertNotRegex(message, r"face \d+ (is degenerate|collapses|has no area)")
+
+    def test_a_flat_plate_is_named_flat(self):
+        # The box blamed "face 0 collapses, vertices 2 and 1 land on the same target point" and the
+        # plate's unsewn faces before, the other templates likewise.
+        plate = bvmesh.Target.from_brep(Part.makePlane(10, 10).exportBrepToString())
+        for name in ("box", "sphere", "capsule", "cylinder"):
+            self.assertPlacementRefused(plate, name, r"the target is flat: it is 14.1 across but only 0 thick")
+
+    def test_a_needle_is_named_a_line(self):
+        needle = bvmesh.Target.from_brep(Part.makeCylinder(1e-7, 10).exportBrepToString())
+        self.assertPlacementRefused(needle, "cylinder", r"the target is a line: it is 10 long")
+
+    def test_a_target_below_occt_precision_is_named_too_small(self):
+        # A sphere of radius 1e-8 gave BRepMesh's "invalid parameter value".
+        with self.assertRaisesRegex(bvmesh.InvalidInputError, r"the target is too small, 3.46e-08 across"):
+            bvmesh.Target.from_brep(Part.makeSphere(1e-8).exportBrepToString())
 
 
 if __name__ == "__main__":

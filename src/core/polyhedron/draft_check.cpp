@@ -31,6 +31,24 @@ std::string placementFailure(const std::string& templateName, const std::string&
   return "template '" + templateName + "' cannot be placed on this target: " + what + "; " + likelyCause(target);
 }
 
+void checkTargetHasVolume(const std::string& templateName, const PrincipalFrame& frame, const target::Target& target) {
+  const Eigen::Vector3d extent = frame.high - frame.low;  // along the principal axes, largest first
+  const double tolerance = target.report().tolerance;
+  if (extent(1) > tolerance && extent(2) > tolerance) return;
+  char what[256];
+  if (extent(1) <= tolerance) {
+    std::snprintf(what, sizeof(what),
+                  "the target is a line: it is %.3g long but only %.3g across (its gap tolerance is %.3g)",
+                  extent(0), extent(1), tolerance);
+  } else {
+    std::snprintf(what, sizeof(what),
+                  "the target is flat: it is %.3g across but only %.3g thick (its gap tolerance is %.3g)",
+                  target.report().diagonal, extent(2), tolerance);
+  }
+  throw InvalidInputError("template '" + templateName + "' cannot be placed on this target: " + what +
+                          "; a template encloses a body, so the target must be the faces of a body with volume");
+}
+
 void checkPlacedFaces(const std::string& templateName, const std::vector<Eigen::Vector3d>& vertices,
                       const std::vector<std::vector<int>>& faces, const target::Target& target) {
   // Tolerances relative to the target's size, as ControlMesh's own check is to the mesh's.

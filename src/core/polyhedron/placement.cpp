@@ -1419,6 +1419,7 @@ PlacedPolyhedron placeTemplate(const PolyhedronTemplate& polyhedronTemplate, con
   std::optional<fit::SymmetryPlane> plane;
   std::optional<WingPlanform> planform;
   const PrincipalFrame frame = principalFrame(target);
+  checkTargetHasVolume(polyhedronTemplate.name, frame, target);
   Draft draft;
   switch (polyhedronTemplate.generator) {
     case Generator::Box:

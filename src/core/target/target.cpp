@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "core/common/errors.h"
 #include "core/common/occt_errors.h"
@@ -172,6 +173,17 @@ void measureSize(Target::Data& data) {
   if (!(data.diagonal > 0) || !std::isfinite(data.diagonal))
     throw TopologyError("Target: the shape's bounding box is degenerate or infinite");
   data.deflection = data.options.relativeDeflection * data.diagonal;
+  // OCCT works to Precision::Confusion() (1e-7) in absolute terms: BRepMesh refuses a finer
+  // deflection ("invalid parameter value"), and a shape that small is below its precision anyway.
+  if (data.deflection < Precision::Confusion()) {
+    char message[320];
+    std::snprintf(message, sizeof(message),
+                  "Target: the target is too small, %.3g across (its bounding-box diagonal); OCCT works to %.0e, "
+                  "so at relative_deflection %g a target must be at least %.3g across: scale the model up",
+                  data.diagonal, Precision::Confusion(), data.options.relativeDeflection,
+                  Precision::Confusion() / data.options.relativeDeflection);
+    throw InvalidInputError(message);
+  }
   data.tolerance = data.options.relativeTolerance * data.diagonal;
   // BRepMesh keeps triangles within about the deflection of the surface; twice that is safe.
   data.margin = 2.0 * data.deflection + data.tolerance;
