@@ -159,6 +159,27 @@ class SharedObjectsUnderThreads(unittest.TestCase):
             self.assertEqual(errors, [])
             self.assertEqual(fitter.level, 3)
 
+    def test_one_target_projected_from_several_threads(self):
+        # A Target is shared read-only: four Python threads project at once, each call on eight
+        # pool threads of its own; every result is the exact distance to the sphere.
+        target = bvmesh.Target.from_brep(Part.makeSphere(1.0).exportBrepToString(), threads=8)
+        points = [np.random.default_rng(seed).normal(size=(30000, 3)) for seed in range(4)]
+        results, errors = [None] * 4, []
+
+        def project(k):
+            try:
+                results[k] = np.asarray(target.project(points[k])["distances"])
+            except Exception as error:  # noqa: BLE001 -- any error is the failure reported below
+                errors.append(repr(error))
+        threads = [threading.Thread(target=project, args=(k,)) for k in range(4)]
+        for thread in threads:
+            thread.start()
+        for thread in threads:
+            thread.join(timeout=300)
+        self.assertEqual(errors, [])
+        for k in range(4):
+            np.testing.assert_allclose(results[k], np.abs(np.linalg.norm(points[k], axis=1) - 1.0), atol=1e-9)
+
     def test_mesh_is_a_copy(self):
         fitter = bvmesh.SurfaceFitter(self.target, bvmesh.ControlMesh(CUBE_VERTICES, CUBE_FACES), max_level=1)
         self.assertIsNot(fitter.mesh, fitter.mesh)

@@ -196,8 +196,9 @@ std::string splitReport(const std::string& out, RepairReport* report) {
 }
 
 void applyLimits(const ReaderLimits& limits) {
-#if !defined(__SANITIZE_ADDRESS__)
-  // (AddressSanitizer builds reserve terabytes of shadow address space: no address-space limit.)
+#if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+  // (Address- and ThreadSanitizer builds reserve terabytes of shadow address space: no
+  // address-space limit.)
   const auto bytes = static_cast<rlim_t>(limits.memoryMegabytes * 1048576.0);
   const rlimit memory{bytes, bytes};
   setrlimit(RLIMIT_AS, &memory);
