@@ -250,6 +250,18 @@ class SizesIdsAndOptions(unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "the result of cancel\\(\\) must be True or False"):
             fitter.run(cancel=lambda: "yes")
 
+    def test_target_options_are_range_checked(self):
+        # An infinite deflection or a NaN sharp angle was accepted (a coarse target, no sharp edges).
+        brep = Part.makeSphere(1.0).exportBrepToString()
+        for options, message in ((dict(relative_deflection=float("inf")), "relative_deflection must be a finite number > 0, got inf"),
+                                 (dict(relative_deflection=0.0), "relative_deflection must be a finite number > 0, got 0"),
+                                 (dict(relative_tolerance=float("nan")), "relative_tolerance must be a finite number > 0, got nan"),
+                                 (dict(sharp_angle_deg=float("nan")), "sharp_angle_deg must be 0 .. 180, got nan"),
+                                 (dict(sharp_angle_deg=200.0), "sharp_angle_deg must be 0 .. 180, got 200"),
+                                 (dict(threads=-3), "threads must be 0 .* or more, got -3")):
+            with self.assertRaisesRegex(bvmesh.InvalidInputError, message):
+                bvmesh.Target.from_brep(brep, **options)
+
     def test_non_finite_control_points_are_named(self):
         # NaN or infinite control points gave NaN limit points before.
         mesh = bvmesh.ControlMesh(CUBE_VERTICES, CUBE_FACES)

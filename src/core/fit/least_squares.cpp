@@ -10,7 +10,7 @@
 
 #include "core/common/errors.h"
 #include "core/common/parallel.h"
-#include "core/common/point_checks.h"
+#include "core/common/input_checks.h"
 
 namespace bvmesh::fit {
 namespace {

@@ -3,7 +3,7 @@
 #include <string>
 
 #include "core/common/errors.h"
-#include "core/common/point_checks.h"
+#include "core/common/input_checks.h"
 
 namespace bvmesh::grid {
 

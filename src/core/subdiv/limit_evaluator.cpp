@@ -14,7 +14,7 @@
 
 #include "core/common/errors.h"
 #include "core/common/parallel.h"
-#include "core/common/point_checks.h"
+#include "core/common/input_checks.h"
 #include "core/subdiv/osd_refiner.h"
 
 namespace bvmesh {

@@ -11,7 +11,7 @@
 #include <utility>
 
 #include "core/common/errors.h"
-#include "core/common/point_checks.h"
+#include "core/common/input_checks.h"
 #include "core/subdiv/osd_refiner.h"
 
 namespace bvmesh {

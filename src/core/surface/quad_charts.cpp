@@ -7,7 +7,7 @@
 #include <unordered_map>
 
 #include "core/common/errors.h"
-#include "core/common/point_checks.h"
+#include "core/common/input_checks.h"
 
 namespace bvmesh::surface {
 namespace {

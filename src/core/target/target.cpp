@@ -25,6 +25,7 @@
 #include <cstdio>
 
 #include "core/common/errors.h"
+#include "core/common/input_checks.h"
 #include "core/common/occt_errors.h"
 #include "core/target/target_data.h"
 
@@ -637,8 +638,16 @@ void ProjectionResult::setRow(Eigen::Index i, const ProjectionResult& from, Eige
 
 Target::Target(const TopoDS_Shape& shape, const TargetOptions& options) : data_(std::make_unique<Data>()) {
   if (shape.IsNull()) throw InvalidInputError("Target: the shape is null");
-  if (!(options.relativeDeflection > 0) || !(options.angularDeflection > 0) || !(options.relativeTolerance > 0))
-    throw InvalidInputError("Target: deflections and tolerance must be positive");
+  // Every option named with its value, NaN and infinities included (they were accepted).
+  checkFiniteAtLeast(options.relativeDeflection, 0.0, "Target: relative_deflection", true);
+  checkFiniteAtLeast(options.angularDeflection, 0.0, "Target: angular_deflection", true);
+  checkFiniteAtLeast(options.relativeTolerance, 0.0, "Target: relative_tolerance", true);
+  checkFiniteAtLeast(options.relativeGapSearch, 0.0, "Target: relative_gap_search");
+  if (!(options.sharpAngleDeg >= 0.0 && options.sharpAngleDeg <= 180.0))
+    throw InvalidInputError("Target: sharp_angle_deg must be 0 .. 180, got " + std::to_string(options.sharpAngleDeg));
+  if (options.threads < 0)
+    throw InvalidInputError("Target: threads must be 0 (every hardware thread) or more, got " +
+                            std::to_string(options.threads));
   data_->options = options;
   translateOcctErrors("Target: reading the shape", [&] {
     // Own copy: meshing writes triangulations into the shape.

@@ -24,7 +24,7 @@
 
 #include "core/common/errors.h"
 #include "core/common/parallel.h"
-#include "core/common/point_checks.h"
+#include "core/common/input_checks.h"
 #include "core/target/target.h"
 #include "core/target/target_data.h"
 

@@ -9,7 +9,7 @@
 #include <utility>
 
 #include "core/common/errors.h"
-#include "core/common/point_checks.h"
+#include "core/common/input_checks.h"
 #include "core/mesh/control_mesh.h"
 
 namespace bvmesh::volume {

@@ -1,5 +1,6 @@
-#include "core/common/point_checks.h"
+#include "core/common/input_checks.h"
 
+#include <cmath>
 #include <sstream>
 
 #include "core/common/errors.h"
@@ -22,6 +23,13 @@ void checkPointCount(const RowMatrixX3d& points, Eigen::Index expected, const ch
                             std::to_string(points.rows()) + " x 3");
   }
   checkFinitePoints(points);
+}
+
+void checkFiniteAtLeast(double value, double lowest, const std::string& name, bool strict) {
+  if (std::isfinite(value) && (strict ? value > lowest : value >= lowest)) return;
+  std::ostringstream message;
+  message << name << " must be a finite number " << (strict ? "> " : ">= ") << lowest << ", got " << value;
+  throw InvalidInputError(message.str());
 }
 
 }  // namespace bvmesh

@@ -1,6 +1,7 @@
-// Checks of point arrays that come from outside the core (control points, vertex positions): the
-// row count and finite coordinates, with messages that name the offending row. NaN or infinite
-// points would otherwise pass through the linear algebra unnoticed and come out as NaN results.
+// Checks of input from outside the core, with messages that name the offending item: point arrays
+// (control points, vertex positions: the row count and finite coordinates) and option values
+// (finite, in range). NaN or infinite values would otherwise pass through the computations
+// unnoticed and come out as NaN results or unrelated failures.
 #pragma once
 
 #include <string>
@@ -16,5 +17,9 @@ void checkFinitePoints(const Eigen::Ref<const RowMatrixX3d>& points, const std::
 // Throws InvalidInputError "expected <expected> x 3 <what>, got <rows> x 3" for another row count,
 // then checks the rows as checkFinitePoints.
 void checkPointCount(const RowMatrixX3d& points, Eigen::Index expected, const char* what = "control points");
+
+// Throws InvalidInputError "<name> must be a finite number >= <lowest>, got <value>" (with
+// `strict`: "> <lowest>").
+void checkFiniteAtLeast(double value, double lowest, const std::string& name, bool strict = false);
 
 }  // namespace bvmesh
