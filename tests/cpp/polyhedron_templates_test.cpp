@@ -303,6 +303,24 @@ TEST(TemplatePlacement, TargetsWithoutVolumeAreNamedFlatOrLine) {
   }
 }
 
+// A box on a rod: the rod has two vertices (one per rim), and four box corners map to each; the
+// improvement collapsed face 0 ("vertices 1 and 0 coincide"). Now the target's vertices are named.
+TEST(TemplatePlacement, CornersOnOneTargetVertexAreNamed) {
+  const target::Target rod(BRepPrimAPI_MakeCylinder(0.1, 10.0).Shape());
+  try {
+    placeTemplate(libraryTemplate("box"), rod);
+    ADD_FAILURE() << "a box placed on a rod";
+  } catch (const InvalidInputError& error) {
+    const std::string message = error.what();
+    EXPECT_EQ(message.rfind("template 'box' cannot be placed on this target: it has 2 vertices for the template's 8 "
+                            "corners: corners ",
+                            0),
+              0u)
+        << message;
+    EXPECT_EQ(message.find("degenerate"), std::string::npos) << message;
+  }
+}
+
 // The hemisphere-cylinder written face by face to IGES: read unsewn, the capsule template took
 // the plane faces' outlines for a symmetry plane and its improvement collapsed face 8 (the
 // error was the mesh's own "face 8 is degenerate"); now the placement says why it cannot place.

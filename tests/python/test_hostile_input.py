@@ -300,6 +300,13 @@ class TemplatesOnUnsuitableTargets(unittest.TestCase):
         needle = bvmesh.Target.from_brep(Part.makeCylinder(1e-7, 10).exportBrepToString())
         self.assertPlacementRefused(needle, "cylinder", r"the target is a line: it is 10 long")
 
+    def test_corners_on_one_target_vertex_are_named(self):
+        # A box on a rod (2 CAD vertices, one per rim): four box corners map to each rim's vertex,
+        # and improving said "face 2 is degenerate: vertices 7 and 6 coincide".
+        rod = bvmesh.Target.from_brep(Part.makeCylinder(0.1, 10).exportBrepToString())
+        self.assertPlacementRefused(rod, "box", r"it has 2 vertices for the template's 8 corners: corners \d+ and "
+                                                r"\d+ would both sit on its vertex [01] at")
+
     def test_a_target_below_occt_precision_is_named_too_small(self):
         # A sphere of radius 1e-8 gave BRepMesh's "invalid parameter value".
         with self.assertRaisesRegex(bvmesh.InvalidInputError, r"the target is too small, 3.46e-08 across"):

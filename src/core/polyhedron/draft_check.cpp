@@ -2,7 +2,9 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cstdio>
+#include <map>
 
 #include "core/common/errors.h"
 
@@ -47,6 +49,26 @@ void checkTargetHasVolume(const std::string& templateName, const PrincipalFrame&
   }
   throw InvalidInputError("template '" + templateName + "' cannot be placed on this target: " + what +
                           "; a template encloses a body, so the target must be the faces of a body with volume");
+}
+
+void checkCornersOnDistinctVertices(const std::string& templateName, const std::vector<int>& vertexCadVertex,
+                                    const target::Target& target) {
+  std::map<int, int> cornerAt;  // target vertex -> the first corner mapped to it
+  for (std::size_t v = 0; v < vertexCadVertex.size(); ++v) {
+    const int cad = vertexCadVertex[v];
+    if (cad < 0) continue;
+    const auto [first, inserted] = cornerAt.emplace(cad, static_cast<int>(v));
+    if (inserted) continue;
+    const long corners = std::count_if(vertexCadVertex.begin(), vertexCadVertex.end(), [](int c) { return c >= 0; });
+    const Eigen::Vector3d p = target.vertexPosition(cad);
+    char what[320];
+    std::snprintf(what, sizeof(what),
+                  "it has %d vertices for the template's %ld corners: corners %d and %zu would both sit on its "
+                  "vertex %d at (%.6g, %.6g, %.6g)",
+                  target.vertexCount(), corners, first->second, v, cad, p.x(), p.y(), p.z());
+    throw InvalidInputError("template '" + templateName + "' cannot be placed on this target: " + what +
+                            "; choose a template whose corners the target has, or one without corners");
+  }
 }
 
 void checkPlacedFaces(const std::string& templateName, const std::vector<Eigen::Vector3d>& vertices,

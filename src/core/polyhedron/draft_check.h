@@ -26,6 +26,13 @@ std::string placementFailure(const std::string& templateName, const std::string&
 // frame: principalFrame(target).
 void checkTargetHasVolume(const std::string& templateName, const PrincipalFrame& frame, const target::Target& target);
 
+// Throws InvalidInputError when two corners map to the same target vertex (vertexCadVertex: per
+// mesh vertex, -1 for none): improving moves both onto it, and the faces or crease chain between
+// them collapse. Named in terms of the target: "it has 2 vertices for the template's 8 corners:
+// corners 0 and 5 would both sit on its vertex 1 at (0.1, 0, 10)".
+void checkCornersOnDistinctVertices(const std::string& templateName, const std::vector<int>& vertexCadVertex,
+                                    const target::Target& target);
+
 // vertices: the draft's points; faces: vertex indices per face. Throws InvalidInputError.
 void checkPlacedFaces(const std::string& templateName, const std::vector<Eigen::Vector3d>& vertices,
                       const std::vector<std::vector<int>>& faces, const target::Target& target);

@@ -1459,6 +1459,7 @@ PlacedPolyhedron placeTemplate(const PolyhedronTemplate& polyhedronTemplate, con
       if (polyhedronTemplate.pushOutPasses >= 0) improvement.pushOutPasses = polyhedronTemplate.pushOutPasses;
     }
     improvement.symmetryPlane = plane;
+    checkCornersOnDistinctVertices(polyhedronTemplate.name, mapping.map.vertexCadVertex, target);
     try {
       improvePolyhedron(mesh, target, mapping.map, improvement);
     } catch (const InvalidInputError& error) {
