@@ -75,6 +75,20 @@ class CorruptCadFiles(unittest.TestCase):
                 out.write(content)
             self.assertRefused(path)
 
+    def test_inputs_that_crash_occt_found_by_fuzzing_are_errors(self):
+        # Each segfaults OCCT's reader (tests/data/README.md): the child crashes, the caller gets
+        # the error, with the likely cause only where it is known (STEP's said so for every format).
+        fuzz = os.path.join(DATA, "fuzz")
+        self.assertRefused(os.path.join(fuzz, "oriented_edge_recursion.stp"), "crashed OpenCASCADE's reader",
+                           r"a reference to a missing or wrong entity")
+        self.assertRefused(os.path.join(fuzz, "bspline_curve.igs"), r"crashed OpenCASCADE's reader \(Segmentation "
+                                                                     r"fault\); the file is corrupt(?! \(for STEP)")
+        with open(os.path.join(fuzz, "edited.brep")) as source:
+            with self.assertRaisesRegex(bvmesh.InvalidInputError, r"^reading BREP text crashed OpenCASCADE's reader "
+                                                                  r"\(Segmentation fault\); the BREP text is corrupt "
+                                                                  r"\(cut short or edited\)"):
+                bvmesh.Target.from_brep(source.read())
+
     def test_a_good_file_still_reads_from_a_string_or_a_path(self):
         import pathlib
 
