@@ -228,6 +228,29 @@ class SizesIdsAndOptions(unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "add up to 2147483647, but only 2 face vertex indices"):
             bvmesh.ControlMesh(CUBE_VERTICES[:4], ([2**31 - 1, 2**31 - 1, 4], [0, 1]))
 
+    def test_counts_in_a_mesh_file_allocate_nothing_by_themselves(self):
+        # 'vertices 2000000000' in a 60-byte .cmesh asked for 48 GB (std::bad_alloc, a MemoryError);
+        # found by fuzz_cmesh. Under a 4 GB address-space limit both counts must give the file's error.
+        code = """
+import resource, sys, bvmesh
+resource.setrlimit(resource.RLIMIT_AS, (4 << 30, resource.RLIM_INFINITY))
+for path in sys.argv[1:]:
+    try:
+        bvmesh.read_control_mesh(path)
+    except bvmesh.InvalidInputError as error:
+        print(error)
+"""
+        with tempfile.TemporaryDirectory() as folder:
+            paths = [os.path.join(folder, "vertices.cmesh"), os.path.join(folder, "faces.cmesh")]
+            with open(paths[0], "w") as out:
+                out.write("bvmesh-control-mesh 1\nvertices 2000000000\n0 0 0\n1 0 0\n")
+            with open(paths[1], "w") as out:
+                out.write("bvmesh-control-mesh 1\nvertices 3\n0 0 0\n1 0 0\n0 1 0\nfaces 2000000000\n3 0 1 2\n")
+            result = subprocess.run([sys.executable, "-c", code] + paths, capture_output=True, text=True, timeout=60)
+        self.assertEqual(result.returncode, 0, result.stderr[-2000:])
+        self.assertIn("vertices.cmesh: expected vertex 2 (the file ends early)", result.stdout)
+        self.assertIn("faces.cmesh: expected face 1 (the file ends early)", result.stdout)
+
     def test_ids_are_integers_in_range(self):
         for ids, message in (([2**32 + 1], "does not fit the core's 32-bit ids"), ([0.9], "must be integers"),
                              (["3"], "must be integers")):
