@@ -265,8 +265,9 @@ ControlMesh readControlMeshObj(std::istream& in, const std::string& name) {
                                                             : secondSlash - slash - 1));
       const bool isCrease = line.tokens[1] == "crease";
       const int perItem = isCrease ? 2 : 1;
-      if (numInts <= 0 || numInts % perItem != 0 ||
-          line.tokens.size() < 3 + static_cast<size_t>(numInts + numFloats)) {
+      // Counts up to INT_MAX each: summed unsigned, after the signs are checked (int overflowed).
+      if (numInts <= 0 || numFloats < 0 || numInts % perItem != 0 ||
+          line.tokens.size() < 3 + static_cast<size_t>(numInts) + static_cast<size_t>(numFloats)) {
         parser.fail(line.number, "malformed '" + line.tokens[1] + "' tag");
       }
       const int items = numInts / perItem;
