@@ -29,7 +29,7 @@ void checkTargetHasVolume(const std::string& templateName, const PrincipalFrame&
 // Throws InvalidInputError when two corners map to the same target vertex (vertexCadVertex: per
 // mesh vertex, -1 for none): improving moves both onto it, and the faces or crease chain between
 // them collapse. Named in terms of the target: "it has 2 vertices for the template's 8 corners:
-// corners 0 and 5 would both sit on its vertex 1 at (0.1, 0, 10)".
+// corners 0 and 5 would both sit on its vertex 1 at (0.1, 0, 0)".
 void checkCornersOnDistinctVertices(const std::string& templateName, const std::vector<int>& vertexCadVertex,
                                     const target::Target& target);
 
