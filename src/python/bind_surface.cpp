@@ -61,11 +61,6 @@ surface::QuadControlMesh meshFromArrays(const py::object& vertices, const py::ob
   surface::QuadControlMesh mesh;
   mesh.vertices.resize(points.shape(0), 3);
   std::copy(points.data(), points.data() + points.size(), mesh.vertices.data());
-  for (py::ssize_t v = 0; v < points.shape(0); ++v) {
-    if (!mesh.vertices.row(v).allFinite()) {
-      throw py::value_error("vertices: row " + std::to_string(v) + " is not finite (NaN or infinity)");
-    }
-  }
   mesh.faces.resize(faceArray.shape(0), 4);
   std::copy(faceArray.data(), faceArray.data() + faceArray.size(), mesh.faces.data());
   if (!creases.is_none()) {

@@ -4,6 +4,7 @@
 
 #include <Eigen/Dense>
 
+#include <limits>
 #include <random>
 
 #include "core/common/errors.h"
@@ -163,6 +164,15 @@ TEST(LeastSquaresErrors, NameTheProblem) {
   RowMatrixX3d targets = RowMatrixX3d::Zero(40, 3);
   targets(5, 1) = std::nan("");
   EXPECT_THROW(solver.solve(targets, RowMatrixX3d::Zero(10, 3)), InvalidInputError);
+  RowMatrixX3d current = RowMatrixX3d::Zero(10, 3);
+  current(3, 0) = std::numeric_limits<double>::infinity();
+  try {
+    solver.solve(RowMatrixX3d::Zero(40, 3), current);
+    ADD_FAILURE() << "an infinite control point accepted";
+  } catch (const InvalidInputError& error) {
+    EXPECT_NE(std::string(error.what()).find("vertex 3 has a non-finite coordinate (inf, 0, 0)"), std::string::npos)
+        << error.what();
+  }
   EXPECT_THROW(solver.solve(RowMatrixX3d::Zero(39, 3), RowMatrixX3d::Zero(10, 3)), InvalidInputError);
 }
 

@@ -5,6 +5,7 @@
 #include <Eigen/Geometry>
 
 #include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -342,6 +343,30 @@ TEST(LimitSamples, OperatorsAreReusableAndStable) {
     EXPECT_NEAR(rowSums(i), 1.0, 1e-12) << "row " << i;
   }
   EXPECT_THROW(first.positions(RowMatrixX3d::Zero(3, 3)), InvalidInputError);
+}
+
+TEST(LimitSamples, NonFiniteControlPointsAreNamed) {
+  // A NaN or an infinity used to pass through the operators and come out as NaN positions.
+  const ControlMesh mesh = subdivide(makeMesh(testing::prismData(5))).mesh;
+  const LimitSamples samples(mesh);
+  const LimitEvaluator evaluator(mesh);
+  for (const double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity(),
+                           -std::numeric_limits<double>::infinity()}) {
+    RowMatrixX3d points = mesh.vertices();
+    points(7, 1) = bad;
+    const auto expectNamed = [](const auto& call) {
+      try {
+        call();
+        ADD_FAILURE() << "a non-finite control point accepted";
+      } catch (const InvalidInputError& error) {
+        EXPECT_NE(std::string(error.what()).find("vertex 7 has a non-finite coordinate"), std::string::npos)
+            << error.what();
+      }
+    };
+    expectNamed([&] { samples.positions(points); });
+    expectNamed([&] { samples.normals(points); });
+    expectNamed([&] { evaluator.evaluate(points, {{0, 0.5, 0.5}}); });
+  }
 }
 
 }  // namespace

@@ -97,6 +97,11 @@ TEST(MeshIo, CorruptFilesNameFileAndLine) {
                   "line 4: OBJ vertex indices start at 1");
   expectReadError("bad_tag.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt crease 2/1/0 0 1\n",
                   "line 5: malformed 'crease' tag");
+  // Tag counts whose sum overflowed an int, and a negative count.
+  expectReadError("huge_tag.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt crease 2147483646/2147483647/0 0 1 5\n",
+                  "line 5: malformed 'crease' tag");
+  expectReadError("negative_tag.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nt crease 2/-1/0 0 1 5\n",
+                  "line 5: malformed 'crease' tag");
   EXPECT_THROW(readControlMesh(outputPath("does_not_exist.cmesh")), InvalidInputError);
   // Connectivity errors keep their type and gain the file name.
   const std::string path = outputPath("not_an_edge.obj");

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <BRepAlgoAPI_Fuse.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
 #include <BRepBuilderAPI_Transform.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
@@ -13,6 +14,7 @@
 #include <BRep_Builder.hxx>
 #include <TopoDS_Compound.hxx>
 #include <gp_Ax2.hxx>
+#include <gp_Pln.hxx>
 #include <gp_Trsf.hxx>
 
 #include <algorithm>
@@ -272,6 +274,51 @@ TEST(TemplatePlacement, BadTargetsAreExplained) {
   EXPECT_THROW(
       placeTemplate(libraryTemplate("capsule"), sphere, {{{"circumferential", "10"}}, {}, {}, true, {}}),
       InvalidInputError);
+}
+
+// A flat plate or a line has nothing for a template to enclose: the placement says so in terms of
+// the target (before: "face 0 collapses, vertices 2 and 1 land on the same target point" for the
+// box, a face of a mesh the user never made).
+TEST(TemplatePlacement, TargetsWithoutVolumeAreNamedFlatOrLine) {
+  const target::Target plate(BRepBuilderAPI_MakeFace(gp_Pln(gp::XOY()), 0, 10, 0, 10).Face());
+  for (const char* name : {"box", "sphere", "capsule", "cylinder"}) {
+    try {
+      placeTemplate(libraryTemplate(name), plate);
+      ADD_FAILURE() << name << " placed on a flat plate";
+    } catch (const InvalidInputError& error) {
+      const std::string message = error.what();
+      EXPECT_EQ(message.rfind("template '" + std::string(name) +
+                                  "' cannot be placed on this target: the target is flat: it is 14.1 across but only 0 thick",
+                              0),
+                0u)
+          << message;
+    }
+  }
+  const target::Target needle(BRepPrimAPI_MakeCylinder(1e-7, 10.0).Shape());
+  try {
+    placeTemplate(libraryTemplate("cylinder"), needle);
+    ADD_FAILURE() << "a cylinder placed on a line";
+  } catch (const InvalidInputError& error) {
+    EXPECT_NE(std::string(error.what()).find("the target is a line: it is 10 long"), std::string::npos) << error.what();
+  }
+}
+
+// A box on a rod: the rod has two vertices (one per rim), and four box corners map to each; the
+// improvement collapsed face 0 ("vertices 1 and 0 coincide"). Now the target's vertices are named.
+TEST(TemplatePlacement, CornersOnOneTargetVertexAreNamed) {
+  const target::Target rod(BRepPrimAPI_MakeCylinder(0.1, 10.0).Shape());
+  try {
+    placeTemplate(libraryTemplate("box"), rod);
+    ADD_FAILURE() << "a box placed on a rod";
+  } catch (const InvalidInputError& error) {
+    const std::string message = error.what();
+    EXPECT_EQ(message.rfind("template 'box' cannot be placed on this target: it has 2 vertices for the template's 8 "
+                            "corners: corners ",
+                            0),
+              0u)
+        << message;
+    EXPECT_EQ(message.find("degenerate"), std::string::npos) << message;
+  }
 }
 
 // The hemisphere-cylinder written face by face to IGES: read unsewn, the capsule template took

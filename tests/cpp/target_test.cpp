@@ -19,6 +19,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 #include "core/common/errors.h"
@@ -364,6 +365,42 @@ TEST(Target, RejectsBadInput) {
   EXPECT_THROW(target.projectToEdges(points, {99}), InvalidInputError);
   EXPECT_THROW(target.projectToVertices(points, {}), InvalidInputError);
   EXPECT_THROW(target.projectAlong(points, Points::Zero(3, 3)), InvalidInputError);
+}
+
+TEST(Target, OptionsAreNamedWithTheirValue) {
+  const TopoDS_Shape sphere = BRepPrimAPI_MakeSphere(1.0).Shape();
+  const auto expectNamed = [&](TargetOptions options, const std::string& expected) {
+    try {
+      const Target target(sphere, options);
+      ADD_FAILURE() << "accepted, expected: " << expected;
+    } catch (const InvalidInputError& error) {
+      EXPECT_NE(std::string(error.what()).find(expected), std::string::npos) << error.what();
+    }
+  };
+  TargetOptions options;
+  options.relativeDeflection = std::numeric_limits<double>::infinity();
+  expectNamed(options, "relative_deflection must be a finite number > 0, got inf");
+  options = {};
+  options.angularDeflection = std::nan("");
+  expectNamed(options, "angular_deflection must be a finite number > 0, got nan");
+  options = {};
+  options.sharpAngleDeg = -1.0;
+  expectNamed(options, "sharp_angle_deg must be 0 .. 180");
+  options = {};
+  options.threads = -2;
+  expectNamed(options, "threads must be 0 (every hardware thread) or more, got -2");
+}
+
+TEST(Target, TooSmallForOcctIsNamedAsSuch) {
+  // A sphere of radius 1e-8 gave BRepMesh's "invalid parameter value" (a SolverError).
+  try {
+    const Target tiny(BRepPrimAPI_MakeSphere(1e-8).Shape());
+    FAIL() << "a target below OCCT's precision accepted";
+  } catch (const InvalidInputError& error) {
+    EXPECT_NE(std::string(error.what()).find("the target is too small, 3.46e-08 across"), std::string::npos)
+        << error.what();
+  }
+  EXPECT_NO_THROW(Target(BRepPrimAPI_MakeSphere(1e-3).Shape()));
 }
 
 }  // namespace

@@ -16,7 +16,7 @@ import FreeCAD  # noqa: F401  -- Part needs it loaded first
 import Part
 
 import bvmesh
-from bvmesh import _core
+from bvmesh import _core, polyhedra
 from fixtures import CUBE_FACES, CUBE_VERTICES, sphere_target
 
 DATA = os.environ.get("BVMESH_TEST_DATA_DIR", os.path.join(os.path.dirname(__file__), "..", "data"))
@@ -74,6 +74,20 @@ class CorruptCadFiles(unittest.TestCase):
             with open(path, "wb") as out:
                 out.write(content)
             self.assertRefused(path)
+
+    def test_inputs_that_crash_occt_found_by_fuzzing_are_errors(self):
+        # Each segfaults OCCT's reader (tests/data/README.md): the child crashes, the caller gets
+        # the error, with the likely cause only where it is known (STEP's said so for every format).
+        fuzz = os.path.join(DATA, "fuzz")
+        self.assertRefused(os.path.join(fuzz, "oriented_edge_recursion.stp"), "crashed OpenCASCADE's reader",
+                           r"a reference to a missing or wrong entity")
+        self.assertRefused(os.path.join(fuzz, "bspline_curve.igs"), r"crashed OpenCASCADE's reader \(Segmentation "
+                                                                     r"fault\); the file is corrupt(?! \(for STEP)")
+        with open(os.path.join(fuzz, "edited.brep")) as source:
+            with self.assertRaisesRegex(bvmesh.InvalidInputError, r"^reading BREP text crashed OpenCASCADE's reader "
+                                                                  r"\(Segmentation fault\); the BREP text is corrupt "
+                                                                  r"\(cut short or edited\)"):
+                bvmesh.Target.from_brep(source.read())
 
     def test_a_good_file_still_reads_from_a_string_or_a_path(self):
         import pathlib
@@ -159,6 +173,27 @@ class SharedObjectsUnderThreads(unittest.TestCase):
             self.assertEqual(errors, [])
             self.assertEqual(fitter.level, 3)
 
+    def test_one_target_projected_from_several_threads(self):
+        # A Target is shared read-only: four Python threads project at once, each call on eight
+        # pool threads of its own; every result is the exact distance to the sphere.
+        target = bvmesh.Target.from_brep(Part.makeSphere(1.0).exportBrepToString(), threads=8)
+        points = [np.random.default_rng(seed).normal(size=(30000, 3)) for seed in range(4)]
+        results, errors = [None] * 4, []
+
+        def project(k):
+            try:
+                results[k] = np.asarray(target.project(points[k])["distances"])
+            except Exception as error:  # noqa: BLE001 -- any error is the failure reported below
+                errors.append(repr(error))
+        threads = [threading.Thread(target=project, args=(k,)) for k in range(4)]
+        for thread in threads:
+            thread.start()
+        for thread in threads:
+            thread.join(timeout=300)
+        self.assertEqual(errors, [])
+        for k in range(4):
+            np.testing.assert_allclose(results[k], np.abs(np.linalg.norm(points[k], axis=1) - 1.0), atol=1e-9)
+
     def test_mesh_is_a_copy(self):
         fitter = bvmesh.SurfaceFitter(self.target, bvmesh.ControlMesh(CUBE_VERTICES, CUBE_FACES), max_level=1)
         self.assertIsNot(fitter.mesh, fitter.mesh)
@@ -192,6 +227,29 @@ class SizesIdsAndOptions(unittest.TestCase):
     def test_face_sizes_that_overflow_are_refused_before_any_index_is_read(self):
         with self.assertRaisesRegex(ValueError, "add up to 2147483647, but only 2 face vertex indices"):
             bvmesh.ControlMesh(CUBE_VERTICES[:4], ([2**31 - 1, 2**31 - 1, 4], [0, 1]))
+
+    def test_counts_in_a_mesh_file_allocate_nothing_by_themselves(self):
+        # 'vertices 2000000000' in a 60-byte .cmesh asked for 48 GB (std::bad_alloc, a MemoryError);
+        # found by fuzz_cmesh. Under a 4 GB address-space limit both counts must give the file's error.
+        code = """
+import resource, sys, bvmesh
+resource.setrlimit(resource.RLIMIT_AS, (4 << 30, resource.RLIM_INFINITY))
+for path in sys.argv[1:]:
+    try:
+        bvmesh.read_control_mesh(path)
+    except bvmesh.InvalidInputError as error:
+        print(error)
+"""
+        with tempfile.TemporaryDirectory() as folder:
+            paths = [os.path.join(folder, "vertices.cmesh"), os.path.join(folder, "faces.cmesh")]
+            with open(paths[0], "w") as out:
+                out.write("bvmesh-control-mesh 1\nvertices 2000000000\n0 0 0\n1 0 0\n")
+            with open(paths[1], "w") as out:
+                out.write("bvmesh-control-mesh 1\nvertices 3\n0 0 0\n1 0 0\n0 1 0\nfaces 2000000000\n3 0 1 2\n")
+            result = subprocess.run([sys.executable, "-c", code] + paths, capture_output=True, text=True, timeout=60)
+        self.assertEqual(result.returncode, 0, result.stderr[-2000:])
+        self.assertIn("vertices.cmesh: expected vertex 2 (the file ends early)", result.stdout)
+        self.assertIn("faces.cmesh: expected face 1 (the file ends early)", result.stdout)
 
     def test_ids_are_integers_in_range(self):
         for ids, message in (([2**32 + 1], "does not fit the core's 32-bit ids"), ([0.9], "must be integers"),
@@ -228,6 +286,68 @@ class SizesIdsAndOptions(unittest.TestCase):
         fitter = self.fitter(max_level=1)
         with self.assertRaisesRegex(ValueError, "the result of cancel\\(\\) must be True or False"):
             fitter.run(cancel=lambda: "yes")
+
+    def test_target_options_are_range_checked(self):
+        # An infinite deflection or a NaN sharp angle was accepted (a coarse target, no sharp edges).
+        brep = Part.makeSphere(1.0).exportBrepToString()
+        for options, message in ((dict(relative_deflection=float("inf")), "relative_deflection must be a finite number > 0, got inf"),
+                                 (dict(relative_deflection=0.0), "relative_deflection must be a finite number > 0, got 0"),
+                                 (dict(relative_tolerance=float("nan")), "relative_tolerance must be a finite number > 0, got nan"),
+                                 (dict(sharp_angle_deg=float("nan")), "sharp_angle_deg must be 0 .. 180, got nan"),
+                                 (dict(sharp_angle_deg=200.0), "sharp_angle_deg must be 0 .. 180, got 200"),
+                                 (dict(threads=-3), "threads must be 0 .* or more, got -3")):
+            with self.assertRaisesRegex(bvmesh.InvalidInputError, message):
+                bvmesh.Target.from_brep(brep, **options)
+
+    def test_non_finite_control_points_are_named(self):
+        # NaN or infinite control points gave NaN limit points before.
+        mesh = bvmesh.ControlMesh(CUBE_VERTICES, CUBE_FACES)
+        evaluator = bvmesh.LimitEvaluator(mesh)
+        samples = bvmesh.LimitSamples(mesh)
+        fitter = self.fitter(max_level=1)
+        for bad in (np.nan, np.inf, -np.inf):
+            points = np.array(CUBE_VERTICES, dtype=float)
+            points[5, 2] = bad
+            for call in (lambda: evaluator.evaluate(points, [0], [0.5], [0.5]),
+                         lambda: samples.positions_for(points), lambda: samples.normals_for(points),
+                         lambda: fitter.set_vertices(points)):
+                with self.assertRaisesRegex(bvmesh.InvalidInputError, "vertex 5 has a non-finite coordinate"):
+                    call()
+
+
+class TemplatesOnUnsuitableTargets(unittest.TestCase):
+    """A template that cannot be placed says why in terms of the target, never by an error about a
+    mesh the placement made on the way."""
+
+    def assertPlacementRefused(self, target, name, pattern):
+        with self.assertRaises(bvmesh.InvalidInputError) as caught:
+            polyhedra.place_template(target, name)
+        message = str(caught.exception)
+        self.assertRegex(message, "^template '{}' cannot be placed on this target: {}".format(name, pattern))
+        self.assertNotRegex(message, r"face \d+ (is degenerate|collapses|has no area)")
+
+    def test_a_flat_plate_is_named_flat(self):
+        # The box blamed "face 0 collapses, vertices 2 and 1 land on the same target point" and the
+        # plate's unsewn faces before, the other templates likewise.
+        plate = bvmesh.Target.from_brep(Part.makePlane(10, 10).exportBrepToString())
+        for name in ("box", "sphere", "capsule", "cylinder"):
+            self.assertPlacementRefused(plate, name, r"the target is flat: it is 14.1 across but only 0 thick")
+
+    def test_a_needle_is_named_a_line(self):
+        needle = bvmesh.Target.from_brep(Part.makeCylinder(1e-7, 10).exportBrepToString())
+        self.assertPlacementRefused(needle, "cylinder", r"the target is a line: it is 10 long")
+
+    def test_corners_on_one_target_vertex_are_named(self):
+        # A box on a rod (2 CAD vertices, one per rim): four box corners map to each rim's vertex,
+        # and improving said "face 2 is degenerate: vertices 7 and 6 coincide".
+        rod = bvmesh.Target.from_brep(Part.makeCylinder(0.1, 10).exportBrepToString())
+        self.assertPlacementRefused(rod, "box", r"it has 2 vertices for the template's 8 corners: corners \d+ and "
+                                                r"\d+ would both sit on its vertex [01] at")
+
+    def test_a_target_below_occt_precision_is_named_too_small(self):
+        # A sphere of radius 1e-8 gave BRepMesh's "invalid parameter value".
+        with self.assertRaisesRegex(bvmesh.InvalidInputError, r"the target is too small, 3.46e-08 across"):
+            bvmesh.Target.from_brep(Part.makeSphere(1e-8).exportBrepToString())
 
 
 if __name__ == "__main__":

@@ -180,7 +180,7 @@ class LimitSurfaceToBSplines(unittest.TestCase):
             bvmesh.limit_surface_to_bsplines(vertices[:, :2], faces)
         bad = vertices.copy()
         bad[4, 2] = np.nan
-        with self.assertRaisesRegex(ValueError, "row 4 is not finite"):
+        with self.assertRaisesRegex(bvmesh.InvalidInputError, r"vertex 4 has a non-finite coordinate \(1, 1, nan\)"):
             bvmesh.limit_surface_to_bsplines(bad, faces)
         with self.assertRaisesRegex(ValueError, "integers"):
             bvmesh.limit_surface_to_bsplines(vertices, faces.astype(float))

@@ -151,7 +151,18 @@ ChildResult runChild(const std::string& argument, const std::string& input, cons
   return result;
 }
 
-std::string outcome(const ChildResult& result, const std::string& what, const ReaderLimits& limits) {
+// What a crash of OCCT's reader says about the input: the likely cause where one is known.
+std::string crashCause(const std::string& path) {
+  if (path == "-") return "the BREP text is corrupt (cut short or edited)";
+  const std::string extension = lowerCaseExtension(path);
+  if (extension == ".stp" || extension == ".step")
+    return "the file is corrupt (for STEP: a reference to a missing or wrong entity)";
+  return "the file is corrupt";
+}
+
+// path: the child's argument, "-" for BREP text on stdin; what: the input as messages name it.
+std::string outcome(const ChildResult& result, const std::string& path, const std::string& what,
+                    const ReaderLimits& limits) {
   if (result.timedOut) {
     throw InvalidInputError("reading " + what + " took longer than the limit of " + std::to_string(limits.seconds) +
                             " s and was stopped (the file may be corrupt; OCCT's readers loop on some broken input)");
@@ -162,8 +173,8 @@ std::string outcome(const ChildResult& result, const std::string& what, const Re
       throw InvalidInputError("reading " + what + " used up the CPU-time limit of " + std::to_string(limits.seconds) +
                               " s and was stopped (the file may be corrupt)");
     }
-    throw InvalidInputError("reading " + what + " crashed OpenCASCADE's reader (" + strsignal(signal) +
-                            "); the file is corrupt (for STEP: a reference to a missing or wrong entity)" +
+    throw InvalidInputError("reading " + what + " crashed OpenCASCADE's reader (" + strsignal(signal) + "); " +
+                            crashCause(path) +
                             (result.err.empty() ? "" : ": " + result.err));
   }
   const int code = WIFEXITED(result.status) ? WEXITSTATUS(result.status) : -1;
@@ -196,8 +207,9 @@ std::string splitReport(const std::string& out, RepairReport* report) {
 }
 
 void applyLimits(const ReaderLimits& limits) {
-#if !defined(__SANITIZE_ADDRESS__)
-  // (AddressSanitizer builds reserve terabytes of shadow address space: no address-space limit.)
+#if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+  // (Address- and ThreadSanitizer builds reserve terabytes of shadow address space: no
+  // address-space limit.)
   const auto bytes = static_cast<rlim_t>(limits.memoryMegabytes * 1048576.0);
   const rlimit memory{bytes, bytes};
   setrlimit(RLIMIT_AS, &memory);
@@ -225,16 +237,17 @@ std::string runRepairing(const std::string& argument, const std::string& input, 
   if (repair.sew && result.readDone && !succeeded(result)) {
     std::string why;
     try {
-      outcome(result, what, limits);
+      outcome(result, argument, what, limits);
       why = "it gave no shape";
     } catch (const std::exception& error) {
       why = error.what();
     }
-    std::string brep = splitReport(outcome(runChild(argument, input, limits, RepairOptions{false, 0.0}), what, limits), report);
+    std::string brep =
+        splitReport(outcome(runChild(argument, input, limits, RepairOptions{false, 0.0}), argument, what, limits), report);
     if (report != nullptr) report->notes.push_back("sewing failed in the reader process, the faces are kept as read: " + why);
     return brep;
   }
-  return splitReport(outcome(result, what, limits), report);
+  return splitReport(outcome(result, argument, what, limits), report);
 }
 
 void checkRepair(const RepairOptions& repair) {

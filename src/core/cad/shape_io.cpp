@@ -28,7 +28,6 @@
 #include "core/common/occt_errors.h"
 
 namespace bvmesh::cad {
-namespace {
 
 std::string lowerCaseExtension(const std::string& path) {
   std::string extension = std::filesystem::path(path).extension().string();
@@ -36,6 +35,8 @@ std::string lowerCaseExtension(const std::string& path) {
                  [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return extension;
 }
+
+namespace {
 
 bool hasFace(const TopoDS_Shape& shape) {
   return !shape.IsNull() && TopExp_Explorer(shape, TopAbs_FACE).More();

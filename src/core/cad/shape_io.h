@@ -21,6 +21,9 @@ std::string writeBrepString(const TopoDS_Shape& shape);
 // plain transfer (IGES surfaces read directly when no root entity gives a face).
 TopoDS_Shape readShapeFile(const std::string& path, std::vector<std::string>* notes = nullptr);
 
+// The file's extension in lower case, with its dot (".stp"), or "" (readShapeFile's choice of format).
+std::string lowerCaseExtension(const std::string& path);
+
 // Writes the faces of `shape` to an IGES file as many design tools do: each face an entity of its
 // own (OCCT's faces mode: trimmed surface 144 over its surface), no shared edges or topology.
 // Throws InvalidInputError for a shape without faces and SolverError when the file cannot be written.

@@ -10,6 +10,7 @@
 
 #include "core/common/errors.h"
 #include "core/common/parallel.h"
+#include "core/common/input_checks.h"
 
 namespace bvmesh::fit {
 namespace {
@@ -197,8 +198,8 @@ RowMatrixX3d ControlPointSolver::solve(const RowMatrixX3d& targets, const RowMat
     throw InvalidInputError("got " + std::to_string(current.rows()) + " current control points, expected " +
                             std::to_string(s.pointCount));
   }
-  if (!targets.allFinite()) throw InvalidInputError("target points contain NaN or infinite values");
-  if (!current.allFinite()) throw InvalidInputError("current control points contain NaN or infinite values");
+  checkFinitePoints(targets, "target point");
+  checkFinitePoints(current);
 
   // Work in the constraint frame: row-vector points map as p' = p F^T.
   const RowMatrixX3d localTargets = targets * s.frame.transpose();

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "core/common/errors.h"
+#include "core/common/input_checks.h"
 #include "core/fit/limit_target_distance.h"
 
 namespace bvmesh::fit {
@@ -419,13 +420,6 @@ namespace {
 // Every option in its range, NaN included, so a bad value is named here and not met later as
 // an unrelated failure (a NaN CGLS tolerance used to read as a degenerate face).
 void checkOptions(const FitOptions& options, int vertexCount) {
-  auto finiteAtLeast = [](double value, double lowest, const char* name) {
-    if (!std::isfinite(value) || value < lowest) {
-      std::ostringstream message;
-      message << name << " must be a finite number >= " << lowest << ", got " << value;
-      throw InvalidInputError(message.str());
-    }
-  };
   if (options.maxLevel < 0 || options.maxLevel > 10) {
     throw InvalidInputError("max_level must be 0 .. 10 (each level has 4 times the faces), got " +
                             std::to_string(options.maxLevel));
@@ -433,23 +427,21 @@ void checkOptions(const FitOptions& options, int vertexCount) {
   if (options.maxCorrections < 0 || options.maxCorrections > 100) {
     throw InvalidInputError("max_corrections must be 0 .. 100, got " + std::to_string(options.maxCorrections));
   }
-  finiteAtLeast(options.tolerance, 0.0, "tolerance");
-  finiteAtLeast(options.relativeTolerance, 0.0, "relative_tolerance");
+  checkFiniteAtLeast(options.tolerance, 0.0, "tolerance");
+  checkFiniteAtLeast(options.relativeTolerance, 0.0, "relative_tolerance");
   if (options.tolerance == 0.0 && options.relativeTolerance == 0.0) {
     throw InvalidInputError("the fitting tolerance must be positive (absolute or relative)");
   }
-  finiteAtLeast(options.stagnationRatio, 0.0, "stagnation_ratio");
-  if (!(options.stagnationRatio > 0.0)) throw InvalidInputError("stagnation_ratio must be positive");
-  finiteAtLeast(options.solver.cglsTolerance, 0.0, "cgls_tolerance");
-  if (!(options.solver.cglsTolerance > 0.0)) throw InvalidInputError("cgls_tolerance must be positive");
+  checkFiniteAtLeast(options.stagnationRatio, 0.0, "stagnation_ratio", true);
+  checkFiniteAtLeast(options.solver.cglsTolerance, 0.0, "cgls_tolerance", true);
   if (options.solver.cglsMaxIterations < 1) throw InvalidInputError("cgls_max_iterations must be at least 1");
   for (const auto& [weight, name] : {std::pair{options.weights.smooth, "weights['smooth']"},
                                      std::pair{options.weights.crease, "weights['crease']"},
                                      std::pair{options.weights.boundary, "weights['boundary']"},
                                      std::pair{options.weights.corner, "weights['corner']"}}) {
-    finiteAtLeast(weight, 0.0, name);
+    checkFiniteAtLeast(weight, 0.0, name);
   }
-  finiteAtLeast(options.relativePlaneTolerance, 0.0, "relative_plane_tolerance");
+  checkFiniteAtLeast(options.relativePlaneTolerance, 0.0, "relative_plane_tolerance");
   if (options.checkSamplesPerFace < 0 || options.checkSamplesPerFace > 64) {
     throw InvalidInputError("check_samples_per_face must be 0 .. 64 (samples per face side), got " +
                             std::to_string(options.checkSamplesPerFace));

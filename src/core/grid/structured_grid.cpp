@@ -3,6 +3,7 @@
 #include <string>
 
 #include "core/common/errors.h"
+#include "core/common/input_checks.h"
 
 namespace bvmesh::grid {
 
@@ -29,11 +30,7 @@ StructuredGrid::StructuredGrid(std::vector<GridBlock> blocks, bool viscousWall)
                               std::to_string(block.size[0]) + " x " + std::to_string(block.size[1]) + " x " +
                               std::to_string(block.size[2]) + " needs " + std::to_string(block.pointCount()));
     }
-    if (!block.points.allFinite()) {
-      Eigen::Index row = 0;
-      while (block.points.row(row).allFinite()) ++row;
-      throw InvalidInputError(name + " point " + std::to_string(row) + " is not finite");
-    }
+    checkFinitePoints(block.points, name + " point");
     faces.push_back(block.faces);
     sizes.push_back(block.size);
   }

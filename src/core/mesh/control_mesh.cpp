@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "core/common/errors.h"
+#include "core/common/input_checks.h"
 
 namespace bvmesh {
 namespace {
@@ -54,11 +55,7 @@ ControlMesh::ControlMesh(RowMatrixX3d vertices, std::vector<int> faceSizes,
       creaseSharpness_(std::move(creaseSharpness)),
       corners_(std::move(corners)),
       cornerSharpness_(std::move(cornerSharpness)) {
-  for (int v = 0; v < numVertices(); ++v) {
-    if (!vertices_.row(v).allFinite()) {
-      throw InvalidInputError("vertex " + std::to_string(v) + " has a non-finite coordinate");
-    }
-  }
+  checkFinitePoints(vertices_);
   if (faceSizes_.empty()) throw InvalidInputError("the control mesh has no faces");
   if (faceSizes_.size() > static_cast<size_t>(std::numeric_limits<int>::max()) ||
       faceIndices_.size() > static_cast<size_t>(std::numeric_limits<int>::max())) {
@@ -321,16 +318,7 @@ void ControlMesh::validateCorners() {
 }
 
 void ControlMesh::setVertices(const RowMatrixX3d& vertices) {
-  if (vertices.rows() != numVertices()) {
-    throw InvalidInputError("expected " + std::to_string(numVertices()) +
-                            " x 3 vertex positions, got " + std::to_string(vertices.rows()) +
-                            " x 3");
-  }
-  for (int v = 0; v < numVertices(); ++v) {
-    if (!vertices.row(v).allFinite()) {
-      throw InvalidInputError("vertex " + std::to_string(v) + " has a non-finite coordinate");
-    }
-  }
+  checkPointCount(vertices, numVertices(), "vertex positions");
   validateGeometry(vertices);
   vertices_ = vertices;
 }

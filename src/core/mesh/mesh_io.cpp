@@ -1,5 +1,6 @@
 #include "core/mesh/mesh_io.h"
 
+#include <algorithm>
 #include <array>
 #include <cctype>
 #include <cerrno>
@@ -161,8 +162,11 @@ ControlMesh readControlMeshText(std::istream& in, const std::string& name) {
     parser.fail(header.number, "unsupported version " + header.tokens[1]);
   }
 
+  // Counts are the file's word: storage grows with the lines actually there, never with a count
+  // alone ("vertices 2000000000" in a 60-byte file asked for 48 GB).
+  const auto atMostRemaining = [&](int count) { return std::min(static_cast<size_t>(count), lines.size() - next); };
   const int numVertices = section("vertices");
-  RowMatrixX3d vertices(numVertices, 3);
+  RowMatrixX3d vertices(static_cast<Eigen::Index>(atMostRemaining(numVertices)), 3);
   for (int v = 0; v < numVertices; ++v) {
     const Line& line = take("vertex " + std::to_string(v));
     parser.expectCount(line, 3, "3 coordinates for vertex " + std::to_string(v));
@@ -172,7 +176,7 @@ ControlMesh readControlMeshText(std::istream& in, const std::string& name) {
   }
   const int numFaces = section("faces");
   std::vector<int> sizes, indices;
-  sizes.reserve(static_cast<size_t>(numFaces));
+  sizes.reserve(atMostRemaining(numFaces));
   for (int f = 0; f < numFaces; ++f) {
     const Line& line = take("face " + std::to_string(f));
     const int size = parser.integer(line, line.tokens[0]);
@@ -261,8 +265,9 @@ ControlMesh readControlMeshObj(std::istream& in, const std::string& name) {
                                                             : secondSlash - slash - 1));
       const bool isCrease = line.tokens[1] == "crease";
       const int perItem = isCrease ? 2 : 1;
-      if (numInts <= 0 || numInts % perItem != 0 ||
-          line.tokens.size() < 3 + static_cast<size_t>(numInts + numFloats)) {
+      // Counts up to INT_MAX each: summed unsigned, after the signs are checked (int overflowed).
+      if (numInts <= 0 || numFloats < 0 || numInts % perItem != 0 ||
+          line.tokens.size() < 3 + static_cast<size_t>(numInts) + static_cast<size_t>(numFloats)) {
         parser.fail(line.number, "malformed '" + line.tokens[1] + "' tag");
       }
       const int items = numInts / perItem;

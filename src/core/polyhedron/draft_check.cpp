@@ -2,7 +2,9 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cstdio>
+#include <map>
 
 #include "core/common/errors.h"
 
@@ -29,6 +31,44 @@ std::string likelyCause(const target::Target& target) {
 
 std::string placementFailure(const std::string& templateName, const std::string& what, const target::Target& target) {
   return "template '" + templateName + "' cannot be placed on this target: " + what + "; " + likelyCause(target);
+}
+
+void checkTargetHasVolume(const std::string& templateName, const PrincipalFrame& frame, const target::Target& target) {
+  const Eigen::Vector3d extent = frame.high - frame.low;  // along the principal axes, largest first
+  const double tolerance = target.report().tolerance;
+  if (extent(1) > tolerance && extent(2) > tolerance) return;
+  char what[256];
+  if (extent(1) <= tolerance) {
+    std::snprintf(what, sizeof(what),
+                  "the target is a line: it is %.3g long but only %.3g across (its gap tolerance is %.3g)",
+                  extent(0), extent(1), tolerance);
+  } else {
+    std::snprintf(what, sizeof(what),
+                  "the target is flat: it is %.3g across but only %.3g thick (its gap tolerance is %.3g)",
+                  target.report().diagonal, extent(2), tolerance);
+  }
+  throw InvalidInputError("template '" + templateName + "' cannot be placed on this target: " + what +
+                          "; a template encloses a body, so the target must be the faces of a body with volume");
+}
+
+void checkCornersOnDistinctVertices(const std::string& templateName, const std::vector<int>& vertexCadVertex,
+                                    const target::Target& target) {
+  std::map<int, int> cornerAt;  // target vertex -> the first corner mapped to it
+  for (std::size_t v = 0; v < vertexCadVertex.size(); ++v) {
+    const int cad = vertexCadVertex[v];
+    if (cad < 0) continue;
+    const auto [first, inserted] = cornerAt.emplace(cad, static_cast<int>(v));
+    if (inserted) continue;
+    const long corners = std::count_if(vertexCadVertex.begin(), vertexCadVertex.end(), [](int c) { return c >= 0; });
+    const Eigen::Vector3d p = target.vertexPosition(cad);
+    char what[320];
+    std::snprintf(what, sizeof(what),
+                  "it has %d vertices for the template's %ld corners: corners %d and %zu would both sit on its "
+                  "vertex %d at (%.6g, %.6g, %.6g)",
+                  target.vertexCount(), corners, first->second, v, cad, p.x(), p.y(), p.z());
+    throw InvalidInputError("template '" + templateName + "' cannot be placed on this target: " + what +
+                            "; choose a template whose corners the target has, or one without corners");
+  }
 }
 
 void checkPlacedFaces(const std::string& templateName, const std::vector<Eigen::Vector3d>& vertices,

@@ -2,7 +2,8 @@
 // never hands on an invalid mesh. When vertices of a face coincide or a face has no area, the
 // placement stops with an error that names the template, the face, its vertices and what about
 // the target likely caused it (the capsule on a hemisphere-cylinder read unsewn took its plane
-// faces' outlines for a symmetry plane, and snapping onto it collapsed face 8).
+// faces' outlines for a symmetry plane, and snapping onto it collapsed face 8). Before that, a
+// target without volume (flat, or a line) stops the placement with that reason.
 #pragma once
 
 #include <Eigen/Core>
@@ -10,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "core/polyhedron/target_analysis.h"
 #include "core/target/target.h"
 
 namespace bvmesh::polyhedron {
@@ -17,6 +19,19 @@ namespace bvmesh::polyhedron {
 // "template '<name>' cannot be placed on this target: <what>; <what about the target likely
 // caused it>" (its free edges, unsewn faces, gaps left open).
 std::string placementFailure(const std::string& templateName, const std::string& what, const target::Target& target);
+
+// Throws InvalidInputError "template '<name>' cannot be placed on this target: the target is flat
+// ..." (or "... is a line ...") when the target's extent across its principal axes is within its
+// gap tolerance: every template encloses a body, and laid on a plate its faces would collapse.
+// frame: principalFrame(target).
+void checkTargetHasVolume(const std::string& templateName, const PrincipalFrame& frame, const target::Target& target);
+
+// Throws InvalidInputError when two corners map to the same target vertex (vertexCadVertex: per
+// mesh vertex, -1 for none): improving moves both onto it, and the faces or crease chain between
+// them collapse. Named in terms of the target: "it has 2 vertices for the template's 8 corners:
+// corners 0 and 5 would both sit on its vertex 1 at (0.1, 0, 0)".
+void checkCornersOnDistinctVertices(const std::string& templateName, const std::vector<int>& vertexCadVertex,
+                                    const target::Target& target);
 
 // vertices: the draft's points; faces: vertex indices per face. Throws InvalidInputError.
 void checkPlacedFaces(const std::string& templateName, const std::vector<Eigen::Vector3d>& vertices,

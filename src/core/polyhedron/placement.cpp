@@ -1419,6 +1419,7 @@ PlacedPolyhedron placeTemplate(const PolyhedronTemplate& polyhedronTemplate, con
   std::optional<fit::SymmetryPlane> plane;
   std::optional<WingPlanform> planform;
   const PrincipalFrame frame = principalFrame(target);
+  checkTargetHasVolume(polyhedronTemplate.name, frame, target);
   Draft draft;
   switch (polyhedronTemplate.generator) {
     case Generator::Box:
@@ -1458,6 +1459,7 @@ PlacedPolyhedron placeTemplate(const PolyhedronTemplate& polyhedronTemplate, con
       if (polyhedronTemplate.pushOutPasses >= 0) improvement.pushOutPasses = polyhedronTemplate.pushOutPasses;
     }
     improvement.symmetryPlane = plane;
+    checkCornersOnDistinctVertices(polyhedronTemplate.name, mapping.map.vertexCadVertex, target);
     try {
       improvePolyhedron(mesh, target, mapping.map, improvement);
     } catch (const InvalidInputError& error) {

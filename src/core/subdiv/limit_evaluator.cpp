@@ -14,6 +14,7 @@
 
 #include "core/common/errors.h"
 #include "core/common/parallel.h"
+#include "core/common/input_checks.h"
 #include "core/subdiv/osd_refiner.h"
 
 namespace bvmesh {
@@ -89,11 +90,7 @@ int LimitEvaluator::numPtexFaces() const { return impl_->numPtexFaces; }
 
 LimitEvaluation LimitEvaluator::evaluate(const RowMatrixX3d& controlPoints,
                                          const std::vector<SurfaceLocation>& locations) const {
-  if (controlPoints.rows() != impl_->numControlPoints) {
-    throw InvalidInputError("expected " + std::to_string(impl_->numControlPoints) +
-                            " x 3 control points, got " + std::to_string(controlPoints.rows()) +
-                            " x 3");
-  }
+  checkPointCount(controlPoints, impl_->numControlPoints);
   const auto count = static_cast<Eigen::Index>(locations.size());
   for (Eigen::Index q = 0; q < count; ++q) {
     const SurfaceLocation& location = locations[static_cast<size_t>(q)];

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "core/common/errors.h"
+#include "core/common/input_checks.h"
 #include "core/subdiv/osd_refiner.h"
 
 namespace bvmesh {
@@ -158,21 +159,13 @@ LimitSamples::LimitSamples(const ControlMesh& mesh, const SubdivisionOptions& op
   tangentV_ = tangent2.takeMatrix(order);
 }
 
-void LimitSamples::checkControlPoints(const RowMatrixX3d& controlPoints) const {
-  if (controlPoints.rows() != numControlPoints()) {
-    throw InvalidInputError("expected " + std::to_string(numControlPoints()) +
-                            " x 3 control points, got " + std::to_string(controlPoints.rows()) +
-                            " x 3");
-  }
-}
-
 RowMatrixX3d LimitSamples::positions(const RowMatrixX3d& controlPoints) const {
-  checkControlPoints(controlPoints);
+  checkPointCount(controlPoints, numControlPoints());
   return positionOperator_ * controlPoints;
 }
 
 RowMatrixX3d LimitSamples::normals(const RowMatrixX3d& controlPoints) const {
-  checkControlPoints(controlPoints);
+  checkPointCount(controlPoints, numControlPoints());
   const RowMatrixX3d du = tangentU_ * controlPoints;
   const RowMatrixX3d dv = tangentV_ * controlPoints;
   RowMatrixX3d result(du.rows(), 3);

@@ -64,8 +64,6 @@ public:
   const std::vector<SurfaceLocation>& locations() const { return locations_; }
 
 private:
-  void checkControlPoints(const RowMatrixX3d& controlPoints) const;
-
   RowSparseMatrix positionOperator_;
   RowSparseMatrix tangentU_;
   RowSparseMatrix tangentV_;

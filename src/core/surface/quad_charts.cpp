@@ -7,6 +7,7 @@
 #include <unordered_map>
 
 #include "core/common/errors.h"
+#include "core/common/input_checks.h"
 
 namespace bvmesh::surface {
 namespace {
@@ -603,11 +604,7 @@ QuadControlMesh makeQuadControlMesh(const std::vector<Eigen::Vector3d>& points,
 
 void validateQuadControlMesh(const QuadControlMesh& mesh) {
   const Eigen::Index vertexCount = mesh.vertices.rows();
-  for (Eigen::Index v = 0; v < vertexCount; ++v) {
-    if (!mesh.vertices.row(v).allFinite()) {
-      throw InvalidInputError("vertex " + std::to_string(v) + " has a non-finite coordinate");
-    }
-  }
+  checkFinitePoints(mesh.vertices);
   if (mesh.faces.rows() == 0) throw InvalidInputError("the quad mesh has no faces");
   for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
     for (int k = 0; k < 4; ++k) {

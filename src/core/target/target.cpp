@@ -22,8 +22,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include "core/common/errors.h"
+#include "core/common/input_checks.h"
 #include "core/common/occt_errors.h"
 #include "core/target/target_data.h"
 
@@ -172,6 +174,17 @@ void measureSize(Target::Data& data) {
   if (!(data.diagonal > 0) || !std::isfinite(data.diagonal))
     throw TopologyError("Target: the shape's bounding box is degenerate or infinite");
   data.deflection = data.options.relativeDeflection * data.diagonal;
+  // OCCT works to Precision::Confusion() (1e-7) in absolute terms: BRepMesh refuses a finer
+  // deflection ("invalid parameter value"), and a shape that small is below its precision anyway.
+  if (data.deflection < Precision::Confusion()) {
+    char message[320];
+    std::snprintf(message, sizeof(message),
+                  "Target: the target is too small, %.3g across (its bounding-box diagonal); OCCT works to %.0e, "
+                  "so at relative_deflection %g a target must be at least %.3g across: scale the model up",
+                  data.diagonal, Precision::Confusion(), data.options.relativeDeflection,
+                  Precision::Confusion() / data.options.relativeDeflection);
+    throw InvalidInputError(message);
+  }
   data.tolerance = data.options.relativeTolerance * data.diagonal;
   // BRepMesh keeps triangles within about the deflection of the surface; twice that is safe.
   data.margin = 2.0 * data.deflection + data.tolerance;
@@ -625,8 +638,16 @@ void ProjectionResult::setRow(Eigen::Index i, const ProjectionResult& from, Eige
 
 Target::Target(const TopoDS_Shape& shape, const TargetOptions& options) : data_(std::make_unique<Data>()) {
   if (shape.IsNull()) throw InvalidInputError("Target: the shape is null");
-  if (!(options.relativeDeflection > 0) || !(options.angularDeflection > 0) || !(options.relativeTolerance > 0))
-    throw InvalidInputError("Target: deflections and tolerance must be positive");
+  // Every option named with its value, NaN and infinities included (they were accepted).
+  checkFiniteAtLeast(options.relativeDeflection, 0.0, "Target: relative_deflection", true);
+  checkFiniteAtLeast(options.angularDeflection, 0.0, "Target: angular_deflection", true);
+  checkFiniteAtLeast(options.relativeTolerance, 0.0, "Target: relative_tolerance", true);
+  checkFiniteAtLeast(options.relativeGapSearch, 0.0, "Target: relative_gap_search");
+  if (!(options.sharpAngleDeg >= 0.0 && options.sharpAngleDeg <= 180.0))
+    throw InvalidInputError("Target: sharp_angle_deg must be 0 .. 180, got " + std::to_string(options.sharpAngleDeg));
+  if (options.threads < 0)
+    throw InvalidInputError("Target: threads must be 0 (every hardware thread) or more, got " +
+                            std::to_string(options.threads));
   data_->options = options;
   translateOcctErrors("Target: reading the shape", [&] {
     // Own copy: meshing writes triangulations into the shape.

@@ -24,6 +24,7 @@
 
 #include "core/common/errors.h"
 #include "core/common/parallel.h"
+#include "core/common/input_checks.h"
 #include "core/target/target.h"
 #include "core/target/target_data.h"
 
@@ -722,9 +723,7 @@ void parallelFor(const Target::Data& data, const Eigen::Ref<const Points>& point
 }
 
 void checkPoints(const char* function, const Eigen::Ref<const Points>& points) {
-  for (Eigen::Index i = 0; i < points.rows(); ++i)
-    if (!points.row(i).allFinite())
-      throw InvalidInputError(std::string(function) + ": point " + std::to_string(i) + " has a non-finite coordinate");
+  checkFinitePoints(points, std::string(function) + ": point");
 }
 
 // Unit bisector of the adjacent faces' normals at parameter t of an edge.

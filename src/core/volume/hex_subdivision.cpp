@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "core/common/errors.h"
+#include "core/common/input_checks.h"
 #include "core/mesh/control_mesh.h"
 
 namespace bvmesh::volume {
@@ -112,11 +113,7 @@ bool sameCycle(const std::array<int, 4>& a, const std::array<int, 4>& b) {
 
 void validateCells(const HexMesh& mesh) {
   const auto pointCount = static_cast<int>(mesh.points.rows());
-  if (!mesh.points.allFinite()) {
-    for (int p = 0; p < pointCount; ++p) {
-      if (!mesh.points.row(p).allFinite()) throw InvalidInputError("hex mesh point " + std::to_string(p) + " is not finite");
-    }
-  }
+  checkFinitePoints(mesh.points, "hex mesh point");
   for (size_t c = 0; c < mesh.cells.size(); ++c) {
     const auto& cell = mesh.cells[c];
     for (size_t k = 0; k < 8; ++k) {
