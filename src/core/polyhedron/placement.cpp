@@ -454,6 +454,9 @@ struct WingFrame {
   std::vector<int> trailingEdgeCurves;        // their indices in the feature curve list
   std::map<double, target::Points> kinks;     // polylines of the sharp curves across the span, by span
   double extent() const { return extentHigh - extentLow; }
+  // How far a placed vertex may lie from a CAD curve's tessellation polyline and still count as on
+  // it (covers the polyline's chordal error).
+  double nearCurve() const { return 1e-3 * extent(); }
 };
 
 // The trailing-edge point at span s: where a trailing-edge polyline crosses the plane.
@@ -731,20 +734,48 @@ struct WingLayout {
   int leadingEdge() const { return static_cast<int>(upper.size()) + 1; }  // its ring index
 };
 
+// Kink curves (FeatureCurveKind::Kink) lying in the plane across the span at `span` (within 1e-3
+// of the span extent, as kink sections do), as polylines.
+std::vector<target::Points> kinksInPlane(const target::Target& target, const std::vector<FeatureCurve>& curves,
+                                         const WingFrame& w, double span) {
+  std::vector<target::Points> lines;
+  for (const FeatureCurve& curve : curves) {
+    if (curve.kind != FeatureCurveKind::Kink) continue;
+    target::Points line = curvePolyline(target, curve);
+    const Eigen::VectorXd s = (line.rowwise() - w.origin.transpose()) * w.span;
+    if ((s.array() - span).abs().maxCoeff() <= 1e-3 * w.extent()) lines.push_back(std::move(line));
+  }
+  return lines;
+}
+
 // The tips' wedge closures decide the chord fractions of every station: where the wedge's flat
 // sides end at a tip, every section gets a vertex at that chord fraction, so that the tip's
-// closing creases run from the trailing edge along the ring to that vertex. `tipSpans`: span of
-// each tip station, by station.
+// closing creases run from the trailing edge along the ring to that vertex. Likewise where a kink
+// in a tip's plane ends (the edge between a wing and the leading-edge patch of its rounded tip,
+// where the CAD turns by a few degrees): a ring vertex there gives the tip the CAD's patch layout,
+// the cap's leading-edge faces ending where the kinked patch does, and halves the spacing along
+// the kink (a tangent-continuous surface rounds a kink over about one face). Kink ends at the
+// leading or trailing edge are those ring vertices already; the fractions are dropped when they
+// would leave the sides unpaired. `tipSpans`: span of each tip station, by station.
 WingLayout wingLayout(const target::Target& target, const std::vector<FeatureCurve>& curves,
                       const WingFrame& w, int m, bool rounded, const std::map<int, double>& tipSpans) {
   WingLayout layout;
   layout.upper = layout.lower = cosineFractions(m);
+  std::vector<double> kinkUpper, kinkLower;  // chord fractions of the tips' kink ends
   for (const auto& [j, span] : tipSpans) {
     WingSection section;
     wingRing(target, w, span, layout.upper, layout.lower, &section);
     const TrailingEdgeTip tip = rounded ? trailingEdgeTip(target, curves, w, section) : TrailingEdgeTip{};
     layout.tips[j] = tip;
     if (tip.upper) layout.tipFractions[j] = {section.fraction(*tip.upper), section.fraction(*tip.lower)};
+    for (const target::Points& line : kinksInPlane(target, curves, w, span)) {
+      for (const Eigen::Index end : {Eigen::Index{0}, line.rows() - 1}) {
+        const Vec p = line.row(end).transpose();
+        if (std::min((p - section.leadingEdge).norm(), (p - section.trailingEdge).norm()) <= w.nearCurve()) continue;
+        ((p - section.leadingEdge).dot(section.thickness) > 0.0 ? kinkUpper : kinkLower)
+            .push_back(section.fraction(p));
+      }
+    }
   }
   if (!layout.tipFractions.empty()) {  // one pair of fractions for all stations: the first tip's
     insertFraction(layout.upper, layout.tipFractions.begin()->second[0]);
@@ -753,6 +784,13 @@ WingLayout wingLayout(const target::Target& target, const std::vector<FeatureCur
   if (layout.upper.size() != layout.lower.size()) {  // the two sides must stay paired for the tip caps
     layout.upper = layout.lower = cosineFractions(m);
     layout.tipFractions.clear();
+  }
+  std::vector<double> upper = layout.upper, lower = layout.lower;
+  for (double xi : kinkUpper) insertFraction(upper, xi);
+  for (double xi : kinkLower) insertFraction(lower, xi);
+  if (upper.size() == lower.size()) {
+    layout.upper = std::move(upper);
+    layout.lower = std::move(lower);
   }
   return layout;
 }
@@ -959,7 +997,7 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
     rings.push_back(ids);
   }
   addWingStrips(draft, rings);
-  const double kinkTolerance = 1e-3 * (w.extentHigh - w.extentLow);
+  const double kinkTolerance = w.nearCurve();
   for (const auto& [j, line] : kinkRings) {
     const std::vector<int>& ring = rings[static_cast<size_t>(j)];
     creaseAlong(draft, ring, line, kinkTolerance);

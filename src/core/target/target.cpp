@@ -112,6 +112,7 @@ void extractTopology(Target::Data& data) {
     if (!first.IsNull()) e.vertex0 = indexOf(vertexMap, first);
     if (!last.IsNull()) e.vertex1 = indexOf(vertexMap, last);
     e.degenerate = BRep_Tool::Degenerated(edge);
+    e.tolerance = BRep_Tool::Tolerance(edge);
     if (!e.degenerate) e.curve = BRep_Tool::Curve(edge, e.first, e.last);
     if (e.curve.IsNull()) e.degenerate = true;
   }
@@ -681,6 +682,11 @@ std::array<int, 2> Target::edgeVertices(int edge) const {
                             " edges)");
   const EdgeData& e = data_->edges[static_cast<std::size_t>(edge)];
   return {e.vertex0, e.vertex1};
+}
+
+double Target::edgeTolerance(int edge) const {
+  edgeVertices(edge);  // checks the id
+  return data_->edges[static_cast<std::size_t>(edge)].tolerance;
 }
 
 Points Target::edgePolyline(int edge) const {

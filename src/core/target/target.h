@@ -120,6 +120,8 @@ public:
   // The two end vertices of an edge (-1 where OCCT gives none); the edge runs from the first to
   // the second (closed edges name the same vertex twice).
   std::array<int, 2> edgeVertices(int edge) const;
+  // OCCT's tolerance of an edge: how far its faces and its curve may be apart along it.
+  double edgeTolerance(int edge) const;
   // #K x 3 points along an edge from its first to its second vertex, within the tessellation
   // deflection of the curve; empty for degenerate edges.
   Points edgePolyline(int edge) const;
