@@ -33,7 +33,7 @@ def table(name, fitter, densities=(1, 2, 4, 8)):
 
 def main():
     target, _, plane = polyhedra.half_model_target(Part.read(paths.EXAMPLE_WING))
-    mesh, features = polyhedra.place_template(target, "half_wing")
+    mesh, features = polyhedra.place_template(target, "half_wing", tip_kinks="follow")  # as the main job
     fitter = bvmesh.SurfaceFitter(target, mesh, features, symmetry_plane=plane, tolerance=1e-5 * 810.491484116107)
     result = fitter.run()
     table("M6, {} at level {}".format(result["reason"], result["history"][-1]["level"]), fitter)

@@ -172,7 +172,9 @@ TEST(PolyhedronFit, HalfWingPlacedAndFittedOnOneraM6) {
   EXPECT_EQ(half.face, 8);  // FreeCAD's Face9: the root plane y = 0
   EXPECT_NEAR(half.plane.normal.y(), 1.0, 1e-12);
   auto target = std::make_shared<const target::Target>(half.shape);
-  const PlacedPolyhedron placed = placeTemplate(libraryTemplate("half_wing"), *target);
+  PlacementOptions placement;
+  placement.parameters["tip_kinks"] = "follow";  // as the main job
+  const PlacedPolyhedron placed = placeTemplate(libraryTemplate("half_wing"), *target, placement);
   writeControlMesh(placed.mesh, kOutput + "/m6_half_wing_placed.cmesh");
   ASSERT_TRUE(placed.mapping.complete()) << placed.mapping.describeUnmapped();
   EXPECT_EQ(placed.parameters.at("tip"), "rounded");  // `auto`: no sharp rim around the tip

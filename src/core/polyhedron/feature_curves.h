@@ -48,9 +48,9 @@ struct FeatureCurveOptions {
   // (cad::EdgeInfo::meanDihedralDegrees: a kink only at one end, where another kink edge meets
   // it, does not count), is above both the tolerance and the edge's own OCCT tolerance:
   // theta L / 4 > max(tolerance, edge tolerance). Below that, any surface finer than the edge
-  // rounds it within the tolerance; above it, the fit has to resolve it, and templates put
-  // vertices where it ends (the wing's tip sections, docs/templates.md). Kinks are not crease
-  // candidates for feature mapping.
+  // rounds it within the tolerance; above it, the fit has to resolve it, and a template can put
+  // vertices where it ends (the wing templates' tip_kinks, docs/templates.md). Kinks are not
+  // crease candidates for feature mapping.
   bool includeKinks = true;
   double kinkTolerance = 0.0;           // absolute; 0: relativeKinkTolerance of the target's diagonal
   double relativeKinkTolerance = 1e-5;  // the fit's default tolerance (fit::FitOptions::relativeTolerance)

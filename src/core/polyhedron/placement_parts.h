@@ -205,15 +205,16 @@ bool roundedTip(const TemplateValues& values, const target::Target& target, cons
 
 // The tips' wedge closures decide the chord fractions of every station: where the wedge's flat
 // sides end at a tip, every section gets a vertex at that chord fraction, so that the tip's
-// closing creases run from the trailing edge along the ring to that vertex. Likewise where a kink
-// in a tip's plane ends (the edge between a wing and the leading-edge patch of its rounded tip,
-// where the CAD turns by a few degrees): a ring vertex there gives the tip the CAD's patch layout,
-// the cap's leading-edge faces ending where the kinked patch does, and halves the spacing along
-// the kink (a tangent-continuous surface rounds a kink over about one face). Kink ends at the
-// leading or trailing edge are those ring vertices already; the fractions are dropped when they
-// would leave the sides unpaired. `tipSpans`: span of each tip station, by station.
+// closing creases run from the trailing edge along the ring to that vertex. With followKinks
+// (the template's tip_kinks = follow), where a kink in the first tip's plane ends (the edge
+// between a wing and the leading-edge patch of its rounded tip, where the CAD turns by a few
+// degrees) the nearest cosine fraction moves onto the kink end's: the cap's leading-edge faces
+// then end where the kinked patch does (a tangent-continuous surface rounds a kink over about one
+// face). Kink ends at the leading or trailing edge are those ring vertices already.
+// `tipSpans`: span of each tip station, by station.
 WingLayout wingLayout(const target::Target& target, const std::vector<FeatureCurve>& curves,
-                      const WingFrame& w, int m, bool rounded, const std::map<int, double>& tipSpans);
+                      const WingFrame& w, int m, bool rounded, const std::map<int, double>& tipSpans,
+                      bool followKinks);
 
 // Quad strips between consecutive wing rings (trailing edge first) and the trailing-edge crease
 // along their first vertices.

@@ -249,6 +249,14 @@ bool roundedTip(const TemplateValues& values, const target::Target& target, cons
 }
 
 
+// Ring index of the side vertex whose chord fraction is nearest `xi`.
+int nearestIndex(const std::vector<double>& fractions, double xi) {
+  size_t best = 0;
+  for (size_t i = 1; i < fractions.size(); ++i)
+    if (std::abs(fractions[i] - xi) < std::abs(fractions[best] - xi)) best = i;
+  return static_cast<int>(best) + 1;
+}
+
 // Kink curves (FeatureCurveKind::Kink) lying in the plane across the span at `span` (within 1e-3
 // of the span extent, as kink sections do), as polylines.
 std::vector<target::Points> kinksInPlane(const target::Target& target, const std::vector<FeatureCurve>& curves,
@@ -265,24 +273,26 @@ std::vector<target::Points> kinksInPlane(const target::Target& target, const std
 
 // The tips' wedge closures decide the chord fractions of every station: where the wedge's flat
 // sides end at a tip, every section gets a vertex at that chord fraction, so that the tip's
-// closing creases run from the trailing edge along the ring to that vertex. Likewise where a kink
-// in a tip's plane ends (the edge between a wing and the leading-edge patch of its rounded tip,
-// where the CAD turns by a few degrees): a ring vertex there gives the tip the CAD's patch layout,
-// the cap's leading-edge faces ending where the kinked patch does, and halves the spacing along
-// the kink (a tangent-continuous surface rounds a kink over about one face). Kink ends at the
-// leading or trailing edge are those ring vertices already; the fractions are dropped when they
-// would leave the sides unpaired. `tipSpans`: span of each tip station, by station.
+// closing creases run from the trailing edge along the ring to that vertex. With followKinks
+// (the template's tip_kinks = follow), where a kink in the first tip's plane ends (the edge
+// between a wing and the leading-edge patch of its rounded tip, where the CAD turns by a few
+// degrees) the nearest cosine fraction moves onto the kink end's: the cap's leading-edge faces
+// then end where the kinked patch does (a tangent-continuous surface rounds a kink over about one
+// face). Kink ends at the leading or trailing edge are those ring vertices already.
+// `tipSpans`: span of each tip station, by station.
 WingLayout wingLayout(const target::Target& target, const std::vector<FeatureCurve>& curves,
-                      const WingFrame& w, int m, bool rounded, const std::map<int, double>& tipSpans) {
+                      const WingFrame& w, int m, bool rounded, const std::map<int, double>& tipSpans,
+                      bool followKinks) {
   WingLayout layout;
   layout.upper = layout.lower = cosineFractions(m);
-  std::vector<double> kinkUpper, kinkLower;  // chord fractions of the tips' kink ends
+  std::vector<double> kinkUpper, kinkLower;  // chord fractions of the first tip's kink ends
   for (const auto& [j, span] : tipSpans) {
     WingSection section;
     wingRing(target, w, span, layout.upper, layout.lower, &section);
     const TrailingEdgeTip tip = rounded ? trailingEdgeTip(target, curves, w, section) : TrailingEdgeTip{};
     layout.tips[j] = tip;
     if (tip.upper) layout.tipFractions[j] = {section.fraction(*tip.upper), section.fraction(*tip.lower)};
+    if (!followKinks || !kinkUpper.empty() || !kinkLower.empty()) continue;
     for (const target::Points& line : kinksInPlane(target, curves, w, span)) {
       for (const Eigen::Index end : {Eigen::Index{0}, line.rows() - 1}) {
         const Vec p = line.row(end).transpose();
@@ -292,6 +302,10 @@ WingLayout wingLayout(const target::Target& target, const std::vector<FeatureCur
       }
     }
   }
+  // Each kink end moves the nearest cosine fraction onto it (no thin extra column, the sides stay
+  // paired).
+  for (double xi : kinkUpper) layout.upper[static_cast<size_t>(nearestIndex(layout.upper, xi) - 1)] = xi;
+  for (double xi : kinkLower) layout.lower[static_cast<size_t>(nearestIndex(layout.lower, xi) - 1)] = xi;
   if (!layout.tipFractions.empty()) {  // one pair of fractions for all stations: the first tip's
     insertFraction(layout.upper, layout.tipFractions.begin()->second[0]);
     insertFraction(layout.lower, layout.tipFractions.begin()->second[1]);
@@ -299,13 +313,6 @@ WingLayout wingLayout(const target::Target& target, const std::vector<FeatureCur
   if (layout.upper.size() != layout.lower.size()) {  // the two sides must stay paired for the tip caps
     layout.upper = layout.lower = cosineFractions(m);
     layout.tipFractions.clear();
-  }
-  std::vector<double> upper = layout.upper, lower = layout.lower;
-  for (double xi : kinkUpper) insertFraction(upper, xi);
-  for (double xi : kinkLower) insertFraction(lower, xi);
-  if (upper.size() == lower.size()) {
-    layout.upper = std::move(upper);
-    layout.lower = std::move(lower);
   }
   return layout;
 }
@@ -324,13 +331,6 @@ void addWingStrips(Draft& draft, const std::vector<std::vector<int>>& rings) {
   }
 }
 
-// Ring index of the side vertex whose chord fraction is nearest `xi`.
-int nearestIndex(const std::vector<double>& fractions, double xi) {
-  size_t best = 0;
-  for (size_t i = 1; i < fractions.size(); ++i)
-    if (std::abs(fractions[i] - xi) < std::abs(fractions[best] - xi)) best = i;
-  return static_cast<int>(best) + 1;
-}
 
 // Tip cap on the ring of station `station`: a row of vertices along the tip's ridge between upper
 // and lower surface, cast along outward x span onto a rounded tip, in the ring's plane with a
@@ -495,7 +495,7 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
   const auto spanAt = [&](int j) { return spans[static_cast<size_t>(j)]; };
   std::map<int, double> tipSpans{{stations, spanAt(stations)}};  // the far tip, and a full wing's near one
   if (!half) tipSpans[0] = spanAt(0);
-  WingLayout layout = wingLayout(target, curves, w, m, rounded, tipSpans);
+  WingLayout layout = wingLayout(target, curves, w, m, rounded, tipSpans, values.choice("tip_kinks") == "follow");
   addWedgeCornerStations(layout, spans, kinkRings, stations);
   const int tipStation = static_cast<int>(spans.size()) - 1;
 

@@ -147,7 +147,7 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
         "trailing edge meets the body: the wing must be fused with the body, the intersection curve sharp");
   }
   const bool rounded = roundedTip(values, target, curves, w, w.high, used);
-  const WingLayout layout = wingLayout(target, curves, w, m, rounded, {{stations, w.high}});
+  const WingLayout layout = wingLayout(target, curves, w, m, rounded, {{stations, w.high}}, false);
   const int lead = layout.leadingEdge();  // ring index of the leading edge (chordwise, or one more
                                           // for a rounded tip's wedge closure)
   const int holeSegments = lead - 2;
