@@ -28,7 +28,7 @@ def timed(work):
 def main(max_level):
     wing = Part.read(paths.EXAMPLE_WING)
     build_seconds, (target, _, plane) = timed(lambda: polyhedra.half_model_target(wing))
-    place_seconds, (mesh, features) = timed(lambda: polyhedra.place_template(target, "half_wing"))
+    place_seconds, (mesh, features) = timed(lambda: polyhedra.place_template(target, "half_wing", tip_kinks="follow"))
     fitter = bvmesh.SurfaceFitter(target, mesh, features, symmetry_plane=plane, check_samples_per_face=0)
     print("target {:.2f} s, template placement {:.2f} s, {} control points".format(
         build_seconds, place_seconds, mesh.num_vertices))
@@ -65,7 +65,7 @@ def fit_to_tolerance():
     for label, check_samples in (("samples alone", 0), ("stop rule with the two-sided check", 4)):
         started = time.perf_counter()
         target, _, plane = polyhedra.half_model_target(Part.read(paths.EXAMPLE_WING))
-        mesh, features = polyhedra.place_template(target, "half_wing")
+        mesh, features = polyhedra.place_template(target, "half_wing", tip_kinks="follow")  # as the main job
         fitter = bvmesh.SurfaceFitter(target, mesh, features, symmetry_plane=plane, tolerance=tolerance,
                                       check_samples_per_face=check_samples)
         result = fitter.run()

@@ -320,6 +320,7 @@ _FIT_PARAMETERS = {
     "tolerance": "Tolerance", "relative_tolerance": "RelativeTolerance", "max_level": "MaxLevel",
     "max_corrections": "MaxCorrections", "stagnation_ratio": "StagnationRatio", "solver": "Solver",
     "project_along_normals": "ProjectAlongNormals", "check_samples_per_face": "CheckSamplesPerFace",
+    "check_target_subdivisions": "CheckTargetSubdivisions",
     "correction_passes": "CorrectionPasses", "smooth_iterations": "SmoothIterations",
     "smooth_lambda": "SmoothLambda", "smooth_mu": "SmoothMu",
 }
@@ -376,6 +377,7 @@ def set_fit_parameters(fit, **parameters):
     """Sets fitting parameters: tolerance, relative_tolerance, max_level, max_corrections,
     stagnation_ratio, solver ('cholesky' | 'cgls'), weights {smooth, crease, boundary, corner},
     symmetry_plane ((point), (normal)) or None, project_along_normals, check_samples_per_face,
+    check_target_subdivisions,
     correction_passes, smooth_iterations, smooth_lambda, smooth_mu; then recomputes."""
     _set_fit_parameters(fit, parameters)
     _recompute(fit)

@@ -214,7 +214,7 @@ def run(output_dir, max_level=5, relative_tolerance=1e-5, volume=True, log=print
         faces = ["Face{}".format(i + 1) for i in range(len(wing.Shape.Faces)) if i != symmetry_face]
         target = api.make_target(doc, wing, faces=faces)
         log("target: {} faces; Face{} is the symmetry-plane face".format(len(faces), symmetry_face + 1))
-        polyhedron = api.make_polyhedron_from_template(doc, target, "half_wing")
+        polyhedron = api.make_polyhedron_from_template(doc, target, "half_wing", tip_kinks="follow")
         log("polyhedron: " + polyhedron.Summary)
         chord = _root_chord(wing.Shape, symmetry_face)
         tolerance = relative_tolerance * chord

@@ -54,13 +54,15 @@ def _check_mapping(mapping, strict, what):
     return mapping
 
 
-def place(template, target, parameters=None, improve=True, strict=True, folder=None):
+def place(template, target, parameters=None, improve=True, strict=True, folder=None, kinks=True):
     """Builds `template` (a library name or a .template path) on `target` (bvmesh.Target) and
     returns the placed polyhedron dict (see the module docstring). Parameter values may be given
     as numbers or strings. With strict=True an unmapped crease, boundary or corner raises
-    UnmappedFeatureError naming it and its distance to the nearest candidate."""
+    UnmappedFeatureError naming it and its distance to the nearest candidate. kinks=False leaves
+    the target's kinks (edges a smooth surface cannot round within the fit's default tolerance,
+    docs/templates.md) out of the feature curves, and so out of the placement."""
     values = {str(k): str(v) for k, v in (parameters or {}).items()}
-    placed = load_core().place_template(_template_path(template, folder), target, values, bool(improve))
+    placed = load_core().place_template(_template_path(template, folder), target, values, bool(improve), bool(kinks))
     return _check_mapping(placed, strict, "template '{}'".format(placed["template"]))
 
 

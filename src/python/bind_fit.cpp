@@ -84,6 +84,8 @@ void applyOptions(FitOptions& options, const py::dict& kwargs) {
       options.rejectOpposingFeet = flagOption(value, "reject_opposing_feet");
     } else if (name == "check_samples_per_face") {
       options.checkSamplesPerFace = integerOption(value, "check_samples_per_face");
+    } else if (name == "check_target_subdivisions") {
+      options.checkTargetSubdivisions = integerOption(value, "check_target_subdivisions");
     } else if (name == "subdivision") {
       options.subdivision = value.cast<SubdivisionOptions>();
     } else {
@@ -117,6 +119,7 @@ py::dict optionsToDict(const FitOptions& options) {
   dict["project_along_normals"] = options.projectAlongNormals;
   dict["reject_opposing_feet"] = options.rejectOpposingFeet;
   dict["check_samples_per_face"] = options.checkSamplesPerFace;
+  dict["check_target_subdivisions"] = options.checkTargetSubdivisions;
   dict["subdivision"] = options.subdivision;
   return dict;
 }
@@ -263,15 +266,18 @@ void bindFit(py::module_& module) {
              return recordToDict(exclusive(f, [&] { return f.record(check); }));
            }, py::arg("check") = false,
            "Measures the current state (and, with check, the two-sided distance) into the history")
-      .def("two_sided_distance", [](const SharedFitter& f, int samplesPerFace) {
-             const fit::TwoSidedDistance d = exclusive(f, [&] { return f.twoSidedDistance(samplesPerFace); });
+      .def("two_sided_distance", [](const SharedFitter& f, int samplesPerFace, int targetSubdivisions) {
+             const fit::TwoSidedDistance d =
+                 exclusive(f, [&] { return f.twoSidedDistance(samplesPerFace, targetSubdivisions); });
              return py::dict(py::arg("limit_to_target") = d.limitToTarget, py::arg("target_to_limit") = d.targetToLimit,
+                             py::arg("target_points") = d.targetPoints,
                              py::arg("limit_to_target_at") = d.limitToTargetAt,
                              py::arg("target_to_limit_at") = d.targetToLimitAt,
                              py::arg("cad_tolerance_at_target_to_limit") = d.cadToleranceAtTargetToLimit,
                              py::arg("target_to_limit_beyond_cad") = d.targetToLimitBeyondCad,
                              py::arg("target_to_limit_beyond_cad_at") = d.targetToLimitBeyondCadAt);
-           }, py::arg("samples_per_face") = 4)
+           }, py::arg("samples_per_face") = 4, py::arg("target_subdivisions") = 0,
+           "The two-sided check now; target_subdivisions 0: the option check_target_subdivisions")
       .def_property_readonly("history", [](const SharedFitter& f) {
              return historyToList(exclusive(f, [&] { return f.history(); }));
            })

@@ -186,12 +186,13 @@ void bindPolyhedron(py::module_& module) {
   module.def(
       "place_template",
       [](const std::filesystem::path& file, const target::Target& target,
-         const std::map<std::string, std::string>& parameters, bool improve) {
+         const std::map<std::string, std::string>& parameters, bool improve, bool includeKinks) {
         const std::string path = file.string();
         const PolyhedronTemplate polyhedronTemplate = readTemplate(path);
         PlacementOptions options;
         options.parameters = parameters;
         options.improve = improve;
+        options.curves.includeKinks = includeKinks;
         std::optional<PlacedPolyhedron> placed;
         {
           py::gil_scoped_release release;
@@ -215,7 +216,9 @@ void bindPolyhedron(py::module_& module) {
       },
       py::arg("template_path"), py::arg("target"),
       py::arg("parameters") = std::map<std::string, std::string>(), py::arg("improve") = true,
-      "Builds the template (a .template file) on the target. Returns a dict: mesh (ControlMesh), "
+      py::arg("include_kinks") = true,
+      "Builds the template (a .template file) on the target; include_kinks=False leaves the target's kinks "
+      "out of its feature curves (FeatureCurveOptions::includeKinks). Returns a dict: mesh (ControlMesh), "
       "feature_map, "
       "symmetry_plane ((point, normal) or None), parameters (values used), planform (wings: span, chords, "
       "sweeps; else None), curves, and the mapping report "

@@ -3,6 +3,9 @@
 // topology (read off the STEP file with FreeCAD).
 #include <gtest/gtest.h>
 
+#include <BRepBuilderAPI_MakePolygon.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_Sewing.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
@@ -54,6 +57,95 @@ TEST(FeatureCurves, CylinderRimsAreClosedCurves) {
   for (const FeatureCurve& c : curves) {
     EXPECT_TRUE(c.closed);
     EXPECT_NEAR(c.length, 2.0 * kPi, 1e-3);
+  }
+}
+
+// Two 10 x 10 plates sewn along the edge x in [0, 10], y = 10, folded there by `angleDeg`.
+TopoDS_Shape foldedPlates(double angleDeg) {
+  const double a = angleDeg * kPi / 180.0;
+  const auto face = [](const gp_Pnt& p0, const gp_Pnt& p1, const gp_Pnt& p2, const gp_Pnt& p3) {
+    return BRepBuilderAPI_MakeFace(BRepBuilderAPI_MakePolygon(p0, p1, p2, p3, true).Wire()).Face();
+  };
+  BRepBuilderAPI_Sewing sewing(1e-7);
+  sewing.Add(face({0, 0, 0}, {10, 0, 0}, {10, 10, 0}, {0, 10, 0}));
+  sewing.Add(face({0, 10, 0}, {10, 10, 0}, {10, 10 + 10 * std::cos(a), 10 * std::sin(a)},
+                  {0, 10 + 10 * std::cos(a), 10 * std::sin(a)}));
+  sewing.Perform();
+  return sewing.SewedShape();
+}
+
+TEST(FeatureCurves, KinksAreEdgesWhoseRoundingCostsMoreThanTheTolerance) {
+  // A 2 degree fold 10 long: rounded over its own length a smooth surface misses it by about
+  // theta L / 4 = 0.0349 * 10 / 4 = 0.0873, so it is a kink against a tolerance of 0.08, not 0.09.
+  const target::Target plates(foldedPlates(2.0));
+  ASSERT_EQ(plates.freeEdges().size(), 6u);
+  FeatureCurveOptions options;
+  options.kinkTolerance = 0.08;
+  const std::vector<int> kinks = kinkEdges(plates, options);
+  ASSERT_EQ(kinks.size(), 1u);
+  const std::array<int, 2> ends = plates.edgeVertices(kinks[0]);
+  EXPECT_NEAR(plates.vertexPosition(ends[0]).y(), 10.0, 1e-9);
+  EXPECT_NEAR(plates.vertexPosition(ends[1]).y(), 10.0, 1e-9);
+  const std::vector<FeatureCurve> curves = detectFeatureCurves(plates, options);
+  ASSERT_FALSE(curves.empty());  // the free boundary's curves, then the kink
+  EXPECT_EQ(curves.back().kind, FeatureCurveKind::Kink);
+  EXPECT_NEAR(curves.back().length, 10.0, 1e-9);
+  EXPECT_EQ(std::count_if(curves.begin(), curves.end(),
+                          [](const FeatureCurve& c) { return c.kind == FeatureCurveKind::Kink; }),
+            1);
+  options.kinkTolerance = 0.09;
+  EXPECT_TRUE(kinkEdges(plates, options).empty());
+  options.kinkTolerance = 0.0;  // 1e-5 of the diagonal (22.4)
+  EXPECT_EQ(kinkEdges(plates, options).size(), 1u);
+  options.includeKinks = false;
+  EXPECT_TRUE(kinkEdges(plates, options).empty());
+  // Flat plates have no kink; 30 degrees is sharp, not a kink.
+  EXPECT_TRUE(kinkEdges(target::Target(foldedPlates(0.0))).empty());
+  const target::Target sharp(foldedPlates(30.5));
+  EXPECT_TRUE(kinkEdges(sharp).empty());
+  EXPECT_EQ(detectFeatureCurves(sharp)[0].kind, FeatureCurveKind::Sharp);
+}
+
+TEST(FeatureCurves, OneraM6TipKinks) {
+  // The M6's kinks at 1e-5 of its diagonal: where the tip's two leading-edge patches meet the
+  // wing (FreeCAD's Edge7, Edge15: 12.3 mm, up to 2.3 degrees) and each other along the tip's
+  // ridge (Edge6: 15.8 mm, 0.2-0.5 degrees). Not the tip section's edges behind them (Edge9,
+  // Edge16, 448 mm), which turn by 0.1 degree next to the kinks' ends and are smooth along their
+  // length; nor the leading-edge patches' edges to the tip cap (Edge8, Edge14: 0.26 degrees, with
+  // an OCCT tolerance of 3.3e-2 mm that covers their rounding).
+  const HalfModelShape half =
+      removeSymmetryFace(cad::readShapeFile(std::string(BVMESH_TEST_DATA_DIR) + "/AileM6_with_sharp_TE.stp"));
+  const target::Target wing(half.shape);
+  const Eigen::Vector3d tipLeadingEdge(690.66, 1196.3, 0.0), lower(697.7, 1196.3, -9.3), upper(697.7, 1196.3, 9.3),
+      ridge(703.1, 1205.6, 0.0), tipTrailingEdge(1144.0, 1196.3, 0.0);
+  // The edge between two points, by its end vertices (within 0.1 mm in x and z, 0.5 mm in y).
+  const auto edgeBetween = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    const auto near = [&](int v, const Eigen::Vector3d& p) {
+      const Eigen::Vector3d d = wing.vertexPosition(v) - p;
+      return std::abs(d.x()) < 0.1 && std::abs(d.y()) < 0.5 && std::abs(d.z()) < 0.4;
+    };
+    for (int e = 0; e < wing.edgeCount(); ++e) {
+      const std::array<int, 2> ends = wing.edgeVertices(e);
+      if ((near(ends[0], a) && near(ends[1], b)) || (near(ends[0], b) && near(ends[1], a))) return e;
+    }
+    return -1;
+  };
+  std::vector<int> expected{edgeBetween(tipLeadingEdge, lower), edgeBetween(tipLeadingEdge, upper),
+                            edgeBetween(tipLeadingEdge, ridge)};
+  std::vector<int> kinks = kinkEdges(wing);
+  std::sort(kinks.begin(), kinks.end());
+  std::sort(expected.begin(), expected.end());
+  EXPECT_GE(expected.front(), 0);
+  EXPECT_EQ(kinks, expected);
+  for (const Eigen::Vector3d& end : {lower, upper}) {
+    const int behind = edgeBetween(end, tipTrailingEdge);  // Edge9, Edge16
+    ASSERT_GE(behind, 0);
+    // Rounded over its 448 mm, its largest angle (0.08-0.1 degrees, next to the kink's end) would
+    // miss by more than the tolerance; its mean angle does not.
+    const cad::EdgeInfo& info = wing.report().shape.edges[static_cast<size_t>(behind)];
+    const double tolerance = 1e-5 * wing.report().diagonal;
+    EXPECT_GT(info.maxDihedralDegrees * kPi / 180.0 * info.length / 4.0, tolerance);
+    EXPECT_LT(info.meanDihedralDegrees * kPi / 180.0 * info.length / 4.0, tolerance);
   }
 }
 

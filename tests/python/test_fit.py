@@ -45,6 +45,17 @@ class FitterSteps(unittest.TestCase):
         self.assertLessEqual(summary["history"][-1]["max_distance"], 1e-3)
         self.assertEqual(self.fitter.options["tolerance"], 1e-3)
 
+    def test_check_target_subdivisions(self):
+        # The check's target side: the tessellation's nodes, or k^2 times as many points on the CAD.
+        self.fitter.run(tolerance=1e-3, max_level=2)
+        nodes = self.fitter.two_sided_distance(2)
+        self.assertEqual(nodes["target_points"], len(sphere_target().mesh_nodes))
+        dense = self.fitter.two_sided_distance(2, 4)
+        self.assertGreater(dense["target_points"], 9 * nodes["target_points"])
+        self.fitter.set_options(check_target_subdivisions=4)
+        self.assertEqual(self.fitter.options["check_target_subdivisions"], 4)
+        self.assertEqual(self.fitter.two_sided_distance(2)["target_points"], dense["target_points"])
+
     def test_cancel_with_an_event(self):
         stop = threading.Event()
         summary = self.fitter.run(progress=lambda record: stop.set(), cancel=stop)

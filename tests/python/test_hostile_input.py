@@ -277,6 +277,7 @@ for path in sys.argv[1:]:
                                  (dict(max_level=True), "max_level must be an integer"),
                                  (dict(cgls_tolerance=float("nan")), "cgls_tolerance must be finite"),
                                  (dict(check_samples_per_face=46340), "check_samples_per_face must be 0 .. 64"),
+                                 (dict(check_target_subdivisions=0), "check_target_subdivisions must be 1 .. 64"),
                                  (dict(fixed_vertices=[0, 99]), "fixed_vertices names vertex 99"),
                                  (dict(max_level=11), "max_level must be 0 .. 10"),
                                  (dict(project_along_normals=1), "project_along_normals must be True or False")):

@@ -98,6 +98,8 @@ class SurfaceFitProxy(Proxy):
                      "Project along limit normals instead of to the closest point", False)
         add_property(obj, "App::PropertyInteger", "CheckSamplesPerFace", p,
                      "Samples per face and direction of the two-sided distance check", 4)
+        add_property(obj, "App::PropertyInteger", "CheckTargetSubdivisions", p,
+                     "CAD points of the two-sided check per side of a tessellation triangle (1: its nodes)", 1)
         add_property(obj, "App::PropertyInteger", "CorrectionPasses", p,
                      "Passes of the Parameter correction command", 2)
         add_property(obj, "App::PropertyInteger", "SmoothIterations", p, "Iterations of the Smooth command", 10)
@@ -148,6 +150,7 @@ class SurfaceFitProxy(Proxy):
                         "boundary": obj.WeightBoundary, "corner": obj.WeightCorner},
             "project_along_normals": obj.ProjectAlongNormals,
             "check_samples_per_face": obj.CheckSamplesPerFace,
+            "check_target_subdivisions": obj.CheckTargetSubdivisions,
             "symmetry_plane": None,
         }
         if obj.UseSymmetryPlane:

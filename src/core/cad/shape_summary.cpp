@@ -19,6 +19,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <tuple>
+#include <utility>
 
 #include "core/common/errors.h"
 #include "core/common/occt_errors.h"
@@ -48,24 +50,32 @@ bool faceNormalOnEdge(const TopoDS_Face& face, const TopoDS_Edge& edge, double t
   return true;
 }
 
-double maxDihedralDegrees(const TopoDS_Edge& edge, const TopoDS_Face& a, const TopoDS_Face& b,
-                          int samples) {
+// Largest and mean angle between the faces' normals along the edge, in degrees.
+std::pair<double, double> dihedralDegrees(const TopoDS_Edge& edge, const TopoDS_Face& a, const TopoDS_Face& b,
+                                          int samples) {
   double first = 0.0;
   double last = 0.0;
   BRep_Tool::Range(edge, first, last);
   double maxAngle = 0.0;
+  double sum = 0.0;
+  int evenly = 0;
   // Interior points only (at the ends the edge meets other faces and normals may be singular),
   // evenly spread plus one close to each end, where a kink often peaks (the leading edge of a
-  // swept wing's root section).
+  // swept wing's root section). The mean is over the evenly spread points.
   for (int i = -1; i <= samples; ++i) {
     const double fraction = i < 0 ? 1e-3 : i == samples ? 1.0 - 1e-3 : (i + 0.5) / samples;
     const double t = first + (last - first) * fraction;
     gp_Vec na;
     gp_Vec nb;
     if (!faceNormalOnEdge(a, edge, t, na) || !faceNormalOnEdge(b, edge, t, nb)) continue;
-    maxAngle = std::max(maxAngle, na.Angle(nb));
+    const double angle = na.Angle(nb);
+    maxAngle = std::max(maxAngle, angle);
+    if (i >= 0 && i < samples) {
+      sum += angle;
+      ++evenly;
+    }
   }
-  return maxAngle * 180.0 / kPi;
+  return {maxAngle * 180.0 / kPi, evenly > 0 ? sum / evenly * 180.0 / kPi : 0.0};
 }
 
 EdgeInfo classifyEdge(const TopoDS_Edge& edge, const TopTools_ListOfShape& adjacentFaces,
@@ -90,9 +100,9 @@ EdgeInfo classifyEdge(const TopoDS_Edge& edge, const TopTools_ListOfShape& adjac
     const TopoDS_Face& face = TopoDS::Face(faceIndex(info.faces[0] + 1));
     info.kind = BRep_Tool::IsClosed(edge, face) ? EdgeKind::Seam : EdgeKind::Free;
   } else if (info.faces.size() == 2) {
-    info.maxDihedralDegrees =
-        maxDihedralDegrees(edge, TopoDS::Face(faceIndex(info.faces[0] + 1)),
-                           TopoDS::Face(faceIndex(info.faces[1] + 1)), options.samplesPerEdge);
+    std::tie(info.maxDihedralDegrees, info.meanDihedralDegrees) =
+        dihedralDegrees(edge, TopoDS::Face(faceIndex(info.faces[0] + 1)), TopoDS::Face(faceIndex(info.faces[1] + 1)),
+                        options.samplesPerEdge);
     info.kind = info.maxDihedralDegrees >= options.sharpAngleDegrees ? EdgeKind::Sharp
                                                                       : EdgeKind::Smooth;
   } else {

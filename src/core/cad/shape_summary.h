@@ -26,6 +26,7 @@ struct EdgeInfo {
   EdgeKind kind = EdgeKind::Smooth;
   std::vector<int> faces;            // indices of the faces that share the edge
   double maxDihedralDegrees = 0.0;   // largest angle between the faces' normals along the edge
+  double meanDihedralDegrees = 0.0;  // their mean over points spread evenly along the edge
   double length = 0.0;
 };
 

@@ -13,7 +13,7 @@ namespace bvmesh::fit {
 
 TwoSidedDistance measureTwoSidedDistance(const ControlMesh& mesh, const SubdivisionOptions& options,
                                          const target::Target& target, int samplesPerFace,
-                                         const target::SurfaceHints* faceHints) {
+                                         const target::SurfaceHints* faceHints, int targetSubdivisions) {
   if (samplesPerFace < 1) {
     throw InvalidInputError("the distance check needs at least 1 sample per face, got " + std::to_string(samplesPerFace));
   }
@@ -76,8 +76,10 @@ TwoSidedDistance measureTwoSidedDistance(const ControlMesh& mesh, const Subdivis
     return (closestPointOnTriangle(p, grid.row(tri[0]).transpose(), grid.row(tri[1]).transpose(),
                                    grid.row(tri[2]).transpose()) - p).squaredNorm();
   };
-  const target::Points& nodes = target.meshNodes();
-  const Eigen::VectorXd& cadTolerance = target.meshNodeTolerances();
+  const target::SurfaceSamples samples = target.surfaceSamples(targetSubdivisions);
+  const target::Points& nodes = samples.points;
+  const Eigen::VectorXd& cadTolerance = samples.tolerances;
+  result.targetPoints = static_cast<int>(nodes.rows());
   for (Eigen::Index i = 0; i < nodes.rows(); ++i) {
     double best = 0.0;
     tree.nearest(nodes.row(i).transpose(), squaredDistance, best);

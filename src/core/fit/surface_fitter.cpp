@@ -446,6 +446,10 @@ void checkOptions(const FitOptions& options, int vertexCount) {
     throw InvalidInputError("check_samples_per_face must be 0 .. 64 (samples per face side), got " +
                             std::to_string(options.checkSamplesPerFace));
   }
+  if (options.checkTargetSubdivisions < 1 || options.checkTargetSubdivisions > 64) {
+    throw InvalidInputError("check_target_subdivisions must be 1 .. 64 (per tessellation triangle side), got " +
+                            std::to_string(options.checkTargetSubdivisions));
+  }
   for (int v : options.fixedVertices) {
     if (v < 0 || v >= vertexCount) {
       throw InvalidInputError("fixed_vertices names vertex " + std::to_string(v) + ", but the control mesh has " +
@@ -591,18 +595,19 @@ void SurfaceFitter::smooth(const TaubinOptions& options) {
   s.dropGeometry();
 }
 
-TwoSidedDistance SurfaceFitter::twoSidedDistance(int samplesPerFace) const {
+TwoSidedDistance SurfaceFitter::twoSidedDistance(int samplesPerFace, int targetSubdivisions) const {
   const State& s = *state_;
+  const int subdivisions = targetSubdivisions > 0 ? targetSubdivisions : s.options.checkTargetSubdivisions;
   // On an all-quad mesh ptex face f is face f, whose centre sample comes after the vertex and
   // edge samples: its last projection warm-starts the face's grid.
   if (!s.haveHints || !s.mesh.isAllQuads()) {
-    return measureTwoSidedDistance(s.mesh, s.options.subdivision, *s.target, samplesPerFace);
+    return measureTwoSidedDistance(s.mesh, s.options.subdivision, *s.target, samplesPerFace, nullptr, subdivisions);
   }
   const int firstFaceSample = s.mesh.numVertices() + s.mesh.numEdges();
   target::SurfaceHints faceHints;
   faceHints.faces = s.hints.faces.segment(firstFaceSample, s.mesh.numFaces());
   faceHints.uv = s.hints.uv.middleRows(firstFaceSample, s.mesh.numFaces());
-  return measureTwoSidedDistance(s.mesh, s.options.subdivision, *s.target, samplesPerFace, &faceHints);
+  return measureTwoSidedDistance(s.mesh, s.options.subdivision, *s.target, samplesPerFace, &faceHints, subdivisions);
 }
 
 const PassRecord& SurfaceFitter::record(bool withCheck) {

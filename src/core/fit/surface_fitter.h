@@ -68,13 +68,17 @@ struct FitOptions {
   // pinch together.
   bool rejectOpposingFeet = true;
   int checkSamplesPerFace = 4;       // per direction, for the two-sided distance check; 0: none
+  // The check's target side: points on the CAD surface this many times denser along each side of
+  // the tessellation's triangles (Target::surfaceSamples; 1: the tessellation's nodes alone).
+  int checkTargetSubdivisions = 1;
   SubdivisionOptions subdivision;
 };
 
 // Distances between limit surface and target measured on a denser independent sampling.
 struct TwoSidedDistance {
   double limitToTarget = 0.0;  // max over limit surface points of the distance to the target
-  double targetToLimit = 0.0;  // max over target tessellation nodes of the distance to the limit surface
+  double targetToLimit = 0.0;  // max over target points (tessellation nodes or denser) of the distance to the limit
+  int targetPoints = 0;        // how many target points were measured
   Eigen::Vector3d limitToTargetAt = Eigen::Vector3d::Zero();  // the limit surface point of that max
   Eigen::Vector3d targetToLimitAt = Eigen::Vector3d::Zero();  // the target node of that max
   // A node on a CAD edge is only as precise as the edge's own tolerance (its faces may be that far
@@ -158,7 +162,8 @@ public:
   const RowMatrixX3d& limitPositions();
   // Measures the current state (projecting if needed) and appends it to the history.
   const PassRecord& record(bool withCheck);
-  TwoSidedDistance twoSidedDistance(int samplesPerFace) const;
+  // The check with checkTargetSubdivisions of the options unless targetSubdivisions > 0.
+  TwoSidedDistance twoSidedDistance(int samplesPerFace, int targetSubdivisions = 0) const;
   const std::vector<PassRecord>& history() const;
 
   // Drives the steps until the tolerance, stagnation, maxLevel or a cancel request. Each

@@ -41,7 +41,30 @@ struct Use {
 }  // namespace
 
 const char* featureCurveKindName(FeatureCurveKind kind) {
-  return kind == FeatureCurveKind::Sharp ? "sharp" : "boundary";
+  switch (kind) {
+    case FeatureCurveKind::Sharp:
+      return "sharp";
+    case FeatureCurveKind::Boundary:
+      return "boundary";
+    case FeatureCurveKind::Kink:
+      return "kink";
+  }
+  return "?";
+}
+
+std::vector<int> kinkEdges(const target::Target& target, const FeatureCurveOptions& options) {
+  std::vector<int> result;
+  if (!options.includeKinks) return result;
+  const double tolerance =
+      options.kinkTolerance > 0.0 ? options.kinkTolerance : options.relativeKinkTolerance * target.report().diagonal;
+  const std::vector<cad::EdgeInfo>& edges = target.report().shape.edges;
+  for (size_t e = 0; e < edges.size(); ++e) {
+    const cad::EdgeInfo& info = edges[e];
+    if (info.kind != cad::EdgeKind::Smooth || info.maxDihedralDegrees >= options.sharpAngleDeg) continue;
+    const double miss = info.meanDihedralDegrees * kPi / 180.0 * info.length / 4.0;
+    if (miss > std::max(tolerance, target.edgeTolerance(static_cast<int>(e)))) result.push_back(static_cast<int>(e));
+  }
+  return result;
 }
 
 std::vector<FeatureCurve> detectFeatureCurves(const target::Target& target,
@@ -54,6 +77,10 @@ std::vector<FeatureCurve> detectFeatureCurves(const target::Target& target,
       kindOf[static_cast<size_t>(e)] = FeatureCurveKind::Boundary;
       featureEdges.push_back(e);
     }
+  }
+  for (int e : kinkEdges(target, options)) {
+    kindOf[static_cast<size_t>(e)] = FeatureCurveKind::Kink;
+    featureEdges.push_back(e);
   }
   std::vector<EdgeGeometry> geometry(static_cast<size_t>(target.edgeCount()));
   std::vector<std::vector<Use>> uses(static_cast<size_t>(target.vertexCount()));
@@ -133,8 +160,11 @@ std::vector<FeatureCurve> detectFeatureCurves(const target::Target& target,
     curve.smoothLoop = smoothLoop;
     curves.push_back(std::move(curve));
   }
-  std::stable_sort(curves.begin(), curves.end(), [](const FeatureCurve& a, const FeatureCurve& b) {
-    if (a.kind != b.kind) return a.kind == FeatureCurveKind::Sharp;
+  const auto rank = [](FeatureCurveKind kind) {
+    return kind == FeatureCurveKind::Sharp ? 0 : kind == FeatureCurveKind::Boundary ? 1 : 2;
+  };
+  std::stable_sort(curves.begin(), curves.end(), [&](const FeatureCurve& a, const FeatureCurve& b) {
+    if (a.kind != b.kind) return rank(a.kind) < rank(b.kind);
     return a.length > b.length;
   });
   return curves;

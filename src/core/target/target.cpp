@@ -23,6 +23,10 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <initializer_list>
+#include <limits>
+#include <map>
+#include <utility>
 
 #include "core/common/errors.h"
 #include "core/common/input_checks.h"
@@ -114,6 +118,7 @@ void extractTopology(Target::Data& data) {
     if (!first.IsNull()) e.vertex0 = indexOf(vertexMap, first);
     if (!last.IsNull()) e.vertex1 = indexOf(vertexMap, last);
     e.degenerate = BRep_Tool::Degenerated(edge);
+    e.tolerance = BRep_Tool::Tolerance(edge);
     if (!e.degenerate) e.curve = BRep_Tool::Curve(edge, e.first, e.last);
     if (e.curve.IsNull()) e.degenerate = true;
   }
@@ -704,6 +709,11 @@ std::array<int, 2> Target::edgeVertices(int edge) const {
   return {e.vertex0, e.vertex1};
 }
 
+double Target::edgeTolerance(int edge) const {
+  edgeVertices(edge);  // checks the id
+  return data_->edges[static_cast<std::size_t>(edge)].tolerance;
+}
+
 Points Target::edgePolyline(int edge) const {
   const std::array<int, 2> ends = edgeVertices(edge);
   const EdgeData& e = data_->edges[static_cast<std::size_t>(edge)];
@@ -722,6 +732,58 @@ Points Target::edgePolyline(int edge) const {
 
 const Points& Target::meshNodes() const { return data_->nodes; }
 const Eigen::VectorXd& Target::meshNodeTolerances() const { return data_->nodeTolerance; }
+
+SurfaceSamples Target::surfaceSamples(int subdivisions) const {
+  if (subdivisions < 1 || subdivisions > 64) {
+    throw InvalidInputError("Target::surfaceSamples: subdivisions must be within 1..64, got " +
+                            std::to_string(subdivisions));
+  }
+  const Data& d = *data_;
+  const int k = subdivisions;
+  // Every triangle side once (node pairs of one face), each with the face that holds it.
+  std::map<std::pair<int, int>, int> sides;
+  for (Eigen::Index t = 0; t < d.triangles.rows(); ++t) {
+    for (int c = 0; c < 3; ++c) {
+      const int a = d.triangles(t, c), b = d.triangles(t, (c + 1) % 3);
+      sides.emplace(std::minmax(a, b), d.triangleFaces[t]);
+    }
+  }
+  const Eigen::Index nodes = d.nodes.rows();
+  const Eigen::Index count = nodes + static_cast<Eigen::Index>(sides.size()) * (k - 1) +
+                             d.triangles.rows() * static_cast<Eigen::Index>((k - 1) * (k - 2) / 2);
+  SurfaceSamples samples;
+  samples.points.resize(count, 3);
+  samples.tolerances.resize(count);
+  samples.points.topRows(nodes) = d.nodes;
+  samples.tolerances.head(nodes) = d.nodeTolerance;
+  Eigen::Index next = nodes;
+  translateOcctErrors("Target::surfaceSamples", [&] {
+    // The point of face f at the barycentric combination of nodes (weights w, summing to 1).
+    const auto add = [&](int face, std::initializer_list<std::pair<int, double>> weights) {
+      Eigen::Vector2d uv = Eigen::Vector2d::Zero();
+      double tolerance = std::numeric_limits<double>::infinity();
+      for (const auto& [node, weight] : weights) {
+        uv += weight * d.nodeUV.row(node).transpose();
+        if (weight > 0.0) tolerance = std::min(tolerance, d.nodeTolerance[node]);
+      }
+      samples.points.row(next) = toEigen(d.faces[static_cast<std::size_t>(face)].surface->Value(uv.x(), uv.y())).transpose();
+      samples.tolerances[next] = tolerance;
+      ++next;
+    };
+    for (const auto& [side, face] : sides) {
+      for (int i = 1; i < k; ++i) add(face, {{side.first, 1.0 - static_cast<double>(i) / k}, {side.second, static_cast<double>(i) / k}});
+    }
+    for (Eigen::Index t = 0; t < d.triangles.rows(); ++t) {
+      for (int i = 1; i < k; ++i) {
+        for (int j = 1; i + j < k; ++j) {
+          const double b = static_cast<double>(i) / k, c = static_cast<double>(j) / k;
+          add(d.triangleFaces[t], {{d.triangles(t, 0), 1.0 - b - c}, {d.triangles(t, 1), b}, {d.triangles(t, 2), c}});
+        }
+      }
+    }
+  });
+  return samples;
+}
 const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& Target::meshTriangles() const { return data_->triangles; }
 const Eigen::VectorXi& Target::meshTriangleFaces() const { return data_->triangleFaces; }
 

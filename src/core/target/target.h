@@ -95,6 +95,13 @@ struct SurfaceHints {
   Params uv;
 };
 
+// Points on the CAD surface (Target::surfaceSamples) with how precisely the CAD itself places
+// each: the CAD's tolerance there (see Target::meshNodeTolerances).
+struct SurfaceSamples {
+  Points points;              // #P x 3
+  Eigen::VectorXd tolerances;  // #P
+};
+
 class Target {
 public:
   // Throws InvalidInputError for a null shape and TopologyError for a shape without faces.
@@ -120,6 +127,8 @@ public:
   // The two end vertices of an edge (-1 where OCCT gives none); the edge runs from the first to
   // the second (closed edges name the same vertex twice).
   std::array<int, 2> edgeVertices(int edge) const;
+  // OCCT's tolerance of an edge: how far its faces and its curve may be apart along it.
+  double edgeTolerance(int edge) const;
   // #K x 3 points along an edge from its first to its second vertex, within the tessellation
   // deflection of the curve; empty for degenerate edges.
   Points edgePolyline(int edge) const;
@@ -143,6 +152,14 @@ public:
   // #N: how precisely the CAD itself places each node: the largest OCCT tolerance of the edges
   // and vertices the node lies on (where neighbouring faces may be that far apart), else its face's.
   const Eigen::VectorXd& meshNodeTolerances() const;
+  // Points on the trimmed CAD surface `subdivisions` times denser along each side of the
+  // tessellation's triangles: the lattice points (i, j) / subdivisions of every triangle (the
+  // tessellation's own nodes for 1), located in the face's (u, v) domain by the triangle's node
+  // parameters and evaluated exactly on the face's surface; each point once (the nodes first, in
+  // their order, then the points inside the triangles' edges, then inside the triangles).
+  // k subdivisions give about k^2 times the nodes. Tolerance of a point: the smallest of the
+  // CAD's tolerances at the nodes it lies between (an edge's on a CAD edge, else the face's).
+  SurfaceSamples surfaceSamples(int subdivisions) const;
   const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& meshTriangles() const;
   const Eigen::VectorXi& meshTriangleFaces() const;
 

@@ -102,6 +102,7 @@ struct EdgeData {
   Handle(Geom_Curve) curve;  // with the edge's location applied; null when degenerate
   double first = 0, last = 0;
   bool degenerate = false;
+  double tolerance = 0;  // OCCT's tolerance of the edge: how far its faces and curves may be apart
   int vertex0 = -1, vertex1 = -1;
   std::vector<int> faces;
   // Polyline within the tessellation deflection of the curve: seeds for Newton.
