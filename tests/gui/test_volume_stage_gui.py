@@ -11,8 +11,9 @@ import json
 import os
 import subprocess
 import sys
+import time
 
-from PySide import QtGui
+from PySide import QtCore, QtGui
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from gui_harness import (check, click_toolbar, log, main_window, press_task_ok, settle, start,  # noqa: E402
@@ -54,6 +55,32 @@ def answer_input_dialogs(*values):
 
     timers = [when_shown(find, answer)]
     return timers
+
+
+def answer_file_dialog(path, timeout_ms=60000):
+    """Answers the next file dialog with `path`, again on every tick while it stays open (an answer
+    that did not take would leave the test waiting for good)."""
+    deadline = time.time() + timeout_ms / 1000.0
+    timer = QtCore.QTimer()
+
+    def poll():
+        dialog = next((w for w in QtGui.QApplication.topLevelWidgets()
+                       if isinstance(w, QtGui.QFileDialog) and w.isVisible()), None)
+        if dialog is not None:
+            # selectFile() leaves the name field alone while it has the focus (Qt's QFileDialog),
+            # so the name goes into the field itself.
+            edit = dialog.findChild(QtGui.QLineEdit, "fileNameEdit")
+            if edit is not None:
+                edit.setText(path)
+            else:
+                dialog.selectFile(path)
+            dialog.accept()
+        elif time.time() > deadline:
+            timer.stop()
+
+    timer.timeout.connect(poll)
+    timer.start(200)
+    return timer
 
 
 def form(name):
@@ -212,14 +239,9 @@ def run():
     check(quality is not None and quality.Cells == grid.CellCount and quality.NonPositiveCells == 0,
           "the quality of every cell was measured (min scaled Jacobian {:.3g})".format(quality.MinScaledJacobian))
 
-    def save_file(dialog):
-        dialog.selectFile(CGNS)
-        dialog.accept()
-
     if os.path.exists(CGNS):
         os.remove(CGNS)
-    timer = when_shown(lambda: next((w for w in QtGui.QApplication.topLevelWidgets()
-                                     if isinstance(w, QtGui.QFileDialog) and w.isVisible()), None), save_file)
+    timer = answer_file_dialog(CGNS)
     FreeCADGui.Selection.clearSelection()
     FreeCADGui.Selection.addSelection(grid)
     click_toolbar("BVMesh_ExportGrid")
