@@ -1,9 +1,9 @@
 """The volume grid: a volume mesh's B-spline blocks evaluated on a stretched, point-matched grid
 (bvmesh.grid.refine), the grid a flow solver reads; or (Method subdivision) the control volume of
-the same fit and options refined by volumetric Catmull-Clark, its wall on the fitted surface. Like the volume mesh, the points are not stored
-in the document (a million-cell grid is tens of megabytes): they are evaluated again when asked for
-after loading, and must match the saved digest. Its shape is the grid lines on the shown boundary
-faces."""
+the same fit and options refined by volumetric Catmull-Clark, its wall on the fitted surface. Like
+the volume mesh, the points are not stored in the document (a million-cell grid is tens of
+megabytes): they are evaluated again when asked for after loading, and must match the saved
+digest. Its shape is the grid lines on the shown boundary faces."""
 
 import hashlib
 

@@ -62,22 +62,22 @@ BlockHexMesh blockHexMesh(const volume::BlockMesh& blocks) {
   return result;
 }
 
-// The limit positions of a control mesh's vertices for the given control points.
-RowMatrixX3d limitPositions(const ControlMesh& mesh, const RowMatrixX3d& controlPoints) {
-  const LimitEvaluator evaluator(mesh);
-  const std::vector<int> ptex = ptexFaceOffsets(mesh);
-  std::vector<SurfaceLocation> locations(static_cast<size_t>(mesh.numVertices()));
-  std::vector<char> found(static_cast<size_t>(mesh.numVertices()), 0);
-  for (int f = 0; f < mesh.numFaces(); ++f) {
-    for (int k = 0; k < mesh.faceSize(f); ++k) {
-      const auto v = static_cast<size_t>(mesh.faceVertex(f, k));
-      if (found[v]) continue;
-      found[v] = 1;
-      locations[v] = cornerLocation(mesh, ptex, f, k);
-    }
+// Limit positions at a control mesh's vertices, for any control points on its topology.
+class VertexLimits {
+ public:
+  explicit VertexLimits(const ControlMesh& mesh) : evaluator_(mesh) {
+    const std::vector<int> ptex = ptexFaceOffsets(mesh);
+    const RowMatrixX2i& first = mesh.vertexFirstCorner();
+    for (Eigen::Index v = 0; v < first.rows(); ++v) locations_.push_back(cornerLocation(mesh, ptex, first(v, 0), first(v, 1)));
   }
-  return evaluator.evaluate(controlPoints, locations).positions;
-}
+  RowMatrixX3d operator()(const RowMatrixX3d& controlPoints) const {
+    return evaluator_.evaluate(controlPoints, locations_).positions;
+  }
+
+ private:
+  LimitEvaluator evaluator_;
+  std::vector<SurfaceLocation> locations_;
+};
 
 // `steps` subdivision steps of `mesh`, its blocks followed through them, as a grid with the given
 // block faces. With `wallDirections` (#P x 3, the direction each point's wall-normal line leaves
@@ -109,8 +109,9 @@ StructuredGrid subdivideHexBlocks(HexMesh mesh, std::vector<volume::HexBlock> la
       wallPoints.row(static_cast<Eigen::Index>(v)) = mesh.points.row(wall.points[v]);
       wallFieldPoints.row(static_cast<Eigen::Index>(v)) = wallDirections.row(wall.points[v]);
     }
-    const RowMatrixX3d limit = limitPositions(wall.mesh, wallPoints);
-    const RowMatrixX3d direction = limitPositions(wall.mesh, wallFieldPoints);
+    const VertexLimits limits(wall.mesh);
+    const RowMatrixX3d limit = limits(wallPoints);
+    const RowMatrixX3d direction = limits(wallFieldPoints);
     std::vector<Eigen::Index> localOf(static_cast<size_t>(mesh.points.rows()), -1);
     for (size_t v = 0; v < wall.points.size(); ++v) {
       localOf[static_cast<size_t>(wall.points[v])] = static_cast<Eigen::Index>(v);

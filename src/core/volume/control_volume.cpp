@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <map>
 #include <string>
 #include <utility>
 
@@ -23,8 +22,7 @@ using Eigen::Vector3d;
 // it, as the B-spline blocks' lines do at chart borders on creases). A face whose limit normal
 // vanishes at the vertex (a corner with a single crease, where the limit tangents are parallel)
 // gives its control face's normal instead.
-RowMatrixX3d meanLimitNormals(const surface::QuadControlMesh& wall) {
-  const ControlMesh mesh = surface::toControlMesh(wall);
+RowMatrixX3d meanLimitNormals(const surface::QuadControlMesh& wall, const ControlMesh& mesh) {
   const LimitEvaluator evaluator(mesh);
   const std::vector<int> ptex = ptexFaceOffsets(mesh);
   const auto faces = static_cast<int>(wall.faces.rows());
@@ -57,27 +55,6 @@ RowMatrixX3d meanLimitNormals(const surface::QuadControlMesh& wall) {
   return normals;
 }
 
-using Edge = std::pair<int, int>;
-
-// Boundary edges of the wall (edges of one face), in the direction their face runs them.
-std::vector<Edge> boundaryEdges(const surface::QuadControlMesh& wall) {
-  std::map<Edge, int> uses;
-  for (Eigen::Index f = 0; f < wall.faces.rows(); ++f) {
-    for (int k = 0; k < 4; ++k) {
-      const int a = wall.faces(f, k), b = wall.faces(f, (k + 1) % 4);
-      ++uses[{std::min(a, b), std::max(a, b)}];
-    }
-  }
-  std::vector<Edge> edges;
-  for (Eigen::Index f = 0; f < wall.faces.rows(); ++f) {
-    for (int k = 0; k < 4; ++k) {
-      const int a = wall.faces(f, k), b = wall.faces(f, (k + 1) % 4);
-      if (uses[{std::min(a, b), std::max(a, b)}] == 1) edges.emplace_back(a, b);
-    }
-  }
-  return edges;
-}
-
 }  // namespace
 
 ControlVolume controlVolumeMesh(const surface::QuadControlMesh& wall, const VolumeMeshOptions& options) {
@@ -86,9 +63,10 @@ ControlVolume controlVolumeMesh(const surface::QuadControlMesh& wall, const Volu
   const auto wallVertices = static_cast<int>(wall.vertices.rows());
   const auto quads = static_cast<int>(wall.faces.rows());
 
+  const ControlMesh wallMesh = surface::toControlMesh(wall);
   MarchingFront front;
   front.points = wall.vertices;
-  front.normals = meanLimitNormals(wall);
+  front.normals = meanLimitNormals(wall, wallMesh);
   front.onSymmetryPlane.assign(static_cast<size_t>(wallVertices), 0);
   for (int f = 0; f < quads; ++f) {
     front.quads.push_back({wall.faces(f, 0), wall.faces(f, 1), wall.faces(f, 2), wall.faces(f, 3)});
@@ -96,7 +74,8 @@ ControlVolume controlVolumeMesh(const surface::QuadControlMesh& wall, const Volu
   }
   // The open boundary must lie on the symmetry plane; its vertices are put on it exactly, so that
   // the symmetry faces swept from it are planar (volumetric subdivision keeps them so).
-  const std::vector<Edge> openEdges = boundaryEdges(wall);
+  std::vector<std::pair<int, int>> openEdges;  // as their face runs them
+  for (int e : wallMesh.boundaryEdges()) openEdges.emplace_back(wallMesh.edges()(e, 0), wallMesh.edges()(e, 1));
   const double size = (front.points.colwise().maxCoeff() - front.points.colwise().minCoeff()).norm();
   std::vector<int> facesAt(static_cast<size_t>(wallVertices), 0);
   for (int f = 0; f < quads; ++f) {
