@@ -172,6 +172,35 @@ TEST(GridRefinement, WarpedBoxIsPointMatchedWithExactWallSpacing) {
   EXPECT_NEAR(static_cast<double>(target.grid.cellCount()), 20000.0, 0.3 * 20000.0);
 }
 
+TEST(GridRefinement, TangentialCountsFollowTheWallNotTheFarField) {
+  // The one-layer box flared to four times its width at the top (x and y scaled by 1 + 3 z):
+  // every wall edge is 1 long, every top edge 4. The tangential spacing is a wall resolution, so
+  // a block that fans out to a large outer face keeps the count its wall edge needs (counting
+  // the top edges gave 17 points where the wall asks for 5, and crowded small wall blocks).
+  const test::BoxBlocks box = test::boxBlocks(0.0, true, 1);
+  std::vector<volume::Block> flared = box.mesh.blocks();
+  for (volume::Block& block : flared) {
+    const RowMatrixX3d poles = block.volume.poles();
+    for (Eigen::Index row = 0; row < poles.rows(); ++row) {
+      const double scale = 1.0 + 3.0 * poles(row, 2);
+      block.volume.setPole(row, Vector3d(scale * poles(row, 0), scale * poles(row, 1), poles(row, 2)));
+    }
+  }
+  RefinementOptions options;
+  options.tangentialSpacing = 0.25;
+  options.normalPoints = 9;
+  const RefinedGrid refined = refineBlockMesh(volume::BlockMesh(flared), options);
+  for (const auto& block : refined.grid.blocks()) {
+    int tangential = 0;
+    for (int d = 0; d < 3; ++d) {
+      if (block.size[static_cast<size_t>(d)] == 9) continue;  // the wall-normal direction
+      EXPECT_EQ(block.size[static_cast<size_t>(d)], 5);
+      ++tangential;
+    }
+    EXPECT_EQ(tangential, 2);
+  }
+}
+
 TEST(GridRefinement, EveryOrientationAndAMirroredBlockArePointMatched) {
   // No wall: every direction from its block's edges, blended; the warped 2 x 2 x 2 box with its
   // turned and mirrored blocks comes out point-matched (checked bit for bit by StructuredGrid).

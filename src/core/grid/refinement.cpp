@@ -86,6 +86,14 @@ double blendedParameter(const BlockPlan& plan, int direction, int i, double f1, 
          f1 * f2 * edges[3][at];
 }
 
+// Whether edge `edge` along `direction` lies on the block's wall face (or the block has no wall).
+bool onWallOrNoWall(const BlockPlan& plan, int direction, int edge) {
+  const int n = plan.normalDirection;
+  if (n < 0 || n == direction) return true;
+  const auto [first, second] = otherDirections(direction);
+  return n == first ? (edge & 1) == plan.wallEnd : (edge >> 1) == plan.wallEnd;
+}
+
 // Index fraction along `direction`, or the clustered end when that is the wall-normal direction.
 double fraction(const BlockPlan& plan, int direction, int index) {
   if (direction == plan.normalDirection) return plan.wallEnd;
@@ -228,7 +236,7 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
     }
   }
 
-  // Tangential point counts: per set, from the longest of its edges.
+  // Tangential point counts: per set, from the longest of its wall edges (all edges without a wall).
   // The edges' arc-length tables, kept for their distributions below.
   std::vector<double> longestEdge(3 * blockCount, 0.0);
   std::vector<std::array<std::vector<ArcLength>, 3>> edgeArcs(blockCount);
@@ -238,7 +246,7 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
         const ArcLength& arc = edgeArcs[b][static_cast<size_t>(d)].emplace_back(edgeCurve(blocks[b].volume, d, e),
                                                                                    kIntervalsPerSpan);
         const auto root = static_cast<size_t>(sets.find(static_cast<int>(3 * b) + d).first);
-        longestEdge[root] = std::max(longestEdge[root], arc.length());
+        if (onWallOrNoWall(plans[b], d, e)) longestEdge[root] = std::max(longestEdge[root], arc.length());
       }
     }
   }

@@ -30,8 +30,9 @@ struct RefinementOptions {
   double growth = 1.2;
   WallDistribution distribution = WallDistribution::Geometric;
   // Tangential lines: `edgePoints` points on every block edge, or, if tangentialSpacing > 0, as
-  // many as that spacing needs on the longest edge of each linked set; if targetCells > 0, the
-  // spacing that gives about that many cells in all.
+  // many as that spacing needs on the longest wall edge of each linked set (a wall resolution:
+  // the far field takes what its blocks fan out to; sets without a wall edge count all their
+  // edges); if targetCells > 0, the spacing that gives about that many cells in all.
   int edgePoints = 17;
   double tangentialSpacing = 0.0;
   long long targetCells = 0;
