@@ -63,9 +63,10 @@ def _report_lines(fit, shell, chord, tolerance, seconds, files):
     return lines
 
 
-# The volume stands on the level-2 wall: at level 3 the boundary layer folds at the corner where
-# the trailing edge meets the tip (the charts' corners there are degenerate; docs/volume.md).
-VOLUME_WALL_LEVEL = 2
+# The volume's layers are marched from the level-2 wall and carried onto the fit's own: marched
+# from level 3 the boundary layer folds at the corner where the trailing edge meets the tip (the
+# charts' corners there are degenerate; docs/volume.md).
+VOLUME_MARCHING_LEVEL = 2
 # Wind-tunnel case 2308 of the M6 (AGARD AR-138): Reynolds number on the mean aerodynamic chord.
 REYNOLDS_NUMBER = 11.72e6
 CUT_ETA = 0.44
@@ -121,12 +122,23 @@ def _cut_picture(grid_object, path):
     return path
 
 
+def wall_distance(grid_object):
+    """Largest distance of the grid's wall points from the CAD faces of its fit's target."""
+    from bvmesh import grid
+
+    target = grid_object.VolumeMesh.Fit.Target
+    return float(target.Proxy.core_target(target).project(grid.wall_points(api.grid_of(grid_object)))["distances"].max())
+
+
 def _volume_report(vm, grid_object, quality, cgns, case, verdict, seconds):
     lines = [
         "# ONERA M6 half wing: volume mesh",
         "",
-        "Wall: the surface fit at level {} (the fit itself reached level {}; see docs/volume.md for why the "
-        "volume stands on level {}).".format(vm.WallLevelUsed, vm.Fit.Level, vm.WallLevelUsed),
+        "Wall: the surface fit at level {}{}; the grid's wall points lie within {:.3e} of the CAD faces (fit "
+        "tolerance {:.3g}).".format(vm.WallLevelUsed, "" if vm.MarchingLevel < 0 else (
+            ", layers marched from the fit refitted to level {} and carried onto it (docs/volume.md: marched "
+            "from its own level the boundary layer folds at the trailing edge's tip corner)".format(vm.MarchingLevel)),
+            wall_distance(grid_object), vm.Fit.Tolerance),
         "Blocks: {} tricubic B-spline blocks, {} control layers; boundary layer {:.4g} thick (reference length "
         "{:.4g}, Re {:.4g}); far field: sphere of radius {:.6g} ({:.1f} reference lengths).".format(
             vm.BlockCount, vm.ControlLayers, vm.BoundaryLayerThicknessUsed, vm.ReferenceLengthUsed,
@@ -163,8 +175,8 @@ def run_volume(fit, chord, files, log=print, grid_method="bspline", subdivision_
     blocks evaluated. Returns the volume objects by name."""
     started = time.time()
     stage = time.time()
-    wall_level = VOLUME_WALL_LEVEL if fit.Level > VOLUME_WALL_LEVEL else -1
-    vm = api.make_volume_mesh(fit, wall_level=wall_level, reference_length=chord,
+    marching_level = VOLUME_MARCHING_LEVEL if fit.Level > VOLUME_MARCHING_LEVEL else -1
+    vm = api.make_volume_mesh(fit, marching_level=marching_level, reference_length=chord,
                               reynolds_number=REYNOLDS_NUMBER)
     log("volume mesh: {} blocks, {} control layers, far field {:.0f} ({:.1f} s)".format(
         vm.BlockCount, vm.ControlLayers, vm.FarfieldDistanceUsed, time.time() - stage))

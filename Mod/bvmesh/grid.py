@@ -24,6 +24,23 @@ METRICS = ("scaled_jacobian", "non_orthogonality", "skewness", "aspect_ratio", "
            "wall_angle", "first_cell_height")
 
 
+def wall_points(grid):
+    """The points of every block face whose condition is 'wall', as one (n, 3) array (points on
+    shared face edges repeated)."""
+    import numpy as np
+
+    grid = _grid_of(grid)
+    names = ("u_min", "u_max", "v_min", "v_max", "w_min", "w_max")
+    sheets = []
+    for b in range(grid.block_count):
+        points = grid.points(b)
+        for name, face in grid.faces(b).items():
+            if face["condition"] == "wall":
+                direction, end = divmod(names.index(name), 2)
+                sheets.append(np.take(points, -1 if end else 0, axis=direction).reshape(-1, 3))
+    return np.concatenate(sheets) if sheets else np.zeros((0, 3))
+
+
 def _grid_of(grid):
     core = load_core()
     if isinstance(grid, core.RefinedGrid):

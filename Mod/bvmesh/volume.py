@@ -11,21 +11,26 @@ Works in plain /usr/bin/python3 and in freecadcmd; the geometry is all in the co
 from . import load_core
 
 
-def offset_and_farfield(fit_or_mesh, symmetry_plane=None, **options):
+def offset_and_farfield(fit_or_mesh, symmetry_plane=None, marching_wall=None, **options):
     """The volume mesh around a fitted wall: boundary-layer control layers along the wall normals,
     the far field marched out to a sphere (half sphere on the symmetry plane), one tricubic
     B-spline block per wall patch.
 
     fit_or_mesh: a bvmesh.SurfaceFitter (its current control mesh and its symmetry plane are used)
     or an all-quad bvmesh.ControlMesh. symmetry_plane: (point, normal) of a half model; taken from
-    the fitter when not given. options: those of bvmesh.generate_volume_mesh (reference_length,
-    reynolds_number, boundary_layer_thickness, boundary_layer_layers, boundary_layer_growth, sharp_edge_splay,
-    farfield_distance, farfield_growth, smoothing, min_scaled_jacobian, max_layers).
+    the fitter when not given. marching_wall: the same fit stopped at a lower level (a SurfaceFitter
+    or its ControlMesh): the layers are marched from it and carried onto the wall, whose charts stay
+    the blocks' wall faces (a fine wall whose own marching folds keeps its accuracy). options: those
+    of bvmesh.generate_volume_mesh (reference_length, reynolds_number, boundary_layer_thickness,
+    boundary_layer_layers, boundary_layer_growth, sharp_edge_splay, farfield_distance,
+    farfield_growth, smoothing, min_scaled_jacobian, max_layers).
     Returns a bvmesh.VolumeMesh; raises ValueError (bvmesh.InvalidInputError) for a bad wall or
     option and bvmesh.SolverError when the marching would fold, naming where.
     """
     wall, symmetry_plane = _wall_of(fit_or_mesh, symmetry_plane, "offset_and_farfield")
-    return load_core().generate_volume_mesh(wall, symmetry_plane=symmetry_plane, **options)
+    if marching_wall is not None:
+        marching_wall, _ = _wall_of(marching_wall, symmetry_plane, "offset_and_farfield's marching_wall")
+    return load_core().generate_volume_mesh(wall, symmetry_plane=symmetry_plane, marching_wall=marching_wall, **options)
 
 
 def control_volume(fit_or_mesh, symmetry_plane=None, **options):

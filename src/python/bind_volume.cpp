@@ -7,12 +7,14 @@
 #include <pybind11/stl/filesystem.h>
 
 #include <filesystem>
+#include <optional>
 #include <string>
 
 #include "arrays.h"
 #include "bindings.h"
 #include "block_faces.h"
 #include "hex_mesh.h"
+#include "core/common/errors.h"
 #include "core/mesh/control_mesh.h"
 #include "core/surface/limit_points.h"
 #include "core/grid/subdivision_refinement.h"
@@ -63,7 +65,8 @@ void defineMarchingFunction(py::module_& module, const char* name, Make make, co
       [make](const ControlMesh& wall, const py::object& symmetryPlane, double referenceLength, double reynoldsNumber,
              double boundaryLayerThickness, int boundaryLayerLayers, double boundaryLayerGrowth, double sharpEdgeSplay,
              double farfieldDistance, double farfieldGrowth, double smoothing, double minScaledJacobian, int maxLayers,
-             const std::string& domain, const py::object& boxHalfExtent, const py::object& flowDirection) {
+             const std::string& domain, const py::object& boxHalfExtent, const py::object& flowDirection,
+             const std::optional<ControlMesh>& marchingWall) {
         volume::VolumeMeshOptions options;
         setSymmetryPlane(symmetryPlane, options);
         options.domain = volume::domainShapeOf(domain);
@@ -82,14 +85,16 @@ void defineMarchingFunction(py::module_& module, const char* name, Make make, co
         options.smoothing = smoothing;
         options.minScaledJacobian = minScaledJacobian;
         options.maxLayers = maxLayers;
-        return make(surface::toQuadControlMesh(wall), options);
+        if (!marchingWall) return make(surface::toQuadControlMesh(wall), options, nullptr);
+        const surface::QuadControlMesh coarse = surface::toQuadControlMesh(*marchingWall);
+        return make(surface::toQuadControlMesh(wall), options, &coarse);
       },
       py::arg("wall"), py::arg("symmetry_plane") = py::none(), py::arg("reference_length") = 0.0,
       py::arg("reynolds_number") = 5e6, py::arg("boundary_layer_thickness") = 0.0, py::arg("boundary_layer_layers") = 4,
       py::arg("boundary_layer_growth") = 1.2, py::arg("sharp_edge_splay") = 2.0, py::arg("farfield_distance") = 0.0,
       py::arg("farfield_growth") = 1.3, py::arg("smoothing") = 1.0, py::arg("min_scaled_jacobian") = 0.05,
       py::arg("max_layers") = 400, py::arg("domain") = "sphere", py::arg("box_half_extent") = py::none(),
-      py::arg("flow_direction") = std::vector<double>{1.0, 0.0, 0.0}, doc);
+      py::arg("flow_direction") = std::vector<double>{1.0, 0.0, 0.0}, py::arg("marching_wall") = py::none(), doc);
 }
 
 }  // namespace
@@ -213,9 +218,10 @@ void bindVolume(py::module_& module) {
 
   defineMarchingFunction(
       module, "generate_volume_mesh",
-      [](const surface::QuadControlMesh& wall, const volume::VolumeMeshOptions& options) {
+      [](const surface::QuadControlMesh& wall, const volume::VolumeMeshOptions& options,
+         const surface::QuadControlMesh* marchingWall) {
         py::gil_scoped_release release;
-        return volume::generateVolumeMesh(wall, options);
+        return volume::generateVolumeMesh(wall, options, marchingWall);
       },
       R"doc(The block-structured B-spline volume mesh around the limit surface of a fitted wall.
 
@@ -229,7 +235,9 @@ domain boundary around the wall's centre (halved by the symmetry plane): domain 
 farfield_distance (0: 20 L), 'box' of half sizes box_half_extent (x, y, z; farfield_distance where
 0 or None), or 'cylinder' along flow_direction of radius and half length farfield_distance. The
 blocks' outer faces are 'farfield' on a sphere, else 'inlet' / 'outlet' / 'side' by where they face
-the flow. Returns a VolumeMesh; its .blocks is a BlockMesh with one block per wall patch.)doc");
+the flow. marching_wall: the same fit at a coarser level (wall is its control mesh subdivided and
+refitted); the layers are marched from it and carried onto wall, whose charts are the blocks' wall
+faces. Returns a VolumeMesh; its .blocks is a BlockMesh with one block per wall patch.)doc");
 
   py::class_<volume::ControlVolume>(module, "ControlVolume",
                                     "The volume control mesh marched from a fit's own control mesh (control_volume_mesh).")
@@ -249,7 +257,12 @@ the flow. Returns a VolumeMesh; its .blocks is a BlockMesh with one block per wa
 
   defineMarchingFunction(
       module, "control_volume_mesh",
-      [](const surface::QuadControlMesh& wall, const volume::VolumeMeshOptions& options) {
+      [](const surface::QuadControlMesh& wall, const volume::VolumeMeshOptions& options,
+         const surface::QuadControlMesh* marchingWall) {
+        if (marchingWall != nullptr) {
+          throw bvmesh::InvalidInputError("control_volume_mesh marches the wall's own control mesh; marching_wall is an "
+                                  "option of generate_volume_mesh");
+        }
         py::gil_scoped_release release;
         return volume::controlVolumeMesh(wall, options);
       },

@@ -426,6 +426,82 @@ TEST(VolumeMesh, RefinedCubeInABoxHasItsOuterFacesOnTheBoxPlanes) {
   EXPECT_THROW(generateVolumeMesh(cube, options), InvalidInputError);
 }
 
+TEST(VolumeMesh, LayersMarchedFromACoarserWallAreCarriedOntoTheWall) {
+  // The cube refined once is marched and its layers carried onto the cube refined three times:
+  // the same limit surface (subdivision without refitting), so at every block corner (a control
+  // vertex of both) each layer is where the coarse marching put it, while the wall faces are the
+  // fine wall's charts, the same as when the fine wall is marched itself.
+  const surface::QuadControlMesh coarse = surface::testing::subdivide(surface::testing::cube(), 1);
+  const surface::QuadControlMesh fine = surface::testing::subdivide(surface::testing::cube(), 3);
+  VolumeMeshOptions options;
+  options.boundaryLayerThickness = 0.05;
+  const VolumeMesh marched = generateVolumeMesh(coarse, options);
+  const VolumeMesh carried = generateVolumeMesh(fine, options, &coarse);
+  const VolumeMesh own = generateVolumeMesh(fine, options);
+  ASSERT_EQ(carried.blocks.blockCount(), own.blocks.blockCount());
+  EXPECT_EQ(carried.layerDistance, marched.layerDistance);
+  auto at = [](const BsplineVolume& volume, double u, double v, double w) {
+    RowMatrixX3d parameters(1, 3), points;
+    parameters << u, v, w;
+    volume.evaluate(parameters, points);
+    return Vector3d(points.row(0).transpose());
+  };
+  for (int b = 0; b < carried.blocks.blockCount(); ++b) {
+    const BsplineVolume& mine = carried.blocks.blocks()[static_cast<size_t>(b)].volume;
+    const BsplineVolume& theirs = own.blocks.blocks()[static_cast<size_t>(b)].volume;
+    const int f = static_cast<int>(BlockFaceSide::WMin);
+    const std::array<int, 2> counts = BlockMesh::facePoleCounts(mine, f);
+    for (int a = 0; a < counts[0]; ++a) {
+      for (int c = 0; c < counts[1]; ++c) {
+        EXPECT_EQ(mine.poles().row(BlockMesh::facePole(mine, f, a, c)), theirs.poles().row(BlockMesh::facePole(theirs, f, a, c)));
+      }
+    }
+    // Each wall corner: the coarse block corner at the same place, then layer by layer.
+    for (double u : {mine.lower(0), mine.upper(0)}) {
+      for (double v : {mine.lower(1), mine.upper(1)}) {
+        const Vector3d corner = at(mine, u, v, 0.0);
+        bool found = false;
+        for (const Block& block : marched.blocks.blocks()) {
+          const BsplineVolume& m = block.volume;
+          for (double cu : {m.lower(0), m.upper(0)}) {
+            for (double cv : {m.lower(1), m.upper(1)}) {
+              if ((at(m, cu, cv, 0.0) - corner).norm() > 1e-9) continue;
+              found = true;
+              for (size_t k = 1; k < marched.layerDistance.size(); ++k) {
+                const double w = marched.layerDistance[k] / marched.layerDistance.back();
+                EXPECT_LT((at(mine, u, v, w) - at(m, cu, cv, w)).norm(), 1e-9 * 20.0) << "block " << b << " layer " << k;
+              }
+            }
+          }
+        }
+        EXPECT_TRUE(found) << "block " << b;
+      }
+    }
+  }
+  EXPECT_GT(sampleQuality(carried.blocks).minScaledJacobian, 0.2);
+
+  auto message = [&](const surface::QuadControlMesh& marching) {
+    try {
+      generateVolumeMesh(fine, options, &marching);
+    } catch (const InvalidInputError& error) {
+      return std::string(error.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_NE(message(fine).find("is not a coarser level of the wall"), std::string::npos);
+  // The same coarse mesh with its vertices numbered differently: the fine wall is not its refinement.
+  surface::QuadControlMesh renumbered = coarse;
+  const Eigen::Index n = coarse.vertices.rows();
+  for (Eigen::Index v = 0; v < n; ++v) renumbered.vertices.row((v + 1) % n) = coarse.vertices.row(v);
+  for (Eigen::Index q = 0; q < coarse.faces.rows(); ++q) {
+    for (int c = 0; c < 4; ++c) renumbered.faces(q, c) = static_cast<int>((coarse.faces(q, c) + 1) % n);
+  }
+  EXPECT_NE(message(renumbered).find("has no patch of the marching wall with the same corners"), std::string::npos);
+  surface::QuadControlMesh scaled = coarse;
+  scaled.vertices *= 1.2;
+  EXPECT_NE(message(scaled).find("from the marching wall at"), std::string::npos);
+}
+
 TEST(VolumeMesh, BadWallsAndOptionsGetClearErrors) {
   surface::QuadControlMesh wall = surface::testing::subdivide(surface::testing::cube(), 1);
   VolumeMeshOptions options;

@@ -51,6 +51,10 @@ class MainJob(unittest.TestCase):
             non_orthogonality = recomputed["non_orthogonality"]
             self.assertLess(int((non_orthogonality > 70.0).sum()), 60)
             self.assertLess(float(non_orthogonality.max()), 80.0)
+            # The wall's distance from the CAD, measured on the grid (here the level-2 wall: 1.2e-2).
+            reported = re.search(r"wall points lie within ([-+.e0-9]+) of the CAD faces", volume_report)
+            self.assertAlmostEqual(float(reported.group(1)), example.wall_distance(grid_object), delta=1e-5)
+            self.assertLess(float(reported.group(1)), 0.02)
         finally:
             FreeCAD.closeDocument(doc.Name)
 

@@ -174,6 +174,24 @@ class VolumeObjects(unittest.TestCase):
         finally:
             self.doc.removeObject(vm.Name)
 
+    def test_layers_marched_from_a_lower_level(self):
+        # The blocks stand on the fit's own wall (their wall poles are its charts', as the volume
+        # marched from it), their layers marched from the fit refitted one level lower.
+        vm = api.make_volume_mesh(self.fit, marching_level=self.fit.Level - 1, boundary_layer_thickness=0.05,
+                                  farfield_distance=20.0, name="VolumeCarried")
+        try:
+            self.assertEqual(vm.WallLevelUsed, self.fit.Level)
+            self.assertEqual(vm.BlockCount, self.volume.BlockCount)
+            carried, own = api.volume_mesh_of(vm).blocks, api.volume_mesh_of(self.volume).blocks
+            for b in range(own.block_count):
+                np.testing.assert_array_equal(carried.poles(b)[:, :, 0], own.poles(b)[:, :, 0])
+            self.assertNotEqual(vm.Digest, self.volume.Digest)
+            with self.assertRaisesRegex(RuntimeError, "MarchingLevel {} must be below the wall's level".format(
+                    self.fit.Level)):
+                api.set_volume_options(vm, marching_level=self.fit.Level)
+            self.assertEqual(vm.MarchingLevel, self.fit.Level - 1)
+        finally:
+            self.doc.removeObject(vm.Name)
 
     def test_subdivision_method_refines_the_control_volume(self):
         # Method subdivision: the fit's control mesh marched with the volume mesh's options and

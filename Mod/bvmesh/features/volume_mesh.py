@@ -72,6 +72,19 @@ def marching_inputs(obj):
     return wall, symmetry_plane(fit), options(obj)
 
 
+def marching_wall(obj):
+    """A function giving the control mesh the blocks' layers are marched from when the object's
+    MarchingLevel is below its wall's level (the same fit refitted to that level), else None."""
+    if obj.MarchingLevel < 0:
+        return None
+    wall_level = obj.Fit.Level if obj.WallLevel < 0 else obj.WallLevel
+    if obj.MarchingLevel >= wall_level:
+        raise ValueError("MarchingLevel {} must be below the wall's level {} (or -1: march the wall itself)".format(
+            obj.MarchingLevel, wall_level))
+    wall, _ = surface_fit.wall_at_level(obj.Fit, obj.MarchingLevel)
+    return wall
+
+
 def blocks_digest(blocks):
     """SHA-1 of every block's degrees, knots and poles (bit for bit)."""
     digest = hashlib.sha1()
@@ -133,6 +146,10 @@ class VolumeMeshProxy(RecomputedProxy):
         add_property(obj, "App::PropertyInteger", "WallLevel", "Inputs",
                      "Subdivision level of the wall: -1 the fit's own; a lower level refits the fit's target "
                      "and polyhedron to that level", -1)
+        add_property(obj, "App::PropertyInteger", "MarchingLevel", "Inputs",
+                     "Subdivision level the layers are marched from: -1 the wall's own; a lower level marches "
+                     "the fit refitted to it and carries the layers onto the wall (whose charts stay the blocks' "
+                     "wall faces)", -1)
         for prop, _, type_name, default, doc in OPTIONS:
             add_property(obj, type_name, prop, "Marching", doc, default)
         if "Domain" not in obj.PropertiesList:
@@ -171,15 +188,18 @@ class VolumeMeshProxy(RecomputedProxy):
         fit = obj.Fit
         data = repr((fit.Name, [(v.x, v.y, v.z) for v in fit.ControlVertices], list(fit.ControlFaceSizes),
                      list(fit.ControlFaceIndices), list(fit.ControlCreases), list(fit.ControlCorners),
-                     symmetry_plane(fit), obj.WallLevel, sorted(options(obj).items())))
+                     symmetry_plane(fit), obj.WallLevel, obj.MarchingLevel, sorted(options(obj).items())))
         return hashlib.sha1(data.encode()).hexdigest()
 
     def make(self, obj):
         from bvmesh import volume
 
         wall, plane, settings = marching_inputs(obj)
+        coarse = marching_wall(obj)
         return run_work("marching the boundary layer and the far field of {}".format(obj.Label),
-                        lambda: volume.offset_and_farfield(wall(), symmetry_plane=plane, **settings))
+                        lambda: volume.offset_and_farfield(wall(), symmetry_plane=plane,
+                                                           marching_wall=None if coarse is None else coarse(),
+                                                           **settings))
 
     def digest_of(self, volume_mesh):
         return blocks_digest(volume_mesh.blocks)

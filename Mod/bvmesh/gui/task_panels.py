@@ -298,7 +298,7 @@ class VolumeMeshPanel(_OptionsPanel):
     form_name, title = "volume_mesh", "Volume mesh"
     create_function, set_function = "make_volume_mesh", "set_volume_options"
     options, display = volume_mesh.OPTIONS, volume_mesh.DISPLAY
-    extra_spins = (("WallLevel", "wall_level"),)
+    extra_spins = (("WallLevel", "wall_level"), ("MarchingLevel", "marching_level"))
     combos = (("Domain", "domain", volume_mesh.DOMAINS),)
 
 

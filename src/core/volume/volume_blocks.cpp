@@ -195,19 +195,10 @@ BoundaryCondition outerCondition(const Domain& domain, const Eigen::MatrixXd& ou
   return domain.conditionAt(outerPoles.row(middle).transpose());
 }
 
-}  // namespace
-
-VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const VolumeMeshOptions& options) {
-  surface::validateQuadControlMesh(wall);
-  const surface::LimitBSplines bsplines = surface::limitSurfaceToBSplines(wall);
-  const std::vector<WallPatch> patches = conformingWallPatches(bsplines, wall);
-  WallGrid grid = wallGrid(patches);
-  MarchingFront& front = grid.front;
-
-  VolumeMesh result;
-  for (double deviation : bsplines.maxDeviation) result.wallMaxDeviation = std::max(result.wallMaxDeviation, deviation);
+// Marks the wall grid's points on open patch sides as symmetry-plane points; throws when the wall
+// is open without a symmetry plane or an open side lies off it.
+void markSymmetryPoints(const std::vector<WallPatch>& patches, WallGrid& grid, const VolumeMeshOptions& options) {
   const Vector3d planeNormal = symmetryPlaneNormal(options);
-  // Open sides must lie on the symmetry plane.
   for (size_t p = 0; p < patches.size(); ++p) {
     for (int s = 0; s < 4; ++s) {
       const WallPatch& patch = patches[p];
@@ -223,36 +214,23 @@ VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const Volume
       for (int t = 0; t < sideLength(patch, side); ++t) {
         const auto [i, j] = sidePosition(patch, side, t);
         const int id = grid.pointOf[p][static_cast<size_t>(i * patch.surface.vPoles + j)];
-        const double off = std::abs((front.points.row(id).transpose() - options.planePoint).dot(planeNormal));
+        const double off = std::abs((grid.front.points.row(id).transpose() - options.planePoint).dot(planeNormal));
         if (off > 1e-6 * grid.size) {
           throw InvalidInputError("the wall's open boundary at " + where + " lies " + std::to_string(off) +
                                   " off the symmetry plane");
         }
-        front.onSymmetryPlane[static_cast<size_t>(id)] = 1;
+        grid.front.onSymmetryPlane[static_cast<size_t>(id)] = 1;
       }
     }
   }
+}
 
-  const ResolvedVolumeOptions resolved = resolveVolumeOptions(options, front);
-  result.referenceLength = resolved.referenceLength;
-  result.boundaryLayerThickness = resolved.boundaryLayerThickness;
-  result.farfieldDistance = resolved.farfieldDistance;
-  result.domainCentre = resolved.domainCentre;
-  result.domain = resolved.marching.domain;
-  const MarchingResult layers = marchLayers(front, resolved.marching);
-  result.layerDistance = layers.layerDistance;
-  result.layerMinScaledJacobian = layers.layerMinScaledJacobian;
-
-  // w: the layers' mean distance, normalised; interpolated by one cubic per pole column.
-  const int layerCount = static_cast<int>(layers.layers.size());
-  std::vector<double> w(static_cast<size_t>(layerCount));
-  for (int k = 0; k < layerCount; ++k) w[static_cast<size_t>(k)] = layers.layerDistance[static_cast<size_t>(k)] / layers.layerDistance.back();
-  w.back() = 1.0;
-  const std::vector<double> wKnots = averagingKnots(w);
-  const Eigen::PartialPivLU<Eigen::MatrixXd> wSolver(collocationMatrix(wKnots, w));
-
-  // Per layer and patch: poles interpolating the layer's points at the Greville abscissae. Layer
-  // 0 keeps the patch poles. Sides and corners are solved once and shared, so neighbours agree.
+// Per patch and layer the poles of the bicubic surface interpolating the layer's points at the
+// patch's Greville abscissae ((nu * nv) x 3, row i * nv + j); layer 0 keeps the patch poles. Sides
+// and corners are solved once and shared, so neighbours agree bit for bit.
+std::vector<std::vector<Eigen::MatrixXd>> layerPatchPoles(const std::vector<WallPatch>& patches, const WallGrid& grid,
+                                                          const std::vector<RowMatrixX3d>& layers) {
+  const int layerCount = static_cast<int>(layers.size());
   std::map<int, GrevilleInterpolation> interpolation;  // by pole count (uniform knots)
   auto interpolator = [&](const std::vector<double>& knots) -> const GrevilleInterpolation& {
     const int n = static_cast<int>(knots.size()) - 4;
@@ -260,7 +238,7 @@ VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const Volume
     if (found == interpolation.end()) found = interpolation.emplace(n, GrevilleInterpolation(knots)).first;
     return found->second;
   };
-  std::vector<std::vector<Eigen::MatrixXd>> layerPoles(patches.size());  // [patch][layer]: (nu * nv) x 3, i * nv + j
+  std::vector<std::vector<Eigen::MatrixXd>> layerPoles(patches.size());
   for (size_t p = 0; p < patches.size(); ++p) {
     const PatchSurface& surface = patches[p].surface;
     const int nu = surface.uPoles, nv = surface.vPoles;
@@ -272,7 +250,7 @@ VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const Volume
       if (k == 0) {
         for (int q = 0; q < nu * nv; ++q) poles.row(q) = surface.poles[static_cast<size_t>(q)].transpose();
       } else {
-        const RowMatrixX3d& points = layers.layers[static_cast<size_t>(k)];
+        const RowMatrixX3d& points = layers[static_cast<size_t>(k)];
         for (int x = 0; x < 3; ++x) {
           Eigen::MatrixXd data(nu, nv);
           for (int i = 0; i < nu; ++i) {
@@ -313,7 +291,7 @@ VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const Volume
           Eigen::MatrixXd data(length, 3);
           for (int t = 0; t < length; ++t) {
             const auto [i, j] = sidePosition(patch, side, t);
-            data.row(t) = layers.layers[static_cast<size_t>(k)].row(grid.pointOf[p][static_cast<size_t>(i * patch.surface.vPoles + j)]);
+            data.row(t) = layers[static_cast<size_t>(k)].row(grid.pointOf[p][static_cast<size_t>(i * patch.surface.vPoles + j)]);
           }
           row = along.solve(data);
         }
@@ -335,10 +313,207 @@ VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const Volume
     for (int k = 1; k < layerCount; ++k) {
       for (const auto& [i, j] : {std::pair<int, int>{0, 0}, {nu - 1, 0}, {0, nv - 1}, {nu - 1, nv - 1}}) {
         layerPoles[p][static_cast<size_t>(k)].row(i * nv + j) =
-            layers.layers[static_cast<size_t>(k)].row(grid.pointOf[p][static_cast<size_t>(i * nv + j)]);
+            layers[static_cast<size_t>(k)].row(grid.pointOf[p][static_cast<size_t>(i * nv + j)]);
       }
     }
   }
+  return layerPoles;
+}
+
+// Where a patch of the wall lies on a patch of the coarser marching wall: the coarse patch and the
+// affine map of the fine patch's (u, v) onto the coarse one's.
+struct CoarsePlace {
+  int patch = -1;
+  bool swapped = false;     // fine u runs along coarse v
+  double scale = 1.0;       // coarse parameter per fine parameter (1 / 2^steps)
+  std::array<double, 2> origin{0.0, 0.0};  // coarse (u, v) of fine (0, 0)
+  std::array<double, 2> sign{1.0, 1.0};    // direction of coarse (u, v) along fine (u, v) (after the swap)
+
+  std::pair<double, double> map(double u, double v) const {
+    const double a = swapped ? v : u, b = swapped ? u : v;
+    return {origin[0] + sign[0] * scale * a, origin[1] + sign[1] * scale * b};
+  }
+};
+
+std::array<int, 4> patchCornerVertices(const WallPatch& patch) {
+  const std::vector<int>& low = patch.sideVertices[static_cast<size_t>(ChartSide::VMin)];
+  const std::vector<int>& high = patch.sideVertices[static_cast<size_t>(ChartSide::VMax)];
+  return {low.front(), low.back(), high.front(), high.back()};  // (0, 0), (U, 0), (0, V), (U, V)
+}
+
+// Places every patch of `fine` (the wall, whose control mesh is the marching wall's refined
+// `steps` times: the old vertices keep their ids) on the patch of `coarse` with the same corner
+// vertices. Throws InvalidInputError when the two layouts do not correspond.
+std::vector<CoarsePlace> placeOnCoarsePatches(const std::vector<WallPatch>& fine, const std::vector<WallPatch>& coarse,
+                                              int steps) {
+  std::map<std::array<int, 4>, int> coarseBySortedCorners;
+  for (size_t c = 0; c < coarse.size(); ++c) {
+    std::array<int, 4> corners = patchCornerVertices(coarse[c]);
+    std::sort(corners.begin(), corners.end());
+    coarseBySortedCorners[corners] = static_cast<int>(c);
+  }
+  const double scale = std::ldexp(1.0, -steps);
+  std::vector<CoarsePlace> places;
+  for (size_t f = 0; f < fine.size(); ++f) {
+    const std::array<int, 4> corners = patchCornerVertices(fine[f]);
+    std::array<int, 4> sorted = corners;
+    std::sort(sorted.begin(), sorted.end());
+    const auto found = coarseBySortedCorners.find(sorted);
+    const std::string what = "wall patch " + std::to_string(f) + " (corner vertices " + std::to_string(corners[0]) + ", " +
+                             std::to_string(corners[1]) + ", " + std::to_string(corners[2]) + ", " + std::to_string(corners[3]) + ")";
+    if (found == coarseBySortedCorners.end() || std::adjacent_find(sorted.begin(), sorted.end()) != sorted.end()) {
+      throw InvalidInputError(what + " has no patch of the marching wall with the same corners: the wall must be the "
+                              "marching wall's control mesh subdivided (and refitted), with charts that refine its charts");
+    }
+    const WallPatch& c = coarse[static_cast<size_t>(found->second)];
+    const std::array<int, 4> coarseCorners = patchCornerVertices(c);
+    auto cornerPosition = [&](int vertex) {
+      const int at = static_cast<int>(std::find(coarseCorners.begin(), coarseCorners.end(), vertex) - coarseCorners.begin());
+      return std::array<int, 2>{at & 1, at >> 1};  // which end of coarse u, of coarse v
+    };
+    const std::array<int, 2> p00 = cornerPosition(corners[0]), p10 = cornerPosition(corners[1]), p01 = cornerPosition(corners[2]);
+    CoarsePlace place;
+    place.patch = found->second;
+    place.scale = scale;
+    place.swapped = p10[0] == p00[0];  // moving along fine u keeps coarse u: it runs along coarse v
+    const int along = place.swapped ? 1 : 0;  // the coarse direction fine u runs along
+    const double coarseU = c.surface.uKnots.back(), coarseV = c.surface.vKnots.back();
+    const double fineU = fine[f].surface.uKnots.back(), fineV = fine[f].surface.vKnots.back();
+    const bool consistent = p10[1 - along] == p00[1 - along] && p10[along] != p00[along] && p01[along] == p00[along] &&
+                            p01[1 - along] != p00[1 - along] &&
+                            fineU * scale == (place.swapped ? coarseV : coarseU) && fineV * scale == (place.swapped ? coarseU : coarseV);
+    if (!consistent) {
+      throw InvalidInputError(what + " does not refine its patch " + std::to_string(place.patch) +
+                              " of the marching wall " + std::to_string(steps) + " time(s)");
+    }
+    place.origin = {p00[0] == 0 ? 0.0 : coarseU, p00[1] == 0 ? 0.0 : coarseV};
+    place.sign = {p00[0] == 0 ? 1.0 : -1.0, p00[1] == 0 ? 1.0 : -1.0};
+    places.push_back(place);
+  }
+  return places;
+}
+
+// The coarse marching's layers carried onto the wall's grid: each wall grid point takes the coarse
+// layer surfaces at its place on the coarse patches, moved by its distance from the coarse wall
+// (fully at the wall, fading to nothing at the top of the boundary layer, so the boundary layer's
+// grid lines keep their direction and the far field is the coarse one).
+MarchingResult transferLayers(const MarchingResult& coarse, const std::vector<WallPatch>& coarsePatches, const WallGrid& coarseGrid,
+                              const std::vector<WallPatch>& patches, const WallGrid& grid, int steps,
+                              double boundaryLayerThickness, const Domain& domain) {
+  const std::vector<CoarsePlace> places = placeOnCoarsePatches(patches, coarsePatches, steps);
+  const std::vector<std::vector<Eigen::MatrixXd>> coarsePoles = layerPatchPoles(coarsePatches, coarseGrid, coarse.layers);
+  const int layerCount = static_cast<int>(coarse.layers.size());
+  // The coarse layer surfaces, per coarse patch and layer (layer 0: the coarse wall).
+  std::vector<std::vector<PatchSurface>> coarseLayers(coarsePatches.size());
+  for (size_t c = 0; c < coarsePatches.size(); ++c) {
+    for (int k = 0; k < layerCount; ++k) {
+      PatchSurface& layer = coarseLayers[c].emplace_back(coarsePatches[c].surface);
+      const Eigen::MatrixXd& poles = coarsePoles[c][static_cast<size_t>(k)];
+      for (Eigen::Index q = 0; q < poles.rows(); ++q) layer.poles[static_cast<size_t>(q)] = poles.row(q).transpose();
+    }
+  }
+  const Eigen::Index count = grid.front.points.rows();
+  MarchingResult result;
+  result.layerDistance = coarse.layerDistance;
+  result.layerMinScaledJacobian = coarse.layerMinScaledJacobian;
+  result.layers.assign(static_cast<size_t>(layerCount), RowMatrixX3d(count, 3));
+  result.layers[0] = grid.front.points;
+  std::vector<char> done(static_cast<size_t>(count), 0);
+  const double firstLayer = coarse.layerDistance.size() > 1 ? coarse.layerDistance[1] : 0.0;
+  for (size_t p = 0; p < patches.size(); ++p) {
+    const PatchSurface& surface = patches[p].surface;
+    const CoarsePlace& place = places[p];
+    const std::vector<PatchSurface>& layers = coarseLayers[static_cast<size_t>(place.patch)];
+    const std::vector<double> gu = grevilleAbscissae(surface.uKnots, 3), gv = grevilleAbscissae(surface.vKnots, 3);
+    for (int i = 0; i < surface.uPoles; ++i) {
+      for (int j = 0; j < surface.vPoles; ++j) {
+        const int id = grid.pointOf[p][static_cast<size_t>(i * surface.vPoles + j)];
+        if (done[static_cast<size_t>(id)]) continue;
+        done[static_cast<size_t>(id)] = 1;
+        const auto [u, v] = place.map(gu[static_cast<size_t>(i)], gv[static_cast<size_t>(j)]);
+        const Vector3d wall = grid.front.points.row(id).transpose();
+        const Vector3d shift = wall - layers[0].point(u, v);
+        if (!(shift.norm() < 0.5 * firstLayer)) {
+          throw InvalidInputError("the wall lies " + std::to_string(shift.norm()) + " from the marching wall at (" +
+                                  std::to_string(wall.x()) + ", " + std::to_string(wall.y()) + ", " + std::to_string(wall.z()) +
+                                  "), more than half the first control layer (" + std::to_string(firstLayer) +
+                                  "): march a finer wall");
+        }
+        for (int k = 1; k < layerCount; ++k) {
+          const double fade = std::max(0.0, 1.0 - coarse.layerDistance[static_cast<size_t>(k)] / boundaryLayerThickness);
+          result.layers[static_cast<size_t>(k)].row(id) = (layers[static_cast<size_t>(k)].point(u, v) + fade * shift).transpose();
+        }
+        // The outer layer on the domain boundary, as the marching puts it (the coarse outer
+        // surface meets the boundary only at its own grid).
+        result.layers.back().row(id) = domain.onBoundary(result.layers.back().row(id).transpose()).transpose();
+      }
+    }
+  }
+  return result;
+}
+
+// How many times `coarse` must be refined to have `fine`'s face count (-1: never).
+int refinementSteps(const surface::QuadControlMesh& coarse, const surface::QuadControlMesh& fine) {
+  Eigen::Index faces = coarse.faces.rows();
+  for (int steps = 1; steps <= 8; ++steps) {
+    faces *= 4;
+    if (faces == fine.faces.rows()) return steps;
+  }
+  return -1;
+}
+
+}  // namespace
+
+VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const VolumeMeshOptions& options,
+                              const surface::QuadControlMesh* marchingWall) {
+  surface::validateQuadControlMesh(wall);
+  const surface::LimitBSplines bsplines = surface::limitSurfaceToBSplines(wall);
+  const std::vector<WallPatch> patches = conformingWallPatches(bsplines, wall);
+  WallGrid grid = wallGrid(patches);
+  markSymmetryPoints(patches, grid, options);
+
+  VolumeMesh result;
+  for (double deviation : bsplines.maxDeviation) result.wallMaxDeviation = std::max(result.wallMaxDeviation, deviation);
+
+  // The layers: marched from this wall, or from the coarser marching wall and carried over.
+  std::vector<WallPatch> coarsePatches;
+  WallGrid coarseGrid;
+  int steps = 0;
+  if (marchingWall != nullptr) {
+    surface::validateQuadControlMesh(*marchingWall);
+    steps = refinementSteps(*marchingWall, wall);
+    if (steps < 1) {
+      throw InvalidInputError("the marching wall (" + std::to_string(marchingWall->faces.rows()) +
+                              " faces) is not a coarser level of the wall (" + std::to_string(wall.faces.rows()) +
+                              " faces): the wall must be its control mesh subdivided 1 to 8 times");
+    }
+    coarsePatches = conformingWallPatches(surface::limitSurfaceToBSplines(*marchingWall), *marchingWall);
+    coarseGrid = wallGrid(coarsePatches);
+    markSymmetryPoints(coarsePatches, coarseGrid, options);
+  }
+  const MarchingFront& front = marchingWall != nullptr ? coarseGrid.front : grid.front;
+  const ResolvedVolumeOptions resolved = resolveVolumeOptions(options, front);
+  result.referenceLength = resolved.referenceLength;
+  result.boundaryLayerThickness = resolved.boundaryLayerThickness;
+  result.farfieldDistance = resolved.farfieldDistance;
+  result.domainCentre = resolved.domainCentre;
+  result.domain = resolved.marching.domain;
+  MarchingResult layers = marchLayers(front, resolved.marching);
+  if (marchingWall != nullptr) {
+    layers = transferLayers(layers, coarsePatches, coarseGrid, patches, grid, steps, resolved.boundaryLayerThickness,
+                            resolved.marching.domain);
+  }
+  result.layerDistance = layers.layerDistance;
+  result.layerMinScaledJacobian = layers.layerMinScaledJacobian;
+
+  // w: the layers' mean distance, normalised; interpolated by one cubic per pole column.
+  const int layerCount = static_cast<int>(layers.layers.size());
+  std::vector<double> w(static_cast<size_t>(layerCount));
+  for (int k = 0; k < layerCount; ++k) w[static_cast<size_t>(k)] = layers.layerDistance[static_cast<size_t>(k)] / layers.layerDistance.back();
+  w.back() = 1.0;
+  const std::vector<double> wKnots = averagingKnots(w);
+  const Eigen::PartialPivLU<Eigen::MatrixXd> wSolver(collocationMatrix(wKnots, w));
+  const std::vector<std::vector<Eigen::MatrixXd>> layerPoles = layerPatchPoles(patches, grid, layers.layers);
 
   std::vector<Block> blocks;
   for (size_t p = 0; p < patches.size(); ++p) {

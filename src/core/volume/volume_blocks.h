@@ -35,6 +35,16 @@ struct VolumeMesh {
 // The volume mesh around the limit surface of `wall` (an all-quad Catmull-Clark control mesh,
 // outward oriented, closed or open only on the symmetry plane). Throws InvalidInputError for bad
 // options or an inward / open wall, SolverError when the marching would fold.
-VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const VolumeMeshOptions& options = {});
+//
+// With `marchingWall` (the same wall at a coarser level: `wall`'s control mesh is it subdivided
+// one or more times and refitted, old vertices keeping their ids), the layers are marched from the
+// marching wall and carried over: the blocks' wall faces are `wall`'s charts (the finer fit,
+// within its tolerance), their other layers the coarse layers evaluated at `wall`'s grid, shifted
+// by the distance between the two walls over the boundary layer. A fine wall whose own front
+// would fold where the coarse one does not (a chart corner of the M6's tip at level 3) gets the
+// coarse wall's grid lines. Throws InvalidInputError when the two walls do not correspond or lie
+// more than half the first control layer apart.
+VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const VolumeMeshOptions& options = {},
+                              const surface::QuadControlMesh* marchingWall = nullptr);
 
 }  // namespace bvmesh::volume
