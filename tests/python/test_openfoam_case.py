@@ -228,6 +228,12 @@ class CoarseM6Run(unittest.TestCase):
     def tearDownClass(cls):
         cls.folder.cleanup()
 
+    def test_grid_by_cell_target(self):
+        # target_cells instead of edge points: about that many cells (5 000 asked: 9 normal points,
+        # the tangential spacing found for the rest).
+        grid = ofc.m6_grid("euler", level=2, target_cells=5000, normal_points=9)
+        self.assertLess(abs(grid.grid.cell_count - 5000), 0.3 * 5000)
+
     def check_residuals(self, result, steps):
         residuals = result["residuals"]
         self.assertEqual(result["iterations"], steps)
