@@ -1,6 +1,7 @@
 """The volume stage on the ONERA M6 (the main job's setting): the block mesh from the fitted wall at
 surface levels 2, 3, 4 (time, peak memory, blocks and poles, or where the marching folds; the fit
-stops at level 3 when it reaches the main job's tolerance there), each
+stops at level 3 when it reaches the main job's tolerance there), and above level 2 also with the
+layers marched from level 2 and carried onto that wall (the main job's way), each
 against the fit to that level measured in the same run; then the euler and rans grids of about
 1 M cells from the level-2 blocks, against per-point evaluation of as many points of the same
 blocks measured in the same run, and the CGNS and OpenFOAM writers on the euler grid. The
@@ -53,23 +54,30 @@ def main(max_level):
     print("| level asked / reached | control points | fit s | volume s | volume / fit | peak MB | blocks | poles | "
           "outcome |")
     print("|---|---|---|---|---|---|---|---|---|")
-    level2 = None
+    level2 = fitter2 = None
     for level in range(2, max_level + 1):
         fit_seconds, fitter = timed(lambda: fitted(target, mesh, features, plane, level))
-        try:
-            seconds, volume = timed(lambda: bvmesh.volume.offset_and_farfield(
-                fitter, reference_length=ROOT_CHORD, reynolds_number=REYNOLDS_NUMBER))
-        except bvmesh.SolverError as error:
-            print("| {} / {} | {} | {:.2f} | - | - | {:.0f} | - | - | {} |".format(
-                level, fitter.level, fitter.mesh.num_vertices, fit_seconds, peak_megabytes(), str(error).split(" (")[0]))
-            continue
-        blocks = volume.blocks
-        poles = sum(int(np.prod(blocks.poles(b).shape[:3])) for b in range(blocks.block_count))
-        print("| {} / {} | {} | {:.2f} | {:.2f} | {:.2f} | {:.0f} | {} | {} | {} control layers |".format(
-            level, fitter.level, fitter.mesh.num_vertices, fit_seconds, seconds, seconds / fit_seconds, peak_megabytes(),
-            blocks.block_count, poles, len(volume.layer_distance)))
         if level == 2:
-            level2 = volume
+            fitter2 = fitter
+        ways = [("marched", {})]
+        if fitter2 is not None and fitter.level > 2:
+            ways.append(("carried from level 2", {"marching_wall": fitter2}))
+        for way, extra in ways:
+            try:
+                seconds, volume = timed(lambda: bvmesh.volume.offset_and_farfield(
+                    fitter, reference_length=ROOT_CHORD, reynolds_number=REYNOLDS_NUMBER, **extra))
+            except bvmesh.SolverError as error:
+                print("| {} / {} | {} | {:.2f} | - | - | {:.0f} | - | - | {}: {} |".format(
+                    level, fitter.level, fitter.mesh.num_vertices, fit_seconds, peak_megabytes(), way,
+                    str(error).split(" (")[0]))
+                continue
+            blocks = volume.blocks
+            poles = sum(int(np.prod(blocks.poles(b).shape[:3])) for b in range(blocks.block_count))
+            print("| {} / {} | {} | {:.2f} | {:.2f} | {:.2f} | {:.0f} | {} | {} | {}: {} control layers |".format(
+                level, fitter.level, fitter.mesh.num_vertices, fit_seconds, seconds, seconds / fit_seconds,
+                peak_megabytes(), blocks.block_count, poles, way, len(volume.layer_distance)))
+            if level == 2:
+                level2 = volume
     if level2 is None:
         return
     block_file = os.path.join(tempfile.gettempdir(), "bvmesh_m6_level2.blocks")
