@@ -54,9 +54,12 @@ def _report_lines(fit, shell, chord, tolerance, seconds, files):
     solid = shell.Shape
     lines += [
         "",
-        "B-spline surface: {} faces, valid: {}, closed shells: {}, free edges: {}.".format(
+        "B-spline surface: {} faces, valid: {}, closed shells: {}, free edges: {}; largest distance from the "
+        "fitted limit surface {:.3g} ({} the tolerance), largest normal jump across smooth face borders {:.2g} "
+        "degrees.".format(
             len(solid.Faces), solid.isValid(), sum(1 for s in solid.Shells if s.isClosed()),
-            len([e for e in solid.Edges if len(solid.ancestorsOfType(e, type(solid.Faces[0]))) == 1])),
+            len([e for e in solid.Edges if len(solid.ancestorsOfType(e, type(solid.Faces[0]))) == 1]),
+            shell.MaxDeviation, "within" if shell.MaxDeviation <= tolerance else "above", shell.MaxKinkDegrees),
         "",
         "Files: " + ", ".join(os.path.basename(f) for f in files),
     ]

@@ -60,6 +60,14 @@ def shell_available():
 
 def limit_surface_to_shell(mesh):
     """The limit surface of a bvmesh.ControlMesh as a Part.Shape (shell of B-spline faces)."""
+    return limit_surface_to_shell_and_report(mesh)[0]
+
+
+def limit_surface_to_shell_and_report(mesh):
+    """(Part.Shape, report) for the limit surface of a bvmesh.ControlMesh: the shell of B-spline
+    faces and what the conversion measured: max_deviation (largest distance of the faces from the
+    limit surface at the check points) and max_kink_degrees (largest normal jump between
+    neighbouring faces along smooth borders)."""
     from bvmesh import load_core
     from bvmesh.adapters.shapes import brep_to_shape
 
@@ -70,4 +78,5 @@ def limit_surface_to_shell(mesh):
     if not result["valid"]:
         raise RuntimeError("the sewn B-spline shell is not a valid shape ({} free edges, max edge tolerance {:.3g})"
                            .format(result["free_edges"], result["max_edge_tolerance"]))
-    return brep_to_shape(result["brep"])
+    report = {"max_deviation": result["max_deviation"], "max_kink_degrees": result["max_kink_degrees"]}
+    return brep_to_shape(result["brep"]), report

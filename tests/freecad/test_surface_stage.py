@@ -13,6 +13,7 @@ import FreeCAD
 import Mesh
 import Part
 
+import bvmesh
 from bvmesh import api, extensions, preferences
 from bvmesh.features import polyhedron, surface_fit
 
@@ -251,6 +252,14 @@ class LaterStages(DocumentTest):
         self.assertTrue(shell.Shape.isValid())
         self.assertEqual(len(shell.Shape.Solids), 1)
         self.assertAlmostEqual(shell.Shape.Volume, 4.0 / 3.0 * np.pi, delta=0.01)
+        # What the conversion measured, as the core reports it for the fit's mesh (1.006e-3 from the
+        # limit surface, as large as the fit's tolerance; C0 near the cube's corners, where G1 is not
+        # enforced).
+        measured = bvmesh.load_core().limit_surface_to_bsplines(surface_fit.result_mesh(fit), sew=False)
+        self.assertEqual(shell.MaxDeviation, measured["max_deviation"])
+        self.assertEqual(shell.MaxKinkDegrees, measured["max_kink_degrees"])
+        self.assertLess(shell.MaxDeviation, 2e-3)
+        self.assertGreater(shell.MaxKinkDegrees, 0.0)
         path = os.path.join(OUTPUT_DIR, "sphere_fit_shell.step")
         api.export_step(shell, path)
         again = Part.read(path)

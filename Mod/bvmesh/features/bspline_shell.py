@@ -1,7 +1,7 @@
 """The B-spline shell: the limit surface of a surface fit converted to B-spline faces by the core
 (bvmesh.extensions.limit_surface_to_shell), as a Part shape ready for STEP export."""
 
-from bvmesh.features.common import Proxy, add_property
+from bvmesh.features.common import READ_ONLY, Proxy, add_property
 
 TYPE = "BVMesh::BsplineShell"
 
@@ -11,6 +11,12 @@ class BsplineShellProxy(Proxy):
 
     def setup(self, obj):
         add_property(obj, "App::PropertyLink", "Fit", "B-spline shell", "The surface fit to convert")
+        add_property(obj, "App::PropertyFloat", "MaxDeviation", "Result",
+                     "Largest distance of the B-spline faces from the fitted limit surface (at 9 x 9 points per "
+                     "control face)", mode=READ_ONLY)
+        add_property(obj, "App::PropertyFloat", "MaxKinkDegrees", "Result",
+                     "Largest angle between the normals of neighbouring faces along their smooth borders",
+                     mode=READ_ONLY)
 
     def compute(self, obj):
         from bvmesh import extensions
@@ -18,7 +24,9 @@ class BsplineShellProxy(Proxy):
 
         if obj.Fit is None or not obj.Fit.ControlVertices:
             raise ValueError("the B-spline shell needs a computed surface fit")
-        obj.Shape = extensions.limit_surface_to_shell(surface_fit.result_mesh(obj.Fit))
+        obj.Shape, report = extensions.limit_surface_to_shell_and_report(surface_fit.result_mesh(obj.Fit))
+        obj.MaxDeviation = report["max_deviation"]
+        obj.MaxKinkDegrees = report["max_kink_degrees"]
 
 
 def create(doc, name="BsplineShell"):
