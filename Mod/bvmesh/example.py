@@ -59,7 +59,7 @@ def _report_lines(fit, shell, chord, tolerance, seconds, files):
         "degrees.".format(
             len(solid.Faces), solid.isValid(), sum(1 for s in solid.Shells if s.isClosed()),
             len([e for e in solid.Edges if len(solid.ancestorsOfType(e, type(solid.Faces[0]))) == 1]),
-            shell.MaxDeviation, "within" if shell.MaxDeviation <= tolerance else "above", shell.MaxKinkDegrees),
+            shell.MaxDistance, "within" if shell.MaxDistance <= tolerance else "above", shell.MaxKinkDegrees),
         "",
         "Files: " + ", ".join(os.path.basename(f) for f in files),
     ]

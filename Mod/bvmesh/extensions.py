@@ -65,9 +65,9 @@ def limit_surface_to_shell(mesh):
 
 def limit_surface_to_shell_and_report(mesh):
     """(Part.Shape, report) for the limit surface of a bvmesh.ControlMesh: the shell of B-spline
-    faces and what the conversion measured: max_deviation (largest distance of the faces from the
-    limit surface at the check points) and max_kink_degrees (largest normal jump between
-    neighbouring faces along smooth borders)."""
+    faces and what the conversion measured: max_distance (largest distance of the faces from the
+    limit surface at the check points, to first order) and max_kink_degrees (largest normal jump
+    between neighbouring faces along smooth borders)."""
     from bvmesh import load_core
     from bvmesh.adapters.shapes import brep_to_shape
 
@@ -78,5 +78,5 @@ def limit_surface_to_shell_and_report(mesh):
     if not result["valid"]:
         raise RuntimeError("the sewn B-spline shell is not a valid shape ({} free edges, max edge tolerance {:.3g})"
                            .format(result["free_edges"], result["max_edge_tolerance"]))
-    report = {"max_deviation": result["max_deviation"], "max_kink_degrees": result["max_kink_degrees"]}
+    report = {"max_distance": result["max_distance"], "max_kink_degrees": result["max_kink_degrees"]}
     return brep_to_shape(result["brep"]), report

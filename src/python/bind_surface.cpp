@@ -117,7 +117,7 @@ py::array_t<double> polesArray(const std::vector<double>& poles, py::ssize_t row
 py::dict resultToDict(const surface::LimitBSplines& result, const surface::SewnShape* sewn,
                       const std::string& brep) {
   py::list charts;
-  double maxDeviation = 0.0;
+  double maxDeviation = 0.0, maxDistance = 0.0;
   for (size_t c = 0; c < result.layout.charts.size(); ++c) {
     const surface::QuadChart& chart = result.layout.charts[c];
     const cad::BSplineSurfaceData& data = result.surfaces[c];
@@ -140,7 +140,9 @@ py::dict resultToDict(const surface::LimitBSplines& result, const surface::SewnS
     item["u_multiplicities"] = data.uMultiplicities;
     item["v_multiplicities"] = data.vMultiplicities;
     item["max_deviation"] = result.maxDeviation[c];
+    item["max_distance"] = result.maxDistance[c];
     maxDeviation = std::max(maxDeviation, result.maxDeviation[c]);
+    maxDistance = std::max(maxDistance, result.maxDistance[c]);
     charts.append(item);
   }
   py::list segments;
@@ -168,6 +170,7 @@ py::dict resultToDict(const surface::LimitBSplines& result, const surface::SewnS
   out["face_chart"] = py::array_t<int>(static_cast<py::ssize_t>(result.layout.faceChart.size()),
                                        result.layout.faceChart.data());
   out["max_deviation"] = maxDeviation;
+  out["max_distance"] = maxDistance;
   out["max_border_gap"] = result.maxBorderGap;
   out["max_kink_degrees"] = result.maxKinkDegrees;
   if (sewn != nullptr) {
@@ -239,9 +242,12 @@ vertices: (#V, 3) float; faces: (#F, 4) int, counter-clockwise; creases: (#C, 2)
 infinitely sharp crease edges; corners: (#K,) int sharp corner vertices. Boundaries act as creases.
 
 Returns a dict: 'charts' (per chart: 'faces', 'vertices', 'rotations', 'poles' (n_u, n_v, 3),
-'u_knots', 'v_knots', 'u_multiplicities', 'v_multiplicities', 'max_deviation', 'side_segments'),
-'segments' (shared border curves: 'vertices', 'kind', 'uses', 'poles', 'knots', 'multiplicities'),
-'max_deviation', 'max_border_gap', 'max_kink_degrees', 'junctions', 'nodes', 'face_chart' (#F,), and with sew=True:
+'u_knots', 'v_knots', 'u_multiplicities', 'v_multiplicities', 'max_deviation', 'max_distance',
+'side_segments'), 'segments' (shared border curves: 'vertices', 'kind', 'uses', 'poles', 'knots',
+'multiplicities'), 'max_deviation' (largest |chart(s, t) - limit(s, t)| at check_samples_per_span^2
+points per face: the parametric deviation, a bound of the distance), 'max_distance' (largest
+component of that along the limit normal: the distance between the surfaces to first order),
+'max_border_gap', 'max_kink_degrees', 'junctions', 'nodes', 'face_chart' (#F,), and with sew=True:
 'brep' (the sewn shell or solid as BREP text), 'solid', 'free_edges', 'sewing_tolerance' (absolute:
 the sewing_tolerance argument times the bounding-box diagonal), 'max_edge_tolerance', 'valid'.)doc");
 }

@@ -209,7 +209,8 @@ void bindVolume(py::module_& module) {
       .def_readonly("farfield_distance", &volume::VolumeMesh::farfieldDistance)
       .def_property_readonly("domain_centre",
                              [](const volume::VolumeMesh& m) { return std::vector<double>{m.domainCentre.x(), m.domainCentre.y(), m.domainCentre.z()}; })
-      .def_readonly("wall_max_deviation", &volume::VolumeMesh::wallMaxDeviation)
+      .def_readonly("wall_max_distance", &volume::VolumeMesh::wallMaxDistance,
+                    "Largest distance of the wall charts from the fitted limit surface (along its normal).")
       .def_property_readonly("domain", [](const volume::VolumeMesh& m) { return std::string(volume::domainShapeName(m.domain.shape)); })
       .def_property_readonly("box_half_extent",
                              [](const volume::VolumeMesh& m) { return std::vector<double>{m.domain.halfExtent.x(), m.domain.halfExtent.y(), m.domain.halfExtent.z()}; })

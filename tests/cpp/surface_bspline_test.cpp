@@ -216,6 +216,29 @@ TEST(SurfaceBSplines, RegularGridsAreReproducedExactly) {
   }
 }
 
+TEST(SurfaceBSplines, PlanarMeshIsAtNoDistanceHoweverItsChartsAreParameterised) {
+  // A flat fan of five quads around a valence-5 vertex, refined twice: the limit surface and every
+  // chart lie in z = 0, so the charts are at distance 0 from it, while next to the extraordinary
+  // vertex they run through the plane at other parameters than the limit does.
+  std::vector<Eigen::Vector3d> points{Eigen::Vector3d::Zero()};
+  std::vector<std::array<int, 4>> quads;
+  const double step = 2.0 * std::acos(-1.0) / 5.0;
+  for (int i = 0; i < 5; ++i) {
+    points.emplace_back(std::cos(i * step), std::sin(i * step), 0.0);
+    points.emplace_back(1.3 * std::cos((i + 0.5) * step), 1.3 * std::sin((i + 0.5) * step), 0.0);
+  }
+  for (int i = 0; i < 5; ++i) quads.push_back({0, 1 + 2 * i, 2 + 2 * i, 1 + 2 * ((i + 1) % 5)});
+  const QuadControlMesh fan = subdivide(makeQuadControlMesh(points, quads), 2);
+  const LimitBSplines result = limitSurfaceToBSplines(fan);
+  double deviation = 0.0, distance = 0.0;
+  for (size_t c = 0; c < result.surfaces.size(); ++c) {
+    deviation = std::max(deviation, result.maxDeviation[c]);
+    distance = std::max(distance, result.maxDistance[c]);
+  }
+  EXPECT_LT(distance, 1e-14);
+  EXPECT_GT(deviation, 1e-6);
+}
+
 TEST(SurfaceBSplines, PassThroughBorderStaysExactAndShared) {
   // A crease along x = 2 and a notch at the top right: the notch's concave vertex sends a
   // separatrix into the crease at (2, 3), so the left chart's crease side passes a node where two

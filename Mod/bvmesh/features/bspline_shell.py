@@ -11,9 +11,9 @@ class BsplineShellProxy(Proxy):
 
     def setup(self, obj):
         add_property(obj, "App::PropertyLink", "Fit", "B-spline shell", "The surface fit to convert")
-        add_property(obj, "App::PropertyFloat", "MaxDeviation", "Result",
+        add_property(obj, "App::PropertyFloat", "MaxDistance", "Result",
                      "Largest distance of the B-spline faces from the fitted limit surface (at 9 x 9 points per "
-                     "control face)", mode=READ_ONLY)
+                     "control face, along the limit normal)", mode=READ_ONLY)
         add_property(obj, "App::PropertyFloat", "MaxKinkDegrees", "Result",
                      "Largest angle between the normals of neighbouring faces along their smooth borders",
                      mode=READ_ONLY)
@@ -25,7 +25,7 @@ class BsplineShellProxy(Proxy):
         if obj.Fit is None or not obj.Fit.ControlVertices:
             raise ValueError("the B-spline shell needs a computed surface fit")
         obj.Shape, report = extensions.limit_surface_to_shell_and_report(surface_fit.result_mesh(obj.Fit))
-        obj.MaxDeviation = report["max_deviation"]
+        obj.MaxDistance = report["max_distance"]
         obj.MaxKinkDegrees = report["max_kink_degrees"]
 
 

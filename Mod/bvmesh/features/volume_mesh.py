@@ -176,8 +176,9 @@ class VolumeMeshProxy(RecomputedProxy):
             ("FarfieldDistanceUsed", "App::PropertyFloat", "Far-field radius used"),
             ("FacesAcrossDomainEdges", "App::PropertyInteger",
              "Far-field block faces bending around an edge of a box or cylinder domain (off its faces there)"),
-            ("WallMaxDeviation", "App::PropertyFloat",
-             "Largest distance of the blocks' wall faces from the fitted limit surface at the wall grid"),
+            ("WallMaxDistance", "App::PropertyFloat",
+             "Largest distance of the blocks' wall faces from the fitted limit surface (at 9 x 9 points per "
+             "control face, along the limit normal)"),
             ("LayerMinScaledJacobian", "App::PropertyFloatList", "Minimum scaled Jacobian of the control cells per layer"),
             ("FaceBlocks", "App::PropertyIntegerList", "Block of each face of the shape"),
             ("Digest", "App::PropertyString", "SHA-1 of the blocks' knots and poles"),
@@ -216,7 +217,7 @@ class VolumeMeshProxy(RecomputedProxy):
             obj.ReferenceLengthUsed = volume_mesh.reference_length
             obj.BoundaryLayerThicknessUsed = volume_mesh.boundary_layer_thickness
             obj.FarfieldDistanceUsed = volume_mesh.farfield_distance
-            obj.WallMaxDeviation = volume_mesh.wall_max_deviation
+            obj.WallMaxDistance = volume_mesh.wall_max_distance
             obj.FacesAcrossDomainEdges = volume_mesh.farfield_faces_across_domain_edges
             obj.LayerMinScaledJacobian = [float(j) for j in volume_mesh.layer_min_scaled_jacobian]
         self._show(obj, blocks)

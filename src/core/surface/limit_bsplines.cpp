@@ -534,14 +534,19 @@ class Fitter {
       }
     }
     first[charts.size()] = locations.size();
-    RowMatrixX3d points;
-    limit_(locations, points, nullptr);
+    RowMatrixX3d points, normals;
+    limit_(locations, points, &normals);
     checkEvaluated(points, locations.size());
     result_.maxDeviation.assign(charts.size(), 0.0);
+    result_.maxDistance.assign(charts.size(), 0.0);
     for (size_t c = 0; c < charts.size(); ++c) {
       for (size_t k = first[c]; k < first[c + 1]; ++k) {
-        const double distance = (points.row(static_cast<Eigen::Index>(k)).transpose() - fitted[k]).norm();
-        result_.maxDeviation[c] = std::max(result_.maxDeviation[c], distance);
+        const auto row = static_cast<Eigen::Index>(k);
+        const Vector3d difference = fitted[k] - points.row(row).transpose();
+        result_.maxDeviation[c] = std::max(result_.maxDeviation[c], difference.norm());
+        const Vector3d normal = normals.row(row).transpose();
+        const double along = normal.norm() > 0.0 ? std::abs(difference.dot(normal.normalized())) : difference.norm();
+        result_.maxDistance[c] = std::max(result_.maxDistance[c], along);
       }
     }
     result_.maxBorderGap = 0.0;

@@ -38,7 +38,12 @@ struct LimitBSplineOptions {
 struct LimitBSplines {
   ChartLayout layout;
   std::vector<cad::BSplineSurfaceData> surfaces;  // per chart: parameters [0, uCells] x [0, vCells]
-  std::vector<double> maxDeviation;               // per chart: max |surface - limit| on the check points
+  // Per chart on the check points: max |surface(s, t) - limit(s, t)|, the parametric deviation (an
+  // upper bound of the distance between the two surfaces: next to a corner whose limit tangents
+  // degenerate, the chart runs through the same surface at other speeds), and max of its
+  // component along the limit normal, the distance between the surfaces to first order.
+  std::vector<double> maxDeviation;
+  std::vector<double> maxDistance;
   std::vector<BSplineCurveData> segmentCurves;    // per layout segment: from its vertex 0, on [0, #edges]
   double maxBorderGap = 0.0;                      // max distance between neighbours along shared segments
   // Max angle between the normals of neighbouring surfaces along shared smooth (non-crease)

@@ -473,7 +473,7 @@ VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const Volume
   markSymmetryPoints(patches, grid, options);
 
   VolumeMesh result;
-  for (double deviation : bsplines.maxDeviation) result.wallMaxDeviation = std::max(result.wallMaxDeviation, deviation);
+  for (double distance : bsplines.maxDistance) result.wallMaxDistance = std::max(result.wallMaxDistance, distance);
 
   // The layers: marched from this wall, or from the coarser marching wall and carried over.
   std::vector<WallPatch> coarsePatches;

@@ -26,7 +26,7 @@ struct VolumeMesh {
   double farfieldDistance = 0.0;
   Eigen::Vector3d domainCentre = Eigen::Vector3d::Zero();
   Domain domain;
-  double wallMaxDeviation = 0.0;  // the charts' deviation from the limit surface
+  double wallMaxDistance = 0.0;  // the wall charts' distance from the limit surface (LimitBSplines::maxDistance)
   // Far-field block faces whose poles lie on more than one face of a box or cylinder domain (they
   // bend around its edge; each is tagged by the part its middle lies on).
   int farfieldFacesAcrossDomainEdges = 0;
