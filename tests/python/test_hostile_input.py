@@ -345,6 +345,27 @@ class TemplatesOnUnsuitableTargets(unittest.TestCase):
         self.assertPlacementRefused(rod, "box", r"it has 2 vertices for the template's 8 corners: corners \d+ and "
                                                 r"\d+ would both sit on its vertex [01] at")
 
+    def test_a_flat_end_where_the_target_ends_in_an_edge_is_named(self):
+        # A cylinder along an L-shaped block's main axis: its flat nose piled onto the block's end
+        # edge and improving said "face 0 is degenerate: vertices 3 and 2 coincide".
+        block = Part.makeBox(10, 4, 4).fuse(Part.makeBox(4, 4, 10)).removeSplitter()
+        target = bvmesh.Target.from_brep(block.exportBrepToString())
+        self.assertPlacementRefused(target, "cylinder", r"its nose is not flat across the target's main axis .*"
+                                                        r"choose nose=round")
+        mesh, _ = polyhedra.place_template(target, "cylinder", nose="round", tail="round")
+        self.assertGreater(mesh.num_faces, 0)
+
+    def test_a_box_lines_up_with_a_square_plate(self):
+        # Its two equal principal variances left the axes in the plate's plane to rounding: the
+        # box's corners landed 0.82 from the plate's and were reported unmapped.
+        target = bvmesh.Target.from_brep(Part.makeBox(10, 10, 1).exportBrepToString())
+        mesh, features = polyhedra.place_template(target, "box")
+        corners = np.array(mesh.vertices)[list(mesh.corners)]
+        self.assertEqual(sorted(map(tuple, np.round(corners, 9).tolist())),
+                         sorted((x, y, z) for x in (0.0, 10.0) for y in (0.0, 10.0) for z in (0.0, 1.0)))
+        summary = bvmesh.SurfaceFitter(target, mesh, features, tolerance=1e-5, max_level=1).run()
+        self.assertEqual(summary["reason"], "converged")
+
     def test_a_target_below_occt_precision_is_named_too_small(self):
         # A sphere of radius 1e-8 gave BRepMesh's "invalid parameter value".
         with self.assertRaisesRegex(bvmesh.InvalidInputError, r"the target is too small, 3.46e-08 across"):

@@ -40,6 +40,37 @@ std::pair<Eigen::Matrix3d, Eigen::Vector3d> sortedEigen(const Eigen::Matrix3d& c
   return {vectors, values};
 }
 
+// Where two principal variances are equal (a square plate, a cube) the axes in their plane are
+// any pair the eigen solver's rounding picks: a box placed on a 10 x 10 x 1 plate stood at some
+// angle to it, its corners 0.82 off the plate's. Within such a plane, turns the axes to line up
+// with the surface normals: the angle maximising sum_t w_t ((n_t . a)^4 + (n_t . b)^4) over the
+// triangles (area w_t, unit normal n_t), in closed form (the in-plane part r (cos phi, sin phi)
+// of n_t contributes w_t r^4 (3 + cos 4 (phi - theta)) / 4). Only when the normals have such a
+// direction: a round section (uniform normals) keeps the solver's axes. Returns whether it turned.
+bool alignWithNormals(Eigen::Matrix3d& axes, int a, int b, const target::Points& nodes,
+                      const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& triangles) {
+  double c = 0.0, s = 0.0, total = 0.0;
+  for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+    const Eigen::Vector3d p = nodes.row(triangles(t, 0)).transpose();
+    const Eigen::Vector3d n = (nodes.row(triangles(t, 1)).transpose() - p).cross(nodes.row(triangles(t, 2)).transpose() - p);
+    const double w = 0.5 * n.norm();
+    if (!(w > 0.0)) continue;
+    const double x = n.dot(axes.col(a)) / (2.0 * w), y = n.dot(axes.col(b)) / (2.0 * w);
+    const double r2 = x * x + y * y;
+    const double phi = std::atan2(y, x);
+    c += w * r2 * r2 * std::cos(4.0 * phi);
+    s += w * r2 * r2 * std::sin(4.0 * phi);
+    total += w * r2 * r2;
+  }
+  if (!(std::hypot(c, s) > 0.1 * total)) return false;
+  const double theta = 0.25 * std::atan2(s, c);
+  const Eigen::Vector3d u = std::cos(theta) * axes.col(a) + std::sin(theta) * axes.col(b);
+  const Eigen::Vector3d v = -std::sin(theta) * axes.col(a) + std::cos(theta) * axes.col(b);
+  axes.col(a) = u;
+  axes.col(b) = v;
+  return std::abs(theta) > 1e-12;
+}
+
 }  // namespace
 
 PrincipalFrame principalFrame(const target::Target& target) {
@@ -68,6 +99,23 @@ PrincipalFrame principalFrame(const target::Target& target) {
   frame.centre = centre / area;
   const Eigen::Matrix3d covariance = second / area - frame.centre * frame.centre.transpose();
   std::tie(frame.axes, frame.variances) = sortedEigen(covariance);
+  // Equal variances (within 1e-3 of the largest) leave the axes in their plane undetermined.
+  const double equal = 1e-3 * frame.variances[0];
+  const bool equal01 = frame.variances[0] - frame.variances[1] <= equal;
+  const bool equal12 = frame.variances[1] - frame.variances[2] <= equal;
+  if (equal01 && equal12) {
+    // All three (a cube): turn plane by plane, as Jacobi sweeps, until no plane turns.
+    for (int sweep = 0; sweep < 16; ++sweep) {
+      bool turned = false;
+      for (const auto& [a, b] : {std::pair{0, 1}, std::pair{0, 2}, std::pair{1, 2}})
+        turned = alignWithNormals(frame.axes, a, b, nodes, triangles) || turned;
+      if (!turned) break;
+    }
+  } else if (equal01) {
+    alignWithNormals(frame.axes, 0, 1, nodes, triangles);
+  } else if (equal12) {
+    alignWithNormals(frame.axes, 1, 2, nodes, triangles);
+  }
   frame.low.setConstant(std::numeric_limits<double>::infinity());
   frame.high.setConstant(-std::numeric_limits<double>::infinity());
   for (Eigen::Index n = 0; n < nodes.rows(); ++n) {
