@@ -403,5 +403,26 @@ TEST(Target, TooSmallForOcctIsNamedAsSuch) {
   EXPECT_NO_THROW(Target(BRepPrimAPI_MakeSphere(1e-3).Shape()));
 }
 
+// Beyond about 1e77 OCCT's fourth powers of lengths overflow: a sphere of radius 1e80 fitted 200
+// times worse than a unit sphere, 1e90 failed in OCCT's shape summary, 1e150 ran for minutes into
+// a MemoryError. Far from the origin the coordinates stop resolving the target (a unit sphere at
+// 1e16 has coordinates 2 apart, and its fit said "face 0 is degenerate"). Both are named at once.
+TEST(Target, TooLargeOrTooFarForOcctIsNamedAsSuch) {
+  const auto expectNamed = [](const TopoDS_Shape& shape, const std::string& what) {
+    try {
+      const Target target(shape);
+      ADD_FAILURE() << "accepted: " << what;
+    } catch (const InvalidInputError& error) {
+      EXPECT_NE(std::string(error.what()).find(what), std::string::npos) << error.what();
+    }
+  };
+  expectNamed(BRepPrimAPI_MakeSphere(1e80).Shape(), "the target is too large, 3.46e+80 across");
+  expectNamed(BRepPrimAPI_MakeSphere(1e150).Shape(), "the target is too large, 3.46e+150 across");
+  expectNamed(BRepPrimAPI_MakeSphere(gp_Pnt(1e16, 0, 0), 1.0).Shape(),
+              "the target lies too far from the origin for its size: at 1e+16 from it coordinates are 2.22 apart");
+  EXPECT_NO_THROW(Target(BRepPrimAPI_MakeSphere(1e60).Shape()));
+  EXPECT_NO_THROW(Target(BRepPrimAPI_MakeSphere(gp_Pnt(1e8, 0, 0), 1e-3).Shape()));
+}
+
 }  // namespace
 }  // namespace bvmesh::target

@@ -16,6 +16,8 @@ import FreeCAD  # noqa: F401  -- Part needs it loaded first
 import Part
 
 import bvmesh
+import bvmesh.grid
+import bvmesh.volume
 from bvmesh import _core, polyhedra
 from fixtures import CUBE_FACES, CUBE_VERTICES, sphere_target
 
@@ -387,6 +389,58 @@ class TemplatesOnUnsuitableTargets(unittest.TestCase):
         # A sphere of radius 1e-8 gave BRepMesh's "invalid parameter value".
         with self.assertRaisesRegex(bvmesh.InvalidInputError, r"the target is too small, 3.46e-08 across"):
             bvmesh.Target.from_brep(Part.makeSphere(1e-8).exportBrepToString())
+
+
+class ExtremeScales(unittest.TestCase):
+    """The unit sphere scaled and moved: each stage works as at scale 1 (the same relative fit
+    distance, the same cell quality) or stops naming the scale, never NaN output or a hang."""
+
+    @staticmethod
+    def fit(radius, centre=(0.0, 0.0, 0.0)):
+        target = bvmesh.Target.from_brep(Part.makeSphere(radius, FreeCAD.Vector(*centre)).exportBrepToString())
+        fitter = bvmesh.SurfaceFitter(target, bvmesh.ControlMesh(np.array(CUBE_VERTICES) * radius + centre, CUBE_FACES),
+                                      max_level=2, tolerance=1e-9 * radius)
+        return fitter, fitter.run()["history"][-1]["max_distance"]
+
+    def test_the_fit_is_scale_free(self):
+        reference = self.fit(1.0)[1]
+        for radius, centre in ((1e-3, (0, 0, 0)), (1e6, (0, 0, 0)), (1e60, (0, 0, 0)), (1.0, (1e8, 0, 0))):
+            fitter, distance = self.fit(radius, centre)
+            self.assertTrue(np.all(np.isfinite(np.array(fitter.mesh.vertices))))
+            self.assertAlmostEqual(distance / radius / reference, 1.0, delta=1e-3,
+                                   msg="radius {} at {}".format(radius, centre))
+
+    def test_volume_and_grid_are_scale_free(self):
+        def worst_jacobian(wall, scale):
+            volume = bvmesh.volume.offset_and_farfield(wall, reference_length=2 * scale,
+                                                       boundary_layer_thickness=0.05 * scale,
+                                                       farfield_distance=20 * scale)
+            grid = bvmesh.grid.refine(volume, "euler", target_cells=20000)
+            for b in range(grid.grid.block_count):
+                self.assertTrue(np.all(np.isfinite(grid.grid.points(b))))
+            report = bvmesh.grid.quality(grid)
+            for metric in ("scaled_jacobian", "non_orthogonality", "skewness", "volume"):
+                self.assertTrue(np.all(np.isfinite(report[metric])), metric)
+            return np.min(report["scaled_jacobian"])
+
+        unit = np.array(CUBE_VERTICES, dtype=float)
+        unit /= np.linalg.norm(unit, axis=1)[:, None]
+        reference = worst_jacobian(bvmesh.ControlMesh(unit, CUBE_FACES), 1.0)
+        # (A 1e-9 sphere is below OCCT's precision as a target, but a wall mesh of that size works.)
+        for scale in (1e-9, 1e-6, 1e6, 1e12):
+            self.assertAlmostEqual(worst_jacobian(bvmesh.ControlMesh(unit * scale, CUBE_FACES), scale), reference,
+                                   places=9, msg="scale {}".format(scale))
+        self.assertGreater(worst_jacobian(self.fit(1e6)[0], 1e6), 0.5)
+
+    def test_targets_too_large_or_too_far_out_are_named(self):
+        # A sphere of radius 1e150 ran for minutes into a MemoryError; one of radius 1 at 1e16,
+        # whose coordinates are 2 apart, failed in its fit with "face 0 is degenerate".
+        start = time.time()
+        with self.assertRaisesRegex(bvmesh.InvalidInputError, r"the target is too large, 3.46e\+150 across"):
+            bvmesh.Target.from_brep(Part.makeSphere(1e150).exportBrepToString())
+        with self.assertRaisesRegex(bvmesh.InvalidInputError, r"the target lies too far from the origin for its size"):
+            bvmesh.Target.from_brep(Part.makeSphere(1, FreeCAD.Vector(1e16, 0, 0)).exportBrepToString())
+        self.assertLess(time.time() - start, 5.0)
 
 
 if __name__ == "__main__":
