@@ -8,9 +8,11 @@
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
 #include <GC_MakeCircle.hxx>
+#include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
 #include <gp_Circ.hxx>
@@ -401,6 +403,36 @@ TEST(Target, TooSmallForOcctIsNamedAsSuch) {
         << error.what();
   }
   EXPECT_NO_THROW(Target(BRepPrimAPI_MakeSphere(1e-3).Shape()));
+}
+
+// A patch lying on a box's top face within the target's tolerance (1e-6 of the diagonal; here
+// 0.3 of it above): the two faces are one surface there. Points just beyond the patch's edge
+// projected onto that edge (the nearest foot, on the patch's trim boundary); the nearest foot
+// inside a face within the tolerance of it, on the top face, is taken now.
+TEST(Target, OverlappingFacesGiveFeetInsideAFace) {
+  BRep_Builder builder;
+  TopoDS_Compound compound;
+  builder.MakeCompound(compound);
+  for (TopExp_Explorer face(BRepPrimAPI_MakeBox(2.0, 2.0, 2.0).Shape(), TopAbs_FACE); face.More(); face.Next())
+    builder.Add(compound, face.Current());
+  const double lift = 1e-6;
+  builder.Add(compound, BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(0, 0, 2.0 + lift), gp::DZ()), 0.5, 1.5, 0.5, 1.5).Face());
+  const Target target(compound);
+  ASSERT_NEAR(target.report().tolerance, 3.46e-6, 1e-8);
+  Points points(4, 3);
+  points << 1.5 + 1e-8, 1.0, 2.0 + 3e-6,  // just beyond the patch's edge
+      1.5 + 1e-7, 1.0, 2.0 + 3e-6,        //
+      0.5 - 1e-7, 0.7, 2.0 + 3e-6,        //
+      1.0, 1.0, 2.0 + 3e-6;               // above the patch
+  const ProjectionResult result = target.project(points);
+  for (Eigen::Index i = 0; i < 3; ++i) {
+    EXPECT_EQ(result.status[static_cast<size_t>(i)], ProjectionStatus::Ok) << "point " << i;
+    EXPECT_EQ(result.faces[i], 5) << "point " << i;  // the top face
+    EXPECT_NEAR(result.distances[i], 3e-6, 1e-12) << "point " << i;
+  }
+  EXPECT_EQ(result.status[3], ProjectionStatus::Ok);
+  EXPECT_EQ(result.faces[3], 6);  // the patch, nearer
+  EXPECT_NEAR(result.distances[3], 3e-6 - lift, 1e-12);
 }
 
 // Beyond about 1e77 OCCT's fourth powers of lengths overflow: a sphere of radius 1e80 fitted 200
