@@ -77,6 +77,10 @@ py::dict repairToDict(const cad::RepairReport& r) {
     gaps.append(py::dict(py::arg("edge") = g.edge, py::arg("other_edge") = g.otherEdge, py::arg("face") = g.face,
                          py::arg("other_face") = g.otherFace, py::arg("width") = g.width,
                          py::arg("where") = g.where));
+  py::list overlaps;
+  for (const cad::FaceOverlap& o : r.overlaps)
+    overlaps.append(py::dict(py::arg("face") = o.face, py::arg("other_face") = o.otherFace, py::arg("area") = o.area,
+                             py::arg("where") = o.where));
   py::dict d;
   d["watertight"] = r.watertight();
   d["sewing_attempted"] = r.sewingAttempted;
@@ -93,6 +97,7 @@ py::dict repairToDict(const cad::RepairReport& r) {
   d["degenerate_edges_removed"] = r.degenerateEdgesRemoved;
   d["faces_removed"] = r.facesRemoved;
   d["open_gaps"] = gaps;
+  d["overlaps"] = overlaps;
   d["free_edges"] = r.freeEdges;
   d["non_manifold_edges"] = r.nonManifoldEdges;
   d["closed_free_loops"] = r.closedFreeLoops;

@@ -3,10 +3,14 @@
 #include <gtest/gtest.h>
 
 #include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepGProp.hxx>
+#include <GProp_GProps.hxx>
 #include <BRepBuilderAPI_Transform.hxx>
 #include <BRep_Builder.hxx>
 #include <Geom_Plane.hxx>
 #include <IGESControl_Reader.hxx>
+#include <TopExp.hxx>
+#include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS_Compound.hxx>
 #include <gp_Pln.hxx>
 #include <gp_Trsf.hxx>
@@ -82,6 +86,8 @@ void expectSewnIgesMatchesStep(const std::string& step, const std::string& name)
   EXPECT_EQ(sewn.report.gapsClosed, actual.countEdges(EdgeKind::Smooth) + actual.countEdges(EdgeKind::Sharp));
   EXPECT_LE(sewn.report.largestGapClosed, sewn.report.tolerance);
   EXPECT_TRUE(sewn.report.openGaps.empty());
+  EXPECT_TRUE(sewn.report.overlaps.empty());
+  EXPECT_TRUE(fromStep.report.overlaps.empty());
   EXPECT_EQ(describeRepair(sewn.report).front(), "watertight: yes (every edge is shared by exactly two faces)");
 }
 
@@ -151,6 +157,44 @@ TEST(CadRepair, WideGapIsLeftOpenAndNamed) {
   EXPECT_EQ(forced.report.gapsClosed, 1);
   EXPECT_NEAR(forced.report.largestGapClosed, gap, 0.05 * gap);
   EXPECT_TRUE(forced.report.openGaps.empty());
+}
+
+// Faces that cover the same region: two unit squares overlapping by half, and the M6 with its
+// root face written twice. Sewing cannot join them (it never gives an edge a third face); the
+// report names the pair and the area, and it survives the trip from the reader process.
+TEST(CadRepair, OverlappingFacesAreNamedWithTheirArea) {
+  const RepairedShape squares = readShapeFileRepaired(twoPatches(-0.5, "overlap_half"));
+  ASSERT_EQ(squares.report.overlaps.size(), 1u);
+  const FaceOverlap& half = squares.report.overlaps[0];
+  EXPECT_NE(half.face, half.otherFace);
+  EXPECT_NEAR(half.area, 0.5, 0.01);
+  EXPECT_NEAR(half.where[0], 0.75, 0.01);
+  EXPECT_NEAR(half.where[1], 0.5, 0.01);
+  const std::vector<std::string> lines = describeRepair(squares.report);
+  EXPECT_TRUE(std::any_of(lines.begin(), lines.end(), [](const std::string& line) {
+    return line.rfind("overlapping faces: 1 pairs", 0) == 0;
+  }));
+  const RepairReport again = decodeRepairReport(encodeRepairReport(squares.report));
+  ASSERT_EQ(again.overlaps.size(), 1u);
+  EXPECT_DOUBLE_EQ(again.overlaps[0].area, half.area);
+
+  const TopoDS_Shape wing = readShapeFile(kWing);
+  BRep_Builder builder;
+  TopoDS_Compound twice;
+  builder.MakeCompound(twice);
+  TopTools_IndexedMapOfShape faces;
+  TopExp::MapShapes(wing, TopAbs_FACE, faces);
+  for (int i = 1; i <= faces.Extent(); ++i) builder.Add(twice, faces(i));
+  builder.Add(twice, faces(9));  // the root plane y = 0 (FreeCAD's Face9)
+  writeIgesFaces(twice, kOutputDir + "/m6_root_twice.igs");
+  const RepairedShape read = readShapeFileRepaired(kOutputDir + "/m6_root_twice.igs");
+  ASSERT_EQ(read.report.overlaps.size(), 1u);
+  const FaceOverlap& root = read.report.overlaps[0];
+  GProp_GProps properties;
+  BRepGProp::SurfaceProperties(faces(9), properties);
+  const double rootArea = properties.Mass();          // 44474 mm2
+  EXPECT_NEAR(root.area, rootArea, 0.03 * rootArea);  // measured 43838
+  EXPECT_NEAR(root.where[1], 0.0, 1e-6);
 }
 
 TEST(CadRepair, BadToleranceIsRejected) {

@@ -18,6 +18,7 @@
 #include "core/cad/isolated_reader.h"
 #include "core/cad/shape_io.h"
 #include "core/cad/shape_summary.h"
+#include "core/cad/step_scan.h"
 #include "core/common/errors.h"
 
 namespace bvmesh::cad {
@@ -113,6 +114,58 @@ TEST(IsolatedReader, LoopingParseIsStoppedAtItsLimit) {
                InvalidInputError);
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 10.0);
   EXPECT_THROW(checkBrepStringIsolated(brep, ReaderLimits{-1.0, 2048.0}), InvalidInputError);
+}
+
+// One STEP entity with two million arguments on one line parsed for more than 15 minutes (OCCT's
+// parser is quadratic in a list's length) and was stopped only at the reader's time limit; lists
+// nested 100 000 deep crashed the reader (stack overflow). A pass over the text refuses both at
+// once, in process and through the child, naming the entity and the line.
+TEST(StepScan, AbsurdListsAreRefusedBeforeOcctParsesThem) {
+  std::string items;
+  for (int i = 0; i < 2000000; ++i) items += i ? ",0." : "0.";
+  const std::string longList = editedCopy(kDataDir + "/hemisph-cyl.stp", "#23 = CARTESIAN_POINT('',(10.,-5.916456789158E-31,-100.));",
+                                          "#23 = CARTESIAN_POINT('',(" + items + "));", "two_million_arguments.stp");
+  const std::string deep = editedCopy(kDataDir + "/hemisph-cyl.stp", "#23 = CARTESIAN_POINT('',(10.,-5.916456789158E-31,-100.));",
+                                      "#23 = CARTESIAN_POINT(''," + std::string(100000, '(') + "0." +
+                                          std::string(100000, ')') + ");",
+                                      "deeply_nested.stp");
+  const auto expectRefused = [](const std::function<void()>& read, const std::string& what) {
+    const auto start = std::chrono::steady_clock::now();
+    try {
+      read();
+      ADD_FAILURE() << "accepted";
+    } catch (const InvalidInputError& error) {
+      const std::string message = error.what();
+      EXPECT_NE(message.find("is refused as STEP: entity #23 (line "), std::string::npos) << message;
+      EXPECT_NE(message.find(what), std::string::npos) << message;
+    }
+    EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5.0);
+  };
+  for (const auto& [path, what] : {std::pair{longList, std::string("has a list of 2000000 items")},
+                                   std::pair{deep, std::string("nests lists more than 1000 deep")}}) {
+    expectRefused([&] { readShapeFile(path); }, what);
+    expectRefused([&] { readShapeFileIsolated(path); }, what);
+  }
+}
+
+// Strings and comments are not lists: their parentheses, commas and quotes are skipped.
+TEST(StepScan, CountsItemsOutsideStringsAndComments) {
+  const std::string path = std::string(BVMESH_TEST_OUTPUT_DIR) + "/step_scan.stp";
+  const auto scan = [&](const std::string& text) {
+    std::ofstream(path) << text;
+    checkStepLists(path, StepListLimits{3, 2});
+  };
+  EXPECT_NO_THROW(scan("#1=A('x,y,z,(((','it''s, (a)',(1,2,3));\n/* (1,2,3,4,(((( */ #2=B((1,2),());"));
+  EXPECT_NO_THROW(scan("#7=C('',());"));
+  try {
+    scan("HEADER;\n#7=C('',\n(1,2,'a,b',4));");
+    ADD_FAILURE() << "four items accepted";
+  } catch (const InvalidInputError& error) {
+    EXPECT_NE(std::string(error.what()).find("entity #7 (line 2) has a list of 4 items"), std::string::npos)
+        << error.what();
+  }
+  EXPECT_THROW(scan("#8=D(((1)));"), InvalidInputError);  // three deep
+  EXPECT_THROW(scan("#9=E((1,2,3,4"), InvalidInputError);  // cut off
 }
 
 TEST(ShapeSummary, BoxHasTwelveSharpEdges) {

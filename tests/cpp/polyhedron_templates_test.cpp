@@ -13,6 +13,7 @@
 #include <BRepPrimAPI_MakeTorus.hxx>
 #include <BRep_Builder.hxx>
 #include <TopoDS_Compound.hxx>
+#include <gp_Ax1.hxx>
 #include <gp_Ax2.hxx>
 #include <gp_Pln.hxx>
 #include <gp_Trsf.hxx>
@@ -20,6 +21,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
+#include <map>
 #include <memory>
 #include <set>
 #include <sstream>
@@ -319,6 +322,68 @@ TEST(TemplatePlacement, CornersOnOneTargetVertexAreNamed) {
         << message;
     EXPECT_EQ(message.find("degenerate"), std::string::npos) << message;
   }
+}
+
+// A square plate or a cube has two or three equal principal variances, and the eigen solver's
+// rounding picked the axes in their plane: the box template stood at an angle to a 10 x 10 x 1
+// plate, its corners 0.82 from the plate's, and its creases mapped to nothing. The axes now line
+// up with the surface normals there; the box places with every corner on a corner of the target
+// and fits at level 0.
+TEST(TemplatePlacement, BoxLinesUpWithASquarePlateAndATurnedCube) {
+  gp_Trsf turn;
+  turn.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(1, 2, 3)), 0.65);
+  const TopoDS_Shape cube =
+      BRepBuilderAPI_Transform(BRepPrimAPI_MakeBox(2.0, 2.0, 2.0).Shape(), turn, true).Shape();
+  for (const TopoDS_Shape& shape : {BRepPrimAPI_MakeBox(10.0, 10.0, 1.0).Shape(), cube}) {
+    const auto target = std::make_shared<const target::Target>(shape);
+    const PlacedPolyhedron placed = placeTemplate(libraryTemplate("box"), *target);
+    ASSERT_TRUE(placed.mapping.complete()) << placed.mapping.describeUnmapped();
+    ASSERT_EQ(placed.mesh.corners().size(), 8u);
+    for (int corner : placed.mesh.corners()) {
+      const Eigen::Vector3d p = placed.mesh.vertices().row(corner).transpose();
+      double nearest = std::numeric_limits<double>::infinity();
+      for (int v = 0; v < target->vertexCount(); ++v) nearest = std::min(nearest, (target->vertexPosition(v) - p).norm());
+      EXPECT_LT(nearest, 1e-9) << "corner " << corner;
+    }
+    fit::FitOptions options;
+    options.tolerance = 1e-6 * target->report().diagonal;
+    options.maxLevel = 2;
+    fit::SurfaceFitter fitter(target, placed.mesh, placed.mapping.map, options);
+    const fit::FitSummary summary = fitter.run();
+    EXPECT_EQ(summary.reason, fit::StopReason::Converged) << summary.detail;
+  }
+}
+
+// A cylinder along an L-shaped block's main axis (its chord, 45 degrees to both arms) has flat
+// ends where the block ends in an edge; its end vertices piled onto that edge and the improvement
+// said "face 0 is degenerate: vertices 3 and 2 coincide". Now the placement names the end.
+TEST(TemplatePlacement, FlatEndWhereTheTargetEndsInAnEdgeIsNamed) {
+  const TopoDS_Shape block = BRepAlgoAPI_Fuse(BRepPrimAPI_MakeBox(10.0, 4.0, 4.0).Shape(),
+                                              BRepPrimAPI_MakeBox(4.0, 4.0, 10.0).Shape())
+                                 .Shape();
+  const target::Target target(block);
+  for (const auto& [parameters, end] :
+       {std::pair{std::map<std::string, std::string>{}, std::string("nose")},
+        std::pair{std::map<std::string, std::string>{{"nose", "round"}}, std::string("tail")}}) {
+    try {
+      placeTemplate(libraryTemplate("cylinder"), target, {parameters, {}, {}, true, {}});
+      ADD_FAILURE() << "a cylinder with a flat " << end << " placed on an L-shaped block";
+    } catch (const InvalidInputError& error) {
+      const std::string message = error.what();
+      EXPECT_EQ(message.rfind("template 'cylinder' cannot be placed on this target: its " + end +
+                                  " is not flat across the target's main axis",
+                              0),
+                0u)
+          << message;
+      EXPECT_NE(message.find(end + "=round"), std::string::npos) << message;
+      EXPECT_EQ(message.find("degenerate"), std::string::npos) << message;
+    }
+  }
+  // Round ends suit it, and flat ends still suit a block whose ends lie across its axis.
+  EXPECT_NO_THROW(placeTemplate(libraryTemplate("cylinder"), target,
+                                {{{"nose", "round"}, {"tail", "round"}}, {}, {}, true, {}}));
+  const PlacedPolyhedron bar = placeTemplate(libraryTemplate("cylinder"), target::Target(BRepPrimAPI_MakeBox(10.0, 4.0, 3.0).Shape()));
+  EXPECT_TRUE(bar.mapping.complete()) << bar.mapping.describeUnmapped();
 }
 
 // The hemisphere-cylinder written face by face to IGES: read unsewn, the capsule template took

@@ -8,9 +8,11 @@
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
+#include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
 #include <GC_MakeCircle.hxx>
+#include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
 #include <gp_Circ.hxx>
@@ -401,6 +403,57 @@ TEST(Target, TooSmallForOcctIsNamedAsSuch) {
         << error.what();
   }
   EXPECT_NO_THROW(Target(BRepPrimAPI_MakeSphere(1e-3).Shape()));
+}
+
+// A patch lying on a box's top face within the target's tolerance (1e-6 of the diagonal; here
+// 0.3 of it above): the two faces are one surface there. Points just beyond the patch's edge
+// projected onto that edge (the nearest foot, on the patch's trim boundary); the nearest foot
+// inside a face within the tolerance of it, on the top face, is taken now.
+TEST(Target, OverlappingFacesGiveFeetInsideAFace) {
+  BRep_Builder builder;
+  TopoDS_Compound compound;
+  builder.MakeCompound(compound);
+  for (TopExp_Explorer face(BRepPrimAPI_MakeBox(2.0, 2.0, 2.0).Shape(), TopAbs_FACE); face.More(); face.Next())
+    builder.Add(compound, face.Current());
+  const double lift = 1e-6;
+  builder.Add(compound, BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(0, 0, 2.0 + lift), gp::DZ()), 0.5, 1.5, 0.5, 1.5).Face());
+  const Target target(compound);
+  ASSERT_NEAR(target.report().tolerance, 3.46e-6, 1e-8);
+  Points points(4, 3);
+  points << 1.5 + 1e-8, 1.0, 2.0 + 3e-6,  // just beyond the patch's edge
+      1.5 + 1e-7, 1.0, 2.0 + 3e-6,        //
+      0.5 - 1e-7, 0.7, 2.0 + 3e-6,        //
+      1.0, 1.0, 2.0 + 3e-6;               // above the patch
+  const ProjectionResult result = target.project(points);
+  for (Eigen::Index i = 0; i < 3; ++i) {
+    EXPECT_EQ(result.status[static_cast<size_t>(i)], ProjectionStatus::Ok) << "point " << i;
+    EXPECT_EQ(result.faces[i], 5) << "point " << i;  // the top face
+    EXPECT_NEAR(result.distances[i], 3e-6, 1e-12) << "point " << i;
+  }
+  EXPECT_EQ(result.status[3], ProjectionStatus::Ok);
+  EXPECT_EQ(result.faces[3], 6);  // the patch, nearer
+  EXPECT_NEAR(result.distances[3], 3e-6 - lift, 1e-12);
+}
+
+// Beyond about 1e77 OCCT's fourth powers of lengths overflow: a sphere of radius 1e80 fitted 200
+// times worse than a unit sphere, 1e90 failed in OCCT's shape summary, 1e150 ran for minutes into
+// a MemoryError. Far from the origin the coordinates stop resolving the target (a unit sphere at
+// 1e16 has coordinates 2 apart, and its fit said "face 0 is degenerate"). Both are named at once.
+TEST(Target, TooLargeOrTooFarForOcctIsNamedAsSuch) {
+  const auto expectNamed = [](const TopoDS_Shape& shape, const std::string& what) {
+    try {
+      const Target target(shape);
+      ADD_FAILURE() << "accepted: " << what;
+    } catch (const InvalidInputError& error) {
+      EXPECT_NE(std::string(error.what()).find(what), std::string::npos) << error.what();
+    }
+  };
+  expectNamed(BRepPrimAPI_MakeSphere(1e80).Shape(), "the target is too large, 3.46e+80 across");
+  expectNamed(BRepPrimAPI_MakeSphere(1e150).Shape(), "the target is too large, 3.46e+150 across");
+  expectNamed(BRepPrimAPI_MakeSphere(gp_Pnt(1e16, 0, 0), 1.0).Shape(),
+              "the target lies too far from the origin for its size: at 1e+16 from it coordinates are 2.22 apart");
+  EXPECT_NO_THROW(Target(BRepPrimAPI_MakeSphere(1e60).Shape()));
+  EXPECT_NO_THROW(Target(BRepPrimAPI_MakeSphere(gp_Pnt(1e8, 0, 0), 1e-3).Shape()));
 }
 
 }  // namespace

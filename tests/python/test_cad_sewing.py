@@ -101,6 +101,22 @@ class SewnIges(unittest.TestCase):
             core.summarize_file(path, sew_tolerance=-1.0)
         self.assertIn("sewing tolerance", str(raised.exception))
 
+    def test_overlapping_faces_are_in_the_report(self):
+        import FreeCAD
+        import Part
+
+        core = bvmesh.load_core()
+        patches = Part.makeCompound([Part.makePlane(1, 1), Part.makePlane(1, 1, FreeCAD.Vector(0.5, 0, 0))])
+        path = os.path.join(self.folder.name, "overlap.igs")
+        core.write_iges_faces(patches.exportBrepToString(), path)
+        repair = bvmesh.Target.from_file(path).report()["repair"]
+        self.assertEqual(len(repair["overlaps"]), 1)
+        self.assertAlmostEqual(repair["overlaps"][0]["area"], 0.5, delta=0.01)
+        self.assertEqual(sorted((repair["overlaps"][0]["face"], repair["overlaps"][0]["other_face"])), [0, 1])
+        self.assertIn("overlapping faces: 1 pairs (within the tolerance of each other over an area of 0.5 in all)",
+                      repair["lines"])
+        self.assertEqual(core.summarize_file(self.wing_iges)["repair"]["overlaps"], [])
+
     def test_command_line_info_shows_the_repair(self):
         env = dict(os.environ, PYTHONPATH=MOD + os.pathsep + "/usr/lib/freecad-python3/lib")
         out = subprocess.run([sys.executable, "-m", "bvmesh", "info", self.capsule_iges], env=env,

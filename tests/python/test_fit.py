@@ -89,5 +89,30 @@ class FitterSteps(unittest.TestCase):
             bvmesh.SurfaceFitter(sphere_target(), far).run()
 
 
+class GapLeftOpen(unittest.TestCase):
+    """A sphere as two hemispherical faces, the upper one moved up by 1e-3 (a gap left open at
+    the equator): the fit bridges the gap, with closest points and along the limit normals.
+    Along the normals, samples next to the gap were cast through it onto the far side of the
+    sphere, and the fit ended in "face 0 is degenerate"; a cast hit more than 4 times farther
+    than the closest point now gives way to the closest point."""
+
+    def test_the_fit_bridges_the_gap(self):
+        import FreeCAD
+        import Part
+
+        gap = 1e-3
+        lower = Part.makeSphere(1, FreeCAD.Vector(0, 0, 0), FreeCAD.Vector(0, 0, 1), -90, 0)
+        upper = Part.makeSphere(1, FreeCAD.Vector(0, 0, gap), FreeCAD.Vector(0, 0, 1), 0, 90)
+        target = bvmesh.Target.from_brep(Part.makeCompound(lower.Faces + upper.Faces).exportBrepToString())
+        start = np.array(CUBE_VERTICES, dtype=float) * [1, 1, 1 + gap / 2] + [0, 0, gap / 2]
+        for along in (False, True):
+            fitter = bvmesh.SurfaceFitter(target, bvmesh.ControlMesh(start, CUBE_FACES), max_level=2, tolerance=1e-5,
+                                          project_along_normals=along)
+            last = fitter.run()["history"][-1]
+            self.assertEqual(last["level"], 2)
+            self.assertEqual(last["failed_projections"], 0)
+            self.assertLess(last["max_distance"], gap)  # 4.8e-4 and 6.1e-4 measured
+
+
 if __name__ == "__main__":
     unittest.main()

@@ -16,6 +16,8 @@ import FreeCAD  # noqa: F401  -- Part needs it loaded first
 import Part
 
 import bvmesh
+import bvmesh.grid
+import bvmesh.volume
 from bvmesh import _core, polyhedra
 from fixtures import CUBE_FACES, CUBE_VERTICES, sphere_target
 
@@ -43,11 +45,11 @@ class CorruptCadFiles(unittest.TestCase):
     def tearDownClass(cls):
         cls.folder.cleanup()
 
-    def assertRefused(self, path, *patterns):
+    def assertRefused(self, path, *patterns, seconds=30.0):
         start = time.time()
         with self.assertRaises(ValueError) as caught:
             bvmesh.Target.from_file(path)
-        self.assertLess(time.time() - start, 30.0)
+        self.assertLess(time.time() - start, seconds)
         for pattern in (os.path.basename(path),) + patterns:
             self.assertRegex(str(caught.exception), pattern)
 
@@ -67,6 +69,23 @@ class CorruptCadFiles(unittest.TestCase):
         for bad in ("NAN", "1E400"):
             path = edited(HEMISPHERE, line, "#23 = CARTESIAN_POINT('',({},0.,0.));\n".format(bad), self.folder.name)
             self.assertRefused(path, "corrupt STEP|no shape")
+
+    def test_absurd_step_lists_are_refused_at_once(self):
+        # One entity with two million arguments on one line parsed for more than 15 minutes
+        # (OCCT's parser is quadratic in a list's length) and was stopped at the time limit; lists
+        # nested 100 000 deep crashed the reader. A pass over the text refuses both first.
+        with open(HEMISPHERE) as source:
+            line = next(l for l in source if l.startswith("#23 = CARTESIAN_POINT"))
+        long_list = edited(HEMISPHERE, line, "#23 = CARTESIAN_POINT('',({}));\n".format(",".join(["0."] * 2000000)),
+                           self.folder.name)
+        self.assertRefused(long_list, r"is refused as STEP: entity #23 \(line 35\) has a list of 2000000 items",
+                           seconds=5.0)
+        deep = edited(HEMISPHERE, line, "#23 = CARTESIAN_POINT(''," + "(" * 100000 + "0." + ")" * 100000 + ");\n",
+                      self.folder.name)
+        start = time.time()
+        with self.assertRaisesRegex(ValueError, r"entity #23 \(line 35\) nests lists more than 1000 deep"):
+            bvmesh.Target.from_file(deep)
+        self.assertLess(time.time() - start, 5.0)
 
     def test_empty_and_binary_files(self):
         for name, content in (("empty.stp", b""), ("noise.stp", os.urandom(4096)), ("noise.igs", os.urandom(4096))):
@@ -345,10 +364,83 @@ class TemplatesOnUnsuitableTargets(unittest.TestCase):
         self.assertPlacementRefused(rod, "box", r"it has 2 vertices for the template's 8 corners: corners \d+ and "
                                                 r"\d+ would both sit on its vertex [01] at")
 
+    def test_a_flat_end_where_the_target_ends_in_an_edge_is_named(self):
+        # A cylinder along an L-shaped block's main axis: its flat nose piled onto the block's end
+        # edge and improving said "face 0 is degenerate: vertices 3 and 2 coincide".
+        block = Part.makeBox(10, 4, 4).fuse(Part.makeBox(4, 4, 10)).removeSplitter()
+        target = bvmesh.Target.from_brep(block.exportBrepToString())
+        self.assertPlacementRefused(target, "cylinder", r"its nose is not flat across the target's main axis .*"
+                                                        r"choose nose=round")
+        mesh, _ = polyhedra.place_template(target, "cylinder", nose="round", tail="round")
+        self.assertGreater(mesh.num_faces, 0)
+
+    def test_a_box_lines_up_with_a_square_plate(self):
+        # Its two equal principal variances left the axes in the plate's plane to rounding: the
+        # box's corners landed 0.82 from the plate's and were reported unmapped.
+        target = bvmesh.Target.from_brep(Part.makeBox(10, 10, 1).exportBrepToString())
+        mesh, features = polyhedra.place_template(target, "box")
+        corners = np.array(mesh.vertices)[list(mesh.corners)]
+        self.assertEqual(sorted(map(tuple, np.round(corners, 9).tolist())),
+                         sorted((x, y, z) for x in (0.0, 10.0) for y in (0.0, 10.0) for z in (0.0, 1.0)))
+        summary = bvmesh.SurfaceFitter(target, mesh, features, tolerance=1e-5, max_level=1).run()
+        self.assertEqual(summary["reason"], "converged")
+
     def test_a_target_below_occt_precision_is_named_too_small(self):
         # A sphere of radius 1e-8 gave BRepMesh's "invalid parameter value".
         with self.assertRaisesRegex(bvmesh.InvalidInputError, r"the target is too small, 3.46e-08 across"):
             bvmesh.Target.from_brep(Part.makeSphere(1e-8).exportBrepToString())
+
+
+class ExtremeScales(unittest.TestCase):
+    """The unit sphere scaled and moved: each stage works as at scale 1 (the same relative fit
+    distance, the same cell quality) or stops naming the scale, never NaN output or a hang."""
+
+    @staticmethod
+    def fit(radius, centre=(0.0, 0.0, 0.0)):
+        target = bvmesh.Target.from_brep(Part.makeSphere(radius, FreeCAD.Vector(*centre)).exportBrepToString())
+        fitter = bvmesh.SurfaceFitter(target, bvmesh.ControlMesh(np.array(CUBE_VERTICES) * radius + centre, CUBE_FACES),
+                                      max_level=2, tolerance=1e-9 * radius)
+        return fitter, fitter.run()["history"][-1]["max_distance"]
+
+    def test_the_fit_is_scale_free(self):
+        reference = self.fit(1.0)[1]
+        for radius, centre in ((1e-3, (0, 0, 0)), (1e6, (0, 0, 0)), (1e60, (0, 0, 0)), (1.0, (1e8, 0, 0))):
+            fitter, distance = self.fit(radius, centre)
+            self.assertTrue(np.all(np.isfinite(np.array(fitter.mesh.vertices))))
+            self.assertAlmostEqual(distance / radius / reference, 1.0, delta=1e-3,
+                                   msg="radius {} at {}".format(radius, centre))
+
+    def test_volume_and_grid_are_scale_free(self):
+        def worst_jacobian(wall, scale):
+            volume = bvmesh.volume.offset_and_farfield(wall, reference_length=2 * scale,
+                                                       boundary_layer_thickness=0.05 * scale,
+                                                       farfield_distance=20 * scale)
+            grid = bvmesh.grid.refine(volume, "euler", target_cells=20000)
+            for b in range(grid.grid.block_count):
+                self.assertTrue(np.all(np.isfinite(grid.grid.points(b))))
+            report = bvmesh.grid.quality(grid)
+            for metric in ("scaled_jacobian", "non_orthogonality", "skewness", "volume"):
+                self.assertTrue(np.all(np.isfinite(report[metric])), metric)
+            return np.min(report["scaled_jacobian"])
+
+        unit = np.array(CUBE_VERTICES, dtype=float)
+        unit /= np.linalg.norm(unit, axis=1)[:, None]
+        reference = worst_jacobian(bvmesh.ControlMesh(unit, CUBE_FACES), 1.0)
+        # (A 1e-9 sphere is below OCCT's precision as a target, but a wall mesh of that size works.)
+        for scale in (1e-9, 1e-6, 1e6, 1e12):
+            self.assertAlmostEqual(worst_jacobian(bvmesh.ControlMesh(unit * scale, CUBE_FACES), scale), reference,
+                                   places=9, msg="scale {}".format(scale))
+        self.assertGreater(worst_jacobian(self.fit(1e6)[0], 1e6), 0.5)
+
+    def test_targets_too_large_or_too_far_out_are_named(self):
+        # A sphere of radius 1e150 ran for minutes into a MemoryError; one of radius 1 at 1e16,
+        # whose coordinates are 2 apart, failed in its fit with "face 0 is degenerate".
+        start = time.time()
+        with self.assertRaisesRegex(bvmesh.InvalidInputError, r"the target is too large, 3.46e\+150 across"):
+            bvmesh.Target.from_brep(Part.makeSphere(1e150).exportBrepToString())
+        with self.assertRaisesRegex(bvmesh.InvalidInputError, r"the target lies too far from the origin for its size"):
+            bvmesh.Target.from_brep(Part.makeSphere(1, FreeCAD.Vector(1e16, 0, 0)).exportBrepToString())
+        self.assertLess(time.time() - start, 5.0)
 
 
 if __name__ == "__main__":

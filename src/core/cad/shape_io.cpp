@@ -24,6 +24,7 @@
 #include <map>
 #include <sstream>
 
+#include "core/cad/step_scan.h"
 #include "core/common/errors.h"
 #include "core/common/occt_errors.h"
 
@@ -158,6 +159,7 @@ TopoDS_Shape readShapeFile(const std::string& path, std::vector<std::string>* no
   const std::string extension = lowerCaseExtension(path);
   return translateOcctErrors("reading \"" + path + "\"", [&] {
     if (extension == ".step" || extension == ".stp") {
+      checkStepLists(path);  // OCCT's parser is quadratic in a list's length
       STEPControl_Reader reader;
       return readWithExchangeReader(reader, path, "STEP", nullptr, notes);
     }

@@ -2,16 +2,23 @@
 
 #include <BRepAdaptor_Curve.hxx>
 #include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_Copy.hxx>
 #include <BRepBuilderAPI_Sewing.hxx>
+#include <BRepClass_FaceClassifier.hxx>
+#include <BRepMesh_IncrementalMesh.hxx>
 #include <BRepGProp.hxx>
 #include <BRep_Builder.hxx>
 #include <BRep_Tool.hxx>
 #include <Bnd_Box.hxx>
 #include <GCPnts_AbscissaPoint.hxx>
 #include <GProp_GProps.hxx>
+#include <Geom_Surface.hxx>
+#include <Poly_Triangulation.hxx>
+#include <gp_Pnt2d.hxx>
 #include <Precision.hxx>
 #include <ShapeAnalysis_Curve.hxx>
 #include <ShapeAnalysis_FreeBounds.hxx>
+#include <ShapeAnalysis_Surface.hxx>
 #include <ShapeAnalysis_ShapeTolerance.hxx>
 #include <ShapeFix_Solid.hxx>
 #include <Standard_Failure.hxx>
@@ -32,8 +39,12 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <sstream>
 
+#include <Eigen/Geometry>
+
+#include "core/common/closest_point.h"
 #include "core/common/errors.h"
 #include "core/common/occt_errors.h"
 
@@ -206,6 +217,171 @@ std::vector<OpenGap> findOpenGaps(const EdgeTopology& topology, double tolerance
   return gaps;
 }
 
+// ---- overlapping faces -------------------------------------------------------------------------
+
+// A face's tessellation: triangles with their corners' (u, v), their boxes, and the face's box.
+struct FaceTriangles {
+  std::vector<std::array<Eigen::Vector3d, 3>> corners;
+  std::vector<std::array<bool, 3>> boundary;  // side k (corner k to k + 1) on the mesh's boundary
+  std::vector<std::array<gp_XY, 3>> uv;
+  std::vector<Bnd_Box> boxes;
+  Bnd_Box box;
+};
+
+FaceTriangles faceTriangles(const TopoDS_Face& face) {
+  FaceTriangles result;
+  TopLoc_Location location;
+  const Handle(Poly_Triangulation) mesh = BRep_Tool::Triangulation(face, location);
+  if (mesh.IsNull() || !mesh->HasUVNodes()) return result;
+  const gp_Trsf transform = location.Transformation();
+  std::map<std::pair<int, int>, int> sides;  // node pair -> triangles using it
+  for (int t = 1; t <= mesh->NbTriangles(); ++t) {
+    int n[3];
+    mesh->Triangle(t).Get(n[0], n[1], n[2]);
+    for (int k = 0; k < 3; ++k) ++sides[std::minmax(n[k], n[(k + 1) % 3])];
+  }
+  for (int t = 1; t <= mesh->NbTriangles(); ++t) {
+    int n[3];
+    mesh->Triangle(t).Get(n[0], n[1], n[2]);
+    std::array<bool, 3> boundary{};
+    for (int k = 0; k < 3; ++k) boundary[static_cast<std::size_t>(k)] = sides[std::minmax(n[k], n[(k + 1) % 3])] == 1;
+    result.boundary.push_back(boundary);
+    std::array<Eigen::Vector3d, 3> corner;
+    std::array<gp_XY, 3> uv;
+    Bnd_Box box;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const gp_Pnt p = mesh->Node(n[k]).Transformed(transform);
+      corner[k] = Eigen::Vector3d(p.X(), p.Y(), p.Z());
+      uv[k] = mesh->UVNode(n[k]).XY();
+      box.Add(p);
+    }
+    result.corners.push_back(corner);
+    result.uv.push_back(uv);
+    result.boxes.push_back(box);
+    result.box.Add(box);
+  }
+  return result;
+}
+
+// Area of `a` lying within `tolerance` of the inside of `b`, and its centroid. Triangles of a's
+// tessellation near b's are split into up to 16 x 16 parts of at most `spacing`; a part counts
+// when the point of a's surface at its centroid lies within the tolerance of b's surface (Newton
+// from the nearest triangle of b) and inside b's trim. The tessellations (deflection
+// `deflection`) only choose which points to project.
+std::pair<double, Eigen::Vector3d> overlapArea(const TopoDS_Face& a, const FaceTriangles& ta, const TopoDS_Face& b,
+                                               const FaceTriangles& tb, double tolerance, double deflection,
+                                               double spacing) {
+  const Handle(Geom_Surface) surfaceA = BRep_Tool::Surface(a);
+  ShapeAnalysis_Surface surfaceB(BRep_Tool::Surface(b));
+  const double band = tolerance + 2.0 * deflection;
+  double area = 0.0;
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();
+  std::vector<std::size_t> near;
+  for (std::size_t t = 0; t < ta.corners.size(); ++t) {
+    Bnd_Box reach = ta.boxes[t];
+    reach.Enlarge(band);
+    if (reach.IsOut(tb.box)) continue;
+    near.clear();
+    for (std::size_t k = 0; k < tb.corners.size(); ++k)
+      if (!reach.IsOut(tb.boxes[k])) near.push_back(k);
+    if (near.empty()) continue;
+    const auto& [p0, p1, p2] = ta.corners[t];
+    // Overlaps are wider than a triangle: one that does not come within the band of b at its
+    // corners or centroid holds none.
+    const auto withinBand = [&](const Eigen::Vector3d& q) {
+      for (std::size_t k : near) {
+        const auto& [q0, q1, q2] = tb.corners[k];
+        if ((closestPointOnTriangle(q, q0, q1, q2) - q).squaredNorm() <= band * band) return true;
+      }
+      return false;
+    };
+    if (!withinBand(p0) && !withinBand(p1) && !withinBand(p2) && !withinBand((p0 + p1 + p2) / 3.0)) continue;
+    const double longest = std::max({(p1 - p0).norm(), (p2 - p1).norm(), (p0 - p2).norm()});
+    const int m = std::clamp(static_cast<int>(std::ceil(longest / spacing)), 1, 16);
+    const double part = 0.5 * (p1 - p0).cross(p2 - p0).norm() / (m * m);
+    // Centroids of the m^2 parts, in barycentric coordinates (s, r) of corners 1 and 2.
+    for (int i = 0; i < m; ++i) {
+      for (int j = 0; i + j < m; ++j) {
+        for (int flip = 0; flip < (i + j + 1 < m ? 2 : 1); ++flip) {
+          const double s1 = (i + (flip ? 2.0 : 1.0) / 3.0) / m, s2 = (j + (flip ? 2.0 : 1.0) / 3.0) / m;
+          const gp_XY uv = (1.0 - s1 - s2) * ta.uv[t][0] + s1 * ta.uv[t][1] + s2 * ta.uv[t][2];
+          const gp_Pnt onA = surfaceA->Value(uv.X(), uv.Y());
+          const Eigen::Vector3d q(onA.X(), onA.Y(), onA.Z());
+          double nearest = band * band;
+          std::size_t seed = tb.corners.size();
+          for (std::size_t k : near) {
+            const auto& [q0, q1, q2] = tb.corners[k];
+            const double d = (closestPointOnTriangle(q, q0, q1, q2) - q).squaredNorm();
+            if (d <= nearest) {
+              nearest = d;
+              seed = k;
+            }
+          }
+          if (seed == tb.corners.size()) continue;
+          // Nearest to b's outline (where a meets b at a shared edge, or runs on beyond it): no
+          // overlap there, and its foot lies outside b's trim.
+          const auto& [q0, q1, q2] = tb.corners[seed];
+          const Eigen::Vector3d foot = closestPointOnTriangle(q, q0, q1, q2);
+          bool onOutline = false;
+          for (std::size_t k = 0; k < 3 && !onOutline; ++k) {
+            const Eigen::Vector3d& e0 = tb.corners[seed][k];
+            const Eigen::Vector3d& e1 = tb.corners[seed][(k + 1) % 3];
+            onOutline = tb.boundary[seed][k] &&
+                        (closestPointOnSegment(foot, e0, e1) - foot).norm() <= 1e-9 * (1.0 + (e1 - e0).norm());
+          }
+          if (onOutline) continue;
+          const gp_XY seedUv = (tb.uv[seed][0] + tb.uv[seed][1] + tb.uv[seed][2]) / 3.0;
+          const gp_Pnt2d onB = surfaceB.NextValueOfUV(gp_Pnt2d(seedUv), onA, 0.1 * tolerance);
+          if (surfaceB.Value(onB).Distance(onA) > tolerance) continue;
+          if (BRepClass_FaceClassifier(b, onB, tolerance).State() != TopAbs_IN) continue;
+          area += part;
+          moment += part * q;
+        }
+      }
+    }
+  }
+  return {area, area > 0.0 ? Eigen::Vector3d(moment / area) : Eigen::Vector3d::Zero()};
+}
+
+double facePerimeter(const TopoDS_Shape& face);
+
+// Pairs of faces that overlap by more than a strip of twice the tolerance along the smaller
+// one's boundary could (faces meeting at an edge touch along it, within the tolerance).
+std::vector<FaceOverlap> findOverlaps(const TopoDS_Shape& shape, double tolerance, double modelSize) {
+  const double deflection = 2e-3 * modelSize;
+  // Below OCCT's precision BRepMesh refuses the deflection (the target says "too small").
+  if (!(deflection >= Precision::Confusion())) return {};
+  // A copy to tessellate: the shape itself goes back to the caller as read or sewn.
+  const TopoDS_Shape copy = BRepBuilderAPI_Copy(shape, true, false).Shape();
+  BRepMesh_IncrementalMesh(copy, deflection, false, 0.5);
+  TopTools_IndexedMapOfShape faces;
+  TopExp::MapShapes(copy, TopAbs_FACE, faces);
+  std::vector<FaceTriangles> triangles;
+  for (int i = 1; i <= faces.Extent(); ++i) triangles.push_back(faceTriangles(TopoDS::Face(faces(i))));
+  std::vector<FaceOverlap> overlaps;
+  for (int i = 0; i < faces.Extent(); ++i) {
+    for (int j = i + 1; j < faces.Extent(); ++j) {
+      const FaceTriangles& ti = triangles[static_cast<std::size_t>(i)];
+      const FaceTriangles& tj = triangles[static_cast<std::size_t>(j)];
+      if (ti.box.IsVoid() || tj.box.IsVoid()) continue;
+      Bnd_Box grown = ti.box;
+      grown.Enlarge(tolerance + 2.0 * deflection);
+      if (grown.IsOut(tj.box)) continue;
+      const TopoDS_Face& fi = TopoDS::Face(faces(i + 1));
+      const TopoDS_Face& fj = TopoDS::Face(faces(j + 1));
+      auto [area, where] = overlapArea(fi, ti, fj, tj, tolerance, deflection, 1e-2 * modelSize);
+      const auto [areaBack, whereBack] = overlapArea(fj, tj, fi, ti, tolerance, deflection, 1e-2 * modelSize);
+      if (areaBack > area) {
+        area = areaBack;
+        where = whereBack;
+      }
+      if (!(area > 0.0 && area > 2.0 * tolerance * std::min(facePerimeter(fi), facePerimeter(fj)))) continue;
+      overlaps.push_back({i, j, area, {where.x(), where.y(), where.z()}});
+    }
+  }
+  return overlaps;
+}
+
 double faceArea(const TopoDS_Shape& face) {
   GProp_GProps props;
   BRepGProp::SurfaceProperties(face, props);
@@ -284,6 +460,13 @@ void analyse(const TopoDS_Shape& shape, double tolerance, double modelSize, Repa
     for (TopoDS_Iterator it(bounds.GetOpenWires()); it.More(); it.Next()) ++report.openFreeChains;
   }
   report.openGaps = findOpenGaps(topology, tolerance, kGapSearch * modelSize);
+  try {
+    report.overlaps = findOverlaps(shape, tolerance, modelSize);
+  } catch (const Standard_Failure& failure) {
+    // The search is a report, not a repair: the shape still goes on, with a note.
+    report.notes.push_back(std::string("overlapping faces not searched: OpenCASCADE failed (") +
+                           failure.GetMessageString() + ")");
+  }
 }
 
 }  // namespace
@@ -376,6 +559,9 @@ std::string encodeRepairReport(const RepairReport& r) {
       << "\nnon_manifold_edges " << r.nonManifoldEdges << "\nclosed_free_loops " << r.closedFreeLoops
       << "\nopen_free_chains " << r.openFreeChains << "\nmade_solid " << r.madeSolid << "\n";
   for (int face : r.facesRemoved) out << "face_removed " << face << "\n";
+  for (const FaceOverlap& o : r.overlaps)
+    out << "overlap " << o.face << " " << o.otherFace << " " << o.area << " " << o.where[0] << " " << o.where[1] << " "
+        << o.where[2] << "\n";
   for (const OpenGap& g : r.openGaps)
     out << "gap " << g.edge << " " << g.otherEdge << " " << g.face << " " << g.otherFace << " " << g.width << " "
         << g.where[0] << " " << g.where[1] << " " << g.where[2] << "\n";
@@ -426,6 +612,10 @@ RepairReport decodeRepairReport(const std::string& text) {
       OpenGap g;
       fields >> g.edge >> g.otherEdge >> g.face >> g.otherFace >> g.width >> g.where[0] >> g.where[1] >> g.where[2];
       r.openGaps.push_back(g);
+    } else if (key == "overlap") {
+      FaceOverlap o;
+      fields >> o.face >> o.otherFace >> o.area >> o.where[0] >> o.where[1] >> o.where[2];
+      r.overlaps.push_back(o);
     } else if (key == "kept_reason") r.keptReason = rest();
     else if (key == "note") r.notes.push_back(rest());
     else if (!key.empty()) throw InvalidInputError("repair report: unknown line \"" + line + "\"");
@@ -485,6 +675,19 @@ std::vector<std::string> describeRepair(const RepairReport& r) {
                       ", " + number(g.where[2]) + ")");
     }
     if (r.openGaps.size() > 10) lines.push_back("  ...");
+  }
+  if (!r.overlaps.empty()) {
+    double total = 0.0;
+    for (const FaceOverlap& o : r.overlaps) total += o.area;
+    lines.push_back("overlapping faces: " + std::to_string(r.overlaps.size()) + " pairs (within the tolerance of " +
+                    "each other over an area of " + number(total) + " in all)");
+    for (std::size_t i = 0; i < r.overlaps.size() && i < 10; ++i) {
+      const FaceOverlap& o = r.overlaps[i];
+      lines.push_back("  Face" + std::to_string(o.face + 1) + " and Face" + std::to_string(o.otherFace + 1) +
+                      ": area " + number(o.area) + " around (" + number(o.where[0]) + ", " + number(o.where[1]) +
+                      ", " + number(o.where[2]) + ")");
+    }
+    if (r.overlaps.size() > 10) lines.push_back("  ...");
   }
   for (const std::string& note : r.notes) lines.push_back(note);
   return lines;

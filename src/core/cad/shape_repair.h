@@ -2,8 +2,8 @@
 // sewn along the edges they share within a tolerance, so that adjacent patches share edges and
 // each edge gets its true kind (smooth / sharp / free / seam / non-manifold); a closed shell
 // becomes a solid (outward normals). The report says what was repaired and what was left: gaps
-// closed, gaps left open (where, how wide), degenerate edges and tiny faces removed, free edges,
-// and whether the result is watertight.
+// closed, gaps left open (where, how wide), overlapping faces (pairs, area), degenerate edges
+// and tiny faces removed, free edges, and whether the result is watertight.
 //
 // Indices in the report are 0-based in TopExp::MapShapes order (FreeCAD's Face<i+1>, Edge<j+1>):
 // of the shape as read for removed faces, of the repaired shape for everything else.
@@ -34,6 +34,15 @@ struct OpenGap {
   std::array<double, 3> where{};       // the edge's midpoint
 };
 
+// Two faces that cover the same region (within the sewing tolerance of each other there), as a
+// face written twice or patches that run on over their neighbours: sewing cannot join them.
+struct FaceOverlap {
+  int face = -1;
+  int otherFace = -1;
+  double area = 0.0;             // of the region, measured on the face with more of it
+  std::array<double, 3> where{};  // its centroid
+};
+
 struct RepairReport {
   bool sewingAttempted = false;  // the shape had free edges and sewing was on
   bool sewingApplied = false;    // the sewn shape replaced the faces as read
@@ -49,6 +58,7 @@ struct RepairReport {
   int degenerateEdgesRemoved = 0;     // edges shorter than the tolerance collapsed to a point
   std::vector<int> facesRemoved;      // faces smaller than the tolerance (indices as read)
   std::vector<OpenGap> openGaps;
+  std::vector<FaceOverlap> overlaps;
   int freeEdges = 0;             // free edges of the result (seams and degenerate edges excluded)
   int nonManifoldEdges = 0;
   int closedFreeLoops = 0;       // free boundary as closed loops (e.g. a half model's root)

@@ -306,7 +306,8 @@ struct SurfaceFitter::State {
                                         const RowMatrixX3d& normals, const target::SurfaceHints* warmStart) const {
     switch (kind) {
       case Destination::Surface:
-        return options.projectAlongNormals ? cad().projectAlong(points, normals) : cad().project(points, warmStart);
+        return options.projectAlongNormals ? projectAlongNormals(points, normals, warmStart)
+                                           : cad().project(points, warmStart);
       case Destination::Curve:
         return cad().projectToEdges(points, destinationCurves[static_cast<size_t>(id)]);
       case Destination::FreeBoundary:
@@ -317,6 +318,27 @@ struct SurfaceFitter::State {
         return cad().projectToVertices(points, {id});
     }
     return {};
+  }
+
+  // A hit along a normal farther than this many times the closest point drags the surface more
+  // than the closest point would: the line passed a gap left open in the target (or grazed it)
+  // and met its far side.
+  static constexpr double kFarCast = 4.0;
+
+  // Casts along the limit normals; where the hit is missing or far (kFarCast), the closest point.
+  // Without this, samples next to a gap left open (a sphere's hemispheres 1e-3 apart) were cast
+  // through it onto the far side and the fit ended in "face 0 is degenerate".
+  target::ProjectionResult projectAlongNormals(const RowMatrixX3d& points, const RowMatrixX3d& normals,
+                                               const target::SurfaceHints* warmStart) const {
+    target::ProjectionResult cast = cad().projectAlong(points, normals);
+    const target::ProjectionResult closest = cad().project(points, warmStart);
+    for (Eigen::Index k = 0; k < points.rows(); ++k) {
+      const auto status = cast.status[static_cast<size_t>(k)];
+      if (status == target::ProjectionStatus::Fallback || status == target::ProjectionStatus::Failed ||
+          cast.distances[k] > kFarCast * closest.distances[k])
+        cast.setRow(k, closest, k);
+    }
+    return cast;
   }
 
   void projectAll() {
@@ -393,7 +415,7 @@ struct SurfaceFitter::State {
       const int i = opposing[static_cast<size_t>(k)];
       // A far hit along a tilted normal would drag the surface more than the flip does.
       if (status == target::ProjectionStatus::Fallback || status == target::ProjectionStatus::Failed ||
-          sign * directions.row(k).dot(cast.normals.row(k)) <= 0.0 || cast.distances[k] > 4.0 * all.distances[i]) {
+          sign * directions.row(k).dot(cast.normals.row(k)) <= 0.0 || cast.distances[k] > kFarCast * all.distances[i]) {
         continue;
       }
       all.setRow(i, cast, k);

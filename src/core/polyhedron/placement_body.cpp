@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <type_traits>
@@ -150,6 +151,52 @@ Draft buildBodyGrid(const target::Target& target, const BodyAxis& body, int n,
   return draft;
 }
 
+namespace {
+
+// Area enclosed by the ring of body-grid station i, projected across the axis: the lattice
+// boundary of (j, k) in [0, ny] x [0, n] walked once around.
+double ringArea(const BodyAxis& body, const Draft& draft, const Lattice& lattice, int i) {
+  std::map<std::array<int, 3>, int> vertexAt;
+  for (size_t v = 0; v < lattice.coords.size(); ++v) vertexAt.emplace(lattice.coords[v], static_cast<int>(v));
+  const int ny = lattice.n[1], n = lattice.n[2];
+  std::vector<std::array<int, 2>> walk;
+  for (int j = 0; j < ny; ++j) walk.push_back({j, 0});
+  for (int k = 0; k < n; ++k) walk.push_back({ny, k});
+  for (int j = ny; j > 0; --j) walk.push_back({j, n});
+  for (int k = n; k > 0; --k) walk.push_back({0, k});
+  std::vector<Vec> ring;  // a half body has no vertices inside its j = 0 side: its chord closes the ring
+  for (const auto& [j, k] : walk) {
+    const auto found = vertexAt.find({i, j, k});
+    if (found != vertexAt.end()) ring.push_back(draft.vertices[static_cast<size_t>(found->second)] - body.origin);
+  }
+  Vec area = Vec::Zero();
+  for (size_t w = 0; w < ring.size(); ++w) area += ring[w].cross(ring[(w + 1) % ring.size()]);
+  return 0.5 * std::abs(area.dot(body.e1));
+}
+
+}  // namespace
+
+void checkFlatEnds(const std::string& templateName, const BodyAxis& body, const Draft& draft,
+                   const Lattice& lattice) {
+  const int last = lattice.n[0];
+  double largest = 0.0;
+  for (int i = 0; i <= last; ++i) largest = std::max(largest, ringArea(body, draft, lattice, i));
+  for (int side = 0; side < 2; ++side) {
+    if (body.ends[static_cast<size_t>(side)] != "flat") continue;
+    const double area = ringArea(body, draft, lattice, side ? last : 0);
+    if (area >= 1e-2 * largest) continue;
+    const char* name = side ? "tail" : "nose";
+    char what[560];
+    std::snprintf(what, sizeof(what),
+                  "its %s is not flat across the target's main axis (%.3g, %.3g, %.3g): next to that end the target's "
+                  "section encloses %.3g, %.2g %% of its largest section (%.3g), so the target ends there in an edge, a "
+                  "point or a slanted or rounded face, not in a face across the axis; a flat end needs one: choose "
+                  "%s=round (the capsule template) or a template that suits the target's shape",
+                  name, body.e1.x(), body.e1.y(), body.e1.z(), area, 100.0 * area / largest, largest, name);
+    throw InvalidInputError("template '" + templateName + "' cannot be placed on this target: " + what);
+  }
+}
+
 Draft buildRevolution(const TemplateValues& values, const target::Target& target,
                       const std::vector<FeatureCurve>& curves, std::optional<fit::SymmetryPlane>& plane,
                       std::map<std::string, std::string>& used) {
@@ -202,7 +249,9 @@ Draft buildRevolution(const TemplateValues& values, const target::Target& target
     centres[static_cast<size_t>(i)] = centre;
   }
   Lattice lattice;
-  return buildBodyGrid(target, body, n, centres, false, lattice);
+  Draft draft = buildBodyGrid(target, body, n, centres, false, lattice);
+  checkFlatEnds(values.templateName(), body, draft, lattice);
+  return draft;
 }
 
 // ---- nacelle ring ---------------------------------------------------------------------------

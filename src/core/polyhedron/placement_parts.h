@@ -111,6 +111,15 @@ std::array<double, 2> bodyRims(const BodyAxis& body);
 Draft buildBodyGrid(const target::Target& target, const BodyAxis& body, int n,
                     const std::vector<Vec>& centres, bool firstHit, Lattice& lattice);
 
+// Throws InvalidInputError naming the template when a flat end of the body grid (cast by
+// buildBodyGrid) has no end face across the axis: its rim ring, next to the end, encloses less
+// than 1 % of the largest ring's area. The flat end's vertices are cast along the axis onto the
+// target's end face; where the target ends in an edge instead (a cylinder along an L-shaped
+// block's main axis ends at one of the block's edges), they pile onto that edge and the
+// improvement collapsed the end's faces ("face 0 is degenerate").
+void checkFlatEnds(const std::string& templateName, const BodyAxis& body, const Draft& draft,
+                   const Lattice& lattice);
+
 Draft buildRevolution(const TemplateValues& values, const target::Target& target,
                       const std::vector<FeatureCurve>& curves, std::optional<fit::SymmetryPlane>& plane,
                       std::map<std::string, std::string>& used);

@@ -207,6 +207,7 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
   }
   Lattice lattice;
   Draft draft = buildBodyGrid(target, body, n, centres, true, lattice);
+  checkFlatEnds(values.templateName(), body, draft, lattice);
 
   // Side vertices by (station, position q around the half ring from the plane below to the plane above).
   const int ny = std::max(1, (n + 1) / 2);

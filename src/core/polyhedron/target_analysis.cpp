@@ -40,6 +40,50 @@ std::pair<Eigen::Matrix3d, Eigen::Vector3d> sortedEigen(const Eigen::Matrix3d& c
   return {vectors, values};
 }
 
+// Where two principal variances are equal (a square plate, a cube, a ring) the axes in their
+// plane are any pair the eigen solver's rounding picks: a box placed on a 10 x 10 x 1 plate stood
+// at some angle to it, its corners 0.82 off the plate's, and a nacelle's rings started at another
+// angle on the same ring read from another file. Within such a plane the axes turn to line up
+// with the surface normals: the angle maximising sum_t w_t ((n_t . a)^4 + (n_t . b)^4) over the
+// triangles (area w_t, unit normal n_t), in closed form (the in-plane part r (cos phi, sin phi)
+// of n_t contributes w_t r^4 (3 + cos 4 (phi - theta)) / 4). Where the normals have no such
+// direction (a round section) the first axis becomes the model's x, y or z axis as projected
+// into the plane (the first of those most in it). Returns whether the normals decided.
+bool alignInPlane(Eigen::Matrix3d& axes, int a, int b, const target::Points& nodes,
+                  const Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>& triangles) {
+  double c = 0.0, s = 0.0, total = 0.0;
+  for (Eigen::Index t = 0; t < triangles.rows(); ++t) {
+    const Eigen::Vector3d p = nodes.row(triangles(t, 0)).transpose();
+    const Eigen::Vector3d n = (nodes.row(triangles(t, 1)).transpose() - p).cross(nodes.row(triangles(t, 2)).transpose() - p);
+    const double w = 0.5 * n.norm();
+    if (!(w > 0.0)) continue;
+    const double x = n.dot(axes.col(a)) / (2.0 * w), y = n.dot(axes.col(b)) / (2.0 * w);
+    const double r2 = x * x + y * y;
+    const double phi = std::atan2(y, x);
+    c += w * r2 * r2 * std::cos(4.0 * phi);
+    s += w * r2 * r2 * std::sin(4.0 * phi);
+    total += w * r2 * r2;
+  }
+  const bool byNormals = std::hypot(c, s) > 0.1 * total;
+  double theta = 0.25 * std::atan2(s, c);
+  if (!byNormals) {
+    Eigen::Vector2d inPlane[3];
+    double most = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      inPlane[k] = Eigen::Vector2d(axes(k, a), axes(k, b));  // world axis k in the plane's coordinates
+      most = std::max(most, inPlane[k].norm());
+    }
+    int k = 0;
+    while (inPlane[k].norm() < most - 1e-3) ++k;
+    theta = std::atan2(inPlane[k].y(), inPlane[k].x());
+  }
+  const Eigen::Vector3d u = std::cos(theta) * axes.col(a) + std::sin(theta) * axes.col(b);
+  const Eigen::Vector3d v = -std::sin(theta) * axes.col(a) + std::cos(theta) * axes.col(b);
+  axes.col(a) = u;
+  axes.col(b) = v;
+  return byNormals && std::abs(theta) > 1e-12;
+}
+
 }  // namespace
 
 PrincipalFrame principalFrame(const target::Target& target) {
@@ -68,6 +112,27 @@ PrincipalFrame principalFrame(const target::Target& target) {
   frame.centre = centre / area;
   const Eigen::Matrix3d covariance = second / area - frame.centre * frame.centre.transpose();
   std::tie(frame.axes, frame.variances) = sortedEigen(covariance);
+  // Equal variances (within 1e-3 of the largest) leave the axes in their plane undetermined.
+  const double equal = 1e-3 * frame.variances[0];
+  const bool equal01 = frame.variances[0] - frame.variances[1] <= equal;
+  const bool equal12 = frame.variances[1] - frame.variances[2] <= equal;
+  if (equal01 && equal12) {
+    // All three (a cube): turn plane by plane, as Jacobi sweeps, until no plane turns; with no
+    // direction in the normals at all (a sphere) the model's own axes.
+    bool decided = false;
+    for (int sweep = 0; sweep < 16; ++sweep) {
+      bool turned = false;
+      for (const auto& [a, b] : {std::pair{0, 1}, std::pair{0, 2}, std::pair{1, 2}})
+        turned = alignInPlane(frame.axes, a, b, nodes, triangles) || turned;
+      decided = decided || turned;
+      if (!turned) break;
+    }
+    if (!decided) frame.axes.setIdentity();
+  } else if (equal01) {
+    alignInPlane(frame.axes, 0, 1, nodes, triangles);
+  } else if (equal12) {
+    alignInPlane(frame.axes, 1, 2, nodes, triangles);
+  }
   frame.low.setConstant(std::numeric_limits<double>::infinity());
   frame.high.setConstant(-std::numeric_limits<double>::infinity());
   for (Eigen::Index n = 0; n < nodes.rows(); ++n) {

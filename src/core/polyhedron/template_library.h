@@ -45,6 +45,7 @@ class TemplateValues {
   int integer(const std::string& name) const;
   const std::string& choice(const std::string& name) const;
   const std::map<std::string, std::string>& all() const { return values_; }
+  const std::string& templateName() const { return templateName_; }
 
  private:
   std::string templateName_;

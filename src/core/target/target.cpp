@@ -1,6 +1,8 @@
 #include "core/target/target.h"
 
+#include <BRepBndLib.hxx>
 #include <BRepBuilderAPI_Copy.hxx>
+#include <Bnd_Box.hxx>
 #include <BRepMesh_IncrementalMesh.hxx>
 #include <BRepTools.hxx>
 #include <BRepTools_WireExplorer.hxx>
@@ -168,6 +170,44 @@ void extractTopology(Target::Data& data) {
       const int id = indexOf(faceMap, face);
       if (std::find(faces.begin(), faces.end(), id) == faces.end()) faces.push_back(id);
     }
+  }
+}
+
+// Refuses, before any geometry work, a shape OCCT cannot handle at its size or position. Too
+// large: OCCT's geometry forms fourth powers of lengths (extrema, curvature), which overflow a
+// double beyond about 1e77: a sphere of radius 1e80 fitted 200 times worse than one of radius 1,
+// 1e90 failed in OCCT ("gp_VectorWithNullMagnitude") and 1e150 ran for minutes into a
+// MemoryError. Too far from the origin: where the coordinates' spacing (their size times 2^-52)
+// exceeds the tessellation's deflection, the target is not resolved (a unit sphere at 1e16 has
+// coordinates 2 apart). shape: its bounding box from the geometry (quick, slightly loose).
+void checkScale(const TopoDS_Shape& shape, const TargetOptions& options) {
+  Bnd_Box box;
+  BRepBndLib::Add(shape, box, false);
+  if (box.IsVoid()) return;  // measureSize names a degenerate box
+  double x0 = 0, y0 = 0, z0 = 0, x1 = 0, y1 = 0, z1 = 0;
+  box.Get(x0, y0, z0, x1, y1, z1);
+  const Eigen::Vector3d lo(x0, y0, z0), hi(x1, y1, z1);
+  const double diagonal = (hi - lo).norm();
+  constexpr double kLargest = 1e70;
+  char message[400];
+  if (!(diagonal <= kLargest)) {
+    std::snprintf(message, sizeof(message),
+                  "Target: the target is too large, %.3g across (its bounding-box diagonal); OCCT's geometry computes "
+                  "fourth powers of lengths, which overflow beyond about 1e77, so a target must be at most %.0e across: "
+                  "scale the model down",
+                  diagonal, kLargest);
+    throw InvalidInputError(message);
+  }
+  const double farthest = std::max(lo.cwiseAbs().maxCoeff(), hi.cwiseAbs().maxCoeff());
+  const double spacing = farthest * std::numeric_limits<double>::epsilon();
+  const double deflection = options.relativeDeflection * diagonal;
+  if (spacing > deflection) {
+    std::snprintf(message, sizeof(message),
+                  "Target: the target lies too far from the origin for its size: at %.3g from it coordinates are %.3g "
+                  "apart, coarser than the tessellation's deflection %.3g (relative_deflection %g of its %.3g "
+                  "diagonal): move the model towards the origin",
+                  farthest, spacing, deflection, options.relativeDeflection, diagonal);
+    throw InvalidInputError(message);
   }
 }
 
@@ -655,6 +695,7 @@ Target::Target(const TopoDS_Shape& shape, const TargetOptions& options) : data_(
                             std::to_string(options.threads));
   data_->options = options;
   translateOcctErrors("Target: reading the shape", [&] {
+    checkScale(shape, options);
     // Own copy: meshing writes triangulations into the shape.
     data_->shape = BRepBuilderAPI_Copy(shape, true, false).Shape();
     extractTopology(*data_);

@@ -459,9 +459,13 @@ Foot closestOnSurface(const Target::Data& data, ThreadContext& context, const Ei
   std::sort(context.candidates.begin(), context.candidates.end(),
             [](const ThreadContext::Candidate& a, const ThreadContext::Candidate& b) { return a.distance < b.distance; });
   int solves = 0;
+  // The nearest foot inside its face: faces that overlap within the target's tolerance (a patch
+  // written twice, or run on over its neighbour) are one surface there, and a foot on the trim
+  // boundary of one of them is no better than the other's inside foot at the same place.
+  Foot inside;
   for (const ThreadContext::Candidate& candidate : context.candidates) {
     // The surface under this triangle is at least (distance - margin) away.
-    if (best.distance >= 0 && candidate.distance - data.margin > best.distance) break;
+    if (best.distance >= 0 && candidate.distance - data.margin > best.distance + data.tolerance) break;
     const int face = data.triangleFaces[candidate.triangle];
     if (nearAnchor(context, face, candidate.point, 1.5 * data.triangleSize[static_cast<std::size_t>(candidate.triangle)]))
       continue;
@@ -474,7 +478,14 @@ Foot closestOnSurface(const Target::Data& data, ThreadContext& context, const Ei
     // and cold starts agree on the status too.
     const bool tie = best.distance >= 0 && std::abs(foot.distance - best.distance) <= data.convergence;
     if (best.distance < 0 || (tie ? foot.status < best.status : foot.distance < best.distance)) best = foot;
+    if (foot.status == ProjectionStatus::Ok && (inside.distance < 0 || foot.distance < inside.distance)) inside = foot;
   }
+  // Only next to the surface (where the fit's samples are) and only for a foot within the
+  // tolerance of the nearest one: far from the surface two feet at nearly the same distance may lie
+  // far apart, and the nearest is the answer there.
+  if (best.status != ProjectionStatus::Ok && inside.distance >= 0 && best.distance <= data.margin &&
+      inside.distance <= best.distance + data.tolerance && (inside.point - best.point).norm() <= data.tolerance)
+    return inside;
   return best;
 }
 

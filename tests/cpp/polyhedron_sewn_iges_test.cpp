@@ -1,0 +1,104 @@
+// The body templates on the test geometries written face by face to IGES (OCCT's faces mode: no
+// shared edges, as many design tools write them) and sewn on reading, against the same
+// templates on the geometry as made (the hemisphere-cylinder's STEP, the OCCT-built nacelle and
+// wing-body): the same parameters, the polyhedron's vertices within 1e-3 of the size, the same
+// planform, and a fit that stops for the same reason at the same level with the same distance.
+#include <gtest/gtest.h>
+
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_Transform.hxx>
+#include <BRepPrimAPI_MakeRevol.hxx>
+#include <gp_Ax1.hxx>
+#include <gp_Trsf.hxx>
+
+#include <cmath>
+#include <memory>
+#include <string>
+
+#include "core/cad/isolated_reader.h"
+#include "core/cad/shape_io.h"
+#include "core/fit/surface_fitter.h"
+#include "core/polyhedron/placement.h"
+#include "core/polyhedron/target_analysis.h"
+#include "wing_body_geometry.h"
+
+namespace bvmesh::polyhedron {
+namespace {
+
+const std::string kOutput = BVMESH_TEST_OUTPUT_DIR;
+const std::string kData = BVMESH_TEST_DATA_DIR;
+const std::string kTemplates = kData + "/../../resources/templates";
+
+PolyhedronTemplate libraryTemplate(const std::string& name) { return readTemplate(kTemplates + "/" + name + ".template"); }
+
+// The shape written face by face to IGES and read back through the reader child, sewn.
+TopoDS_Shape sewnIges(const TopoDS_Shape& shape, const std::string& name) {
+  const std::string path = kOutput + "/" + name + "_faces.igs";
+  cad::writeIgesFaces(shape, path);
+  const cad::RepairedShape sewn = cad::readShapeFileRepaired(path);
+  EXPECT_TRUE(sewn.report.sewingApplied) << name << ": " << sewn.report.keptReason;
+  EXPECT_TRUE(sewn.report.watertight()) << name;
+  return sewn.shape;
+}
+
+// Places `name` on both targets and fits both to `maxLevel`; expects the same outcome.
+void expectSamePlacementAndFit(const std::string& name, const std::shared_ptr<const target::Target>& made,
+                               const std::shared_ptr<const target::Target>& iges, double tolerance, int maxLevel) {
+  const PlacedPolyhedron onMade = placeTemplate(libraryTemplate(name), *made);
+  const PlacedPolyhedron onIges = placeTemplate(libraryTemplate(name), *iges);
+  ASSERT_TRUE(onMade.mapping.complete()) << onMade.mapping.describeUnmapped();
+  ASSERT_TRUE(onIges.mapping.complete()) << onIges.mapping.describeUnmapped();
+  EXPECT_EQ(onIges.parameters, onMade.parameters);
+  ASSERT_EQ(onIges.mesh.numVertices(), onMade.mesh.numVertices());
+  const double size = made->report().diagonal;
+  EXPECT_LT((onIges.mesh.vertices() - onMade.mesh.vertices()).cwiseAbs().maxCoeff(), 1e-3 * size);
+  ASSERT_EQ(onIges.planform.has_value(), onMade.planform.has_value());
+  if (onMade.planform) {
+    const double span = onMade.planform->span;
+    EXPECT_NEAR(onIges.planform->span, span, 1e-6 * span);
+    EXPECT_NEAR(onIges.planform->rootChord, onMade.planform->rootChord, 1e-6 * span);
+    EXPECT_NEAR(onIges.planform->tipChord, onMade.planform->tipChord, 1e-6 * span);
+  }
+  fit::FitOptions options;
+  options.tolerance = tolerance;
+  options.maxLevel = maxLevel;
+  options.symmetryPlane = onMade.symmetryPlane;
+  const fit::FitSummary fitMade = fit::SurfaceFitter(made, onMade.mesh, onMade.mapping.map, options).run();
+  options.symmetryPlane = onIges.symmetryPlane;
+  const fit::FitSummary fitIges = fit::SurfaceFitter(iges, onIges.mesh, onIges.mapping.map, options).run();
+  EXPECT_EQ(fitIges.reason, fitMade.reason) << fitIges.detail << " / " << fitMade.detail;
+  EXPECT_EQ(fitIges.history.back().level, fitMade.history.back().level);
+  const double distance = fitMade.history.back().maxDistance;
+  EXPECT_NEAR(fitIges.history.back().maxDistance, distance, 0.05 * distance + 1e-7 * size);
+}
+
+TEST(SewnIgesTemplates, FuselageOnTheHemisphereCylinder) {
+  const std::string step = kData + "/hemisph-cyl.stp";
+  const auto made = std::make_shared<const target::Target>(cad::readShapeFileRepaired(step));
+  const auto iges = std::make_shared<const target::Target>(sewnIges(cad::readShapeFile(step), "hemisph-cyl"));
+  expectSamePlacementAndFit("fuselage", made, iges, 1e-5 * made->report().diagonal, 2);
+}
+
+TEST(SewnIgesTemplates, NacelleWithASharpLip) {
+  // As PolyhedronFit.NacelleWithASharpLipTrailingEdge: a NACA 0012 lip inclined by 5 degrees,
+  // revolved about the x axis.
+  gp_Trsf incidence;
+  incidence.SetRotation(gp_Ax1(gp_Pnt(0, 0, 1), gp_Dir(0, 1, 0)), 5.0 * M_PI / 180.0);
+  const TopoDS_Shape profile = BRepBuilderAPI_Transform(
+      BRepBuilderAPI_MakeFace(testing::nacaSectionWire(0.0, 0.0, 1.0, 1.0), true).Face(), incidence).Shape();
+  const TopoDS_Shape nacelle =
+      BRepPrimAPI_MakeRevol(profile, gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0)), 2.0 * M_PI).Shape();
+  const auto made = std::make_shared<const target::Target>(nacelle);
+  const auto iges = std::make_shared<const target::Target>(sewnIges(nacelle, "nacelle"));
+  expectSamePlacementAndFit("nacelle", made, iges, 1e-5, 2);
+}
+
+TEST(SewnIgesTemplates, WingFuselageOnTheMidWingBody) {
+  const TopoDS_Shape body = testing::makeWingBody();
+  const auto made = std::make_shared<const target::Target>(removeSymmetryFace(body).shape);
+  const auto iges = std::make_shared<const target::Target>(removeSymmetryFace(sewnIges(body, "wing_body_mid")).shape);
+  expectSamePlacementAndFit("wing_fuselage", made, iges, 1e-4 * 10.0, 2);
+}
+
+}  // namespace
+}  // namespace bvmesh::polyhedron
