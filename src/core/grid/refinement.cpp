@@ -19,9 +19,11 @@ using volume::BlockMesh;
 using volume::BoundaryCondition;
 using volume::BsplineVolume;
 
-// Arc-length tables sample each knot span this often (Simpson + Hermite on polynomial pieces:
-// growth ratios come out as asked to about 1e-6).
+// Arc-length tables sample each knot span this often (Simpson + Hermite on polynomial pieces).
+// Block edges: their tangential distributions follow arc length to about 1e-6. Wall-normal
+// lines: only the start of Newton's placement by straight distances, which corrects them.
 constexpr int kIntervalsPerSpan = 4;
+constexpr int kLineIntervalsPerSpan = 1;
 
 // The other two directions of `direction`, in increasing order.
 std::array<int, 2> otherDirections(int direction) {
@@ -159,9 +161,12 @@ struct LineMeasures {
 // One wall-normal line at a time: a thread reuses its storage from column to column.
 struct WallLine {
   size_t block = std::numeric_limits<size_t>::max();  // whose knots `curve` has
-  BsplineCurve curve;
+  BsplineCurve curve;          // for its exact ends and Newton on the first height
+  PolynomialCurve polynomial;  // the same curve in pieces, for everything else
   ArcLength arc;
-  std::vector<double> distance;
+  std::vector<double> distance, parameter;
+  std::vector<Eigen::Vector3d> points;
+  ChordPlacer placer;
   LineMeasures measured;  // over the thread's lines so far
 };
 
@@ -258,9 +263,15 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
     std::vector<int> count(3 * blockCount, 0);
     for (size_t node = 0; node < count.size(); ++node) {
       const auto root = static_cast<size_t>(sets.find(static_cast<int>(node)).first);
-      if (wallParity[root] >= 0) count[node] = normalPoints;
-      else if (spacing > 0.0) count[node] = std::max(2, static_cast<int>(std::ceil(longestEdge[root] / spacing)) + 1);
-      else count[node] = options.edgePoints;
+      if (wallParity[root] >= 0) {
+        count[node] = normalPoints;
+      } else if (spacing > 0.0) {
+        // An edge a whole number of spacings long (to the rounding of its arc length) takes no extra point.
+        const double spacings = std::ceil(longestEdge[root] / spacing * (1.0 - 1e-12));
+        count[node] = std::max(2, static_cast<int>(spacings) + 1);
+      } else {
+        count[node] = options.edgePoints;
+      }
     }
     return count;
   };
@@ -331,7 +342,7 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
   // Automatic: the edges' estimate served the cell target; the lines themselves decide.
   const bool automaticNormal = options.normalPoints == 0;
   if (automaticNormal) normalPoints = 2;
-  std::vector<std::optional<CurveSamples>> columnSamples(blockCount);
+  std::vector<std::optional<SpanPolynomials>> columnSpans(blockCount);
   // The columns of every wall block numbered one block after the other, so that one pool of
   // threads shares them all (blocks differ in size by orders of magnitude).
   std::vector<std::int64_t> columnOffset{0};
@@ -339,7 +350,7 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
     const int n = plans[b].normalDirection;
     std::int64_t columns = 0;
     if (n >= 0) {
-      columnSamples[b].emplace(blocks[b].volume.knots(n), blocks[b].volume.degree(n), kIntervalsPerSpan);
+      columnSpans[b].emplace(blocks[b].volume.knots(n), blocks[b].volume.degree(n));
       const auto [t1, t2] = otherDirections(n);
       columns = static_cast<std::int64_t>(plans[b].size[static_cast<size_t>(t1)]) * plans[b].size[static_cast<size_t>(t2)];
     }
@@ -377,7 +388,8 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
           line.curve.knots = volume.knots(n);
         }
         volume.isoCurvePoles(n, pointParameter(plan, t1, ijk), pointParameter(plan, t2, ijk), line.curve.poles);
-        line.arc.tabulate(line.curve, *columnSamples[b]);
+        line.polynomial.assign(line.curve.poles, *columnSpans[b]);
+        line.arc.tabulate(line.polynomial, kLineIntervalsPerSpan);
         if (!(line.arc.length() > 0.0)) {
           throw InvalidInputError(blockText(b) + " has a wall-normal line of zero length at (" + std::to_string(ijk[0]) +
                                   ", " + std::to_string(ijk[1]) + ", " + std::to_string(ijk[2]) + ")");
@@ -432,46 +444,60 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
     GridBlock& grid = gridBlocks[b];
     const int n = plan.normalDirection;
     const double length = line.arc.length();
-    const double height = firstHeight > 0.0 ? firstHeight
-                                            : length * (options.growth - 1.0) /
-                                                  std::expm1((points - 1) * std::log(options.growth));
+    // The law in arc length first; the geometric laws are then met in straight distances.
     std::vector<double>& distance = line.distance;
+    ChordLaw law;
     if (firstHeight == 0.0) {
+      law.heightFixed = false;
+      law.growth = options.growth;
+      law.height = length * (options.growth - 1.0) / std::expm1((points - 1) * std::log(options.growth));
       distance.resize(static_cast<size_t>(points));
-      for (size_t k = 0; k < distance.size(); ++k) distance[k] = height * unitSums[k];
+      for (size_t k = 0; k < distance.size(); ++k) distance[k] = law.height * unitSums[k];
       distance.back() = length;
     } else if (options.distribution == WallDistribution::Tanh) {
-      distance = tanhWallFractions(points, height / length);
+      distance = tanhWallFractions(points, firstHeight / length);
       for (double& x : distance) x *= length;
     } else {
-      const double growth = geometricGrowth(points, height, length);
-      if (growth > options.growth * (1.0 + 1e-12)) {
-        throw InvalidInputError(blockText(b) + ": a first cell height of " + std::to_string(height) + " over " +
+      law.height = firstHeight;
+      law.growth = geometricGrowth(points, firstHeight, length);
+      distance = geometricDistances(points, firstHeight, law.growth, length);
+    }
+    std::vector<double>& t = line.parameter;
+    line.arc.parametersAt(distance, plan.wallEnd, t);
+    t.front() = parameterAtEnd(blocks[b].volume, n, plan.wallEnd);
+    t.back() = parameterAtEnd(blocks[b].volume, n, 1 - plan.wallEnd);
+    std::vector<Eigen::Vector3d>& x = line.points;
+    x.resize(static_cast<size_t>(points));
+    x.front() = line.curve.point(t.front());
+    x.back() = line.curve.point(t.back());
+    if (firstHeight > 0.0 && options.distribution == WallDistribution::Tanh) {
+      // Only the first height is exact here; the rest follows the tanh law in arc length.
+      if (points > 2) t[1] = parameterAtDistance(line.curve, t.front(), plan.wallEnd == 0 ? 1 : -1, firstHeight, t[1]);
+      size_t piece = 0;
+      for (size_t k = 1; k + 1 < x.size(); ++k) x[k] = line.polynomial.pointAt(t[k], piece);
+    } else {
+      if (!line.placer.place(line.polynomial, law, t, x)) {
+        throw SolverError(blockText(b) + ": the wall-normal line at (" + std::to_string(base[0]) + ", " +
+                          std::to_string(base[1]) + ", " + std::to_string(base[2]) +
+                          ") takes no geometric law in point distances (does it fold back?)");
+      }
+      if (law.growth > options.growth * (1.0 + 1e-12)) {
+        throw InvalidInputError(blockText(b) + ": a first cell height of " + std::to_string(firstHeight) + " over " +
                                 std::to_string(length) + " with " + std::to_string(points) +
-                                " wall-normal points needs a growth ratio of " + std::to_string(growth) +
+                                " wall-normal points needs a growth ratio of " + std::to_string(law.growth) +
                                 ", above the maximum " + std::to_string(options.growth) + "; at least " +
-                                std::to_string(geometricPointsNeeded(height, options.growth, length)) +
+                                std::to_string(geometricPointsNeeded(firstHeight, options.growth, length)) +
                                 " points are needed (normal_points = 0 picks them)");
       }
-      distance = geometricDistances(points, height, growth, length);
     }
-    const int step = plan.wallEnd == 0 ? 1 : -1;
-    const double wallParameter = parameterAtEnd(blocks[b].volume, n, plan.wallEnd);
     std::array<int, 3> ijk = base;
-    Eigen::Vector3d previousPoint;
     double previousStep = 0.0;
     for (int k = 0; k < points; ++k) {
-      const double s = distance[static_cast<size_t>(k)];
-      double t = line.arc.parameterAt(plan.wallEnd == 0 ? s : length - s);
-      if (k == 0) t = wallParameter;
-      else if (k == 1) t = parameterAtDistance(line.curve, wallParameter, step, height, t);  // exact first height
-      else if (k == points - 1) t = parameterAtEnd(blocks[b].volume, n, 1 - plan.wallEnd);
       ijk[static_cast<size_t>(n)] = plan.wallEnd == 0 ? k : points - 1 - k;
-      const Eigen::Vector3d point = line.curve.point(t);
-      grid.points.row(grid.index(ijk[0], ijk[1], ijk[2])) = point.transpose();
+      grid.points.row(grid.index(ijk[0], ijk[1], ijk[2])) = x[static_cast<size_t>(k)].transpose();
       // Measured here, where the line's points are at hand (in the grid they lie far apart).
       if (k > 0) {
-        const double gap = (point - previousPoint).norm();
+        const double gap = (x[static_cast<size_t>(k)] - x[static_cast<size_t>(k - 1)]).norm();
         if (k == 1) {
           line.measured.firstHeightMin = std::min(line.measured.firstHeightMin, gap);
           line.measured.firstHeightMax = std::max(line.measured.firstHeightMax, gap);
@@ -480,7 +506,6 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
         }
         previousStep = gap;
       }
-      previousPoint = point;
     }
   });
 
