@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <type_traits>
 
 #include "core/common/errors.h"
 
@@ -229,22 +230,88 @@ void PolynomialCurve::assign(const RowMatrixX3d& poles, const SpanPolynomials& s
   const size_t order = static_cast<size_t>(spans.order_);
   coefficients_.resize(spans.pieceCount() * order * 3);
   const double* pole = poles.data();
-  for (size_t piece = 0; piece < spans.pieceCount(); ++piece) {
-    const double* first = pole + 3 * spans.firstPole_[piece];
-    const double* basis = &spans.basis_[piece * order * order];
-    double* out = &coefficients_[piece * order * 3];
-    for (size_t m = 0; m < order; ++m) {
-      double x = 0.0, y = 0.0, z = 0.0;
-      for (size_t r = 0; r < order; ++r) {
-        const double n = basis[m * order + r];
-        x += n * first[3 * r];
-        y += n * first[3 * r + 1];
-        z += n * first[3 * r + 2];
+  // Per piece, its order x order basis matrix times its order x 3 poles (the cubic case with the
+  // sizes known to the compiler).
+  auto convert = [&](auto fixedOrder) {
+    constexpr size_t fixed = decltype(fixedOrder)::value;
+    const size_t size = fixed > 0 ? fixed : order;
+    for (size_t piece = 0; piece < spans.pieceCount(); ++piece) {
+      const double* first = pole + 3 * spans.firstPole_[piece];
+      const double* basis = &spans.basis_[piece * size * size];
+      double* out = &coefficients_[piece * size * 3];
+      for (size_t m = 0; m < size; ++m) {
+        double x = 0.0, y = 0.0, z = 0.0;
+        for (size_t r = 0; r < size; ++r) {
+          const double n = basis[m * size + r];
+          x += n * first[3 * r];
+          y += n * first[3 * r + 1];
+          z += n * first[3 * r + 2];
+        }
+        out[3 * m] = x;
+        out[3 * m + 1] = y;
+        out[3 * m + 2] = z;
       }
-      out[3 * m] = x;
-      out[3 * m + 1] = y;
-      out[3 * m + 2] = z;
     }
+  };
+  if (order == 4) convert(std::integral_constant<size_t, 4>{});
+  else convert(std::integral_constant<size_t, 0>{});
+}
+
+namespace {
+
+// Horner on one piece's coefficients (order x 3, tau^0 first): the point and, unless null,
+// d/dtau. Order 0: the order given at run time; the blocks' cubic pieces get an unrolled copy.
+template <int Order>
+inline Eigen::Vector3d horner(const double* c, int order, double tau, Eigen::Vector3d* slope) {
+  if constexpr (Order > 0) order = Order;
+  auto row = [c](int m) { return Eigen::Vector3d(c[3 * m], c[3 * m + 1], c[3 * m + 2]); };
+  Eigen::Vector3d value = row(order - 1);
+  Eigen::Vector3d derivative = Eigen::Vector3d::Zero();
+  for (int m = order - 2; m >= 0; --m) {
+    if (slope != nullptr) derivative = derivative * tau + value;
+    value = value * tau + row(m);
+  }
+  if (slope != nullptr) *slope = derivative;
+  return value;
+}
+
+}  // namespace
+
+Eigen::Vector3d PolynomialCurve::point(size_t piece, double tau, Eigen::Vector3d* tangent) const {
+  const int order = spans_->order_;
+  const double* c = &coefficients_[piece * static_cast<size_t>(order) * 3];
+  const Eigen::Vector3d value = order == 4 ? horner<4>(c, order, tau, tangent) : horner<0>(c, order, tau, tangent);
+  if (tangent != nullptr) *tangent *= spans_->perWidth_[piece];
+  return value;
+}
+
+Eigen::Vector3d PolynomialCurve::tangent(size_t piece, double tau) const {
+  const int order = spans_->order_;
+  const double* c = &coefficients_[piece * static_cast<size_t>(order) * 3];
+  auto row = [c](int m) { return Eigen::Vector3d(c[3 * m], c[3 * m + 1], c[3 * m + 2]); };
+  Eigen::Vector3d slope = (order - 1) * row(order - 1);
+  for (int m = order - 2; m >= 1; --m) slope = slope * tau + m * row(m);
+  return slope * spans_->perWidth_[piece];
+}
+
+void PolynomialCurve::evaluate(const double* t, size_t count, Eigen::Vector3d* points, Eigen::Vector3d* tangents) const {
+  if (count == 0) return;
+  const int order = spans_->order_;
+  const size_t stride = static_cast<size_t>(order) * 3;
+  auto walk = [&](auto evaluatePiece) {
+    size_t piece = pieceOf(std::min(upper(), std::max(lower(), t[0])), 0);
+    for (size_t k = 0; k < count; ++k) {
+      const double x = std::min(upper(), std::max(lower(), t[k]));
+      piece = pieceOf(x, piece);
+      const double tau = (x - spans_->start_[piece]) * spans_->perWidth_[piece];
+      points[k] = evaluatePiece(&coefficients_[piece * stride], tau, tangents != nullptr ? &tangents[k] : nullptr);
+      if (tangents != nullptr) tangents[k] *= spans_->perWidth_[piece];
+    }
+  };
+  if (order == 4) {
+    walk([](const double* c, double tau, Eigen::Vector3d* slope) { return horner<4>(c, 4, tau, slope); });
+  } else {
+    walk([order](const double* c, double tau, Eigen::Vector3d* slope) { return horner<0>(c, order, tau, slope); });
   }
 }
 
@@ -263,14 +330,10 @@ void ArcLength::tabulate(const PolynomialCurve& curve, int intervalsPerSpan) {
   speed_.resize(pieces * perPiece + 1);
   for (size_t piece = 0; piece < pieces; ++piece) {
     for (size_t q = 0; q < perPiece; ++q) {
-      Eigen::Vector3d tangent;
-      curve.point(piece, static_cast<double>(q) / static_cast<double>(perPiece), &tangent);
-      speed_[piece * perPiece + q] = tangent.squaredNorm();
+      speed_[piece * perPiece + q] = curve.tangent(piece, static_cast<double>(q) / static_cast<double>(perPiece)).squaredNorm();
     }
   }
-  Eigen::Vector3d tangent;
-  curve.point(pieces - 1, 1.0, &tangent);
-  speed_.back() = tangent.squaredNorm();
+  speed_.back() = curve.tangent(pieces - 1, 1.0).squaredNorm();
   Eigen::Map<Eigen::ArrayXd> speed(speed_.data(), static_cast<Eigen::Index>(speed_.size()));
   speed = speed.sqrt();  // one packed pass
   parameter_.resize(ends);
@@ -349,30 +412,46 @@ bool ChordPlacer::place(const PolynomialCurve& curve, ChordLaw& law, std::vector
   double* const beta = beta_.data();
   double* const step = step_.data();
   Eigen::Vector3d* const tangent = tangents_.data();
+  // The worst relative residual |r_k| / d_k of the chords c_k = x_k - x_{k-1} against the law's
+  // distances d_k (r_k = |c_k| - d_k kept).
+  auto residuals = [&] {
+    double worst = 0.0, distance = law.height, perDistance = 1.0 / law.height;
+    const double perGrowth = 1.0 / law.growth;
+    for (size_t k = 1; k < n; ++k) {
+      residual[k] = (points[k] - points[k - 1]).norm() - distance;
+      worst = std::max(worst, std::abs(residual[k]) * perDistance);
+      distance *= law.growth;
+      perDistance *= perGrowth;
+    }
+    return worst;
+  };
   double previous = std::numeric_limits<double>::infinity();
   for (int iteration = 0; iteration < 40; ++iteration) {
-    size_t piece = direction > 0 ? 0 : curve.pieceCount() - 1;
-    for (size_t k = 1; k + 1 < n; ++k) {
-      points[k] = curve.pointAt(t[k], piece, &tangent[k]);
-      tangent[k] *= direction;
+    // Once Newton is close (quadratic from 1e-6 on), the next points are most likely the last:
+    // they are checked before their tangents are taken.
+    bool withTangents = !(previous <= 1e-6);
+    curve.evaluate(&t[1], n - 2, &points[1], withTangents ? &tangent[1] : nullptr);
+    const double worst = residuals();
+    // Done at 1e-11 (growth ratios then hold to 2e-11), or once Newton stops gaining (rounding
+    // of the points' coordinates, for first heights ~1e-10 of their distance from the origin).
+    if (worst <= 1e-11 || (worst <= 1e-9 && worst > 0.25 * previous)) return true;
+    previous = worst;
+    if (!withTangents) curve.evaluate(&t[1], n - 2, &points[1], &tangent[1]);
+    if (direction < 0.0) {
+      for (size_t k = 1; k + 1 < n; ++k) tangent[k] = -tangent[k];
     }
-    // Residuals r_k = |c_k| - d_k of the chords c_k = x_k - x_{k-1} and the law's distances d_k,
-    // their derivatives in the law's free parameter (d_k / h, or (k - 1) d_k / g), and Newton's
-    // step: the Jacobian is lower bidiagonal in t plus the law's column, so
-    // dt_k = alpha_k + beta_k dtheta forward (with a_k = c_k . x'_k / |c_k| and
-    // b_k = c_k . x'_{k-1} / |c_k|, the derivatives of |c_k| in t_k and -t_{k-1}), then the last
-    // chord (both its ends fixed) gives dtheta.
-    double worst = 0.0;
+    // Newton's step on the residuals: their derivatives in the law's free parameter are d_k / h,
+    // or (k - 1) d_k / g; in t the Jacobian is lower bidiagonal (a_k = c_k . x'_k / |c_k| and
+    // b_k = c_k . x'_{k-1} / |c_k|, the derivatives of |c_k| in t_k and -t_{k-1}), so
+    // dt_k = alpha_k + beta_k dtheta forward, then the last chord (both its ends fixed) gives
+    // dtheta.
     double distance = law.height;
     const double perHeight = 1.0 / law.height, perGrowth = 1.0 / law.growth;
-    double perDistance = perHeight;
     alpha[0] = beta[0] = 0.0;
     double lastB = 0.0;
     for (size_t k = 1; k < n; ++k) {
       const Eigen::Vector3d chord = points[k] - points[k - 1];
-      const double length = chord.norm();
-      residual[k] = length - distance;
-      worst = std::max(worst, std::abs(residual[k]) * perDistance);
+      const double length = residual[k] + distance;
       slope[k] = law.heightFixed ? static_cast<double>(k - 1) * distance * perGrowth : distance * perHeight;
       const double previousDot = k > 1 ? chord.dot(tangent[k - 1]) : 0.0;  // b_k |c_k|
       if (k + 1 < n) {
@@ -385,12 +464,7 @@ bool ChordPlacer::place(const PolynomialCurve& curve, ChordLaw& law, std::vector
         lastB = previousDot / length;
       }
       distance *= law.growth;
-      perDistance *= perGrowth;
     }
-    // Done at 1e-11 (growth ratios then hold to 2e-11), or once Newton stops gaining (rounding
-    // of the points' coordinates, for first heights ~1e-10 of their distance from the origin).
-    if (worst <= 1e-11 || (worst <= 1e-9 && worst > 0.25 * previous)) return true;
-    previous = worst;
     const double denominator = lastB * beta[n - 2] + slope[n - 1];
     if (!(denominator > 0.0)) return false;
     const double change = (residual[n - 1] - lastB * alpha[n - 2]) / denominator;

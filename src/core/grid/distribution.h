@@ -73,26 +73,19 @@ class PolynomialCurve {
     while (piece + 1 < start.size() && t >= start[piece + 1]) ++piece;
     return piece;
   }
-  // The point at tau in `piece` and, unless null, dC/dt there (Horner; inline, as wall-normal
-  // lines evaluate it a few hundred times each).
-  Eigen::Vector3d point(size_t piece, double tau, Eigen::Vector3d* tangent = nullptr) const {
-    const int order = spans_->order_;
-    const double* c = &coefficients_[piece * static_cast<size_t>(order) * 3];
-    Eigen::Vector3d value(c[3 * (order - 1)], c[3 * (order - 1) + 1], c[3 * (order - 1) + 2]);
-    Eigen::Vector3d slope = Eigen::Vector3d::Zero();
-    for (int m = order - 2; m >= 0; --m) {
-      if (tangent != nullptr) slope = slope * tau + value;
-      value = value * tau + Eigen::Vector3d(c[3 * m], c[3 * m + 1], c[3 * m + 2]);
-    }
-    if (tangent != nullptr) *tangent = slope * spans_->perWidth_[piece];
-    return value;
-  }
+  // The point at tau in `piece` and, unless null, dC/dt there (a Horner sum).
+  Eigen::Vector3d point(size_t piece, double tau, Eigen::Vector3d* tangent = nullptr) const;
+  // dC/dt alone at tau in `piece`.
+  Eigen::Vector3d tangent(size_t piece, double tau) const;
   // The point at t (clamped into the curve's range); `piece` is a hint and is updated.
   Eigen::Vector3d pointAt(double t, size_t& piece, Eigen::Vector3d* tangent = nullptr) const {
     const double x = std::min(upper(), std::max(lower(), t));
     piece = pieceOf(x, piece);
     return point(piece, (x - spans_->start_[piece]) * spans_->perWidth_[piece], tangent);
   }
+  // The points (and, unless `tangents` is null, dC/dt) at the `count` parameters t, which run
+  // along the curve (increasing or decreasing): one walk through the pieces, Horner inlined.
+  void evaluate(const double* t, size_t count, Eigen::Vector3d* points, Eigen::Vector3d* tangents) const;
 
  private:
   const SpanPolynomials* spans_ = nullptr;
