@@ -2,9 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
+#include <type_traits>
 
-#include "core/common/bspline_basis.h"
 #include "core/common/errors.h"
 
 namespace bvmesh::grid {
@@ -180,53 +181,174 @@ double flatPlateYPlus(double firstCellHeight, double reynoldsNumber, double refe
   return firstCellHeight / flatPlateFirstCellHeight(1.0, reynoldsNumber, referenceLength);
 }
 
-CurveSamples::CurveSamples(const std::vector<double>& knots, int degree, int intervalsPerSpan) : order_(degree + 1) {
-  for (size_t k = 0; k + 1 < knots.size(); ++k) {
-    const double a = knots[k], b = knots[k + 1];
+SpanPolynomials::SpanPolynomials(const std::vector<double>& knots, int degree) : order_(degree + 1) {
+  const size_t order = static_cast<size_t>(order_);
+  const int poleCount = static_cast<int>(knots.size()) - degree - 1;
+  upper_ = knots.back();
+  // Cox-de Boor on polynomials in tau: N_{i,k} = (t - t_i) / (t_{i+k} - t_i) N_{i,k-1}
+  // + (t_{i+k+1} - t) / (t_{i+k+1} - t_{i+1}) N_{i+1,k-1}, with t = t_s + width tau (each factor
+  // linear in tau), from N_{s,0} = 1. Exact to rounding, unlike a fit through sampled values.
+  std::vector<std::vector<double>> level(order), next(order);
+  for (int s = degree; s < poleCount; ++s) {
+    const double a = knots[static_cast<size_t>(s)], b = knots[static_cast<size_t>(s + 1)];
     if (!(b > a)) continue;
-    for (int m = 0; m < intervalsPerSpan; ++m) parameters_.push_back(a + (b - a) * m / intervalsPerSpan);
-  }
-  parameters_.push_back(knots.back());
-  ends_ = parameters_.size();
-  for (size_t m = 1; m < ends_; ++m) parameters_.push_back(0.5 * (parameters_[m - 1] + parameters_[m]));
-  first_.resize(parameters_.size());
-  values_.resize(parameters_.size() * static_cast<size_t>(order_));
-  derivatives_.resize(values_.size());
-  for (size_t m = 0; m < parameters_.size(); ++m) {
-    const int span = findKnotSpan(knots, degree, parameters_[m]);
-    first_[m] = span - degree;
-    basisFunctions(knots, degree, span, parameters_[m], &values_[m * static_cast<size_t>(order_)],
-                   &derivatives_[m * static_cast<size_t>(order_)]);
+    const double width = b - a;
+    for (auto& polynomial : level) polynomial.assign(order, 0.0);
+    level[static_cast<size_t>(degree)][0] = 1.0;  // slot r holds N_{s - degree + r}
+    for (int k = 1; k <= degree; ++k) {
+      for (auto& polynomial : next) polynomial.assign(order, 0.0);
+      for (int r = degree - k; r <= degree; ++r) {
+        const int i = s - degree + r;
+        auto addScaled = [&](const std::vector<double>& from, double constant, double slope) {
+          std::vector<double>& to = next[static_cast<size_t>(r)];
+          for (size_t m = 0; m < order; ++m) {
+            to[m] += constant * from[m];
+            if (m + 1 < order) to[m + 1] += slope * from[m];
+          }
+        };
+        const double left = knots[static_cast<size_t>(i + k)] - knots[static_cast<size_t>(i)];
+        if (left > 0.0) addScaled(level[static_cast<size_t>(r)], (a - knots[static_cast<size_t>(i)]) / left, width / left);
+        const double right = knots[static_cast<size_t>(i + k + 1)] - knots[static_cast<size_t>(i + 1)];
+        if (right > 0.0 && r < degree) {
+          addScaled(level[static_cast<size_t>(r + 1)], (knots[static_cast<size_t>(i + k + 1)] - a) / right, -width / right);
+        }
+      }
+      std::swap(level, next);
+    }
+    start_.push_back(a);
+    width_.push_back(width);
+    perWidth_.push_back(1.0 / width);
+    firstPole_.push_back(s - degree);
+    for (size_t m = 0; m < order; ++m) {
+      for (size_t r = 0; r < order; ++r) basis_.push_back(level[r][m]);
+    }
   }
 }
 
-ArcLength::ArcLength(const BsplineCurve& curve, int intervalsPerSpan)
-    : ArcLength(curve, CurveSamples(curve.knots, curve.degree, intervalsPerSpan)) {}
-
-void ArcLength::tabulate(const BsplineCurve& curve, const CurveSamples& samples) {
-  const size_t ends = samples.ends_;
-  const size_t order = static_cast<size_t>(samples.order_);
-  // Every wall-normal grid line tabulates its arc length: tight loops over raw rows, the square
-  // roots taken as one array (packed instructions).
-  speed_.resize(samples.parameters_.size());
-  const double* poles = curve.poles.data();
-  for (size_t m = 0; m < speed_.size(); ++m) {
-    const double* derivative = &samples.derivatives_[m * order];
-    const double* pole = poles + 3 * samples.first_[m];
-    double x = 0.0, y = 0.0, z = 0.0;
-    for (size_t r = 0; r < order; ++r, pole += 3) {
-      x += derivative[r] * pole[0];
-      y += derivative[r] * pole[1];
-      z += derivative[r] * pole[2];
+void PolynomialCurve::assign(const RowMatrixX3d& poles, const SpanPolynomials& spans) {
+  spans_ = &spans;
+  const size_t order = static_cast<size_t>(spans.order_);
+  coefficients_.resize(spans.pieceCount() * order * 3);
+  const double* pole = poles.data();
+  // Per piece, its order x order basis matrix times its order x 3 poles (the cubic case with the
+  // sizes known to the compiler).
+  auto convert = [&](auto fixedOrder) {
+    constexpr size_t fixed = decltype(fixedOrder)::value;
+    const size_t size = fixed > 0 ? fixed : order;
+    for (size_t piece = 0; piece < spans.pieceCount(); ++piece) {
+      const double* first = pole + 3 * spans.firstPole_[piece];
+      const double* basis = &spans.basis_[piece * size * size];
+      double* out = &coefficients_[piece * size * 3];
+      for (size_t m = 0; m < size; ++m) {
+        double x = 0.0, y = 0.0, z = 0.0;
+        for (size_t r = 0; r < size; ++r) {
+          const double n = basis[m * size + r];
+          x += n * first[3 * r];
+          y += n * first[3 * r + 1];
+          z += n * first[3 * r + 2];
+        }
+        out[3 * m] = x;
+        out[3 * m + 1] = y;
+        out[3 * m + 2] = z;
+      }
     }
-    speed_[m] = x * x + y * y + z * z;
+  };
+  if (order == 4) convert(std::integral_constant<size_t, 4>{});
+  else convert(std::integral_constant<size_t, 0>{});
+}
+
+namespace {
+
+// Horner on one piece's coefficients (order x 3, tau^0 first): the point and, unless null,
+// d/dtau. Order 0: the order given at run time; the blocks' cubic pieces get an unrolled copy.
+template <int Order>
+inline Eigen::Vector3d horner(const double* c, int order, double tau, Eigen::Vector3d* slope) {
+  if constexpr (Order > 0) order = Order;
+  auto row = [c](int m) { return Eigen::Vector3d(c[3 * m], c[3 * m + 1], c[3 * m + 2]); };
+  Eigen::Vector3d value = row(order - 1);
+  Eigen::Vector3d derivative = Eigen::Vector3d::Zero();
+  for (int m = order - 2; m >= 0; --m) {
+    if (slope != nullptr) derivative = derivative * tau + value;
+    value = value * tau + row(m);
   }
+  if (slope != nullptr) *slope = derivative;
+  return value;
+}
+
+}  // namespace
+
+Eigen::Vector3d PolynomialCurve::point(size_t piece, double tau, Eigen::Vector3d* tangent) const {
+  const int order = spans_->order_;
+  const double* c = &coefficients_[piece * static_cast<size_t>(order) * 3];
+  const Eigen::Vector3d value = order == 4 ? horner<4>(c, order, tau, tangent) : horner<0>(c, order, tau, tangent);
+  if (tangent != nullptr) *tangent *= spans_->perWidth_[piece];
+  return value;
+}
+
+Eigen::Vector3d PolynomialCurve::tangent(size_t piece, double tau) const {
+  const int order = spans_->order_;
+  const double* c = &coefficients_[piece * static_cast<size_t>(order) * 3];
+  auto row = [c](int m) { return Eigen::Vector3d(c[3 * m], c[3 * m + 1], c[3 * m + 2]); };
+  Eigen::Vector3d slope = (order - 1) * row(order - 1);
+  for (int m = order - 2; m >= 1; --m) slope = slope * tau + m * row(m);
+  return slope * spans_->perWidth_[piece];
+}
+
+void PolynomialCurve::evaluate(const double* t, size_t count, Eigen::Vector3d* points, Eigen::Vector3d* tangents) const {
+  if (count == 0) return;
+  const int order = spans_->order_;
+  const size_t stride = static_cast<size_t>(order) * 3;
+  auto walk = [&](auto evaluatePiece) {
+    size_t piece = pieceOf(std::min(upper(), std::max(lower(), t[0])), 0);
+    for (size_t k = 0; k < count; ++k) {
+      const double x = std::min(upper(), std::max(lower(), t[k]));
+      piece = pieceOf(x, piece);
+      const double tau = (x - spans_->start_[piece]) * spans_->perWidth_[piece];
+      points[k] = evaluatePiece(&coefficients_[piece * stride], tau, tangents != nullptr ? &tangents[k] : nullptr);
+      if (tangents != nullptr) tangents[k] *= spans_->perWidth_[piece];
+    }
+  };
+  if (order == 4) {
+    walk([](const double* c, double tau, Eigen::Vector3d* slope) { return horner<4>(c, 4, tau, slope); });
+  } else {
+    walk([order](const double* c, double tau, Eigen::Vector3d* slope) { return horner<0>(c, order, tau, slope); });
+  }
+}
+
+ArcLength::ArcLength(const BsplineCurve& curve, int intervalsPerSpan) {
+  const SpanPolynomials spans(curve.knots, curve.degree);
+  PolynomialCurve polynomial;
+  polynomial.assign(curve.poles, spans);
+  tabulate(polynomial, intervalsPerSpan);
+}
+
+void ArcLength::tabulate(const PolynomialCurve& curve, int intervalsPerSpan) {
+  // Simpson nodes: 2 per interval and the last end; speeds from dC/dtau by Horner.
+  const size_t pieces = curve.pieceCount();
+  const size_t perPiece = 2 * static_cast<size_t>(intervalsPerSpan);
+  const size_t ends = pieces * static_cast<size_t>(intervalsPerSpan) + 1;
+  speed_.resize(pieces * perPiece + 1);
+  for (size_t piece = 0; piece < pieces; ++piece) {
+    for (size_t q = 0; q < perPiece; ++q) {
+      speed_[piece * perPiece + q] = curve.tangent(piece, static_cast<double>(q) / static_cast<double>(perPiece)).squaredNorm();
+    }
+  }
+  speed_.back() = curve.tangent(pieces - 1, 1.0).squaredNorm();
   Eigen::Map<Eigen::ArrayXd> speed(speed_.data(), static_cast<Eigen::Index>(speed_.size()));
-  speed = speed.sqrt();
-  parameter_.assign(samples.parameters_.begin(), samples.parameters_.begin() + static_cast<std::ptrdiff_t>(ends));
-  arc_.assign(ends, 0.0);
+  speed = speed.sqrt();  // one packed pass
+  parameter_.resize(ends);
+  arc_.resize(ends);
+  for (size_t piece = 0; piece < pieces; ++piece) {
+    for (int m = 0; m < intervalsPerSpan; ++m) {
+      parameter_[piece * static_cast<size_t>(intervalsPerSpan) + static_cast<size_t>(m)] =
+          curve.pieceStart(piece) + curve.pieceWidth(piece) * m / intervalsPerSpan;
+    }
+  }
+  parameter_.back() = curve.upper();
+  arc_[0] = 0.0;
   for (size_t m = 1; m < ends; ++m) {
-    arc_[m] = arc_[m - 1] + (parameter_[m] - parameter_[m - 1]) / 6.0 * (speed_[m - 1] + 4.0 * speed_[ends + m - 1] + speed_[m]);
+    const double* node = &speed_[2 * (m - 1)];
+    arc_[m] = arc_[m - 1] + (parameter_[m] - parameter_[m - 1]) / 6.0 * (node[0] + 4.0 * node[1] + node[2]);
   }
   // Where the curve stops (zero speed), dt/ds is unbounded: fall back to the chord's slope.
   const double meanSpeed = arc_.back() / (parameter_.back() - parameter_.front());
@@ -236,14 +358,12 @@ void ArcLength::tabulate(const BsplineCurve& curve, const CurveSamples& samples)
     const size_t b = m + 1 == ends ? m : m + 1;
     const double chord = arc_[b] - arc_[a];
     const double fallback = chord > 0.0 ? (parameter_[b] - parameter_[a]) / chord : 0.0;
-    slope_[m] = speed_[m] > 1e-9 * meanSpeed ? 1.0 / speed_[m] : fallback;
+    const double nodeSpeed = speed_[2 * m];
+    slope_[m] = nodeSpeed > 1e-9 * meanSpeed ? 1.0 / nodeSpeed : fallback;
   }
 }
 
-double ArcLength::parameterAt(double s) const {
-  if (s <= 0.0) return parameter_.front();
-  if (s >= arc_.back()) return parameter_.back();
-  const size_t m = static_cast<size_t>(std::upper_bound(arc_.begin(), arc_.end(), s) - arc_.begin()) - 1;
+double ArcLength::interpolate(size_t m, double s) const {
   const double h = arc_[m + 1] - arc_[m];
   if (!(h > 0.0)) return parameter_[m];
   const double tau = (s - arc_[m]) / h;
@@ -251,6 +371,122 @@ double ArcLength::parameterAt(double s) const {
   const double t = (2 * tau3 - 3 * tau2 + 1) * parameter_[m] + (tau3 - 2 * tau2 + tau) * h * slope_[m] +
                    (-2 * tau3 + 3 * tau2) * parameter_[m + 1] + (tau3 - tau2) * h * slope_[m + 1];
   return std::min(parameter_[m + 1], std::max(parameter_[m], t));
+}
+
+double ArcLength::parameterAt(double s) const {
+  if (s <= 0.0) return parameter_.front();
+  if (s >= arc_.back()) return parameter_.back();
+  return interpolate(static_cast<size_t>(std::upper_bound(arc_.begin(), arc_.end(), s) - arc_.begin()) - 1, s);
+}
+
+void ArcLength::parametersAt(const std::vector<double>& s, int end, std::vector<double>& t) const {
+  t.resize(s.size());
+  const double length = arc_.back();
+  size_t m = end == 0 ? 0 : arc_.size() - 2;
+  for (size_t k = 0; k < s.size(); ++k) {
+    const double along = end == 0 ? s[k] : length - s[k];
+    if (along <= 0.0) {
+      t[k] = parameter_.front();
+    } else if (along >= length) {
+      t[k] = parameter_.back();
+    } else {
+      while (m + 2 < arc_.size() && along >= arc_[m + 1]) ++m;
+      while (m > 0 && along < arc_[m]) --m;
+      t[k] = interpolate(m, along);
+    }
+  }
+}
+
+bool ChordPlacer::place(const PolynomialCurve& curve, ChordLaw& law, std::vector<double>& t,
+                        std::vector<Eigen::Vector3d>& points) {
+  const size_t n = t.size();
+  if (n < 3) return true;
+  // Along the line t increases (direction 1) or decreases (-1): tangents are taken in the
+  // line's own sense, so every derivative below is positive on a line that does not fold.
+  const double direction = t[n - 1] > t[0] ? 1.0 : -1.0;
+  tangents_.resize(n);
+  for (auto* v : {&residual_, &slope_, &alpha_, &beta_, &step_}) v->resize(n);
+  double* const residual = residual_.data();
+  double* const slope = slope_.data();
+  double* const alpha = alpha_.data();
+  double* const beta = beta_.data();
+  double* const step = step_.data();
+  Eigen::Vector3d* const tangent = tangents_.data();
+  // The worst relative residual |r_k| / d_k of the chords c_k = x_k - x_{k-1} against the law's
+  // distances d_k (r_k = |c_k| - d_k kept).
+  auto residuals = [&] {
+    double worst = 0.0, distance = law.height, perDistance = 1.0 / law.height;
+    const double perGrowth = 1.0 / law.growth;
+    for (size_t k = 1; k < n; ++k) {
+      residual[k] = (points[k] - points[k - 1]).norm() - distance;
+      worst = std::max(worst, std::abs(residual[k]) * perDistance);
+      distance *= law.growth;
+      perDistance *= perGrowth;
+    }
+    return worst;
+  };
+  double previous = std::numeric_limits<double>::infinity();
+  for (int iteration = 0; iteration < 40; ++iteration) {
+    // Once Newton is close (quadratic from 1e-6 on), the next points are most likely the last:
+    // they are checked before their tangents are taken.
+    bool withTangents = !(previous <= 1e-6);
+    curve.evaluate(&t[1], n - 2, &points[1], withTangents ? &tangent[1] : nullptr);
+    const double worst = residuals();
+    // Done at 1e-11 (growth ratios then hold to 2e-11), or once Newton stops gaining (rounding
+    // of the points' coordinates, for first heights ~1e-10 of their distance from the origin).
+    if (worst <= 1e-11 || (worst <= 1e-9 && worst > 0.25 * previous)) return true;
+    previous = worst;
+    if (!withTangents) curve.evaluate(&t[1], n - 2, &points[1], &tangent[1]);
+    if (direction < 0.0) {
+      for (size_t k = 1; k + 1 < n; ++k) tangent[k] = -tangent[k];
+    }
+    // Newton's step on the residuals: their derivatives in the law's free parameter are d_k / h,
+    // or (k - 1) d_k / g; in t the Jacobian is lower bidiagonal (a_k = c_k . x'_k / |c_k| and
+    // b_k = c_k . x'_{k-1} / |c_k|, the derivatives of |c_k| in t_k and -t_{k-1}), so
+    // dt_k = alpha_k + beta_k dtheta forward, then the last chord (both its ends fixed) gives
+    // dtheta.
+    double distance = law.height;
+    const double perHeight = 1.0 / law.height, perGrowth = 1.0 / law.growth;
+    alpha[0] = beta[0] = 0.0;
+    double lastB = 0.0;
+    for (size_t k = 1; k < n; ++k) {
+      const Eigen::Vector3d chord = points[k] - points[k - 1];
+      const double length = residual[k] + distance;
+      slope[k] = law.heightFixed ? static_cast<double>(k - 1) * distance * perGrowth : distance * perHeight;
+      const double previousDot = k > 1 ? chord.dot(tangent[k - 1]) : 0.0;  // b_k |c_k|
+      if (k + 1 < n) {
+        const double dot = chord.dot(tangent[k]);  // a_k |c_k|
+        if (!(dot > 0.0)) return false;
+        const double perDot = 1.0 / dot;
+        alpha[k] = (previousDot * alpha[k - 1] - residual[k] * length) * perDot;
+        beta[k] = (previousDot * beta[k - 1] + slope[k] * length) * perDot;
+      } else {
+        lastB = previousDot / length;
+      }
+      distance *= law.growth;
+    }
+    const double denominator = lastB * beta[n - 2] + slope[n - 1];
+    if (!(denominator > 0.0)) return false;
+    const double change = (residual[n - 1] - lastB * alpha[n - 2]) / denominator;
+    // Damped so that the points stay in order and the law's parameter positive.
+    double fraction = 1.0;
+    for (int halving = 0;; ++halving) {
+      if (halving == 30) return false;
+      const double theta = (law.heightFixed ? law.growth : law.height) + fraction * change;
+      bool ordered = theta > 0.0;
+      for (size_t k = 1; ordered && k + 1 < n; ++k) {
+        step[k] = t[k] + direction * fraction * (alpha[k] + beta[k] * change);
+        ordered = direction * (step[k] - (k == 1 ? t[0] : step[k - 1])) > 0.0 && direction * (t[n - 1] - step[k]) > 0.0;
+      }
+      if (ordered) {
+        (law.heightFixed ? law.growth : law.height) = theta;
+        for (size_t k = 1; k + 1 < n; ++k) t[k] = step[k];
+        break;
+      }
+      fraction *= 0.5;
+    }
+  }
+  return false;
 }
 
 double parameterAtDistance(const BsplineCurve& curve, double t0, int direction, double distance, double guess) {

@@ -3,6 +3,7 @@
 // the first cell height for a y+ target, and the inversion of a curve's arc length.
 #pragma once
 
+#include <algorithm>
 #include <vector>
 
 #include "core/common/bspline_curve.h"
@@ -33,42 +34,111 @@ double flatPlateFirstCellHeight(double yPlus, double reynoldsNumber, double refe
 // The y+ of a first cell height under the same estimate (its inverse).
 double flatPlateYPlus(double firstCellHeight, double reynoldsNumber, double referenceLength);
 
-// Sample parameters of curves on one knot vector (`intervalsPerSpan` equal intervals in each
-// knot span, and their midpoints), with the basis functions there computed once: every
-// wall-normal line of a block shares them, so tabulating a line's arc length costs a few pole
-// sums per sample.
-class CurveSamples {
+// The pieces of the B-spline basis on one knot vector: per non-empty knot span, the polynomial
+// of each basis function that is non-zero there, in the span's own parameter
+// tau = (t - t_s) / (t_{s+1} - t_s) in [0, 1]. Computed once per block direction, they turn the
+// poles of any curve on that knot vector into polynomial pieces (PolynomialCurve).
+class SpanPolynomials {
  public:
-  CurveSamples(const std::vector<double>& knots, int degree, int intervalsPerSpan);
-  size_t count() const { return parameters_.size(); }  // interval ends, then the midpoints
+  SpanPolynomials(const std::vector<double>& knots, int degree);
+  size_t pieceCount() const { return start_.size(); }
 
  private:
-  friend class ArcLength;
+  friend class PolynomialCurve;
   int order_;
-  size_t ends_ = 0;  // parameters_[0 .. ends_) are interval ends, the rest midpoints
-  std::vector<double> parameters_;
-  std::vector<int> first_;                    // first pole of each sample's basis
-  std::vector<double> values_, derivatives_;  // order_ per sample
+  std::vector<double> start_, width_, perWidth_;  // per piece: t_s, t_{s+1} - t_s, its inverse
+  std::vector<int> firstPole_;         // per piece: s - degree
+  std::vector<double> basis_;          // per piece order x order: [m][r] the tau^m coefficient of basis r
+  double upper_ = 0.0;                 // the last knot
 };
 
-// A curve's arc length s(t) tabulated by Simpson's rule on the samples' intervals (polynomial
-// pieces, so it keeps its order; dense knots near a wall get dense samples) and inverted by cubic
-// Hermite interpolation of t(s) (dt/ds = 1 / |C'(t)|).
+// A curve as polynomial pieces: a point and its tangent at any parameter cost one Horner sum
+// instead of basis functions, so a wall-normal line can be evaluated a few times over while its
+// points are placed (and its arc length tabulated) at little cost.
+class PolynomialCurve {
+ public:
+  // The curve with these poles on `spans`' knot vector; the storage of the last call is reused
+  // (one PolynomialCurve serves a thread's wall-normal lines). `spans` must outlive the curve.
+  void assign(const RowMatrixX3d& poles, const SpanPolynomials& spans);
+  size_t pieceCount() const { return spans_->pieceCount(); }
+  double lower() const { return spans_->start_.front(); }
+  double upper() const { return spans_->upper_; }
+  double pieceStart(size_t piece) const { return spans_->start_[piece]; }
+  double pieceWidth(size_t piece) const { return spans_->width_[piece]; }
+  // The piece that holds t, starting the search from `hint` (increasing parameters walk forward).
+  size_t pieceOf(double t, size_t hint) const {
+    const std::vector<double>& start = spans_->start_;
+    size_t piece = std::min(hint, start.size() - 1);
+    while (piece > 0 && t < start[piece]) --piece;
+    while (piece + 1 < start.size() && t >= start[piece + 1]) ++piece;
+    return piece;
+  }
+  // The point at tau in `piece` and, unless null, dC/dt there (a Horner sum).
+  Eigen::Vector3d point(size_t piece, double tau, Eigen::Vector3d* tangent = nullptr) const;
+  // dC/dt alone at tau in `piece`.
+  Eigen::Vector3d tangent(size_t piece, double tau) const;
+  // The point at t (clamped into the curve's range); `piece` is a hint and is updated.
+  Eigen::Vector3d pointAt(double t, size_t& piece, Eigen::Vector3d* tangent = nullptr) const {
+    const double x = std::min(upper(), std::max(lower(), t));
+    piece = pieceOf(x, piece);
+    return point(piece, (x - spans_->start_[piece]) * spans_->perWidth_[piece], tangent);
+  }
+  // The points (and, unless `tangents` is null, dC/dt) at the `count` parameters t, which run
+  // along the curve (increasing or decreasing): one walk through the pieces, Horner inlined.
+  void evaluate(const double* t, size_t count, Eigen::Vector3d* points, Eigen::Vector3d* tangents) const;
+
+ private:
+  const SpanPolynomials* spans_ = nullptr;
+  std::vector<double> coefficients_;  // per piece order x 3: the tau^m coefficient of x, y, z
+};
+
+// A curve's arc length s(t) tabulated by Simpson's rule on `intervalsPerSpan` intervals of each
+// knot span (polynomial pieces, so it keeps its order; dense knots near a wall get dense
+// samples) and inverted by cubic Hermite interpolation of t(s) (dt/ds = 1 / |C'(t)|).
 class ArcLength {
  public:
   ArcLength() = default;  // no table until tabulate()
-  ArcLength(const BsplineCurve& curve, const CurveSamples& samples) { tabulate(curve, samples); }
   ArcLength(const BsplineCurve& curve, int intervalsPerSpan);
   // Tabulates `curve` afresh in the storage of the last table (one ArcLength serves a thread's
   // wall-normal lines one after the other without allocating).
-  void tabulate(const BsplineCurve& curve, const CurveSamples& samples);
+  void tabulate(const PolynomialCurve& curve, int intervalsPerSpan);
   double length() const { return arc_.back(); }
   // The parameter at arc length s (0 <= s <= length()) from the curve's start.
   double parameterAt(double s) const;
+  // The parameters at the increasing arc lengths s, from the curve's end `end` (0: its start,
+  // 1: its end, s measured backwards), into t in the same order (one walk through the table).
+  void parametersAt(const std::vector<double>& s, int end, std::vector<double>& t) const;
 
  private:
+  double interpolate(size_t m, double s) const;  // Hermite on [arc_[m], arc_[m + 1]]
   std::vector<double> parameter_, arc_, slope_;  // t_m, s(t_m), dt/ds at t_m
-  std::vector<double> speed_;                    // |C'| at the samples (kept for its storage)
+  std::vector<double> speed_;                    // |C'| at every Simpson node (kept for its storage)
+};
+
+// A geometric law in straight distances between consecutive points of a line:
+// |x_k - x_{k-1}| = height growth^(k-1), k = 1 .. n - 1. With `heightFixed` the growth is what
+// the line's ends leave free, else the height is.
+struct ChordLaw {
+  double height = 0.0;
+  double growth = 1.0;
+  bool heightFixed = true;
+};
+
+// Places points on a curve so that their straight distances follow a ChordLaw (the law in arc
+// length lets the measured ratio of consecutive spacings exceed the growth asked where a line
+// bends). One placer serves a thread's lines one after the other, reusing its storage.
+class ChordPlacer {
+ public:
+  // n = t.size() points: t[0] and t[n - 1] (the line's ends, points[0] and points[n - 1] given)
+  // stay, t[1 .. n - 2] start in order between them (the law placed in arc length) and move by
+  // Newton's method on all of them and the law's free parameter at once, until every distance
+  // is the law's to 1e-11 relative or to rounding; they fill points[1 .. n - 2]. Returns false
+  // if Newton fails (a line that folds back on itself).
+  bool place(const PolynomialCurve& curve, ChordLaw& law, std::vector<double>& t, std::vector<Eigen::Vector3d>& points);
+
+ private:
+  std::vector<Eigen::Vector3d> tangents_;
+  std::vector<double> residual_, slope_, alpha_, beta_, step_;
 };
 
 // The parameter t (from t0 towards the curve's other end, in `direction` +1 or -1) whose point is

@@ -1,7 +1,9 @@
 #include "core/grid/refinement.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
+#include <future>
 #include <limits>
 #include <mutex>
 #include <numeric>
@@ -19,9 +21,11 @@ using volume::BlockMesh;
 using volume::BoundaryCondition;
 using volume::BsplineVolume;
 
-// Arc-length tables sample each knot span this often (Simpson + Hermite on polynomial pieces:
-// growth ratios come out as asked to about 1e-6).
+// Arc-length tables sample each knot span this often (Simpson + Hermite on polynomial pieces).
+// Block edges: their tangential distributions follow arc length to about 1e-6. Wall-normal
+// lines: only the start of Newton's placement by straight distances, which corrects them.
 constexpr int kIntervalsPerSpan = 4;
+constexpr int kLineIntervalsPerSpan = 1;
 
 // The other two directions of `direction`, in increasing order.
 std::array<int, 2> otherDirections(int direction) {
@@ -156,14 +160,39 @@ struct LineMeasures {
   }
 };
 
+// A wall-normal line placed by chords: where its points are, for its neighbour's start.
+struct PlacedLine {
+  size_t block = std::numeric_limits<size_t>::max();
+  std::array<int, 3> ijk{0, 0, 0};
+  ChordLaw law;
+  std::vector<double> parameter;
+};
+
 // One wall-normal line at a time: a thread reuses its storage from column to column.
 struct WallLine {
   size_t block = std::numeric_limits<size_t>::max();  // whose knots `curve` has
-  BsplineCurve curve;
+  BsplineCurve curve;          // for its exact ends and Newton on the first height
+  PolynomialCurve polynomial;  // the same curve in pieces, for everything else
   ArcLength arc;
-  std::vector<double> distance;
+  std::vector<double> distance, parameter;
+  std::vector<Eigen::Vector3d> points;
+  ChordPlacer placer;
+  // The last three lines placed in this chunk of columns, newest first: the next line along the
+  // same row of columns starts from their parameters extrapolated, which needs no arc-length
+  // table and is closer than the law in arc length (Newton mostly takes one step instead of two).
+  std::array<PlacedLine, 3> history;
   LineMeasures measured;  // over the thread's lines so far
 };
+
+// Whether `next` is the column after `line`'s in the same block along `along`, the other index
+// the same.
+bool nextInRow(const PlacedLine& line, size_t block, const std::array<int, 3>& next, int along) {
+  if (line.block != block) return false;
+  for (size_t d = 0; d < 3; ++d) {
+    if (next[d] != line.ijk[d] + (static_cast<int>(d) == along ? 1 : 0)) return false;
+  }
+  return true;
+}
 
 }  // namespace
 
@@ -258,9 +287,15 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
     std::vector<int> count(3 * blockCount, 0);
     for (size_t node = 0; node < count.size(); ++node) {
       const auto root = static_cast<size_t>(sets.find(static_cast<int>(node)).first);
-      if (wallParity[root] >= 0) count[node] = normalPoints;
-      else if (spacing > 0.0) count[node] = std::max(2, static_cast<int>(std::ceil(longestEdge[root] / spacing)) + 1);
-      else count[node] = options.edgePoints;
+      if (wallParity[root] >= 0) {
+        count[node] = normalPoints;
+      } else if (spacing > 0.0) {
+        // An edge a whole number of spacings long (to the rounding of its arc length) takes no extra point.
+        const double spacings = std::ceil(longestEdge[root] / spacing * (1.0 - 1e-12));
+        count[node] = std::max(2, static_cast<int>(spacings) + 1);
+      } else {
+        count[node] = options.edgePoints;
+      }
     }
     return count;
   };
@@ -331,7 +366,7 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
   // Automatic: the edges' estimate served the cell target; the lines themselves decide.
   const bool automaticNormal = options.normalPoints == 0;
   if (automaticNormal) normalPoints = 2;
-  std::vector<std::optional<CurveSamples>> columnSamples(blockCount);
+  std::vector<std::optional<SpanPolynomials>> columnSpans(blockCount);
   // The columns of every wall block numbered one block after the other, so that one pool of
   // threads shares them all (blocks differ in size by orders of magnitude).
   std::vector<std::int64_t> columnOffset{0};
@@ -339,12 +374,20 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
     const int n = plans[b].normalDirection;
     std::int64_t columns = 0;
     if (n >= 0) {
-      columnSamples[b].emplace(blocks[b].volume.knots(n), blocks[b].volume.degree(n), kIntervalsPerSpan);
+      columnSpans[b].emplace(blocks[b].volume.knots(n), blocks[b].volume.degree(n));
       const auto [t1, t2] = otherDirections(n);
       columns = static_cast<std::int64_t>(plans[b].size[static_cast<size_t>(t1)]) * plans[b].size[static_cast<size_t>(t2)];
     }
     columnOffset.push_back(columnOffset.back() + columns);
   }
+  // A line's arc length, which must not be zero.
+  auto tabulateLine = [&](size_t b, const std::array<int, 3>& ijk, WallLine& line) {
+    line.arc.tabulate(line.polynomial, kLineIntervalsPerSpan);
+    if (!(line.arc.length() > 0.0)) {
+      throw InvalidInputError(blockText(b) + " has a wall-normal line of zero length at (" + std::to_string(ijk[0]) +
+                              ", " + std::to_string(ijk[1]) + ", " + std::to_string(ijk[2]) + ")");
+    }
+  };
   // Calls work(b, ijk) for the columns [begin, end) (ijk with index 0 along the normal).
   auto forColumns = [&](std::int64_t begin, std::int64_t end, auto&& work) {
     size_t b = static_cast<size_t>(std::upper_bound(columnOffset.begin(), columnOffset.end(), begin) - columnOffset.begin()) - 1;
@@ -359,12 +402,13 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
       work(b, ijk);
     }
   };
-  // Calls work(b, ijk, line) for every column, `line` holding its wall-normal line and arc
-  // length; returns what the work measured into the lines.
+  // Calls work(b, ijk, line) for every column, `line` holding its wall-normal line; returns what
+  // the work measured into the lines. Chunks of columns are fixed whatever the threads, and each
+  // starts afresh, so the lines come out the same bit for bit.
   auto forEveryColumn = [&](auto&& work) {
     LineMeasures measured;
     std::mutex guard;
-    parallelChunks(columnOffset.back(), 64, [&](std::int64_t begin, std::int64_t end) {
+    parallelChunks(columnOffset.back(), 256, [&](std::int64_t begin, std::int64_t end) {
       WallLine line;
       forColumns(begin, end, [&](size_t b, const std::array<int, 3>& ijk) {
         const BlockPlan& plan = plans[b];
@@ -377,11 +421,7 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
           line.curve.knots = volume.knots(n);
         }
         volume.isoCurvePoles(n, pointParameter(plan, t1, ijk), pointParameter(plan, t2, ijk), line.curve.poles);
-        line.arc.tabulate(line.curve, *columnSamples[b]);
-        if (!(line.arc.length() > 0.0)) {
-          throw InvalidInputError(blockText(b) + " has a wall-normal line of zero length at (" + std::to_string(ijk[0]) +
-                                  ", " + std::to_string(ijk[1]) + ", " + std::to_string(ijk[2]) + ")");
-        }
+        line.polynomial.assign(line.curve.poles, *columnSpans[b]);
         work(b, ijk, line);
       });
       const std::lock_guard<std::mutex> lock(guard);
@@ -392,7 +432,8 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
   if (automaticNormal) {
     // The fewest points that keep every line's growth within the maximum.
     std::mutex guard;
-    forEveryColumn([&](size_t, const std::array<int, 3>&, const WallLine& line) {
+    forEveryColumn([&](size_t b, const std::array<int, 3>& ijk, WallLine& line) {
+      tabulateLine(b, ijk, line);
       const int needed = geometricPointsNeeded(firstHeight, options.growth, line.arc.length());
       const std::lock_guard<std::mutex> lock(guard);
       normalPoints = std::max(normalPoints, needed);
@@ -406,6 +447,18 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
     grid.faces = blocks[b].faces;
     grid.points.resize(grid.pointCount(), 3);
   }
+  // Which points are shared follows from the sizes alone: found on a thread of its own while the
+  // points are computed.
+  std::vector<std::array<volume::BlockFace, 6>> faces;
+  std::vector<std::array<int, 3>> sizes;
+  std::vector<Eigen::Index> offset{0};
+  for (const GridBlock& grid : gridBlocks) {
+    faces.push_back(grid.faces);
+    sizes.push_back(grid.size);
+    offset.push_back(offset.back() + grid.pointCount());
+  }
+  std::future<std::vector<Eigen::Index>> sharedRoots =
+      std::async(std::launch::async, [&faces, &sizes] { return volume::sharedGridRoots(faces, sizes); });
   for (size_t b = 0; b < blockCount; ++b) {
     const BlockPlan& plan = plans[b];
     if (plan.normalDirection >= 0) continue;
@@ -427,51 +480,118 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
   // sums 1 + g + ... + g^(k-1) serve them all.
   const std::vector<double> unitSums =
       firstHeight > 0.0 ? std::vector<double>{} : geometricDistances(points, 1.0, options.growth, 1.0);
+  const bool byChords = firstHeight == 0.0 || options.distribution == WallDistribution::Geometric;
   const LineMeasures measured = forEveryColumn([&](size_t b, const std::array<int, 3>& base, WallLine& line) {
     const BlockPlan& plan = plans[b];
     GridBlock& grid = gridBlocks[b];
     const int n = plan.normalDirection;
-    const double length = line.arc.length();
-    const double height = firstHeight > 0.0 ? firstHeight
-                                            : length * (options.growth - 1.0) /
-                                                  std::expm1((points - 1) * std::log(options.growth));
-    std::vector<double>& distance = line.distance;
-    if (firstHeight == 0.0) {
-      distance.resize(static_cast<size_t>(points));
-      for (size_t k = 0; k < distance.size(); ++k) distance[k] = height * unitSums[k];
-      distance.back() = length;
-    } else if (options.distribution == WallDistribution::Tanh) {
-      distance = tanhWallFractions(points, height / length);
-      for (double& x : distance) x *= length;
+    std::vector<double>& t = line.parameter;
+    std::vector<Eigen::Vector3d>& x = line.points;
+    x.resize(static_cast<size_t>(points));
+    x.front() = line.curve.point(parameterAtEnd(blocks[b].volume, n, plan.wallEnd));
+    x.back() = line.curve.point(parameterAtEnd(blocks[b].volume, n, 1 - plan.wallEnd));
+    // The law laid out in arc length: the start for lines placed by chords, the tanh law itself.
+    ChordLaw law;
+    auto inArcLength = [&] {
+      tabulateLine(b, base, line);
+      const double length = line.arc.length();
+      std::vector<double>& distance = line.distance;
+      if (firstHeight == 0.0) {
+        law.heightFixed = false;
+        law.growth = options.growth;
+        law.height = length * (options.growth - 1.0) / std::expm1((points - 1) * std::log(options.growth));
+        distance.resize(static_cast<size_t>(points));
+        for (size_t k = 0; k < distance.size(); ++k) distance[k] = law.height * unitSums[k];
+        distance.back() = length;
+      } else if (options.distribution == WallDistribution::Tanh) {
+        distance = tanhWallFractions(points, firstHeight / length);
+        for (double& d : distance) d *= length;
+      } else {
+        law.height = firstHeight;
+        law.growth = geometricGrowth(points, firstHeight, length);
+        distance = geometricDistances(points, firstHeight, law.growth, length);
+      }
+      line.arc.parametersAt(distance, plan.wallEnd, t);
+      t.front() = parameterAtEnd(blocks[b].volume, n, plan.wallEnd);
+      t.back() = parameterAtEnd(blocks[b].volume, n, 1 - plan.wallEnd);
+    };
+    if (!byChords) {
+      inArcLength();
+      // Only the first height is exact here; the rest follows the tanh law in arc length.
+      if (points > 2) t[1] = parameterAtDistance(line.curve, t.front(), plan.wallEnd == 0 ? 1 : -1, firstHeight, t[1]);
+      if (points > 2) line.polynomial.evaluate(&t[1], t.size() - 2, &x[1], nullptr);
     } else {
-      const double growth = geometricGrowth(points, height, length);
-      if (growth > options.growth * (1.0 + 1e-12)) {
-        throw InvalidInputError(blockText(b) + ": a first cell height of " + std::to_string(height) + " over " +
+      const int along = otherDirections(n)[0];
+      // How many of the last lines lead up to this one along its row (0 .. 3), and the start
+      // extrapolated from them (polynomial in the column index), kept if it leaves the points in
+      // order and the law's free parameter positive.
+      size_t known = 0;
+      while (known < line.history.size() &&
+             nextInRow(line.history[known], b, known == 0 ? base : line.history[known - 1].ijk, along)) {
+        ++known;
+      }
+      bool placed = false;
+      if (known > 0) {
+        static constexpr double kWeights[3][3] = {{1.0, 0.0, 0.0}, {2.0, -1.0, 0.0}, {3.0, -3.0, 1.0}};
+        const double* weight = kWeights[known - 1];
+        auto extrapolate = [&](auto value) {
+          double sum = 0.0;
+          for (size_t h = 0; h < known; ++h) sum += weight[h] * value(line.history[h]);
+          return sum;
+        };
+        t.resize(line.history[0].parameter.size());
+        const double direction = line.history[0].parameter.back() > line.history[0].parameter.front() ? 1.0 : -1.0;
+        bool ordered = true;
+        for (size_t k = 0; k < t.size(); ++k) {
+          t[k] = extrapolate([k](const PlacedLine& placedLine) { return placedLine.parameter[k]; });
+          ordered = ordered && (k == 0 || direction * (t[k] - t[k - 1]) > 0.0);
+        }
+        t.front() = line.history[0].parameter.front();
+        t.back() = line.history[0].parameter.back();
+        ordered = ordered && direction * (t.back() - t[t.size() - 2]) > 0.0 && direction * (t[1] - t[0]) > 0.0;
+        law = line.history[0].law;
+        double& free = law.heightFixed ? law.growth : law.height;
+        free = extrapolate([&law](const PlacedLine& placedLine) {
+          return law.heightFixed ? placedLine.law.growth : placedLine.law.height;
+        });
+        if (!ordered || !(free > 0.0)) {
+          t = line.history[0].parameter;
+          law = line.history[0].law;
+        }
+        placed = line.placer.place(line.polynomial, law, t, x);
+      }
+      if (!placed) {
+        inArcLength();
+        if (!line.placer.place(line.polynomial, law, t, x)) {
+          throw SolverError(blockText(b) + ": the wall-normal line at (" + std::to_string(base[0]) + ", " +
+                            std::to_string(base[1]) + ", " + std::to_string(base[2]) +
+                            ") takes no geometric law in point distances (does it fold back?)");
+        }
+      }
+      if (firstHeight > 0.0 && law.growth > options.growth * (1.0 + 1e-12)) {
+        tabulateLine(b, base, line);
+        const double length = line.arc.length();
+        throw InvalidInputError(blockText(b) + ": a first cell height of " + std::to_string(firstHeight) + " over " +
                                 std::to_string(length) + " with " + std::to_string(points) +
-                                " wall-normal points needs a growth ratio of " + std::to_string(growth) +
+                                " wall-normal points needs a growth ratio of " + std::to_string(law.growth) +
                                 ", above the maximum " + std::to_string(options.growth) + "; at least " +
-                                std::to_string(geometricPointsNeeded(height, options.growth, length)) +
+                                std::to_string(geometricPointsNeeded(firstHeight, options.growth, length)) +
                                 " points are needed (normal_points = 0 picks them)");
       }
-      distance = geometricDistances(points, height, growth, length);
+      std::rotate(line.history.begin(), line.history.end() - 1, line.history.end());
+      line.history[0].block = b;
+      line.history[0].ijk = base;
+      line.history[0].law = law;
+      line.history[0].parameter.swap(t);  // t's storage is refilled before its next use
     }
-    const int step = plan.wallEnd == 0 ? 1 : -1;
-    const double wallParameter = parameterAtEnd(blocks[b].volume, n, plan.wallEnd);
     std::array<int, 3> ijk = base;
-    Eigen::Vector3d previousPoint;
     double previousStep = 0.0;
     for (int k = 0; k < points; ++k) {
-      const double s = distance[static_cast<size_t>(k)];
-      double t = line.arc.parameterAt(plan.wallEnd == 0 ? s : length - s);
-      if (k == 0) t = wallParameter;
-      else if (k == 1) t = parameterAtDistance(line.curve, wallParameter, step, height, t);  // exact first height
-      else if (k == points - 1) t = parameterAtEnd(blocks[b].volume, n, 1 - plan.wallEnd);
       ijk[static_cast<size_t>(n)] = plan.wallEnd == 0 ? k : points - 1 - k;
-      const Eigen::Vector3d point = line.curve.point(t);
-      grid.points.row(grid.index(ijk[0], ijk[1], ijk[2])) = point.transpose();
+      grid.points.row(grid.index(ijk[0], ijk[1], ijk[2])) = x[static_cast<size_t>(k)].transpose();
       // Measured here, where the line's points are at hand (in the grid they lie far apart).
       if (k > 0) {
-        const double gap = (point - previousPoint).norm();
+        const double gap = (x[static_cast<size_t>(k)] - x[static_cast<size_t>(k - 1)]).norm();
         if (k == 1) {
           line.measured.firstHeightMin = std::min(line.measured.firstHeightMin, gap);
           line.measured.firstHeightMax = std::max(line.measured.firstHeightMax, gap);
@@ -480,43 +600,49 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
         }
         previousStep = gap;
       }
-      previousPoint = point;
     }
   });
 
-  // Shared points made identical (the first block's copy wins), after checking they agree.
-  std::vector<std::array<volume::BlockFace, 6>> faces;
-  std::vector<std::array<int, 3>> sizes;
-  std::vector<Eigen::Index> offset{0};
+  // Shared points made identical (the first block's copy wins), after checking they agree to
+  // 1e-9 of the model (the largest block's pole box, which holds its points).
   double extent = 0.0;
-  for (const GridBlock& grid : gridBlocks) {
-    faces.push_back(grid.faces);
-    sizes.push_back(grid.size);
-    offset.push_back(offset.back() + grid.pointCount());
-    Eigen::Vector3d low = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity()), high = -low;
-    for (Eigen::Index r = 0; r < grid.points.rows(); ++r) {
-      low = low.cwiseMin(grid.points.row(r).transpose());
-      high = high.cwiseMax(grid.points.row(r).transpose());
-    }
-    extent = std::max(extent, (high - low).norm());
+  for (const volume::Block& block : blocks) {
+    const RowMatrixX3d& poles = block.volume.poles();
+    extent = std::max(extent, (poles.colwise().maxCoeff() - poles.colwise().minCoeff()).norm());
   }
-  const std::vector<Eigen::Index> roots = volume::sharedGridRoots(faces, sizes);
+  const std::vector<Eigen::Index> roots = sharedRoots.get();
   auto locate = [&](Eigen::Index global) {
     const size_t b = static_cast<size_t>(std::upper_bound(offset.begin(), offset.end(), global) - offset.begin()) - 1;
     return std::pair<size_t, Eigen::Index>{b, global - offset[b]};
   };
-  for (Eigen::Index global = 0; global < offset.back(); ++global) {
-    const Eigen::Index root = roots[static_cast<size_t>(global)];
-    if (root == global) continue;
-    const auto [b, row] = locate(global);
-    const auto [rb, rrow] = locate(root);
-    const double gap = (gridBlocks[b].points.row(row) - gridBlocks[rb].points.row(rrow)).norm();
-    if (gap > 1e-9 * extent) {
-      throw SolverError(blockText(b) + " point " + std::to_string(row) + " and " + blockText(rb) + " point " +
-                        std::to_string(rrow) + " are shared but " + std::to_string(gap) +
-                        " apart: the distributions disagree across a shared face (block layout not supported)");
+  // Each copy reads a root, which is never written: chunks run in parallel; the first
+  // disagreement in point order is reported, whatever the threads' timing.
+  std::atomic<Eigen::Index> firstApart{std::numeric_limits<Eigen::Index>::max()};
+  parallelChunks(offset.back(), 1 << 16, [&](std::int64_t begin, std::int64_t end) {
+    size_t b = locate(begin).first;
+    for (Eigen::Index global = begin; global < end; ++global) {
+      while (global >= offset[b + 1]) ++b;
+      const Eigen::Index root = roots[static_cast<size_t>(global)];
+      if (root == global) continue;
+      const auto [rb, rrow] = locate(root);
+      auto mine = gridBlocks[b].points.row(global - offset[b]);
+      const auto theirs = gridBlocks[rb].points.row(rrow);
+      if ((mine - theirs).norm() > 1e-9 * extent) {
+        Eigen::Index known = firstApart.load();
+        while (global < known && !firstApart.compare_exchange_weak(known, global)) {
+        }
+        return;
+      }
+      mine = theirs;
     }
-    gridBlocks[b].points.row(row) = gridBlocks[rb].points.row(rrow);
+  });
+  if (firstApart.load() != std::numeric_limits<Eigen::Index>::max()) {
+    const auto [b, row] = locate(firstApart.load());
+    const auto [rb, rrow] = locate(roots[static_cast<size_t>(firstApart.load())]);
+    const double gap = (gridBlocks[b].points.row(row) - gridBlocks[rb].points.row(rrow)).norm();
+    throw SolverError(blockText(b) + " point " + std::to_string(row) + " and " + blockText(rb) + " point " +
+                      std::to_string(rrow) + " are shared but " + std::to_string(gap) +
+                      " apart: the distributions disagree across a shared face (block layout not supported)");
   }
 
   RefinedGrid result;
