@@ -431,6 +431,12 @@ class ExtremeScales(unittest.TestCase):
             self.assertAlmostEqual(worst_jacobian(bvmesh.ControlMesh(unit * scale, CUBE_FACES), scale), reference,
                                    places=9, msg="scale {}".format(scale))
         self.assertGreater(worst_jacobian(self.fit(1e6)[0], 1e6), 0.5)
+        # Far from the origin points are placed and shared to the coordinates' own spacing (1.5e-8
+        # at 1e8), not to 1e-9 of the model: the grid stopped with "... are shared but 0.000000
+        # apart", then with "takes no geometric law in point distances". Quality as at the origin
+        # to that resolution (7.7e-6 here).
+        self.assertAlmostEqual(worst_jacobian(bvmesh.ControlMesh(unit + (1e8, 0.0, 0.0), CUBE_FACES), 1.0), reference,
+                               delta=1e-4)
 
     def test_targets_too_large_or_too_far_out_are_named(self):
         # A sphere of radius 1e150 ran for minutes into a MemoryError; one of radius 1 at 1e16,

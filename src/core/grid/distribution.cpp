@@ -425,6 +425,11 @@ bool ChordPlacer::place(const PolynomialCurve& curve, ChordLaw& law, std::vector
     }
     return worst;
   };
+  // What the points' coordinates can resolve, relative to the first distance: far from the origin
+  // (a model at 1e8, coordinates 1.5e-8 apart) Newton stalls above 1e-9 (the ends are fixed, so
+  // their size bounds every point's).
+  const double coordinateScale = std::max(points[0].cwiseAbs().maxCoeff(), points[n - 1].cwiseAbs().maxCoeff());
+  const double resolvable = 64.0 * std::numeric_limits<double>::epsilon() * coordinateScale;
   double previous = std::numeric_limits<double>::infinity();
   for (int iteration = 0; iteration < 40; ++iteration) {
     // Once Newton is close (quadratic from 1e-6 on), the next points are most likely the last:
@@ -432,9 +437,10 @@ bool ChordPlacer::place(const PolynomialCurve& curve, ChordLaw& law, std::vector
     bool withTangents = !(previous <= 1e-6);
     curve.evaluate(&t[1], n - 2, &points[1], withTangents ? &tangent[1] : nullptr);
     const double worst = residuals();
-    // Done at 1e-11 (growth ratios then hold to 2e-11), or once Newton stops gaining (rounding
-    // of the points' coordinates, for first heights ~1e-10 of their distance from the origin).
-    if (worst <= 1e-11 || (worst <= 1e-9 && worst > 0.25 * previous)) return true;
+    // Done at 1e-11 (growth ratios then hold to 2e-11), or once Newton stops gaining within what
+    // the coordinates resolve (first heights ~1e-10 of their distance from the origin).
+    const double stalled = std::max(1e-9, resolvable / law.height);
+    if (worst <= 1e-11 || (worst <= stalled && worst > 0.25 * previous)) return true;
     previous = worst;
     if (!withTangents) curve.evaluate(&t[1], n - 2, &points[1], &tangent[1]);
     if (direction < 0.0) {

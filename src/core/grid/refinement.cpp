@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <future>
 #include <limits>
 #include <mutex>
@@ -145,6 +146,13 @@ void checkOptions(const RefinementOptions& options) {
 }
 
 std::string blockText(size_t b) { return "block " + std::to_string(b); }
+
+// Three significant digits at any scale (std::to_string prints 0.000000 below 1e-6).
+std::string shortNumber(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", value);
+  return text;
+}
 
 // What the wall-normal lines measure: the first point's distance from the wall, the largest
 // ratio of consecutive spacings.
@@ -604,12 +612,15 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
   });
 
   // Shared points made identical (the first block's copy wins), after checking they agree to
-  // 1e-9 of the model (the largest block's pole box, which holds its points).
-  double extent = 0.0;
+  // 1e-9 of the model (the largest block's pole box, which holds its points), or to what their
+  // coordinates resolve where that is coarser (a model far from the origin).
+  double extent = 0.0, coordinateScale = 0.0;
   for (const volume::Block& block : blocks) {
     const RowMatrixX3d& poles = block.volume.poles();
     extent = std::max(extent, (poles.colwise().maxCoeff() - poles.colwise().minCoeff()).norm());
+    coordinateScale = std::max(coordinateScale, poles.cwiseAbs().maxCoeff());
   }
+  const double sharedTolerance = std::max(1e-9 * extent, 64.0 * std::numeric_limits<double>::epsilon() * coordinateScale);
   const std::vector<Eigen::Index> roots = sharedRoots.get();
   auto locate = [&](Eigen::Index global) {
     const size_t b = static_cast<size_t>(std::upper_bound(offset.begin(), offset.end(), global) - offset.begin()) - 1;
@@ -627,7 +638,7 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
       const auto [rb, rrow] = locate(root);
       auto mine = gridBlocks[b].points.row(global - offset[b]);
       const auto theirs = gridBlocks[rb].points.row(rrow);
-      if ((mine - theirs).norm() > 1e-9 * extent) {
+      if ((mine - theirs).norm() > sharedTolerance) {
         Eigen::Index known = firstApart.load();
         while (global < known && !firstApart.compare_exchange_weak(known, global)) {
         }
@@ -641,7 +652,7 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
     const auto [rb, rrow] = locate(roots[static_cast<size_t>(firstApart.load())]);
     const double gap = (gridBlocks[b].points.row(row) - gridBlocks[rb].points.row(rrow)).norm();
     throw SolverError(blockText(b) + " point " + std::to_string(row) + " and " + blockText(rb) + " point " +
-                      std::to_string(rrow) + " are shared but " + std::to_string(gap) +
+                      std::to_string(rrow) + " are shared but " + shortNumber(gap) +
                       " apart: the distributions disagree across a shared face (block layout not supported)");
   }
 
