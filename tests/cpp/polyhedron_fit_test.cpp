@@ -3,10 +3,7 @@
 // files with FreeCAD), and the fitter's own sample-to-target distances.
 #include <gtest/gtest.h>
 
-#include <BRepBuilderAPI_MakeFace.hxx>
-#include <BRepBuilderAPI_Transform.hxx>
 #include <BRepOffsetAPI_ThruSections.hxx>
-#include <BRepPrimAPI_MakeRevol.hxx>
 
 #include <algorithm>
 #include <cmath>
@@ -121,15 +118,9 @@ TEST(PolyhedronFit, FlatTipHalfWingOnAGeneratedWing) {
 }
 
 TEST(PolyhedronFit, NacelleWithASharpLipTrailingEdge) {
-  // A nacelle made here: a NACA 0012 lip profile of chord 1, inclined by 5 degrees (converging
-  // towards the rear), its leading edge 1 from the x axis, revolved about that axis. Its
-  // trailing edge is a sharp circle of radius 1 - sin(5 deg) about the axis.
-  gp_Trsf incidence;
-  incidence.SetRotation(gp_Ax1(gp_Pnt(0, 0, 1), gp_Dir(0, 1, 0)), 5.0 * M_PI / 180.0);
-  const TopoDS_Shape profile = BRepBuilderAPI_Transform(
-      BRepBuilderAPI_MakeFace(testing::nacaSectionWire(0.0, 0.0, 1.0, 1.0), true).Face(), incidence).Shape();
-  const TopoDS_Shape nacelle =
-      BRepPrimAPI_MakeRevol(profile, gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0)), 2.0 * M_PI).Shape();
+  // testing::sharpLipNacelle: a NACA 0012 lip inclined by 5 degrees, revolved about the x axis;
+  // its trailing edge is a sharp circle of radius 1 - sin(5 deg) about the axis.
+  const TopoDS_Shape nacelle = testing::sharpLipNacelle();
   auto target = std::make_shared<const target::Target>(nacelle);
   // As placed (before the improvement pushes the crease polygon out, so that its limit curve
   // lies on the circle): one crease loop around the axis with its vertices on the trailing edge.

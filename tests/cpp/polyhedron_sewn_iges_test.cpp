@@ -5,11 +5,6 @@
 // planform, and a fit that stops for the same reason at the same level with the same distance.
 #include <gtest/gtest.h>
 
-#include <BRepBuilderAPI_MakeFace.hxx>
-#include <BRepBuilderAPI_Transform.hxx>
-#include <BRepPrimAPI_MakeRevol.hxx>
-#include <gp_Ax1.hxx>
-#include <gp_Trsf.hxx>
 
 #include <cmath>
 #include <memory>
@@ -82,12 +77,7 @@ TEST(SewnIgesTemplates, FuselageOnTheHemisphereCylinder) {
 TEST(SewnIgesTemplates, NacelleWithASharpLip) {
   // As PolyhedronFit.NacelleWithASharpLipTrailingEdge: a NACA 0012 lip inclined by 5 degrees,
   // revolved about the x axis.
-  gp_Trsf incidence;
-  incidence.SetRotation(gp_Ax1(gp_Pnt(0, 0, 1), gp_Dir(0, 1, 0)), 5.0 * M_PI / 180.0);
-  const TopoDS_Shape profile = BRepBuilderAPI_Transform(
-      BRepBuilderAPI_MakeFace(testing::nacaSectionWire(0.0, 0.0, 1.0, 1.0), true).Face(), incidence).Shape();
-  const TopoDS_Shape nacelle =
-      BRepPrimAPI_MakeRevol(profile, gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0)), 2.0 * M_PI).Shape();
+  const TopoDS_Shape nacelle = testing::sharpLipNacelle();
   const auto made = std::make_shared<const target::Target>(nacelle);
   const auto iges = std::make_shared<const target::Target>(sewnIges(nacelle, "nacelle"));
   expectSamePlacementAndFit("nacelle", made, iges, 1e-5, 2);

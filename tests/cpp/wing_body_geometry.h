@@ -1,7 +1,8 @@
 // A wing-body half model built with OCCT for the wing-fuselage template tests (no CAD file in the
 // repository): a fuselage of revolution (elliptic nose, cylinder, elliptic tail) fused with a
 // swept, tapered half wing of NACA 0012 sections closed at a sharp trailing edge and a flat tip,
-// cut at the symmetry plane y = 0 (the cut face stays; removeSymmetryFace takes it off).
+// cut at the symmetry plane y = 0 (the cut face stays; removeSymmetryFace takes it off); and a
+// nacelle of the same section.
 #pragma once
 
 #include <BRepAlgoAPI_Cut.hxx>
@@ -149,6 +150,17 @@ inline WingBodyParameters lowWingParameters() {
   p.sweepDeg = 30.0;
   p.dihedralDeg = 4.0;
   return p;
+}
+
+// A nacelle: a NACA 0012 lip profile of chord 1, inclined by 5 degrees (converging towards the
+// rear), its leading edge 1 from the x axis, revolved about that axis. Its trailing edge is a sharp
+// circle of radius 1 - sin(5 deg) about the axis.
+inline TopoDS_Shape sharpLipNacelle() {
+  gp_Trsf incidence;
+  incidence.SetRotation(gp_Ax1(gp_Pnt(0, 0, 1), gp_Dir(0, 1, 0)), 5.0 * std::acos(-1.0) / 180.0);
+  const TopoDS_Shape profile = BRepBuilderAPI_Transform(
+      BRepBuilderAPI_MakeFace(nacaSectionWire(0.0, 0.0, 1.0, 1.0), true).Face(), incidence).Shape();
+  return BRepPrimAPI_MakeRevol(profile, gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(1, 0, 0)), 2.0 * std::acos(-1.0)).Shape();
 }
 
 }  // namespace bvmesh::testing
