@@ -5,7 +5,6 @@
 // planform, and a fit that stops for the same reason at the same level with the same distance.
 #include <gtest/gtest.h>
 
-
 #include <cmath>
 #include <memory>
 #include <string>
