@@ -671,14 +671,10 @@ def span_station(grid_object, eta, span=None):
     wall's extent along y."""
     import FreeCAD
 
-    from bvmesh.features import volume_mesh
-
+    from bvmesh import grid as grid_module
     from bvmesh.features import volume_grid
 
-    grid = volume_grid.structured_grid(grid_object)
-    wall = np.concatenate([volume_mesh.face_array(grid.points(b), name).reshape(-1, 3)
-                           for b in range(grid.block_count) for name, face in grid.faces(b).items()
-                           if face["condition"] == "wall"])
+    wall = grid_module.wall_points(volume_grid.structured_grid(grid_object))
     fit = grid_object.VolumeMesh.Fit
     if fit.UseSymmetryPlane:
         origin = np.array(tuple(fit.SymmetryPoint))

@@ -4,9 +4,9 @@
   Expects bvmesh.polyhedra.place_template(target: bvmesh.Target, name: str, **parameters)
   -> (bvmesh.ControlMesh, features: dict for bvmesh.SurfaceFitter or None), and
   bvmesh.polyhedra.template_names() -> list of str.
-- limit_surface_to_shell(mesh): the limit surface of a control mesh as a sewn B-spline shell,
-  from bvmesh._core.limit_surface_to_bsplines(control_mesh) -> dict whose "brep" entry is the
-  sewn shell (or solid) as BREP text.
+- limit_surface_to_shell(mesh): the limit surface of a control mesh as a sewn B-spline shell and
+  what the conversion measured, from bvmesh._core.limit_surface_to_bsplines(control_mesh) -> dict
+  whose "brep" entry is the sewn shell (or solid) as BREP text.
 
 Each has an *_available() -> (bool, reason) so commands can be disabled and say why, instead
 of producing anything in place of the real result."""
@@ -59,11 +59,6 @@ def shell_available():
 
 
 def limit_surface_to_shell(mesh):
-    """The limit surface of a bvmesh.ControlMesh as a Part.Shape (shell of B-spline faces)."""
-    return limit_surface_to_shell_and_report(mesh)[0]
-
-
-def limit_surface_to_shell_and_report(mesh):
     """(Part.Shape, report) for the limit surface of a bvmesh.ControlMesh: the shell of B-spline
     faces and what the conversion measured: max_distance (largest distance of the faces from the
     limit surface at the check points, to first order) and max_kink_degrees (largest normal jump

@@ -24,20 +24,27 @@ METRICS = ("scaled_jacobian", "non_orthogonality", "skewness", "aspect_ratio", "
            "wall_angle", "first_cell_height")
 
 
+FACE_NAMES = ("u_min", "u_max", "v_min", "v_max", "w_min", "w_max")
+
+
+def face_array(array, face):
+    """The (n_a, n_b, ...) sheet of a block's (n_u, n_v, n_w, ...) array (poles or grid points) on
+    `face` (u_min .. w_max): a, b its two other directions in increasing order, as BlockMesh.faces
+    orients them."""
+    import numpy as np
+
+    direction, end = divmod(FACE_NAMES.index(face), 2)
+    return np.take(array, -1 if end else 0, axis=direction)
+
+
 def wall_points(grid):
     """The points of every block face whose condition is 'wall', as one (n, 3) array (points on
     shared face edges repeated)."""
     import numpy as np
 
     grid = _grid_of(grid)
-    names = ("u_min", "u_max", "v_min", "v_max", "w_min", "w_max")
-    sheets = []
-    for b in range(grid.block_count):
-        points = grid.points(b)
-        for name, face in grid.faces(b).items():
-            if face["condition"] == "wall":
-                direction, end = divmod(names.index(name), 2)
-                sheets.append(np.take(points, -1 if end else 0, axis=direction).reshape(-1, 3))
+    sheets = [face_array(grid.points(b), name).reshape(-1, 3)
+              for b in range(grid.block_count) for name, face in grid.faces(b).items() if face["condition"] == "wall"]
     return np.concatenate(sheets) if sheets else np.zeros((0, 3))
 
 

@@ -24,7 +24,7 @@ class BsplineShellProxy(Proxy):
 
         if obj.Fit is None or not obj.Fit.ControlVertices:
             raise ValueError("the B-spline shell needs a computed surface fit")
-        obj.Shape, report = extensions.limit_surface_to_shell_and_report(surface_fit.result_mesh(obj.Fit))
+        obj.Shape, report = extensions.limit_surface_to_shell(surface_fit.result_mesh(obj.Fit))
         obj.MaxDistance = report["max_distance"]
         obj.MaxKinkDegrees = report["max_kink_degrees"]
 

@@ -11,6 +11,7 @@ import numpy as np
 
 from bvmesh.features import volume_mesh as volume_mesh_feature
 from bvmesh.features.common import READ_ONLY, RecomputedProxy, add_property, run_work
+from bvmesh.grid import face_array
 
 TYPE = "BVMesh::VolumeGrid"
 PRESETS = ["euler", "rans"]
@@ -78,7 +79,7 @@ def boundary_lines_shape(grid, conditions):
         for name, face in grid.faces(b).items():
             if face["condition"] not in conditions:
                 continue
-            sheet = volume_mesh_feature.face_array(points, name)
+            sheet = face_array(points, name)
             for line in list(sheet) + list(np.swapaxes(sheet, 0, 1)):
                 wires.append(Part.makePolygon([FreeCAD.Vector(*map(float, p)) for p in line]))
     return Part.makeCompound(wires) if wires else Part.Shape()

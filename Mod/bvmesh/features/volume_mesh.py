@@ -10,9 +10,9 @@ import numpy as np
 
 from bvmesh.features import surface_fit
 from bvmesh.features.common import READ_ONLY, RecomputedProxy, add_property, run_work
+from bvmesh.grid import FACE_NAMES, face_array
 
 TYPE = "BVMesh::VolumeMesh"
-FACE_NAMES = ("u_min", "u_max", "v_min", "v_max", "w_min", "w_max")
 
 # (property, option of bvmesh.volume.offset_and_farfield, type, default, description)
 OPTIONS = (
@@ -99,14 +99,6 @@ def blocks_digest(blocks):
 def knots_and_multiplicities(full):
     knots, counts = np.unique(np.asarray(full, dtype=float), return_counts=True)
     return [float(k) for k in knots], [int(c) for c in counts]
-
-
-def face_array(array, face):
-    """The (n_a, n_b, ...) sheet of a block's (n_u, n_v, n_w, ...) array (poles or grid points) on
-    `face` (u_min .. w_max): a, b its two other directions in increasing order, as BlockMesh.faces
-    orients them."""
-    direction, end = divmod(FACE_NAMES.index(face), 2)
-    return np.take(array, -1 if end else 0, axis=direction)
 
 
 def face_surface(blocks, block, face):
