@@ -11,18 +11,34 @@ from bvmesh.adapters.shapes import as_shape, brep_to_shape, shape_to_brep
 def shape_report(shape_or_object, sharp_angle_degrees=30.0, sew=None, sew_tolerance=0.0):
     """What a CAD shape holds, as a dict: face count and surface types, bounding box, and edges
     classified as sharp / smooth / free / seam / non-manifold / degenerate with their dihedral
-    angles, and under "repair" what sewing did (gaps closed and left open, watertight or not).
-    Face i is FreeCAD's Face<i+1>, edge j its Edge<j+1>: of the sewn shape for a file (sewn on
+    angles, under "repair" what sewing did (gaps closed and left open, watertight or not), and under
+    "flow_domain" the split of a flow domain's CAD (api.flow_domain_of) or None. Face i is FreeCAD's Face<i+1>, edge j its Edge<j+1>: of the sewn shape for a file (sewn on
     reading, as import_cad does; sew=False: as written), of the shape given otherwise (sew=True
     reports on its sewn copy instead). sew_tolerance: absolute, 0 = automatic."""
     import os
 
     core = load_core()
     if isinstance(shape_or_object, (str, os.PathLike)):
-        return core.summarize_file(os.fspath(shape_or_object), float(sharp_angle_degrees),
-                                   sew is not False, float(sew_tolerance))
-    shape = as_shape(shape_or_object)
-    return core.summarize_brep(shape_to_brep(shape), float(sharp_angle_degrees), bool(sew), float(sew_tolerance))
+        path = os.fspath(shape_or_object)
+        report = core.summarize_file(path, float(sharp_angle_degrees), sew is not False, float(sew_tolerance))
+        brep = core.read_cad_file_as_brep(path, sew=sew is not False, sew_tolerance=float(sew_tolerance))
+    else:
+        brep = shape_to_brep(as_shape(shape_or_object))
+        report = core.summarize_brep(brep, float(sharp_angle_degrees), bool(sew), float(sew_tolerance))
+    # Face numbers as the report's: a sewn copy of a shape given may number its faces otherwise.
+    report["flow_domain"] = None if sew and not isinstance(shape_or_object, (str, os.PathLike)) else flow_domain_of(brep)
+    return report
+
+
+def flow_domain_of(shape_or_brep):
+    """The split of a flow domain's CAD (bvmesh.polyhedra.flow_domain's dict without the target),
+    or None when the shape is not one (a body alone, or a domain the volume stage cannot take)."""
+    core = load_core()
+    brep = shape_or_brep if isinstance(shape_or_brep, str) else shape_to_brep(as_shape(shape_or_brep))
+    try:
+        return core.split_flow_domain(brep)
+    except ValueError:
+        return None
 
 
 def format_shape_report(report):
@@ -52,6 +68,14 @@ def format_shape_report(report):
     if sharp:
         lines.append("sharp edges: " + ", ".join(sharp))
     lines.extend(report.get("repair", {}).get("lines", []))
+    domain = report.get("flow_domain")
+    if domain:
+        faces = lambda indices: ", ".join("Face{}".format(i + 1) for i in indices)  # noqa: E731
+        size = ("radius {:.6g}".format(domain["radius"]) if domain["shape"] == "sphere"
+                else "half sizes ({:.6g}, {:.6g}, {:.6g})".format(*domain["half_extent"]))
+        lines.append("flow domain: {}{} around ({:.6g}, {:.6g}, {:.6g}), {}; body (the target): {}; domain: {}".format(
+            "half " if domain["symmetry_face"] is not None else "", domain["shape"], *domain["centre"], size,
+            faces(domain["body_faces"]), faces(domain["outer_faces"])))
     return lines
 
 
@@ -553,9 +577,13 @@ def make_volume_mesh(fit, name="VolumeMesh", wall_level=-1, marching_level=-1, s
     wall faces). options: those of bvmesh.volume.offset_and_farfield
     (reference_length, reynolds_number, boundary_layer_thickness, boundary_layer_layers,
     boundary_layer_growth, sharp_edge_splay, farfield_distance, farfield_growth, smoothing,
-    min_scaled_jacobian, max_layers; domain 'sphere' | 'box' | 'cylinder', flow_direction,
-    box_half_extent). show: the block faces shown, e.g. ('wall', 'symmetry')."""
+    min_scaled_jacobian, max_layers; domain 'sphere' | 'box' | 'cylinder' | 'cad', flow_direction,
+    box_half_extent). domain 'cad', the default when the fit's target is a flow domain's body: the
+    domain its CAD holds. show: the block faces shown, e.g. ('wall', 'symmetry')."""
     from bvmesh.features import volume_mesh
+
+    if "domain" not in options and getattr(fit.Target, "FlowDomain", ""):
+        options = dict(options, domain="cad")
 
     def fill(obj):
         obj.Fit = fit

@@ -125,6 +125,28 @@ def faces_target(shape_or_brep, faces, **target_options):
     return core.Target.from_brep(core.select_faces(brep, [int(f) for f in faces]), **target_options)
 
 
+def flow_domain(shape_or_brep, **target_options):
+    """A flow domain's CAD (a box or sphere, or its half on a symmetry plane, with the body cut out,
+    as CFD pre-processors write it) split with no face selection: a face bounds the domain when the
+    whole shape lies on one side of its tangent plane everywhere on it, the others are the body's.
+    Returns a dict: 'target' (Target of the body's faces), 'body_faces' and 'outer_faces' (0-based,
+    FreeCAD's Face<i+1>), 'shape' ('sphere' or 'box'), 'symmetry_face', 'symmetry_plane'
+    ((point, normal towards the domain) or None), and 'volume_options': the domain as
+    bvmesh.volume.offset_and_farfield takes it (domain, domain_centre, farfield_distance or
+    box_half_extent). Raises ValueError naming what is not a flow domain."""
+    brep = shape_or_brep if isinstance(shape_or_brep, str) else shape_or_brep.exportBrepToString()
+    core = load_core()
+    split = core.split_flow_domain(brep)
+    split["target"] = core.Target.from_brep(core.select_faces(brep, split["body_faces"]), **target_options)
+    options = {"domain": split["shape"], "domain_centre": split["centre"]}
+    if split["shape"] == "sphere":
+        options["farfield_distance"] = split["radius"]
+    else:
+        options["box_half_extent"] = split["half_extent"]
+    split["volume_options"] = options
+    return split
+
+
 def plot_polyhedron(mesh, path, target=None, title=None, views=((25, -60), (90, -90), (0, -90)), min_aspect=0.2,
                     region=None):
     """Writes a PNG of the polyhedron (edges blue, creases red, corners black) over the target's

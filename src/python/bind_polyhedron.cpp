@@ -14,6 +14,7 @@
 #include "core/cad/isolated_reader.h"
 #include "core/cad/shape_io.h"
 #include "core/common/errors.h"
+#include "core/polyhedron/flow_domain.h"
 #include "core/polyhedron/placement.h"
 #include "core/polyhedron/target_analysis.h"
 
@@ -256,6 +257,33 @@ void bindPolyhedron(py::module_& module) {
       "(brep, face, plane): the shape without its symmetry-plane face (the largest planar face with the "
       "whole shape on "
       "one side), that face's index and the plane ((point, normal), normal towards the shape).");
+
+  module.def(
+      "split_flow_domain",
+      [](const std::string& brep) {
+        const TopoDS_Shape shape = cad::readBrepStringSafely(brep);
+        FlowDomain domain;
+        {
+          py::gil_scoped_release release;
+          domain = splitFlowDomain(shape);
+        }
+        py::dict result;
+        result["body_faces"] = domain.bodyFaces;
+        result["outer_faces"] = domain.outerFaces;
+        result["shape"] = domain.shape;
+        result["centre"] = std::vector<double>{domain.centre.x(), domain.centre.y(), domain.centre.z()};
+        result["radius"] = domain.radius;
+        result["half_extent"] = std::vector<double>{domain.halfExtent.x(), domain.halfExtent.y(), domain.halfExtent.z()};
+        result["symmetry_face"] = domain.symmetryFace < 0 ? py::object(py::none()) : py::object(py::int_(domain.symmetryFace));
+        result["symmetry_plane"] = planeObject(domain.symmetryPlane);
+        return result;
+      },
+      py::arg("brep"),
+      "A flow domain's CAD (a box or sphere, or its half on a symmetry plane, with the body cut out) split into "
+      "the body's faces and the domain's: dict with body_faces, outer_faces (0-based), shape ('sphere' or 'box'), "
+      "centre, radius (sphere), half_extent (box; on a symmetry plane the centre lies on it and the size normal "
+      "to it is the half domain's whole), symmetry_face and symmetry_plane ((point, normal towards the domain) "
+      "or None).");
 
   module.def(
       "symmetry_plane",

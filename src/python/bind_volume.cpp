@@ -66,9 +66,12 @@ void defineMarchingFunction(py::module_& module, const char* name, Make make, co
              double boundaryLayerThickness, int boundaryLayerLayers, double boundaryLayerGrowth, double sharpEdgeSplay,
              double farfieldDistance, double farfieldGrowth, double smoothing, double minScaledJacobian, int maxLayers,
              const std::string& domain, const py::object& boxHalfExtent, const py::object& flowDirection,
-             const std::optional<ControlMesh>& marchingWall) {
+             const std::optional<ControlMesh>& marchingWall, const py::object& domainCentre) {
         volume::VolumeMeshOptions options;
         setSymmetryPlane(symmetryPlane, options);
+        if (!domainCentre.is_none()) {
+          options.domainCentre = rowsOf(py::array::ensure(domainCentre).reshape({1, 3}), "domain_centre", 3).row(0).transpose();
+        }
         options.domain = volume::domainShapeOf(domain);
         if (!boxHalfExtent.is_none()) {
           options.boxHalfExtent = rowsOf(py::array::ensure(boxHalfExtent).reshape({1, 3}), "box_half_extent", 3).row(0).transpose();
@@ -94,7 +97,8 @@ void defineMarchingFunction(py::module_& module, const char* name, Make make, co
       py::arg("boundary_layer_growth") = 1.2, py::arg("sharp_edge_splay") = 2.0, py::arg("farfield_distance") = 0.0,
       py::arg("farfield_growth") = 1.3, py::arg("smoothing") = 1.0, py::arg("min_scaled_jacobian") = 0.05,
       py::arg("max_layers") = 400, py::arg("domain") = "sphere", py::arg("box_half_extent") = py::none(),
-      py::arg("flow_direction") = std::vector<double>{1.0, 0.0, 0.0}, py::arg("marching_wall") = py::none(), doc);
+      py::arg("flow_direction") = std::vector<double>{1.0, 0.0, 0.0}, py::arg("marching_wall") = py::none(),
+      py::arg("domain_centre") = py::none(), doc);
 }
 
 }  // namespace
@@ -232,7 +236,8 @@ layers along the wall normals, total thickness boundary_layer_thickness (0: the 
 estimate 0.37 L Re^-0.2 with L = reference_length, 0: the wall's largest extent); around sharp convex
 edges the grid lines fan out over a band sharp_edge_splay boundary-layer thicknesses wide. Far field: marched
 with growing implicit smoothing, turning radial, layer thickness growing by farfield_growth, to the
-domain boundary around the wall's centre (halved by the symmetry plane): domain 'sphere' of radius
+domain boundary around domain_centre (default: the wall's centre; on the symmetry plane of a half
+model, which halves the domain): domain 'sphere' of radius
 farfield_distance (0: 20 L), 'box' of half sizes box_half_extent (x, y, z; farfield_distance where
 0 or None), or 'cylinder' along flow_direction of radius and half length farfield_distance. The
 blocks' outer faces are 'farfield' on a sphere, else 'inlet' / 'outlet' / 'side' by where they face

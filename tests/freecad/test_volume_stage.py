@@ -224,6 +224,53 @@ class VolumeObjects(unittest.TestCase):
                     self.doc.removeObject(name)
 
 
+class FlowDomainDocument(unittest.TestCase):
+    """A flow domain's CAD in the document (a box with a ball cut out, as a pre-processor writes
+    it): the target takes the ball with no face named, the volume mesh the box."""
+
+    def test_target_takes_the_body_and_the_volume_mesh_the_box(self):
+        doc = FreeCAD.newDocument("FlowDomain")
+        try:
+            box = Part.makeBox(24.0, 12.0, 8.0, FreeCAD.Vector(-10.0, -6.0, -4.0))
+            domain = doc.addObject("Part::Feature", "Domain")
+            domain.Shape = box.cut(Part.makeSphere(RADIUS, FreeCAD.Vector(1.0, 0.5, 0.0)))
+            target = api.make_target(doc, domain)
+            self.assertEqual(list(target.Faces), [])
+            self.assertEqual(target.FlowDomain, "box")
+            self.assertEqual(len(target.Shape.Faces), 1)
+            self.assertAlmostEqual(target.Shape.Area, 4.0 * np.pi * RADIUS ** 2, places=6)
+            self.assertLess((target.DomainCentre - FreeCAD.Vector(2.0, 0.0, 0.0)).Length, 1e-9)
+            self.assertLess((target.DomainSize - FreeCAD.Vector(12.0, 6.0, 4.0)).Length, 1e-9)
+            polyhedron = api.make_polyhedron_from_template(doc, target, "sphere")
+            fit = api.fit_to_tolerance(api.make_surface_fit(doc, target, polyhedron, relative_tolerance=1e-3,
+                                                            max_level=2))
+            vm = api.make_volume_mesh(fit, boundary_layer_thickness=0.05)
+            self.assertEqual(vm.Domain, "cad")
+            mesh = api.volume_mesh_of(vm)
+            self.assertEqual(mesh.domain, "box")
+            np.testing.assert_allclose(mesh.domain_centre, [2.0, 0.0, 0.0], atol=1e-12)
+            np.testing.assert_allclose(mesh.box_half_extent, [12.0, 6.0, 4.0], atol=1e-12)
+            # A named face list is the user's choice: no flow domain then.
+            target.Faces = ["Face1", "Face2"]
+            doc.recompute()
+            self.assertEqual(target.FlowDomain, "")
+        finally:
+            FreeCAD.closeDocument(doc.Name)
+
+    def test_cad_domain_without_a_flow_domain_is_refused(self):
+        doc = FreeCAD.newDocument("NoFlowDomain")
+        try:
+            fit = sphere_fit(doc)
+            vm = api.make_volume_mesh(fit, boundary_layer_thickness=0.05, farfield_distance=20.0)
+            digest = vm.Digest
+            with self.assertRaisesRegex(Exception, "Domain 'cad' needs a target on a flow domain's CAD"):
+                api.set_volume_options(vm, domain="cad")
+            self.assertEqual(vm.Domain, "sphere")
+            self.assertEqual(vm.Digest, digest)
+        finally:
+            FreeCAD.closeDocument(doc.Name)
+
+
 class SaveAndReopen(unittest.TestCase):
     def test_reopened_document_recomputes_identical_blocks_and_points(self):
         folder = tempfile.mkdtemp(prefix="bvmesh-volume-reopen-")

@@ -40,13 +40,22 @@ class TargetProxy(Proxy):
     def setup(self, obj):
         add_property(obj, "App::PropertyLink", "Source", "Target", "The CAD object to fit")
         add_property(obj, "App::PropertyStringList", "Faces", "Target",
-                     "Faces of Source to fit (Face<i>); empty: all faces")
+                     "Faces of Source to fit (Face<i>); empty: all faces, or the body's when Source is a flow "
+                     "domain's CAD (a box or sphere with the body cut out)")
         add_property(obj, "App::PropertyFloat", "SharpAngle", "Target",
                      "Edges whose faces meet at this angle (degrees) or more are sharp", 30.0)
         add_property(obj, "App::PropertyFloat", "RelativeDeflection", "Target",
                      "Tessellation deflection of the projection index, relative to the model size", 1e-3)
         add_property(obj, "App::PropertyStringList", "Report", "Result",
                      "What the core finds in the fitted faces", mode=READ_ONLY)
+        add_property(obj, "App::PropertyString", "FlowDomain", "Flow domain",
+                     "The domain of a flow domain's CAD: box or sphere (its body fitted); empty: not one",
+                     mode=READ_ONLY)
+        add_property(obj, "App::PropertyVector", "DomainCentre", "Flow domain",
+                     "Centre of the flow domain (on its symmetry plane for a half domain)", mode=READ_ONLY)
+        add_property(obj, "App::PropertyVector", "DomainSize", "Flow domain",
+                     "A box domain's half sizes (from the symmetry plane for a half box), a sphere's radius thrice",
+                     mode=READ_ONLY)
         add_property(obj, "App::PropertyString", "Geometry", "Result",
                      "BREP text of the fitted faces, exactly as the core gets it", mode=HIDDEN)
         add_property(obj, "App::PropertyString", "BrepHash", "Result",
@@ -58,8 +67,13 @@ class TargetProxy(Proxy):
 
         if obj.Source is None or not hasattr(obj.Source, "Shape") or obj.Source.Shape.isNull():
             raise ValueError("the target needs a Source object with a shape")
+        faces = list(obj.Faces)
+        domain = None if faces else api.flow_domain_of(obj.Source.Shape)
+        if domain is not None:
+            faces = ["Face{}".format(i + 1) for i in domain["body_faces"]]
+        self.set_flow_domain(obj, domain)
         # A copy without triangulation: display meshes must not reach the core.
-        fresh = Part.makeCompound(fitted_faces(obj.Source.Shape, obj.Faces)).copy(True, False)
+        fresh = Part.makeCompound(fitted_faces(obj.Source.Shape, faces)).copy(True, False)
         # Saving a document rounds shapes in the last digits. The target keeps the exact geometry
         # it was made from unless the source really changed, so a reopened document recomputes
         # to identical results.
@@ -68,6 +82,15 @@ class TargetProxy(Proxy):
             obj.BrepHash = hashlib.sha1(obj.Geometry.encode()).hexdigest()
         obj.Shape = fresh
         obj.Report = api.format_target_report(self.core_target(obj).report())
+
+    @staticmethod
+    def set_flow_domain(obj, domain):
+        import FreeCAD
+
+        obj.FlowDomain = domain["shape"] if domain else ""
+        obj.DomainCentre = FreeCAD.Vector(*domain["centre"]) if domain else FreeCAD.Vector()
+        size = ([domain["radius"]] * 3 if domain["shape"] == "sphere" else domain["half_extent"]) if domain else (0, 0, 0)
+        obj.DomainSize = FreeCAD.Vector(*size)
 
     def core_target(self, obj):
         """The bvmesh.Target of the fitted faces, built once per geometry and options."""

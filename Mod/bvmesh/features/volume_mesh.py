@@ -36,7 +36,8 @@ OPTIONS = (
     ("MaxLayers", "max_layers", "App::PropertyInteger", 400, "Control layers at most"),
 )
 DISPLAY = (("ShowWall", "wall", True), ("ShowSymmetry", "symmetry", True), ("ShowFarfield", "farfield", False))
-DOMAINS = ["sphere", "box", "cylinder"]
+# cad: the flow domain of the fit's target (Target.FlowDomain), as its CAD gives it.
+DOMAINS = ["sphere", "box", "cylinder", "cad"]
 # The domain's vector options: (property, option, default, description).
 VECTORS = (
     ("FlowDirection", "flow_direction", (1.0, 0.0, 0.0),
@@ -52,6 +53,22 @@ def options(obj):
     settings["domain"] = obj.Domain
     for prop, option, _, _ in VECTORS:
         settings[option] = tuple(getattr(obj, prop))
+    if obj.Domain == "cad":
+        settings.update(cad_domain(obj.Fit))
+    return settings
+
+
+def cad_domain(fit):
+    """The domain options of the flow domain the fit's target was read from."""
+    target = fit.Target if fit is not None else None
+    if target is None or not getattr(target, "FlowDomain", ""):
+        raise ValueError("Domain 'cad' needs a target on a flow domain's CAD (a box or sphere with the body cut "
+                         "out, its Faces left empty): choose sphere, box or cylinder")
+    settings = {"domain": target.FlowDomain, "domain_centre": tuple(target.DomainCentre)}
+    if target.FlowDomain == "sphere":
+        settings["farfield_distance"] = target.DomainSize.x
+    else:
+        settings["box_half_extent"] = tuple(target.DomainSize)
     return settings
 
 
@@ -146,9 +163,14 @@ class VolumeMeshProxy(RecomputedProxy):
             add_property(obj, type_name, prop, "Marching", doc, default)
         if "Domain" not in obj.PropertiesList:
             obj.addProperty("App::PropertyEnumeration", "Domain", "Marching",
-                            "Outer boundary: sphere (half sphere on a symmetry plane), box or cylinder along the flow")
+                            "Outer boundary: sphere (half sphere on a symmetry plane), box or cylinder along the "
+                            "flow, or cad: the flow domain the target's CAD holds")
             obj.Domain = DOMAINS
             obj.Domain = "sphere"
+        elif obj.getEnumerationsOfProperty("Domain") != DOMAINS:  # a document saved before 'cad'
+            kept = obj.Domain
+            obj.Domain = DOMAINS
+            obj.Domain = kept
         for prop, _, default, doc in VECTORS:
             if prop not in obj.PropertiesList:
                 import FreeCAD

@@ -65,6 +65,15 @@ ResolvedVolumeOptions resolveVolumeOptions(const VolumeMeshOptions& options, con
                                       ? options.boundaryLayerThickness
                                       : 0.37 * result.referenceLength * std::pow(options.reynoldsNumber, -0.2);
   result.farfieldDistance = options.farfieldDistance > 0 ? options.farfieldDistance : 20.0 * result.referenceLength;
+  if (options.domainCentre) {
+    const Vector3d& asked = *options.domainCentre;
+    if (!asked.allFinite()) throw InvalidInputError("the domain centre must be a finite point");
+    if (options.hasSymmetryPlane && std::abs((asked - options.planePoint).dot(planeNormal)) > 1e-9 * (extent.norm() + asked.norm())) {
+      throw InvalidInputError("the domain centre must lie on the symmetry plane (it is " +
+                              std::to_string((asked - options.planePoint).dot(planeNormal)) + " off it)");
+    }
+    centre = asked;
+  }
   result.domainCentre = centre;
   if (result.farfieldDistance <= result.boundaryLayerThickness) {
     throw InvalidInputError("far-field distance " + std::to_string(result.farfieldDistance) +
@@ -107,6 +116,19 @@ ResolvedVolumeOptions resolveVolumeOptions(const VolumeMeshOptions& options, con
   if (options.domain == DomainShape::Box && marching.domain.halfExtent.minCoeff() <= result.boundaryLayerThickness) {
     throw InvalidInputError("the box's half sizes must be beyond the boundary-layer thickness " +
                             std::to_string(result.boundaryLayerThickness));
+  }
+  // The wall well inside the domain: a boundary-layer thickness from it at least, along each ray.
+  for (Eigen::Index i = 0; i < front.points.rows(); ++i) {
+    const Vector3d x = front.points.row(i).transpose();
+    if ((x - centre).norm() <= result.boundaryLayerThickness) continue;  // next to the centre
+    const Vector3d boundary = marching.domain.onBoundary(x);
+    if ((boundary - centre).norm() - (x - centre).norm() <= result.boundaryLayerThickness) {
+      std::ostringstream message;
+      message << "the wall point (" << x.x() << ", " << x.y() << ", " << x.z() << ") is not inside the "
+              << domainShapeName(options.domain) << " domain by a boundary-layer thickness ("
+              << result.boundaryLayerThickness << "): enlarge the domain or move its centre";
+      throw InvalidInputError(message.str());
+    }
   }
   marching.planePoint = options.planePoint;
   marching.planeNormal = planeNormal;

@@ -6,6 +6,8 @@
 
 #include <Eigen/Core>
 
+#include <optional>
+
 #include "core/volume/domain.h"
 #include "core/volume/marching.h"
 
@@ -33,6 +35,9 @@ struct VolumeMeshOptions {
   double smoothing = 1.0;
   double minScaledJacobian = 0.05;
   int maxLayers = 400;
+  // The domain's centre when given (a flow domain's CAD: bvmesh's splitFlowDomain), else the
+  // wall's bounding-box centre; on the symmetry plane of a half model.
+  std::optional<Eigen::Vector3d> domainCentre;
   // Symmetry plane of a half model: the wall's open boundary must lie on it.
   bool hasSymmetryPlane = false;
   Eigen::Vector3d planePoint = Eigen::Vector3d::Zero();
