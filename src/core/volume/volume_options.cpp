@@ -117,8 +117,9 @@ ResolvedVolumeOptions resolveVolumeOptions(const VolumeMeshOptions& options, con
     throw InvalidInputError("the box's half sizes must be beyond the boundary-layer thickness " +
                             std::to_string(result.boundaryLayerThickness));
   }
-  // The wall well inside the domain: a boundary-layer thickness from it at least, along each ray.
-  for (Eigen::Index i = 0; i < front.points.rows(); ++i) {
+  // A domain around a centre of the user's must still hold the wall, a boundary-layer thickness
+  // inside it along each ray (around the wall's own centre the marching's set-up checks the room).
+  for (Eigen::Index i = 0; options.domainCentre && i < front.points.rows(); ++i) {
     const Vector3d x = front.points.row(i).transpose();
     if ((x - centre).norm() <= result.boundaryLayerThickness) continue;  // next to the centre
     const Vector3d boundary = marching.domain.onBoundary(x);
