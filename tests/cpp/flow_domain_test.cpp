@@ -4,9 +4,12 @@
 
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepBndLib.hxx>
+#include <BRepBuilderAPI_MakeFace.hxx>
+#include <BRepBuilderAPI_MakePolygon.hxx>
 #include <BRepBuilderAPI_MakeSolid.hxx>
 #include <BRepGProp.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakePrism.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
 #include <Bnd_Box.hxx>
 #include <GProp_GProps.hxx>
@@ -17,6 +20,7 @@
 #include <TopoDS_Shell.hxx>
 #include <TopoDS_Solid.hxx>
 
+#include <cmath>
 #include <string>
 
 #include "core/cad/isolated_reader.h"
@@ -169,6 +173,21 @@ TEST(FlowDomain, WhatIsNotAFlowDomainIsNamed) {
         } catch (const InvalidInputError& error) {
           EXPECT_NE(std::string(error.what()).find("the body touches the domain on face"), std::string::npos)
               << error.what();
+          throw;
+        }
+      },
+      InvalidInputError);
+  // A convex prism of 100 sides: the classification stops at the 65th face bounding the hull.
+  BRepBuilderAPI_MakePolygon polygon;
+  for (int k = 0; k < 100; ++k) polygon.Add(gp_Pnt(std::cos(0.02 * M_PI * k), std::sin(0.02 * M_PI * k), 0.0));
+  polygon.Close();
+  const TopoDS_Shape prism = BRepPrimAPI_MakePrism(BRepBuilderAPI_MakeFace(polygon.Wire()).Face(), gp_Vec(0, 0, 1)).Shape();
+  EXPECT_THROW(
+      {
+        try {
+          splitFlowDomain(prism);
+        } catch (const InvalidInputError& error) {
+          EXPECT_NE(std::string(error.what()).find("more than 64 faces bound"), std::string::npos) << error.what();
           throw;
         }
       },

@@ -19,6 +19,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <string>
 
 #include "core/common/errors.h"
@@ -28,6 +29,10 @@ namespace bvmesh::polyhedron {
 namespace {
 
 Eigen::Vector3d toEigen(const gp_XYZ& p) { return {p.X(), p.Y(), p.Z()}; }
+
+constexpr int kSamplesPerFace = 64;
+// A box or sphere domain has a handful of faces (a sphere may come in patches).
+constexpr size_t kMaxOuterFaces = 64;
 
 // A face's samples: its tessellation's nodes (inside the face whatever its trimming) with the
 // surface normal at each.
@@ -43,7 +48,10 @@ FaceSamples sampleFace(const TopoDS_Face& face) {
   const BRepAdaptor_Surface surface(face);
   const int nodes = triangulation->NbNodes();
   const bool hasUV = triangulation->HasUVNodes();
-  for (int i = 1; i <= nodes; ++i) {
+  // At most about kSamplesPerFace nodes, spread over the face: the test compares every sample with
+  // every other, so a CAD of thousands of faces must stay at a fraction of a second.
+  const int stride = std::max(1, nodes / kSamplesPerFace);
+  for (int i = 1; i <= nodes; i += stride) {
     const gp_Pnt node = triangulation->Node(i).Transformed(location.Transformation());
     samples.points.push_back(toEigen(node.XYZ()));
     if (!hasUV) continue;
@@ -147,6 +155,9 @@ FlowDomain splitFlowDomain(const TopoDS_Shape& shape) {
       samples.push_back(sampleFace(TopoDS::Face(faces(i))));
       cloud.insert(cloud.end(), samples.back().points.begin(), samples.back().points.end());
     }
+    // In a fixed shuffled order, a body face meets points on both sides of its plane within a few
+    // samples; only the domain's few faces need the whole cloud.
+    std::shuffle(cloud.begin(), cloud.end(), std::mt19937(12345));
     const double tolerance = 1e-6 * diagonal;
     // Whether the whole shape lies on one side of the plane through p with normal n.
     const auto supporting = [&](const Eigen::Vector3d& p, const Eigen::Vector3d& n) {
@@ -165,6 +176,11 @@ FlowDomain splitFlowDomain(const TopoDS_Shape& shape) {
       bool outer = !face.points.empty();
       for (size_t k = 0; k < face.points.size() && outer; ++k) outer = supporting(face.points[k], face.normals[k]);
       (outer ? domain.outerFaces : domain.bodyFaces).push_back(f);
+      if (domain.outerFaces.size() > kMaxOuterFaces) {
+        throw InvalidInputError("splitFlowDomain: more than " + std::to_string(kMaxOuterFaces) +
+                                " faces bound the shape's convex hull: a body alone, not a flow domain (whose "
+                                "boundary is a box or a sphere)");
+      }
     }
     if (domain.bodyFaces.empty()) {
       throw InvalidInputError("splitFlowDomain: every face bounds the shape's convex hull, so no body lies inside a "
