@@ -7,6 +7,7 @@
 #include <Bnd_Box.hxx>
 #include <Poly_Triangulation.hxx>
 #include <TopExp.hxx>
+#include <TopExp_Explorer.hxx>
 #include <TopLoc_Location.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
@@ -188,11 +189,15 @@ FlowDomain splitFlowDomain(const TopoDS_Shape& shape) {
     }
     if (domain.outerFaces.empty()) throw InvalidInputError("splitFlowDomain: no face bounds the shape: not a flow domain");
 
-    // The body's points, to find the outer face its root lies on.
+    // The body's points, to find the outer face its root lies on: its samples and its vertices
+    // (a root loop's corners, whatever samples the stride kept).
     std::vector<Eigen::Vector3d> body;
     for (int f : domain.bodyFaces) {
       const FaceSamples& face = samples[static_cast<size_t>(f)];
       body.insert(body.end(), face.points.begin(), face.points.end());
+      for (TopExp_Explorer vertex(faces(f + 1), TopAbs_VERTEX); vertex.More(); vertex.Next()) {
+        body.push_back(toEigen(BRep_Tool::Pnt(TopoDS::Vertex(vertex.Current())).XYZ()));
+      }
     }
     Eigen::Vector3d low = Eigen::Vector3d::Constant(HUGE_VAL), high = -low;
     std::optional<Sphere> sphere;
