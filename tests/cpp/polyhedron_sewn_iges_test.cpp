@@ -2,7 +2,8 @@
 // shared edges, as many design tools write them) and sewn on reading, against the same
 // templates on the geometry as made (the hemisphere-cylinder's STEP, the OCCT-built nacelle and
 // wing-body): the same parameters, the polyhedron's vertices within 1e-3 of the size, the same
-// planform, and a fit that stops for the same reason at the same level with the same distance.
+// planform, and a fit that stops for the same reason at the same level: converged at the
+// tolerance on both, or stopped at the same level cap with the same distance.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -63,13 +64,18 @@ void expectSamePlacementAndFit(const std::string& name, const std::shared_ptr<co
   EXPECT_EQ(fitIges.reason, fitMade.reason) << fitIges.detail << " / " << fitMade.detail;
   EXPECT_EQ(fitIges.history.back().level, fitMade.history.back().level);
   const double distance = fitMade.history.back().maxDistance;
-  EXPECT_NEAR(fitIges.history.back().maxDistance, distance, 0.05 * distance + 1e-7 * size);
+  if (fitMade.reason == fit::StopReason::Converged) {
+    EXPECT_LE(fitIges.history.back().maxDistance, tolerance);  // below the tolerance, each its own way
+  } else {
+    EXPECT_NEAR(fitIges.history.back().maxDistance, distance, 0.05 * distance + 1e-7 * size);
+  }
 }
 
 TEST(SewnIgesTemplates, FuselageOnTheHemisphereCylinder) {
   const std::string step = kData + "/hemisph-cyl.stp";
   const auto made = std::make_shared<const target::Target>(cad::readShapeFileRepaired(step));
   const auto iges = std::make_shared<const target::Target>(sewnIges(cad::readShapeFile(step), "hemisph-cyl"));
+  // To level 2 only: converging at 1e-5 of the size takes both fits to level 5 (80 s).
   expectSamePlacementAndFit("fuselage", made, iges, 1e-5 * made->report().diagonal, 2);
 }
 
@@ -79,6 +85,8 @@ TEST(SewnIgesTemplates, NacelleWithASharpLip) {
   const TopoDS_Shape nacelle = testing::sharpLipNacelle();
   const auto made = std::make_shared<const target::Target>(nacelle);
   const auto iges = std::make_shared<const target::Target>(sewnIges(nacelle, "nacelle"));
+  // To level 2 only: at level 5 (12 s) neither converges at 1e-5 (both stop for the same reason,
+  // 2.2e-7 / 5.8e-7 apart from the CAD).
   expectSamePlacementAndFit("nacelle", made, iges, 1e-5, 2);
 }
 
@@ -86,7 +94,7 @@ TEST(SewnIgesTemplates, WingFuselageOnTheMidWingBody) {
   const TopoDS_Shape body = testing::makeWingBody();
   const auto made = std::make_shared<const target::Target>(removeSymmetryFace(body).shape);
   const auto iges = std::make_shared<const target::Target>(removeSymmetryFace(sewnIges(body, "wing_body_mid")).shape);
-  expectSamePlacementAndFit("wing_fuselage", made, iges, 1e-4 * 10.0, 2);
+  expectSamePlacementAndFit("wing_fuselage", made, iges, 1e-4 * 10.0, 5);
 }
 
 }  // namespace
