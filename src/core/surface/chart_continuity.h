@@ -36,7 +36,8 @@ Eigen::Vector3d chartNormal(const std::array<Eigen::MatrixXd, 3>& poles, double 
 
 // Moves the second ring of poles of a clamped bicubic chart with uniform knots (one span per cell)
 // so that its derivative across each side is orthogonal to the given normals: a least-squares
-// term of weight `weight` per normal against the change of the fitted surface, measured with the
+// term of weight `weight` per normal (over the sine of the chart's corner angle there, so that it
+// measures the tangent plane's turn) against the change of the fitted surface, measured with the
 // Gram matrices A^T A of the fit's basis matrices in u and v (#poles x #poles) with all other
 // poles held. `poles[d]` holds coordinate d, (uCells + 3) x (vCells + 3); the outer ring (the
 // border curves) and the inner poles stay.

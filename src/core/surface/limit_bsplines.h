@@ -63,8 +63,8 @@ struct LimitBSplines {
   // 0 where the limit surface is regular. Near extraordinary vertices the surfaces meet with C0
   // only, and the kink shrinks under subdivision (cube levels 1 / 4 / 6: 4.0 / 0.32 / 0.052
   // degrees); with tangentContinuity they share their tangent planes to below 0.1 degree (cube
-  // 0.005-0.03, sphere fit at level 4 0.017, M6 at level 3 0.072 except 0.61 within 2 mm of
-  // the trailing edge's tip corners, where four of them lie 0.3-2.6 mm apart).
+  // 0.005-0.046, sphere fit at level 4 0.017, M6 at level 3 0.072 outside 2 mm of the trailing
+  // edge's tip corners, where four of them lie 0.3-2.6 mm apart, and 0.61 inside).
   double maxKinkDegrees = 0.0;
 };
 
