@@ -186,11 +186,12 @@ py::dict resultToDict(const surface::LimitBSplines& result, const surface::SewnS
 
 // The conversion and, with `sew`, the sewn shape, without the GIL.
 py::dict convert(const surface::QuadControlMesh& mesh, int samplesPerSpan, int checkSamplesPerSpan,
-                 int isolationLevel, bool sew, double sewingTolerance, bool makeSolid) {
+                 int isolationLevel, bool tangentContinuity, bool sew, double sewingTolerance, bool makeSolid) {
   surface::LimitBSplineOptions options;
   options.samplesPerSpan = samplesPerSpan;
   options.checkSamplesPerSpan = checkSamplesPerSpan;
   options.isolationLevel = isolationLevel;
+  options.tangentContinuity = tangentContinuity;
   surface::SewingOptions sewing;
   sewing.relativeTolerance = sewingTolerance;
   sewing.makeSolid = makeSolid;
@@ -215,31 +216,35 @@ void bindSurface(py::module_& module) {
   // through to the array overload.
   module.def(
       "limit_surface_to_bsplines",
-      [](const ControlMesh& mesh, int samplesPerSpan, int checkSamplesPerSpan, int isolationLevel, bool sew,
-         double sewingTolerance, bool makeSolid) {
+      [](const ControlMesh& mesh, int samplesPerSpan, int checkSamplesPerSpan, int isolationLevel,
+         bool tangentContinuity, bool sew, double sewingTolerance, bool makeSolid) {
         return convert(surface::toQuadControlMesh(mesh), samplesPerSpan, checkSamplesPerSpan, isolationLevel,
-                       sew, sewingTolerance, makeSolid);
+                       tangentContinuity, sew, sewingTolerance, makeSolid);
       },
       py::arg("control_mesh"), py::arg("samples_per_span") = 4, py::arg("check_samples_per_span") = 9,
-      py::arg("isolation_level") = 8, py::arg("sew") = true, py::arg("sewing_tolerance") = 1e-7,
-      py::arg("make_solid") = true,
+      py::arg("isolation_level") = 8, py::arg("tangent_continuity") = false, py::arg("sew") = true,
+      py::arg("sewing_tolerance") = 1e-7, py::arg("make_solid") = true,
       "Like the array form below, for a bvmesh.ControlMesh that is all quads with infinitely sharp "
       "creases and corners (e.g. a fitted control mesh).");
   module.def(
       "limit_surface_to_bsplines",
       [](const py::object& vertices, const py::object& faces, const py::object& creases,
-         const py::object& corners, int samplesPerSpan, int checkSamplesPerSpan, int isolationLevel, bool sew,
-         double sewingTolerance, bool makeSolid) {
+         const py::object& corners, int samplesPerSpan, int checkSamplesPerSpan, int isolationLevel,
+         bool tangentContinuity, bool sew, double sewingTolerance, bool makeSolid) {
         return convert(meshFromArrays(vertices, faces, creases, corners), samplesPerSpan, checkSamplesPerSpan,
-                       isolationLevel, sew, sewingTolerance, makeSolid);
+                       isolationLevel, tangentContinuity, sew, sewingTolerance, makeSolid);
       },
       py::arg("vertices"), py::arg("faces"), py::arg("creases") = py::none(), py::arg("corners") = py::none(),
       py::arg("samples_per_span") = 4, py::arg("check_samples_per_span") = 9, py::arg("isolation_level") = 8,
-      py::arg("sew") = true, py::arg("sewing_tolerance") = 1e-7, py::arg("make_solid") = true,
+      py::arg("tangent_continuity") = false, py::arg("sew") = true, py::arg("sewing_tolerance") = 1e-7,
+      py::arg("make_solid") = true,
       R"doc(Converts the Catmull-Clark limit surface of an all-quad control mesh to bicubic B-spline surfaces.
 
 vertices: (#V, 3) float; faces: (#F, 4) int, counter-clockwise; creases: (#C, 2) int vertex pairs of
 infinitely sharp crease edges; corners: (#K,) int sharp corner vertices. Boundaries act as creases.
+tangent_continuity: neighbouring charts share their tangent planes along smooth borders (to below
+0.1 degree away from corners), at some cost in distance next to extraordinary vertices (see
+LimitBSplineOptions in limit_bsplines.h).
 
 Returns a dict: 'charts' (per chart: 'faces', 'vertices', 'rotations', 'poles' (n_u, n_v, 3),
 'u_knots', 'v_knots', 'u_multiplicities', 'v_multiplicities', 'max_deviation', 'max_distance',
@@ -247,7 +252,8 @@ Returns a dict: 'charts' (per chart: 'faces', 'vertices', 'rotations', 'poles' (
 'multiplicities'), 'max_deviation' (largest |chart(s, t) - limit(s, t)| at check_samples_per_span^2
 points per face: the parametric deviation, a bound of the distance), 'max_distance' (largest
 component of that along the limit normal: the distance between the surfaces to first order),
-'max_border_gap', 'max_kink_degrees', 'junctions', 'nodes', 'face_chart' (#F,), and with sew=True:
+'max_border_gap', 'max_kink_degrees' (largest normal jump across smooth borders, degrees, except
+in the spans next to corners), 'junctions', 'nodes', 'face_chart' (#F,), and with sew=True:
 'brep' (the sewn shell or solid as BREP text), 'solid', 'free_edges', 'sewing_tolerance' (absolute:
 the sewing_tolerance argument times the bounding-box diagonal), 'max_edge_tolerance', 'valid'.)doc");
 }

@@ -1,10 +1,12 @@
 """What several Python test modules share: the cube inscribed in the unit sphere (the thesis'
-starting polyhedron for the sphere fits), the unit sphere's fitted volume mesh, and checkMesh."""
+starting polyhedron for the sphere fits), the unit sphere's fitted volume mesh, checkMesh, and the
+normal jump between B-spline charts along their shared smooth borders."""
 
 import os
 import subprocess
 
 import numpy as np
+from scipy.interpolate import BSpline
 
 import FreeCAD  # noqa: F401  -- Part needs it loaded first
 import Part
@@ -34,6 +36,38 @@ def sphere_volume(max_level):
     volume = bvmesh.volume.offset_and_farfield(fitter, boundary_layer_thickness=0.05, farfield_distance=20.0,
                                                reference_length=1.0)
     return target, fitter, volume
+
+
+def smooth_border_normal_jumps(result, per_edge=16):
+    """(angles in degrees, points): the angle between the two charts' normals at per_edge points
+    per edge along every shared smooth segment of a limit_surface_to_bsplines result, evaluated
+    from the charts' poles and knots."""
+    angles, points = [], []
+    for segment in result["segments"]:
+        if len(segment["uses"]) != 2 or segment["kind"] == "crease":
+            continue
+        y = np.linspace(0.0, len(segment["vertices"]) - 1, per_edge * (len(segment["vertices"]) - 1) + 1)
+        normals = []
+        for chart_id, side, first, reversed_ in segment["uses"]:
+            chart = result["charts"][chart_id]
+            position = first - y if reversed_ else first + y
+            s = {"u_min": 0.0 * y, "u_max": 0.0 * y + chart["u_cells"]}.get(side, position)
+            t = {"v_min": 0.0 * y, "v_max": 0.0 * y + chart["v_cells"]}.get(side, position)
+            basis = []
+            for knots, multiplicities, x in ((chart["u_knots"], chart["u_multiplicities"], s),
+                                             (chart["v_knots"], chart["v_multiplicities"], t)):
+                full = np.repeat(knots, multiplicities)
+                spline = BSpline(full, np.eye(len(full) - 4), 3)
+                basis.append((spline(x), spline.derivative()(x)))
+            (bu, dbu), (bv, dbv) = basis
+            du = np.einsum("ki,kj,ijx->kx", dbu, bv, chart["poles"])
+            dv = np.einsum("ki,kj,ijx->kx", bu, dbv, chart["poles"])
+            normals.append(np.cross(du, dv))
+            if len(normals) == 1:
+                points.append(np.einsum("ki,kj,ijx->kx", bu, bv, chart["poles"]))
+        sine = np.linalg.norm(np.cross(normals[0], normals[1]), axis=1)
+        angles.append(np.degrees(np.arctan2(sine, np.einsum("kx,kx->k", normals[0], normals[1]))))
+    return np.concatenate(angles), np.concatenate(points)
 
 
 def check_mesh(case, timeout=600):

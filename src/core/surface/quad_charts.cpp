@@ -181,6 +181,7 @@ class LayoutBuilder {
         }
       }
       if (!regular) layout_.junctions.push_back(v);
+      if (tagged[static_cast<size_t>(v)] != 0 || sharpCount >= 3) layout_.corners.push_back(v);
       stop_[static_cast<size_t>(v)] = (!regular || sharpCount > 0) ? 1 : 0;
     }
   }

@@ -93,6 +93,9 @@ struct ChartLayout {
   std::vector<int> nodes;      // vertex ids that are a corner of some chart, increasing
   std::vector<int> faceChart;  // #F: chart of each face
   std::vector<int> junctions;  // extraordinary / irregular crease / corner vertices, increasing
+  // Corners, increasing: tagged corners and vertices on three or more sharp edges. The limit
+  // surface has a cone point there, no tangent plane.
+  std::vector<int> corners;
 };
 
 // Builds the charts. Throws TopologyError when a component cannot be made rectangular.
