@@ -198,6 +198,16 @@ def fit_half_wing(path, level=2, tolerance=1e-3 * 805.0):
     return placed, fitter.run()
 
 
+def assert_converged_alike(test, step, sewn, distance=True):
+    """Both fits converged at the same level (and, with `distance`, 5 % apart in distance)."""
+    test.assertEqual(step["reason"], "converged", step.get("detail"))
+    test.assertEqual(sewn["reason"], "converged", sewn.get("detail"))
+    test.assertEqual(sewn["history"][-1]["level"], step["history"][-1]["level"])
+    if distance:
+        test.assertAlmostEqual(sewn["history"][-1]["max_distance"], step["history"][-1]["max_distance"],
+                               delta=0.05 * step["history"][-1]["max_distance"])
+
+
 class HalfWingOnSewnIges(unittest.TestCase):
     def test_places_and_converges_as_on_the_step(self):
         with tempfile.TemporaryDirectory() as folder:
@@ -228,11 +238,7 @@ class HalfWingOnSewnIges(unittest.TestCase):
             iges = faces_iges(WING, folder)
             _, step = fit_half_wing(WING, 5, 1e-5 * 805.0)
             _, sewn = fit_half_wing(iges, 5, 1e-5 * 805.0)
-        self.assertEqual(step["reason"], "converged")
-        self.assertEqual(sewn["reason"], "converged")
-        self.assertEqual(sewn["history"][-1]["level"], step["history"][-1]["level"])
-        self.assertAlmostEqual(sewn["history"][-1]["max_distance"], step["history"][-1]["max_distance"],
-                               delta=0.05 * step["history"][-1]["max_distance"])
+        assert_converged_alike(self, step, sewn)
 
 
 class CapsuleOnSewnIges(unittest.TestCase):
@@ -253,12 +259,7 @@ class CapsuleOnSewnIges(unittest.TestCase):
                 results.append(bvmesh.SurfaceFitter(target, placed["mesh"], placed["feature_map"],
                                                     symmetry_plane=placed["symmetry_plane"], max_level=5,
                                                     tolerance=1e-5 * 246.0).run())
-        step, sewn = results
-        self.assertEqual(step["reason"], "converged")
-        self.assertEqual(sewn["reason"], "converged", sewn.get("detail"))
-        self.assertEqual(sewn["history"][-1]["level"], step["history"][-1]["level"])
-        self.assertAlmostEqual(sewn["history"][-1]["max_distance"], step["history"][-1]["max_distance"],
-                               delta=0.05 * step["history"][-1]["max_distance"])
+        assert_converged_alike(self, *results)
 
 
 class FlowDomainOnSewnIges(unittest.TestCase):
@@ -287,9 +288,7 @@ class FlowDomainOnSewnIges(unittest.TestCase):
         span = step_planform["span"]
         for key in ("span", "root_chord", "tip_chord"):
             self.assertAlmostEqual(iges_planform[key], step_planform[key], delta=1e-6 * span)
-        self.assertEqual(step["reason"], "converged")
-        self.assertEqual(iges["reason"], "converged")
-        self.assertEqual(iges["history"][-1]["level"], step["history"][-1]["level"])
+        assert_converged_alike(self, step, iges, distance=False)
 
 
 if __name__ == "__main__":
