@@ -188,7 +188,8 @@ def format_target_report(report):
 
 def make_target(doc, source, faces=None, name="Target"):
     """A BVMesh Target on `source` (an object with a Shape): its faces named in `faces`
-    (["Face1", ...]) or all of them."""
+    (["Face1", ...]), or all of them; on a flow domain's CAD (a box or sphere with the body cut
+    out) the body's, and the Target's FlowDomain, DomainCentre and DomainSize give the domain."""
     from bvmesh.features import target
 
     def fill(obj):
