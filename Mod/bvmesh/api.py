@@ -12,9 +12,10 @@ def shape_report(shape_or_object, sharp_angle_degrees=30.0, sew=None, sew_tolera
     """What a CAD shape holds, as a dict: face count and surface types, bounding box, and edges
     classified as sharp / smooth / free / seam / non-manifold / degenerate with their dihedral
     angles, under "repair" what sewing did (gaps closed and left open, watertight or not), and under
-    "flow_domain" the split of a flow domain's CAD (api.flow_domain_of) or None. Face i is FreeCAD's Face<i+1>, edge j its Edge<j+1>: of the sewn shape for a file (sewn on
-    reading, as import_cad does; sew=False: as written), of the shape given otherwise (sew=True
-    reports on its sewn copy instead). sew_tolerance: absolute, 0 = automatic."""
+    "flow_domain" the split of a flow domain's CAD (api.flow_domain_of) or None. Face i is FreeCAD's
+    Face<i+1>, edge j its Edge<j+1>: of the sewn shape for a file (sewn on reading, as import_cad
+    does; sew=False: as written), of the shape given otherwise (sew=True reports on its sewn copy
+    instead, and then no flow domain). sew_tolerance: absolute, 0 = automatic."""
     import os
 
     core = load_core()
