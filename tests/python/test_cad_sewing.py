@@ -129,6 +129,20 @@ class SewnIges(unittest.TestCase):
         self.assertEqual(loose.returncode, 0, loose.stderr)
         self.assertIn("watertight: no", loose.stdout)
 
+    def test_command_line_info_names_a_flow_domain(self):
+        env = dict(os.environ, PYTHONPATH=MOD + os.pathsep + "/usr/lib/freecad-python3/lib")
+        out = subprocess.run([sys.executable, "-m", "bvmesh", "info", os.path.join(DATA, "onera-m6-sharp-te.stp")],
+                             env=env, capture_output=True, text=True, timeout=120)
+        self.assertEqual(out.returncode, 0, out.stderr)
+        self.assertIn("flow domain: half sphere around (0, 0, 0), radius 100; body (the target): Face3, Face4,",
+                      out.stdout)
+        self.assertIn("domain: Face1, Face2", out.stdout)
+        # A body alone (the wing) is no flow domain: no such line.
+        wing = subprocess.run([sys.executable, "-m", "bvmesh", "info", WING], env=env, capture_output=True, text=True,
+                              timeout=120)
+        self.assertEqual(wing.returncode, 0, wing.stderr)
+        self.assertNotIn("flow domain", wing.stdout)
+
 
 class M6RootGap(unittest.TestCase):
     """The M6 written face by face with its root face moved off the wing by 1e-4 and 1e-2 of the
