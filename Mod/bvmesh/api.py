@@ -486,12 +486,14 @@ def make_distance_map(fit, samples_per_face=3, color_max=0.0, name="DistanceMap"
     return _new_object(distance_map.create, fit.Document, name, fill)
 
 
-def make_bspline_shell(fit, name="BsplineShell"):
-    """The fit's limit surface as a shell of B-spline faces (needs the core's conversion)."""
+def make_bspline_shell(fit, name="BsplineShell", tangent_continuity=False):
+    """The fit's limit surface as a shell of B-spline faces (needs the core's conversion);
+    tangent_continuity: neighbouring faces share their tangent planes along smooth borders."""
     from bvmesh.features import bspline_shell
 
     def fill(obj):
         obj.Fit = fit
+        obj.TangentContinuity = bool(tangent_continuity)
 
     return _new_object(bspline_shell.create, fit.Document, name, fill)
 

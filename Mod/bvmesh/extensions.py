@@ -58,18 +58,19 @@ def shell_available():
     return True, ""
 
 
-def limit_surface_to_shell(mesh):
+def limit_surface_to_shell(mesh, tangent_continuity=False):
     """(Part.Shape, report) for the limit surface of a bvmesh.ControlMesh: the shell of B-spline
     faces and what the conversion measured: max_distance (largest distance of the faces from the
     limit surface at the check points, to first order) and max_kink_degrees (largest normal jump
-    between neighbouring faces along smooth borders)."""
+    between neighbouring faces along smooth borders). tangent_continuity: neighbouring faces share
+    their tangent planes along smooth borders (bvmesh.limit_surface_to_bsplines)."""
     from bvmesh import load_core
     from bvmesh.adapters.shapes import brep_to_shape
 
     available, reason = shell_available()
     if not available:
         raise RuntimeError(reason)
-    result = load_core().limit_surface_to_bsplines(mesh)
+    result = load_core().limit_surface_to_bsplines(mesh, tangent_continuity=bool(tangent_continuity))
     if not result["valid"]:
         raise RuntimeError("the sewn B-spline shell is not a valid shape ({} free edges, max edge tolerance {:.3g})"
                            .format(result["free_edges"], result["max_edge_tolerance"]))

@@ -264,6 +264,16 @@ class LaterStages(DocumentTest):
         again = Part.read(path)
         self.assertEqual(len(again.Faces), len(shell.Shape.Faces))
         self.assertAlmostEqual(again.Volume, shell.Shape.Volume, delta=1e-6)
+        # With tangent continuity the faces share their tangent planes across the cube's corners
+        # too, as the core's conversion does with the option.
+        smooth = api.make_bspline_shell(fit, name="SmoothShell", tangent_continuity=True)
+        self.assertTrue(smooth.Shape.isValid())
+        measured = bvmesh.load_core().limit_surface_to_bsplines(surface_fit.result_mesh(fit), sew=False,
+                                                                tangent_continuity=True)
+        self.assertEqual(smooth.MaxKinkDegrees, measured["max_kink_degrees"])
+        self.assertLess(smooth.MaxKinkDegrees, 0.1)
+        self.assertLess(smooth.MaxKinkDegrees, shell.MaxKinkDegrees)
+        self.assertLess(smooth.MaxDistance, 1e-3)
 
     def test_half_wing_template_on_the_m6(self):
         wing = api.import_cad(self.doc, os.path.join(DATA, "AileM6_with_sharp_TE.stp"))
