@@ -138,13 +138,24 @@ def flow_domain(shape_or_brep, **target_options):
     core = load_core()
     split = core.split_flow_domain(brep)
     split["target"] = core.Target.from_brep(core.select_faces(brep, split["body_faces"]), **target_options)
-    options = {"domain": split["shape"], "domain_centre": split["centre"]}
-    if split["shape"] == "sphere":
-        options["farfield_distance"] = split["radius"]
-    else:
-        options["box_half_extent"] = split["half_extent"]
-    split["volume_options"] = options
+    split["volume_options"] = domain_volume_options(split["shape"], split["centre"], domain_size(split))
     return split
+
+
+def domain_size(split):
+    """A split flow domain's size as three numbers: a box's half sizes, a sphere's radius thrice."""
+    return [split["radius"]] * 3 if split["shape"] == "sphere" else list(split["half_extent"])
+
+
+def domain_volume_options(shape, centre, size):
+    """bvmesh.volume.offset_and_farfield's keywords for a flow domain: 'sphere' of radius size[0]
+    or 'box' of half sizes `size`, around `centre`."""
+    options = {"domain": shape, "domain_centre": tuple(centre)}
+    if shape == "sphere":
+        options["farfield_distance"] = size[0]
+    else:
+        options["box_half_extent"] = tuple(size)
+    return options
 
 
 def plot_polyhedron(mesh, path, target=None, title=None, views=((25, -60), (90, -90), (0, -90)), min_aspect=0.2,

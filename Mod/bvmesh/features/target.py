@@ -87,10 +87,11 @@ class TargetProxy(Proxy):
     def set_flow_domain(obj, domain):
         import FreeCAD
 
+        from bvmesh import polyhedra
+
         obj.FlowDomain = domain["shape"] if domain else ""
         obj.DomainCentre = FreeCAD.Vector(*domain["centre"]) if domain else FreeCAD.Vector()
-        size = ([domain["radius"]] * 3 if domain["shape"] == "sphere" else domain["half_extent"]) if domain else (0, 0, 0)
-        obj.DomainSize = FreeCAD.Vector(*size)
+        obj.DomainSize = FreeCAD.Vector(*polyhedra.domain_size(domain)) if domain else FreeCAD.Vector()
 
     def core_target(self, obj):
         """The bvmesh.Target of the fitted faces, built once per geometry and options."""

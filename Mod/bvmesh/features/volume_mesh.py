@@ -64,12 +64,9 @@ def cad_domain(fit):
     if target is None or not getattr(target, "FlowDomain", ""):
         raise ValueError("Domain 'cad' needs a target on a flow domain's CAD (a box or sphere with the body cut "
                          "out, its Faces left empty): choose sphere, box or cylinder")
-    settings = {"domain": target.FlowDomain, "domain_centre": tuple(target.DomainCentre)}
-    if target.FlowDomain == "sphere":
-        settings["farfield_distance"] = target.DomainSize.x
-    else:
-        settings["box_half_extent"] = tuple(target.DomainSize)
-    return settings
+    from bvmesh import polyhedra
+
+    return polyhedra.domain_volume_options(target.FlowDomain, target.DomainCentre, tuple(target.DomainSize))
 
 
 def symmetry_plane(fit):

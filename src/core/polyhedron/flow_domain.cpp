@@ -84,6 +84,12 @@ std::string surfaceTypeName(GeomAbs_SurfaceType type) {
   }
 }
 
+Eigen::Vector3d meanOf(const std::vector<Eigen::Vector3d>& points) {
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& p : points) sum += p;
+  return sum / static_cast<double>(points.size());
+}
+
 struct Plane {
   Eigen::Vector3d point, normal;
 };
@@ -91,9 +97,7 @@ struct Plane {
 // The plane all points lie on within `tolerance` (their least-squares plane), if any.
 std::optional<Plane> planeThrough(const std::vector<Eigen::Vector3d>& points, double tolerance) {
   if (points.size() < 3) return std::nullopt;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& p : points) mean += p;
-  mean /= static_cast<double>(points.size());
+  const Eigen::Vector3d mean = meanOf(points);
   Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
   for (const Eigen::Vector3d& p : points) covariance += (p - mean) * (p - mean).transpose();
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(covariance);
@@ -113,9 +117,7 @@ struct Sphere {
 // in c and the constant, solved in the least-squares sense about the points' mean.
 std::optional<Sphere> sphereThrough(const std::vector<Eigen::Vector3d>& points, double tolerance) {
   if (points.size() < 4) return std::nullopt;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& p : points) mean += p;
-  mean /= static_cast<double>(points.size());
+  const Eigen::Vector3d mean = meanOf(points);
   const Eigen::Index n = static_cast<Eigen::Index>(points.size());
   Eigen::MatrixXd a(n, 4);
   Eigen::VectorXd b(n);
@@ -253,9 +255,7 @@ FlowDomain splitFlowDomain(const TopoDS_Shape& shape) {
       fit::SymmetryPlane symmetry;
       symmetry.normal = touched[0].second.normal;
       // Towards the domain: the side the body lies on; the point: the body's mean on the plane.
-      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-      for (const Eigen::Vector3d& p : body) mean += p;
-      mean /= static_cast<double>(body.size());
+      const Eigen::Vector3d mean = meanOf(body);
       const double side = symmetry.normal.dot(mean - touched[0].second.point);
       symmetry.point = mean - side * symmetry.normal;
       if (side < 0.0) symmetry.normal = -symmetry.normal;
@@ -289,10 +289,8 @@ FlowDomain splitFlowDomain(const TopoDS_Shape& shape) {
     domain.halfExtent = 0.5 * (high - low);
     if (domain.symmetryPlane) {
       // The half box: centred on the plane, reaching as far from it as the domain does.
-      const Eigen::Vector3d& n = domain.symmetryPlane->normal;
-      const int axis = static_cast<int>(std::distance(n.data(), std::max_element(n.data(), n.data() + 3, [](double a, double b) {
-                                                        return std::abs(a) < std::abs(b);
-                                                      })));
+      Eigen::Index axis = 0;
+      domain.symmetryPlane->normal.cwiseAbs().maxCoeff(&axis);
       domain.centre = onSymmetryPlane(domain.centre);
       domain.halfExtent[axis] = high[axis] - low[axis];
     }
