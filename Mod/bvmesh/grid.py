@@ -9,7 +9,8 @@ the files flow solvers read.
 
 One B-spline mesh serves both presets: `euler` (no wall clustering, every wall-normal line grows
 by the same ratio) and `rans` (first cell height for y+ ~ 1 by the flat-plate estimate, as many
-wall-normal points as keep the growth ratio at most 1.2). `refine(..., method="subdivision",
+wall-normal points as keep the growth ratio at most 1.2). `max_turning_angle` (degrees) gathers
+tangential points where the wall bends, a wing's nose (docs/grid.md: what it costs on the M6). `refine(..., method="subdivision",
 steps=k)` is the other refinement: k volumetric Catmull-Clark steps of the blocks' control mesh.
 """
 
@@ -74,7 +75,7 @@ def refine(blocks, preset="euler", method="bspline", steps=None, **options):
     'rans' (see the module doc), or None for options alone; options: those of
     bvmesh._core.refine_blocks (normal_points, first_cell_height, y_plus, reynolds_number,
     reference_length, growth, distribution, edge_points, tangential_spacing, target_cells,
-    edge_end_spacing), overriding the preset's. Returns a RefinedGrid (.grid, and the measured
+    edge_end_spacing, max_turning_angle), overriding the preset's. Returns a RefinedGrid (.grid, and the measured
     first cell heights and growth).
 
     method 'subdivision': `steps` volumetric Catmull-Clark steps of the control mesh

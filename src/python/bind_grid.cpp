@@ -137,7 +137,7 @@ void bindGrid(py::module_& module) {
       "refine_blocks",
       [](const volume::BlockMesh& blocks, int normalPoints, double firstCellHeight, double yPlus, double reynoldsNumber,
          double referenceLength, double growth, const std::string& distribution, int edgePoints,
-         double tangentialSpacing, long long targetCells, double edgeEndSpacing) {
+         double tangentialSpacing, long long targetCells, double edgeEndSpacing, double maxTurningAngle) {
         grid::RefinementOptions options;
         options.normalPoints = normalPoints;
         options.firstCellHeight = firstCellHeight;
@@ -150,6 +150,7 @@ void bindGrid(py::module_& module) {
         options.tangentialSpacing = tangentialSpacing;
         options.targetCells = targetCells;
         options.edgeEndSpacing = edgeEndSpacing;
+        options.maxTurningDegrees = maxTurningAngle;
         py::gil_scoped_release release;
         return grid::refineBlockMesh(blocks, options);
       },
@@ -157,6 +158,7 @@ void bindGrid(py::module_& module) {
       py::arg("reynolds_number") = 0.0, py::arg("reference_length") = 0.0, py::arg("growth") = 1.2,
       py::arg("distribution") = "geometric", py::arg("edge_points") = 17, py::arg("tangential_spacing") = 0.0,
       py::arg("target_cells") = 0, py::arg("edge_end_spacing") = 0.0,
+      py::arg("max_turning_angle") = 0.0,
       R"doc(Evaluates a BlockMesh on stretched, point-matched grids.
 
 Wall-normal lines (from wall faces, and every direction a connection links to them): normal_points
@@ -165,6 +167,8 @@ wall (or from y_plus, reynolds_number, reference_length by the flat-plate estima
 every line grows by exactly `growth`. distribution: 'geometric' or 'tanh'. Tangential lines:
 edge_points per block edge, or the count tangential_spacing needs, or the spacing that gives about
 target_cells cells; uniform in arc length, clustered to edge_end_spacing at block corners if > 0.
+max_turning_angle (degrees, 0: none): wall cells along block edges turn at most this much; with a
+spacing the counts grow to keep it, and the points gather where the wall bends (a wing's nose).
 Returns a RefinedGrid.)doc");
 
   module.def(

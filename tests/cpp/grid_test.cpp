@@ -5,6 +5,7 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -85,6 +86,67 @@ TEST(GridDistribution, ArcLengthOfAnUnevenlyParameterisedLine) {
   for (double s : {1e-7, 0.003, 0.5, 1.7, 2.9999}) EXPECT_NEAR(line.point(arc.parameterAt(s)).norm() / s, 1.0, 1e-5);
   const double t = parameterAtDistance(line, 0.0, 1, 1e-6, 1e-3);
   EXPECT_NEAR(line.point(t).norm(), 1e-6, 1e-18);
+}
+
+// A planar cubic B-spline whose control polygon runs straight along x, bends left and leaves
+// along y: a convex polygon gives a curve that turns one way only, so its tangent turns by
+// exactly the angle between its end legs, 90 degrees, mostly in the bend near x = 3.5 .. 3.9.
+BsplineCurve straightThenBent() {
+  BsplineCurve curve;
+  curve.knots = {0, 0, 0, 0, 0.2, 0.4, 0.6, 0.8, 1, 1, 1, 1};
+  curve.poles.resize(8, 3);
+  const double xy[8][2] = {{0, 0}, {1, 0}, {2, 0}, {3, 0}, {3.5, 0.1}, {3.8, 0.5}, {3.9, 1.0}, {3.9, 2.0}};
+  for (int p = 0; p < 8; ++p) curve.poles.row(p) = Vector3d(xy[p][0], xy[p][1], 0.0).transpose();
+  return curve;
+}
+
+double tangentAngleDegrees(const BsplineCurve& curve, double t0, double t1) {
+  Vector3d a, b;
+  curve.point(t0, &a);
+  curve.point(t1, &b);
+  return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI;
+}
+
+TEST(GridDistribution, TurningMeasureGathersPointsInTheBend) {
+  const BsplineCurve curve = straightThenBent();
+  const ArcLength arc(curve, 8);
+  const TurningTable table(curve, arc, 400);
+  EXPECT_NEAR(table.turning(), M_PI / 2.0, 1e-12);
+  EXPECT_NEAR(table.length(), arc.length(), 1e-15);
+  const double limit = 10.0 * M_PI / 180.0;
+  // No turning limit: uniform in arc length.
+  SharedMeasure plain(1000);
+  plain.add(table, false, 0.5, 0.0);
+  const std::vector<double> uniform = plain.fractions(11, 0.0, 0.0);
+  for (size_t i = 0; i < uniform.size(); ++i) EXPECT_NEAR(uniform[i], static_cast<double>(i) / 10.0, 1e-12);
+  // Spacing 0.5 and 10 degrees: length / 0.5 + 9 cells; none longer than 0.5 in arc length, none
+  // whose end tangents differ by more than 10 degrees (measured on the curve, not the table).
+  const double cells = table.measure(0.5, limit);
+  EXPECT_NEAR(cells, arc.length() / 0.5 + 9.0, 1e-9);
+  const int points = static_cast<int>(std::ceil(cells)) + 1;
+  SharedMeasure shared(1000);
+  shared.add(table, false, 0.5, limit);
+  const std::vector<double> sigma = shared.fractions(points, 0.0, 0.0);
+  int inBend = 0;
+  for (size_t i = 1; i < sigma.size(); ++i) {
+    EXPECT_GT(sigma[i], sigma[i - 1]);
+    EXPECT_LE((sigma[i] - sigma[i - 1]) * arc.length(), 0.5 * (1.0 + 1e-6));
+    const double t0 = arc.parameterAt(sigma[i - 1] * arc.length()), t1 = arc.parameterAt(sigma[i] * arc.length());
+    EXPECT_LE(tangentAngleDegrees(curve, t0, t1), 10.0 * 1.02);
+    if (curve.point(t1).x() > 3.4 && curve.point(t1).y() < 1.2) ++inBend;
+  }
+  // Uniform points at that count put about 3 in the bend (its arc is about a quarter of the
+  // curve's 5.3); the turning measure gives the bend its nine 10-degree steps.
+  EXPECT_GE(inBend, 8);
+  // End spacings of 0.02 asked at both ends, as steps of the measure: met to its tabulation.
+  const double end = 0.02 / arc.length();
+  const std::vector<double> ends = shared.fractions(points, shared.at(end), 1.0 - shared.at(1.0 - end));
+  EXPECT_NEAR(ends[1] / end, 1.0, 1e-2);
+  EXPECT_NEAR((1.0 - ends[ends.size() - 2]) / end, 1.0, 1e-2);
+  // The same edge added against the shared sense gives the mirrored measure.
+  SharedMeasure mirrored(1000);
+  mirrored.add(table, true, 0.5, limit);
+  for (const double x : {0.1, 0.5, 0.77, 0.95}) EXPECT_NEAR(mirrored.at(x), 1.0 - shared.at(1.0 - x), 1e-12);
 }
 
 TEST(GridRefinement, AffineBoxGivesTheExactLattice) {
@@ -199,6 +261,74 @@ TEST(GridRefinement, TangentialCountsFollowTheWallNotTheFarField) {
       ++tangential;
     }
     EXPECT_EQ(tangential, 2);
+  }
+}
+
+TEST(GridRefinement, WallEdgesThatTurnGetTheirPointsFromTheTurningLimit) {
+  // The one-layer box bent round the y axis: x in [0, 2] becomes a quarter circle of radius 1 + z
+  // (poles mapped, so the wall is close to the unit cylinder), y stays straight. With a coarse
+  // spacing (0.6) alone the x edges get 3 points (60 degrees per cell); a 5-degree turning limit
+  // gives each block's 45 degrees of wall at least 9 cells, placed so that no wall cell turns
+  // more, while the straight y edges keep the spacing's count.
+  const test::BoxBlocks box = test::boxBlocks(0.0, true, 1);
+  std::vector<volume::Block> bent = box.mesh.blocks();
+  for (volume::Block& block : bent) {
+    const RowMatrixX3d poles = block.volume.poles();
+    for (Eigen::Index row = 0; row < poles.rows(); ++row) {
+      const double angle = 0.25 * M_PI * poles(row, 0), radius = 1.0 + poles(row, 2);
+      block.volume.setPole(row, Vector3d(radius * std::sin(angle), poles(row, 1), radius * std::cos(angle)));
+    }
+  }
+  RefinementOptions options;
+  options.tangentialSpacing = 0.6;
+  options.normalPoints = 5;
+  const volume::BlockMesh mesh(bent);
+  const RefinedGrid coarse = refineBlockMesh(mesh, options);
+  options.maxTurningDegrees = 5.0;
+  const RefinedGrid refined = refineBlockMesh(mesh, options);
+  int turningEdges = 0;
+  for (size_t b = 0; b < refined.grid.blocks().size(); ++b) {
+    const GridBlock& block = refined.grid.blocks()[b];
+    int wall = -1;
+    for (int f = 0; f < 6; ++f) {
+      if (block.faces[static_cast<size_t>(f)].condition == volume::BoundaryCondition::Wall) wall = f;
+    }
+    ASSERT_GE(wall, 0);
+    const std::array<int, 2> along = volume::faceDirections(wall);
+    for (int axis = 0; axis < 2; ++axis) {
+      const int d = along[static_cast<size_t>(axis)];
+      const int n = block.size[static_cast<size_t>(d)];
+      const int other = block.size[static_cast<size_t>(along[static_cast<size_t>(1 - axis)])];
+      auto wallPoint = [&](int i, int j) {
+        return Vector3d(block.points.row(axis == 0 ? block.facePoint(wall, i, j) : block.facePoint(wall, j, i)).transpose());
+      };
+      // The direction's grid lines on the wall: do they bend (x) or run straight (y)?
+      const Vector3d first = wallPoint(1, 0) - wallPoint(0, 0), last = wallPoint(n - 1, 0) - wallPoint(n - 2, 0);
+      const bool turns = std::abs(first.normalized().dot(last.normalized())) < 0.99;
+      const int coarseCount = coarse.grid.blocks()[b].size[static_cast<size_t>(d)];
+      if (!turns) {
+        EXPECT_EQ(n, coarseCount);
+        continue;
+      }
+      ++turningEdges;
+      EXPECT_EQ(coarseCount, 3);
+      EXPECT_GE(n, 10);
+      for (int j = 0; j < other; ++j) {
+        for (int i = 1; i + 1 < n; ++i) {
+          const Vector3d a = wallPoint(i, j) - wallPoint(i - 1, j), c = wallPoint(i + 1, j) - wallPoint(i, j);
+          // Consecutive chords turn by the mean of the two cells' turnings.
+          EXPECT_LE(std::atan2(a.cross(c).norm(), a.dot(c)) * 180.0 / M_PI, 5.0 * 1.05);
+        }
+      }
+    }
+  }
+  EXPECT_EQ(turningEdges, 4);
+  // With a fixed edge_points count the count stays as asked.
+  options.tangentialSpacing = 0.0;
+  options.edgePoints = 6;
+  const RefinedGrid counted = refineBlockMesh(mesh, options);
+  for (const GridBlock& block : counted.grid.blocks()) {
+    EXPECT_EQ(std::count(block.size.begin(), block.size.end(), 6), 2);
   }
 }
 
@@ -371,6 +501,16 @@ TEST(GridRefinement, BadOptionsAreNamed) {
     FAIL();
   } catch (const InvalidInputError& error) {
     EXPECT_NE(std::string(error.what()).find("normal_points"), std::string::npos);
+  }
+  for (const double angle : {-1.0, 91.0, std::nan("")}) {
+    options = {};
+    options.maxTurningDegrees = angle;
+    try {
+      refineBlockMesh(box.mesh, options);
+      FAIL();
+    } catch (const InvalidInputError& error) {
+      EXPECT_NE(std::string(error.what()).find("max_turning_angle"), std::string::npos);
+    }
   }
 }
 

@@ -85,6 +85,22 @@ class VolumeObjects(unittest.TestCase):
         finally:
             self.doc.removeObject(cut.Name)
 
+    def test_turning_limit_property_sets_the_counts(self):
+        # A spacing of a diameter alone gives 2 points per block edge on the sphere; its wall edges
+        # turn through about 70 degrees, so a 10-degree limit gives them 8 or more.
+        plain = api.make_volume_grid(self.volume, "euler", tangential_spacing=2.0 * RADIUS, normal_points=5)
+        turned = api.make_volume_grid(self.volume, "euler", tangential_spacing=2.0 * RADIUS, normal_points=5,
+                                      max_turning_angle=10.0)
+        try:
+            self.assertEqual(plain.MaxTurningAngle, 0.0)
+            self.assertEqual(turned.MaxTurningAngle, 10.0)
+            sizes = [api.grid_of(g).grid.size(0)[:2] for g in (plain, turned)]
+            self.assertEqual(sizes[0], (2, 2))
+            self.assertGreaterEqual(min(sizes[1]), 8)
+        finally:
+            for g in (plain, turned):
+                self.doc.removeObject(g.Name)
+
     def test_span_station_cut_of_a_body_without_symmetry_plane(self):
         point, normal = api.span_station(self.grid, 0.5)
         self.assertAlmostEqual(point.y, 0.0, delta=1e-2)

@@ -235,7 +235,39 @@ class SphereGrids(unittest.TestCase):
         interfaces = root.find(".//MultiPatch/interfaces")
         self.assertEqual(len(interfaces.text.strip().splitlines()), 12)
 
+    def test_turning_limit_sets_the_counts_on_a_curved_wall(self):
+        # The sphere's cube layout: every wall edge turns through about 70 degrees, a face's middle
+        # line through 90. A spacing of a diameter alone gives 2 points per edge; a 10-degree limit
+        # gives every wall cell along the block edges at most 10 degrees of turning (consecutive
+        # chords of the wall points turn by the mean of two cells'). Lines inside a face take
+        # their parameters blended from the edges', so they only come close (12.4 degrees).
+        diameter = np.ptp(bvmesh.grid.wall_points(self.euler), axis=0).max()
+        coarse = bvmesh.grid.refine(self.volume, "euler", tangential_spacing=diameter, normal_points=5)
+        turned = bvmesh.grid.refine(self.volume, "euler", tangential_spacing=diameter, normal_points=5,
+                                    max_turning_angle=10.0)
+        self.assertEqual({coarse.grid.size(b)[:2] for b in range(coarse.grid.block_count)}, {(2, 2)})
+
+        def turning(lines):  # (n_lines, n_points, 3) -> degrees between consecutive chords
+            chords = np.diff(lines, axis=1)
+            a, c = chords[:, :-1], chords[:, 1:]
+            cosine = (a * c).sum(-1) / np.linalg.norm(a, axis=-1) / np.linalg.norm(c, axis=-1)
+            return np.degrees(np.arccos(np.clip(cosine, -1.0, 1.0)))
+
+        edges, inside = 0.0, 0.0
+        for b in range(turned.grid.block_count):
+            self.assertGreaterEqual(min(turned.grid.size(b)[:2]), 8)
+            sheet = bvmesh.grid.face_array(turned.grid.points(b), "w_min")
+            for lines in (np.moveaxis(sheet, 1, 0), sheet):  # lines along the sheet's first, second axis
+                angles = turning(lines)
+                edges = max(edges, angles[[0, -1]].max())
+                inside = max(inside, angles[1:-1].max())
+        self.assertLess(edges, 10.0 * 1.05)
+        self.assertGreater(edges, 5.0)  # the limit is what set the counts, not a finer spacing
+        self.assertLess(inside, 13.0)
+
     def test_errors_name_the_problem(self):
+        with self.assertRaisesRegex(ValueError, "max_turning_angle"):
+            bvmesh.grid.refine(self.volume, "euler", max_turning_angle=-5.0)
         with self.assertRaisesRegex(ValueError, "preset"):
             bvmesh.grid.refine(self.volume, "navier")
         with self.assertRaisesRegex(ValueError, "reynolds_number"):

@@ -36,6 +36,9 @@ OPTIONS = (
      "About this many cells (sets the tangential spacing); 0: EdgePoints"),
     ("EdgeEndSpacing", "edge_end_spacing", "App::PropertyFloat", 0.0,
      "Spacing at the ends of tangential block edges (leading and trailing edge, tip); 0: uniform"),
+    ("MaxTurningAngle", "max_turning_angle", "App::PropertyFloat", 0.0,
+     "Largest turning of the wall per tangential cell in degrees, points gathered where the wall bends "
+     "(a wing's nose); 0: none"),
 )
 # Refinement by subdivision (Method subdivision): (property, option, type, default, description).
 SUBDIVISION_OPTIONS = (

@@ -1,5 +1,7 @@
 #include "core/grid/distribution.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -395,6 +397,81 @@ void ArcLength::parametersAt(const std::vector<double>& s, int end, std::vector<
       t[k] = interpolate(m, along);
     }
   }
+}
+
+TurningTable::TurningTable(const BsplineCurve& curve, const ArcLength& arc, int samples) {
+  const size_t steps = static_cast<size_t>(std::max(1, samples));
+  arc_.resize(steps + 1);
+  turning_.resize(steps + 1);
+  std::vector<double> t;
+  for (size_t k = 0; k <= steps; ++k) arc_[k] = arc.length() * static_cast<double>(k) / static_cast<double>(steps);
+  arc.parametersAt(arc_, 0, t);
+  Eigen::Vector3d previous = Eigen::Vector3d::Zero();
+  turning_[0] = 0.0;
+  for (size_t k = 0; k <= steps; ++k) {
+    Eigen::Vector3d tangent;
+    curve.point(t[k], &tangent);
+    // A point where the curve stops (zero tangent) turns nothing by itself; the next one counts.
+    double turned = 0.0;
+    if (k > 0 && previous.squaredNorm() > 0.0 && tangent.squaredNorm() > 0.0) {
+      turned = std::atan2(previous.cross(tangent).norm(), previous.dot(tangent));
+    }
+    if (k > 0) turning_[k] = turning_[k - 1] + turned;
+    if (tangent.squaredNorm() > 0.0) previous = tangent;
+  }
+}
+
+double TurningTable::measureAt(double s, double spacing, double maxTurning) const {
+  if (!(maxTurning > 0.0)) return s / spacing;
+  const double steps = static_cast<double>(arc_.size() - 1);
+  const double at = std::clamp(s / length(), 0.0, 1.0) * steps;
+  const size_t k = std::min(static_cast<size_t>(at), arc_.size() - 2);
+  const double w = at - static_cast<double>(k);
+  return s / spacing + ((1.0 - w) * turning_[k] + w * turning_[k + 1]) / maxTurning;
+}
+
+SharedMeasure::SharedMeasure(int samples) : sum_(static_cast<size_t>(std::max(1, samples)) + 1, 0.0) {}
+
+void SharedMeasure::add(const TurningTable& edge, bool reversed, double spacing, double maxTurning) {
+  const double steps = static_cast<double>(sum_.size() - 1);
+  const double total = edge.measure(spacing, maxTurning);
+  for (size_t k = 0; k < sum_.size(); ++k) {
+    const double sigma = static_cast<double>(k) / steps;
+    sum_[k] += reversed ? total - edge.measureAt((1.0 - sigma) * edge.length(), spacing, maxTurning)
+                        : edge.measureAt(sigma * edge.length(), spacing, maxTurning);
+  }
+}
+
+double SharedMeasure::at(double sigma) const {
+  const double x = std::clamp(sigma, 0.0, 1.0);
+  if (!(sum_.back() > 0.0)) return x;
+  const double at = x * static_cast<double>(sum_.size() - 1);
+  const size_t k = std::min(static_cast<size_t>(at), sum_.size() - 2);
+  const double w = at - static_cast<double>(k);
+  return ((1.0 - w) * sum_[k] + w * sum_[k + 1]) / sum_.back();
+}
+
+double SharedMeasure::sigmaAt(double measure) const {
+  if (!(sum_.back() > 0.0)) return std::clamp(measure, 0.0, 1.0);
+  const double target = measure * sum_.back();
+  if (target <= 0.0) return 0.0;
+  if (target >= sum_.back()) return 1.0;
+  // The first sample at or above the target; sums never decrease.
+  const size_t hi = static_cast<size_t>(std::lower_bound(sum_.begin(), sum_.end(), target) - sum_.begin());
+  const size_t lo = hi - 1;
+  const double steps = static_cast<double>(sum_.size() - 1);
+  const double w = sum_[hi] > sum_[lo] ? (target - sum_[lo]) / (sum_[hi] - sum_[lo]) : 0.0;
+  return (static_cast<double>(lo) + w) / steps;
+}
+
+std::vector<double> SharedMeasure::fractions(int points, double firstStep, double lastStep) const {
+  const double uniform = 1.0 / (points - 1);
+  const bool stretched = firstStep > 0.0 && firstStep < uniform && lastStep > 0.0 && lastStep < uniform;
+  std::vector<double> sigma = vinokurFractions(points, stretched ? firstStep : 0.0, stretched ? lastStep : 0.0);
+  for (double& x : sigma) x = sigmaAt(x);
+  sigma.front() = 0.0;
+  sigma.back() = 1.0;
+  return sigma;
 }
 
 bool ChordPlacer::place(const PolynomialCurve& curve, ChordLaw& law, std::vector<double>& t,

@@ -115,6 +115,47 @@ class ArcLength {
   std::vector<double> speed_;                    // |C'| at every Simpson node (kept for its storage)
 };
 
+// A curve's arc length s and the cumulative turning theta of its tangent (radians), tabulated at
+// equal steps of arc length, and the measure s / spacing + theta / maxTurning: points at equal
+// steps of it keep every cell within the spacing and within the turning limit (to the table's
+// resolution), so they gather where the curve bends (a wing's nose, a fillet, a rounded tip).
+class TurningTable {
+ public:
+  // `samples` steps of arc length (>= 1) along `curve`, whose table `arc` is.
+  TurningTable(const BsplineCurve& curve, const ArcLength& arc, int samples);
+  double length() const { return arc_.back(); }
+  double turning() const { return turning_.back(); }
+  // The measure from the start to arc length s (linear between samples; maxTurning 0: s / spacing).
+  double measureAt(double s, double spacing, double maxTurning) const;
+  double measure(double spacing, double maxTurning) const { return measureAt(length(), spacing, maxTurning); }
+
+ private:
+  std::vector<double> arc_, turning_;
+};
+
+// The distribution that linked grid edges share: the sum of their measures as functions of the
+// fraction sigma of their arc length (each taken in the shared sense), normalised to 1. Edges that
+// face each other across a block then place their points at the same fractions of their length,
+// as they do when uniform in arc length; one edge's own measure would shear a thin block whose
+// opposite edge bends elsewhere. Edges with more to resolve weigh more.
+class SharedMeasure {
+ public:
+  explicit SharedMeasure(int samples);
+  // Adds an edge's measure (reversed: the edge runs against the shared sense).
+  void add(const TurningTable& edge, bool reversed, double spacing, double maxTurning);
+  // The normalised measure at fraction sigma of arc length (in the shared sense); the identity
+  // until an edge is added.
+  double at(double sigma) const;
+  // Fractions 0 = sigma_0 < ... < sigma_{n-1} = 1 of `points` points at equal steps of the
+  // normalised measure, or stretched by Vinokur's law so that the first and last steps are
+  // firstStep and lastStep of it (used when both are > 0 and shorter than an equal step).
+  std::vector<double> fractions(int points, double firstStep, double lastStep) const;
+
+ private:
+  double sigmaAt(double measure) const;  // the inverse of at()
+  std::vector<double> sum_;             // at sigma = k / (samples)
+};
+
 // A geometric law in straight distances between consecutive points of a line:
 // |x_k - x_{k-1}| = height growth^(k-1), k = 1 .. n - 1. With `heightFixed` the growth is what
 // the line's ends leave free, else the height is.

@@ -27,6 +27,10 @@ using volume::BsplineVolume;
 // lines: only the start of Newton's placement by straight distances, which corrects them.
 constexpr int kIntervalsPerSpan = 4;
 constexpr int kLineIntervalsPerSpan = 1;
+// Turning tables sample block edges this often per knot (a cubic span turns smoothly).
+constexpr int kTurningSamplesPerSpan = 16;
+// A set's shared measure is tabulated at this many fractions of arc length.
+constexpr int kSharedMeasureSamples = 2048;
 
 // The other two directions of `direction`, in increasing order.
 std::array<int, 2> otherDirections(int direction) {
@@ -126,6 +130,10 @@ void checkOptions(const RefinementOptions& options) {
   positiveOrZero(options.referenceLength, "reference_length");
   positiveOrZero(options.tangentialSpacing, "tangential_spacing");
   positiveOrZero(options.edgeEndSpacing, "edge_end_spacing");
+  if (!std::isfinite(options.maxTurningDegrees) || options.maxTurningDegrees < 0.0 || options.maxTurningDegrees > 90.0) {
+    throw InvalidInputError("max_turning_angle must be 0 (none) or a number of degrees up to 90 (got " +
+                            std::to_string(options.maxTurningDegrees) + ")");
+  }
   if (!std::isfinite(options.growth) || options.growth <= 1.0 || options.growth > 3.0) {
     throw InvalidInputError("growth must be in (1, 3] (got " + std::to_string(options.growth) + ")");
   }
@@ -273,17 +281,46 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
     }
   }
 
-  // Tangential point counts: per set, from the longest of its wall edges (all edges without a wall).
-  // The edges' arc-length tables, kept for their distributions below.
+  // Tangential point counts: per set, from its wall edges (all its edges if it has none), each
+  // asking for its length in spacings plus its turning in maxTurning steps. The edges' arc-length
+  // and turning tables, kept for their distributions below. With a turning limit, a wall face's
+  // middle grid line along each of its directions counts too (after the four edges): a face that
+  // bulges turns more there than along its edges (a sphere's cube-layout face: 90 degrees across
+  // its middle, 70.5 along its edges).
+  const double maxTurning = options.maxTurningDegrees * M_PI / 180.0;
+  std::vector<std::vector<const TurningTable*>> countedEdges(3 * blockCount);
   std::vector<double> longestEdge(3 * blockCount, 0.0);
   std::vector<std::array<std::vector<ArcLength>, 3>> edgeArcs(blockCount);
+  std::vector<std::array<std::vector<TurningTable>, 3>> edgeTurning(blockCount);
   for (size_t b = 0; b < blockCount; ++b) {
+    const BsplineVolume& volume = blocks[b].volume;
     for (int d = 0; d < 3; ++d) {
+      const auto root = static_cast<size_t>(sets.find(static_cast<int>(3 * b) + d).first);
+      edgeArcs[b][static_cast<size_t>(d)].reserve(4);
+      edgeTurning[b][static_cast<size_t>(d)].reserve(5);
+      auto turningOf = [&](const BsplineCurve& curve, const ArcLength& arc) -> const TurningTable& {
+        const int samples = kTurningSamplesPerSpan * static_cast<int>(curve.knots.size());
+        return edgeTurning[b][static_cast<size_t>(d)].emplace_back(curve, arc, samples);
+      };
       for (int e = 0; e < 4; ++e) {
-        const ArcLength& arc = edgeArcs[b][static_cast<size_t>(d)].emplace_back(edgeCurve(blocks[b].volume, d, e),
-                                                                                   kIntervalsPerSpan);
-        const auto root = static_cast<size_t>(sets.find(static_cast<int>(3 * b) + d).first);
-        if (onWallOrNoWall(plans[b], d, e)) longestEdge[root] = std::max(longestEdge[root], arc.length());
+        const BsplineCurve curve = edgeCurve(volume, d, e);
+        const ArcLength& arc = edgeArcs[b][static_cast<size_t>(d)].emplace_back(curve, kIntervalsPerSpan);
+        const TurningTable& turning = turningOf(curve, arc);
+        if (onWallOrNoWall(plans[b], d, e)) {
+          longestEdge[root] = std::max(longestEdge[root], arc.length());
+          countedEdges[root].push_back(&turning);
+        }
+      }
+      const int n = plans[b].normalDirection;
+      if (maxTurning > 0.0 && n >= 0 && n != d) {
+        const auto [first, second] = otherDirections(d);
+        const int across = first == n ? second : first;
+        auto at = [&](int direction) {
+          return direction == n ? parameterAtEnd(volume, n, plans[b].wallEnd)
+                                : 0.5 * (volume.lower(across) + volume.upper(across));
+        };
+        const BsplineCurve middle = volume.isoCurve(d, at(first), at(second));
+        countedEdges[root].push_back(&turningOf(middle, ArcLength(middle, kIntervalsPerSpan)));
       }
     }
   }
@@ -298,9 +335,10 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
       if (wallParity[root] >= 0) {
         count[node] = normalPoints;
       } else if (spacing > 0.0) {
+        double cells = 0.0;
+        for (const TurningTable* edge : countedEdges[root]) cells = std::max(cells, edge->measure(spacing, maxTurning));
         // An edge a whole number of spacings long (to the rounding of its arc length) takes no extra point.
-        const double spacings = std::ceil(longestEdge[root] / spacing * (1.0 - 1e-12));
-        count[node] = std::max(2, static_cast<int>(spacings) + 1);
+        count[node] = std::max(2, static_cast<int>(std::ceil(cells * (1.0 - 1e-12))) + 1);
       } else {
         count[node] = options.edgePoints;
       }
@@ -339,29 +377,53 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
   }
   const std::vector<int> tangentialCounts = countsFor(spacing, normalPoints);
 
-  // Edge parameters of every direction but the wall-normal one: uniform in arc length, or
-  // clustered at both ends, which keeps a distribution the same seen from either end.
+  // Edge parameters of every direction but the wall-normal one, at the fractions of arc length
+  // their set shares (uniform without a turning limit), or clustered at both ends, which keeps a
+  // distribution the same seen from either end.
+  std::vector<std::optional<SharedMeasure>> setMeasure(3 * blockCount);
+  for (size_t b = 0; b < blockCount; ++b) {
+    for (int d = 0; d < 3; ++d) {
+      const auto [root, parity] = sets.find(static_cast<int>(3 * b) + d);
+      std::optional<SharedMeasure>& shared = setMeasure[static_cast<size_t>(root)];
+      if (wallParity[static_cast<size_t>(root)] >= 0) continue;
+      if (!shared) shared.emplace(kSharedMeasureSamples);
+      // With edge_points the set's spacing is what its longest counted edge gets.
+      const double setSpacing =
+          spacing > 0.0 ? spacing : longestEdge[static_cast<size_t>(root)] / (tangentialCounts[static_cast<size_t>(root)] - 1);
+      if (!(setSpacing > 0.0)) continue;
+      const std::vector<TurningTable>& tables = edgeTurning[b][static_cast<size_t>(d)];
+      for (size_t e = 0; e < tables.size(); ++e) {
+        if (e < 4 && !onWallOrNoWall(plans[b], d, static_cast<int>(e))) continue;
+        shared->add(tables[e], parity == 1, setSpacing, maxTurning);
+      }
+    }
+  }
   for (size_t b = 0; b < blockCount; ++b) {
     BlockPlan& plan = plans[b];
     for (int d = 0; d < 3; ++d) plan.size[static_cast<size_t>(d)] = tangentialCounts[3 * b + static_cast<size_t>(d)];
     for (int d = 0; d < 3; ++d) {
       if (d == plan.normalDirection) continue;
       const int points = plan.size[static_cast<size_t>(d)];
+      const auto [root, parity] = sets.find(static_cast<int>(3 * b) + d);
+      const SharedMeasure& shared = *setMeasure[static_cast<size_t>(root)];
       for (int e = 0; e < 4; ++e) {
         const ArcLength& arc = edgeArcs[b][static_cast<size_t>(d)][static_cast<size_t>(e)];
         if (!(arc.length() > 0.0)) {
           throw InvalidInputError(blockText(b) + " has an edge of zero length along " + "uvw"[d] +
                                   " (collapsed edges cannot be refined)");
         }
-        const double end = options.edgeEndSpacing / arc.length();
-        const double uniform = 1.0 / (points - 1);
-        const std::vector<double> fractions =
-            end > 0.0 && end < uniform ? vinokurFractions(points, end, end) : vinokurFractions(points, 0.0, 0.0);
+        // The end spacing as steps of the shared measure at the edge's two ends, in the shared sense.
+        const double end = std::min(options.edgeEndSpacing / arc.length(), 0.5);
+        const double atStart = end > 0.0 ? shared.at(end) : 0.0;
+        const double atEnd = end > 0.0 ? 1.0 - shared.at(1.0 - end) : 0.0;
+        std::vector<double> sigma = shared.fractions(points, atStart, atEnd);
+        if (parity == 1) {
+          std::reverse(sigma.begin(), sigma.end());
+          for (double& x : sigma) x = 1.0 - x;
+        }
         auto& parameters = plan.edgeParameters[static_cast<size_t>(d)][static_cast<size_t>(e)];
         parameters.resize(static_cast<size_t>(points));
-        for (int i = 0; i < points; ++i) {
-          parameters[static_cast<size_t>(i)] = arc.parameterAt(fractions[static_cast<size_t>(i)] * arc.length());
-        }
+        for (int i = 0; i < points; ++i) parameters[static_cast<size_t>(i)] = arc.parameterAt(sigma[static_cast<size_t>(i)] * arc.length());
         parameters.front() = blocks[b].volume.lower(d);
         parameters.back() = blocks[b].volume.upper(d);
       }

@@ -39,6 +39,14 @@ struct RefinementOptions {
   // Spacing at both ends of every tangential block edge (0: uniform in arc length); block edges
   // run along the wing's leading and trailing edges and tip, where clustering pays.
   double edgeEndSpacing = 0.0;
+  // Largest turning of a wall edge's tangent over one cell, in degrees (0: none). With a spacing
+  // (tangentialSpacing or targetCells) a set's count is what its wall edges (and the middle
+  // lines of its wall faces) need to keep every cell within the spacing and its turning within
+  // this: each asks for length / spacing + turning / maxTurningDegrees cells; with edgePoints the
+  // count stays as asked. Either way the points go at equal steps of that measure, shared by the
+  // set, so they gather where the wall bends (a wing's nose). Lines inside a face take their
+  // parameters blended from its edges' and can turn somewhat more (a sphere at 10 degrees: 12.4).
+  double maxTurningDegrees = 0.0;
 };
 
 struct RefinedGrid {
