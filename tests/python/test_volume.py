@@ -419,6 +419,84 @@ if __name__ == "__main__":
     unittest.main()
 
 
+def hemisphere_cylinder_with_flat_base():
+    """The hemisphere-cylinder's body (faces 3 and 4 of its flow-domain file: radius 0.5, length
+    10, open at the outflow plane x = 10) closed by a flat half-disc base in that plane, as a
+    target."""
+    import Part
+
+    shape = Part.read(os.path.join(DATA, "hemisph-cyl.stp"))
+    cylinder, nose = shape.Faces[3], shape.Faces[4]
+    rim = [e for e in cylinder.Edges if abs(e.BoundBox.XMin - 10.0) < 1e-9 and abs(e.BoundBox.XMax - 10.0) < 1e-9]
+    ends = rim[0].Vertexes[0].Point, rim[0].Vertexes[-1].Point
+    base = Part.Face(Part.Wire([rim[0], Part.LineSegment(ends[1], ends[0]).toShape()]))
+    body = Part.Shell([nose, cylinder, base])
+    body.sewShape()
+    return bvmesh.Target.from_brep(body.exportBrepToString())
+
+
+class HemisphereCylinderVolume(unittest.TestCase):
+    """A slender body with a flat base on the symmetry plane: the base (radius 0.5) is narrower
+    than the splay band at its rim would be (two boundary-layer thicknesses, 0.47), which used to
+    swallow the whole base: every grid line on it took the cylinder's radial normals, and the
+    first cells at the rim lay flat (848 faces above 70 degrees, minimum scaled Jacobian 0.0044).
+    The band now covers at most half of the smooth region it lies in."""
+
+    @classmethod
+    def setUpClass(cls):
+        from bvmesh import polyhedra
+
+        import bvmesh.grid
+
+        cls.target = hemisphere_cylinder_with_flat_base()
+        placed = polyhedra.place("capsule", cls.target, {"tail": "flat"})
+        cls.fitter = bvmesh.SurfaceFitter(cls.target, placed["mesh"], placed["feature_map"],
+                                          symmetry_plane=placed["symmetry_plane"], max_level=3, tolerance=1e-3)
+        cls.fit = cls.fitter.run()
+        cls.mesh = bvmesh.volume.offset_and_farfield(cls.fitter, reference_length=10.0, reynolds_number=1e6)
+        cls.grid = bvmesh.grid.refine(cls.mesh, "euler", target_cells=300000)
+        cls.quality = bvmesh.grid.quality(cls.grid)
+
+    def test_fit_and_wall_within_the_tolerance_of_the_cad(self):
+        self.assertLess(self.fit["history"][-1]["max_distance"], 1e-3)
+        import bvmesh.grid
+
+        wall = bvmesh.grid.wall_points(self.grid)
+        self.assertLess(self.target.project(wall)["distances"].max(), 1e-3)
+
+    def test_blocks_positive_and_far_field_and_symmetry_as_asked(self):
+        # The half disc of the base is one chart whose corners lie on the rim, at 45 degrees from
+        # the symmetry plane, where the rim runs straight through them: there the wall's du and dv
+        # are parallel and the scaled Jacobian is 0 (to rounding, -4e-13). Elsewhere the blocks'
+        # samples are positive (measured 0.083 at worst, next to the base's rim).
+        blocks, worst_away, worst_near = self.mesh.blocks, 1.0, 1.0
+        corners = np.array([[10.0, 0.5 ** 1.5, -(0.5 ** 1.5)], [10.0, 0.5 ** 1.5, 0.5 ** 1.5]])
+        centre = np.asarray(self.mesh.domain_centre)
+        for b in range(blocks.block_count):
+            x, du, dv, dw = blocks.evaluate_grid(b, *[samples(k) for k in blocks.knots(b)], derivatives=True)
+            scaled = np.einsum("...i,...i", np.cross(du, dv), dw) / (
+                np.linalg.norm(du, axis=3) * np.linalg.norm(dv, axis=3) * np.linalg.norm(dw, axis=3))
+            near = np.linalg.norm(x[..., None, :] - corners, axis=-1).min(axis=-1) < 0.05
+            worst_away = min(worst_away, scaled[~near].min())
+            worst_near = min(worst_near, scaled[near].min(initial=1.0))
+            np.testing.assert_allclose(np.linalg.norm(x[:, :, -1] - centre, axis=2), 200.0, rtol=0.01)
+            for name, face in (("u_min", x[0]), ("u_max", x[-1]), ("v_min", x[:, 0]), ("v_max", x[:, -1])):
+                if blocks.faces(b)[name]["condition"] == "symmetry":
+                    self.assertLess(np.abs(face[..., 1]).max(), 1e-12 * 10.0)
+        self.assertGreater(worst_away, 0.05)
+        self.assertGreater(worst_near, -1e-9)
+
+    def test_grid_cells_at_the_base_rim(self):
+        # Measured: minimum scaled Jacobian 0.0125, 84 faces above 70 degrees (max 84.3), all in
+        # the base's block at the rim next to the symmetry plane, where the half disc's block has
+        # its corners on the rim.
+        scaled = np.asarray(self.quality["scaled_jacobian"])
+        non_orthogonality = np.asarray(self.quality["non_orthogonality"])
+        self.assertGreater(scaled.min(), 0.0)
+        self.assertLess(int((non_orthogonality > 70.0).sum()), 200)
+        self.assertLess(int((scaled < 0.2).sum()), 150)
+
+
 class M6InItsFlowDomain(unittest.TestCase):
     """A wind tunnel's half box around the M6 as a pre-processor writes it (the wing cut out of the
     box, its root on the box's face y = 0): the body and the domain found with no face selection,

@@ -355,12 +355,44 @@ class Marcher {
     return reach;
   }
 
+  // Per front point the splay band's width in its smooth region (the points connected without
+  // crossing a sharp-edge point): `width`, or half the region's largest distance from the sharp
+  // edges where that is less. Sharp-edge points keep `width`.
+  std::vector<double> regionBandWidths(const std::vector<char>& sharp, const std::vector<double>& distance,
+                                       double width) const {
+    const size_t n = sharp.size();
+    std::vector<double> result(n, width);
+    std::vector<int> region(n, -1);
+    std::vector<int> members;
+    for (size_t seed = 0; seed < n; ++seed) {
+      if (sharp[seed] != 0 || region[seed] >= 0) continue;
+      members.assign(1, static_cast<int>(seed));
+      region[seed] = static_cast<int>(seed);
+      double reach = 0.0;
+      for (size_t next = 0; next < members.size(); ++next) {
+        const auto p = static_cast<size_t>(members[next]);
+        reach = std::max(reach, distance[p]);
+        for (int q : neighbours_[p]) {
+          if (sharp[static_cast<size_t>(q)] != 0 || region[static_cast<size_t>(q)] >= 0) continue;
+          region[static_cast<size_t>(q)] = static_cast<int>(seed);
+          members.push_back(q);
+        }
+      }
+      for (int p : members) result[static_cast<size_t>(p)] = std::min(width, 0.5 * reach);
+    }
+    return result;
+  }
+
   // Boundary-layer grid-line directions: the wall normals, except in a band of geodesic width
   // `width` around sharp convex edges (a sharp trailing edge, a tip), where they are the harmonic
   // interpolation between the normals at the band's rim. A single grid line leaving such an edge
   // along the mean normal would fan the cells next to it over ~90 degrees in one cell, which the
   // blocks' cubic interpolation of the layers turns into folds; the band spreads the fan over
-  // several cells and keeps the wall orthogonal everywhere outside it.
+  // several cells and keeps the wall orthogonal everywhere outside it. The band covers at most
+  // half of the smooth region it lies in (half its farthest point's distance from the sharp
+  // edges): a face narrower than the band, such as a body's flat base inside its rim, would
+  // otherwise have no rim of its own in the band, and every line on it would take its
+  // neighbours' normals, leaving the first cells flat.
   RowMatrixX3d splayedAtSharpEdges(double width) const {
     const Eigen::Index n = front_.points.rows();
     const std::vector<char> sharp = sharpEdgePoints();
@@ -376,7 +408,7 @@ class Marcher {
     while (!queue.empty()) {
       const auto [d, p] = queue.top();
       queue.pop();
-      if (d > distance[static_cast<size_t>(p)] || d > width) continue;
+      if (d > distance[static_cast<size_t>(p)]) continue;
       for (int q : neighbours_[static_cast<size_t>(p)]) {
         const double through = d + (front_.points.row(p) - front_.points.row(q)).norm();
         if (through < distance[static_cast<size_t>(q)]) {
@@ -385,9 +417,11 @@ class Marcher {
         }
       }
     }
+    const std::vector<double> bandWidth = regionBandWidths(sharp, distance, width);
+    auto inBand = [&](Eigen::Index p) { return distance[static_cast<size_t>(p)] < bandWidth[static_cast<size_t>(p)]; };
     std::vector<Eigen::Triplet<double>> entries;
     for (Eigen::Index p = 0; p < n; ++p) {
-      if (!(distance[static_cast<size_t>(p)] < width)) {
+      if (!inBand(p)) {
         entries.emplace_back(p, p, 1.0);
         continue;
       }
@@ -401,7 +435,7 @@ class Marcher {
     if (solver.info() != Eigen::Success) throw SolverError("the splay at the wall's sharp edges could not be factored");
     Eigen::MatrixXd rim = front_.normals;  // column major, as SparseLU solves
     for (Eigen::Index p = 0; p < n; ++p) {
-      if (distance[static_cast<size_t>(p)] < width) rim.row(p).setZero();
+      if (inBand(p)) rim.row(p).setZero();
     }
     RowMatrixX3d lines = Eigen::MatrixXd(solver.solve(rim));
     for (Eigen::Index p = 0; p < n; ++p) {
