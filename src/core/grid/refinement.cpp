@@ -299,7 +299,8 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
       edgeArcs[b][static_cast<size_t>(d)].reserve(4);
       edgeTurning[b][static_cast<size_t>(d)].reserve(5);
       auto turningOf = [&](const BsplineCurve& curve, const ArcLength& arc) -> const TurningTable& {
-        const int samples = kTurningSamplesPerSpan * static_cast<int>(curve.knots.size());
+        // Without a turning limit the table serves arc length alone: one step.
+        const int samples = maxTurning > 0.0 ? kTurningSamplesPerSpan * static_cast<int>(curve.knots.size()) : 1;
         return edgeTurning[b][static_cast<size_t>(d)].emplace_back(curve, arc, samples);
       };
       for (int e = 0; e < 4; ++e) {

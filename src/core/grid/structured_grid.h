@@ -44,6 +44,9 @@ class StructuredGrid {
   Eigen::Index cellCount() const;
 
  private:
+  // Throws unless block b's face f has the points of the neighbour face it is connected to.
+  void checkPointMatching(size_t b, int f) const;
+
   std::vector<GridBlock> blocks_;
   bool viscousWall_ = false;
 };
