@@ -235,24 +235,30 @@ TEST(GridRefinement, WarpedBoxIsPointMatchedWithExactWallSpacing) {
   EXPECT_NEAR(static_cast<double>(target.grid.cellCount()), 20000.0, 0.3 * 20000.0);
 }
 
+// The one-layer box of block_fixtures.h with every pole moved by `map` (its wall at z = 0).
+template <class Map>
+volume::BlockMesh mappedOneLayerBox(Map map) {
+  std::vector<volume::Block> blocks = test::boxBlocks(0.0, true, 1).mesh.blocks();
+  for (volume::Block& block : blocks) {
+    const RowMatrixX3d poles = block.volume.poles();
+    for (Eigen::Index row = 0; row < poles.rows(); ++row) block.volume.setPole(row, map(Vector3d(poles.row(row).transpose())));
+  }
+  return volume::BlockMesh(blocks);
+}
+
 TEST(GridRefinement, TangentialCountsFollowTheWallNotTheFarField) {
   // The one-layer box flared to four times its width at the top (x and y scaled by 1 + 3 z):
   // every wall edge is 1 long, every top edge 4. The tangential spacing is a wall resolution, so
   // a block that fans out to a large outer face keeps the count its wall edge needs (counting
   // the top edges gave 17 points where the wall asks for 5, and crowded small wall blocks).
-  const test::BoxBlocks box = test::boxBlocks(0.0, true, 1);
-  std::vector<volume::Block> flared = box.mesh.blocks();
-  for (volume::Block& block : flared) {
-    const RowMatrixX3d poles = block.volume.poles();
-    for (Eigen::Index row = 0; row < poles.rows(); ++row) {
-      const double scale = 1.0 + 3.0 * poles(row, 2);
-      block.volume.setPole(row, Vector3d(scale * poles(row, 0), scale * poles(row, 1), poles(row, 2)));
-    }
-  }
+  const volume::BlockMesh flared = mappedOneLayerBox([](const Vector3d& x) {
+    const double scale = 1.0 + 3.0 * x.z();
+    return Vector3d(scale * x.x(), scale * x.y(), x.z());
+  });
   RefinementOptions options;
   options.tangentialSpacing = 0.25;
   options.normalPoints = 9;
-  const RefinedGrid refined = refineBlockMesh(volume::BlockMesh(flared), options);
+  const RefinedGrid refined = refineBlockMesh(flared, options);
   for (const auto& block : refined.grid.blocks()) {
     int tangential = 0;
     for (int d = 0; d < 3; ++d) {
@@ -270,19 +276,13 @@ TEST(GridRefinement, WallEdgesThatTurnGetTheirPointsFromTheTurningLimit) {
   // spacing (0.6) alone the x edges get 3 points (60 degrees per cell); a 5-degree turning limit
   // gives each block's 45 degrees of wall at least 9 cells, placed so that no wall cell turns
   // more, while the straight y edges keep the spacing's count.
-  const test::BoxBlocks box = test::boxBlocks(0.0, true, 1);
-  std::vector<volume::Block> bent = box.mesh.blocks();
-  for (volume::Block& block : bent) {
-    const RowMatrixX3d poles = block.volume.poles();
-    for (Eigen::Index row = 0; row < poles.rows(); ++row) {
-      const double angle = 0.25 * M_PI * poles(row, 0), radius = 1.0 + poles(row, 2);
-      block.volume.setPole(row, Vector3d(radius * std::sin(angle), poles(row, 1), radius * std::cos(angle)));
-    }
-  }
+  const volume::BlockMesh mesh = mappedOneLayerBox([](const Vector3d& x) {
+    const double angle = 0.25 * M_PI * x.x(), radius = 1.0 + x.z();
+    return Vector3d(radius * std::sin(angle), x.y(), radius * std::cos(angle));
+  });
   RefinementOptions options;
   options.tangentialSpacing = 0.6;
   options.normalPoints = 5;
-  const volume::BlockMesh mesh(bent);
   const RefinedGrid coarse = refineBlockMesh(mesh, options);
   options.maxTurningDegrees = 5.0;
   const RefinedGrid refined = refineBlockMesh(mesh, options);
