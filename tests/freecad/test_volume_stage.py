@@ -100,6 +100,10 @@ class VolumeObjects(unittest.TestCase):
         finally:
             for g in (plain, turned):
                 self.doc.removeObject(g.Name)
+        names = [o.Name for o in self.doc.Objects]
+        with self.assertRaisesRegex(Exception, "max_turning_angle"):
+            api.make_volume_grid(self.volume, "euler", max_turning_angle=200.0)
+        self.assertEqual([o.Name for o in self.doc.Objects], names)
 
     def test_span_station_cut_of_a_body_without_symmetry_plane(self):
         point, normal = api.span_station(self.grid, 0.5)
