@@ -75,8 +75,10 @@ def refine(blocks, preset="euler", method="bspline", steps=None, **options):
     'rans' (see the module doc), or None for options alone; options: those of
     bvmesh._core.refine_blocks (normal_points, first_cell_height, y_plus, reynolds_number,
     reference_length, growth, distribution, edge_points, tangential_spacing, target_cells,
-    edge_end_spacing, max_turning_angle), overriding the preset's. Returns a RefinedGrid (.grid, and the measured
-    first cell heights and growth).
+    edge_end_spacing, max_turning_angle), overriding the preset's. From a VolumeMesh in a box or
+    cylinder domain, every outer quad is tagged inlet, outlet or side by where it lies (a block
+    face reaching over the domain's edges is split; RefinedGrid.outer_faces_split counts them).
+    Returns a RefinedGrid (.grid, and the measured first cell heights and growth).
 
     method 'subdivision': `steps` volumetric Catmull-Clark steps of the control mesh
     (docs/volume.md); no stretching, so preset and options do not apply. blocks may also be a
@@ -104,6 +106,7 @@ def refine(blocks, preset="euler", method="bspline", steps=None, **options):
     settings.update(options)
     if isinstance(blocks, core.VolumeMesh):
         settings.setdefault("reference_length", blocks.reference_length)
+        settings["outer_domain_of"] = blocks  # a box's outer faces patched quad by quad
     blocks = _blocks_of(blocks, "refine")
     if settings.get("y_plus", 0.0) > 0.0 and not settings.get("first_cell_height", 0.0):
         if not settings.get("reynolds_number", 0.0) > 0.0:

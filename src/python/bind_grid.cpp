@@ -20,6 +20,7 @@
 #include "core/io/plot3d_io.h"
 #include "core/io/vtk_writer.h"
 #include "core/quality/cell_quality.h"
+#include "core/volume/volume_blocks.h"
 
 namespace py = pybind11;
 
@@ -122,6 +123,20 @@ void bindGrid(py::module_& module) {
           "faces", [](const StructuredGrid& g, int block) { return facesDict(gridBlockOf(g, block).faces); },
           py::arg("block"), "Per face its condition or connection, as BlockMesh.faces.")
       .def(
+          "quad_conditions",
+          [](const StructuredGrid& g, int block, const std::string& face) {
+            const grid::GridBlock& b = gridBlockOf(g, block);
+            const int f = faceIndexOf(face);
+            const std::array<int, 2> counts = volume::faceGridCounts(b.size, f);
+            std::vector<std::string> names;
+            for (int qb = 0; qb + 1 < counts[1]; ++qb) {
+              for (int qa = 0; qa + 1 < counts[0]; ++qa) names.emplace_back(volume::boundaryConditionName(b.quadCondition(f, qa, qb)));
+            }
+            return names;
+          },
+          py::arg("block"), py::arg("face"),
+          "The condition of every quad of a boundary face (u_min .. w_max), quad (a, b) at a + (na - 1) b.")
+      .def(
           "merged_points", [](const StructuredGrid& g) { return rowsArray(grid::mergePoints(g).points); },
           "Every distinct point once (shared faces merged), in the order OpenFOAM's points file has them.");
 
@@ -131,13 +146,15 @@ void bindGrid(py::module_& module) {
       .def_readonly("first_cell_height_asked", &grid::RefinedGrid::firstCellHeightAsked)
       .def_readonly("first_cell_height_min", &grid::RefinedGrid::firstCellHeightMin)
       .def_readonly("first_cell_height_max", &grid::RefinedGrid::firstCellHeightMax)
-      .def_readonly("growth_max", &grid::RefinedGrid::growthMax);
+      .def_readonly("growth_max", &grid::RefinedGrid::growthMax)
+      .def_readonly("outer_faces_split", &grid::RefinedGrid::outerFacesSplit);
 
   module.def(
       "refine_blocks",
       [](const volume::BlockMesh& blocks, int normalPoints, double firstCellHeight, double yPlus, double reynoldsNumber,
          double referenceLength, double growth, const std::string& distribution, int edgePoints,
-         double tangentialSpacing, long long targetCells, double edgeEndSpacing, double maxTurningAngle) {
+         double tangentialSpacing, long long targetCells, double edgeEndSpacing, double maxTurningAngle,
+         const volume::VolumeMesh* outerDomainOf) {
         grid::RefinementOptions options;
         options.normalPoints = normalPoints;
         options.firstCellHeight = firstCellHeight;
@@ -151,6 +168,7 @@ void bindGrid(py::module_& module) {
         options.targetCells = targetCells;
         options.edgeEndSpacing = edgeEndSpacing;
         options.maxTurningDegrees = maxTurningAngle;
+        if (outerDomainOf != nullptr) options.outerDomain = outerDomainOf->domain;
         py::gil_scoped_release release;
         return grid::refineBlockMesh(blocks, options);
       },
@@ -158,7 +176,7 @@ void bindGrid(py::module_& module) {
       py::arg("reynolds_number") = 0.0, py::arg("reference_length") = 0.0, py::arg("growth") = 1.2,
       py::arg("distribution") = "geometric", py::arg("edge_points") = 17, py::arg("tangential_spacing") = 0.0,
       py::arg("target_cells") = 0, py::arg("edge_end_spacing") = 0.0,
-      py::arg("max_turning_angle") = 0.0,
+      py::arg("max_turning_angle") = 0.0, py::arg("outer_domain_of") = nullptr,
       R"doc(Evaluates a BlockMesh on stretched, point-matched grids.
 
 Wall-normal lines (from wall faces, and every direction a connection links to them): normal_points
@@ -169,6 +187,8 @@ edge_points per block edge, or the count tangential_spacing needs, or the spacin
 target_cells cells; uniform in arc length, clustered to edge_end_spacing at block corners if > 0.
 max_turning_angle (degrees, 0: none): wall cells along block edges turn at most this much; with a
 spacing the counts grow to keep it, and the points gather where the wall bends (a wing's nose).
+outer_domain_of: the VolumeMesh the blocks come from; a box or cylinder domain's outer faces are
+then inlet, outlet or side quad by quad (RefinedGrid.outer_faces_split counts the faces split).
 Returns a RefinedGrid.)doc");
 
   module.def(

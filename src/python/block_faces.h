@@ -4,6 +4,8 @@
 
 #include <pybind11/pybind11.h>
 
+#include <string>
+
 #include "core/volume/block_mesh.h"
 
 namespace bvmesh::python {
@@ -26,6 +28,14 @@ inline pybind11::dict facesDict(const std::array<volume::BlockFace, 6>& faces) {
   pybind11::dict result;
   for (int f = 0; f < 6; ++f) result[volume::blockFaceName(f)] = faceDict(faces[static_cast<size_t>(f)]);
   return result;
+}
+
+// The face (0..5) named u_min .. w_max; ValueError otherwise.
+inline int faceIndexOf(const std::string& name) {
+  for (int f = 0; f < 6; ++f) {
+    if (name == volume::blockFaceName(f)) return f;
+  }
+  throw pybind11::value_error("no block face '" + name + "' (u_min, u_max, v_min, v_max, w_min or w_max)");
 }
 
 }  // namespace bvmesh::python

@@ -15,6 +15,7 @@
 
 #include "core/common/bspline_basis.h"
 #include "core/volume/block_mesh.h"
+#include "core/volume/domain.h"
 
 namespace bvmesh::test {
 
@@ -122,6 +123,46 @@ inline BoxBlocks boxBlocks(double warpAmplitude, bool withWall = true, int layer
   }
   result.mesh = volume::BlockMesh(std::move(blocks));
   return result;
+}
+
+// A box domain around the one-layer box: centre (1, 1.03, 0.5) (off the grid's diagonals, so that
+// no quad centre lies where two box faces tie), half sizes (1, 0.5, 0.5), flow along +x. The volume stage's box takes a point along its ray onto the cube [-1, 1]^3 round the centre
+// before scaling (so that a cube-like layout's diagonal planes end on the box's edges), so the
+// box face a point lies on is the one of its largest |x - c|: the block box's top and bottom
+// faces reach over the domain's edges (inlet and outlet at their ends in x, side elsewhere).
+// That rule is worked out here on its own.
+inline volume::Domain boxDomain() {
+  volume::Domain domain;
+  domain.shape = volume::DomainShape::Box;
+  domain.centre = Eigen::Vector3d(1.0, 1.03, 0.5);
+  domain.halfExtent = Eigen::Vector3d(1.0, 0.5, 0.5);
+  domain.flowDirection = Eigen::Vector3d::UnitX();
+  return domain;
+}
+
+inline volume::BoundaryCondition boxDomainPart(const Eigen::Vector3d& x) {
+  const Eigen::Vector3d q = x - Eigen::Vector3d(1.0, 1.03, 0.5);
+  Eigen::Index axis = 0;
+  q.cwiseAbs().maxCoeff(&axis);
+  if (axis != 0) return volume::BoundaryCondition::Side;
+  return q.x() > 0.0 ? volume::BoundaryCondition::Outlet : volume::BoundaryCondition::Inlet;
+}
+
+// The one-layer box without a wall, each outer face tagged by where its middle lies in the box
+// domain (as the volume stage tags far-field faces).
+inline volume::BlockMesh boxInBoxDomain() {
+  std::vector<volume::Block> blocks = boxBlocks(0.0, false, 1).mesh.blocks();
+  for (volume::Block& block : blocks) {
+    for (int f = 0; f < 6; ++f) {
+      volume::BlockFace& face = block.faces[static_cast<size_t>(f)];
+      if (face.condition == volume::BoundaryCondition::Connected) continue;
+      const std::array<int, 3> n{block.volume.poleCount(0), block.volume.poleCount(1), block.volume.poleCount(2)};
+      const std::array<int, 2> counts = volume::faceGridCounts(n, f);
+      const std::array<int, 3> middle = volume::faceGridPosition(n, f, counts[0] / 2, counts[1] / 2);
+      face.condition = boxDomainPart(block.volume.poles().row(block.volume.poleIndex(middle[0], middle[1], middle[2])).transpose());
+    }
+  }
+  return volume::BlockMesh(std::move(blocks));
 }
 
 }  // namespace bvmesh::test

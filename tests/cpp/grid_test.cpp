@@ -11,6 +11,8 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
+#include <regex>
 #include <sstream>
 
 #include "block_fixtures.h"
@@ -592,9 +594,13 @@ TEST(CellQuality, InvertedCellIsRefusedWithItsPlace) {
   EXPECT_NEAR(quality::measureCellQuality(mirrorTopology).volume[0], 1.0, 1e-15);
 }
 
-std::vector<long> readLabels(const std::filesystem::path& path) {
+std::string readText(const std::filesystem::path& path) {
   std::ifstream in(path);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
+std::vector<long> readLabels(const std::filesystem::path& path) {
+  const std::string text = readText(path);
   const size_t body = text.find('(', text.find("}"));
   std::istringstream numbers(text.substr(body + 1));
   std::vector<long> labels;
@@ -631,6 +637,63 @@ TEST(OpenFoamWriter, MirroredAndTurnedBlocksPassCheckMesh) {
   const std::string output = checkMesh(root);
   EXPECT_NE(output.find("Mesh OK."), std::string::npos) << output;
   EXPECT_NE(output.find("cells:            1000"), std::string::npos) << output;
+}
+
+TEST(OpenFoamWriter, BoxDomainOuterFacesArePatchedQuadByQuad) {
+  // The one-layer box in a box domain whose edges its top and bottom faces reach over. Each quad
+  // goes to the patch its centre lies on (worked out by the fixture on its own); without the
+  // domain the faces keep the part their middle lies on, which puts inlet and outlet quads into
+  // the side patch.
+  const volume::BlockMesh mesh = test::boxInBoxDomain();
+  RefinementOptions options;
+  options.edgePoints = 9;
+  const RefinedGrid byMiddles = refineBlockMesh(mesh, options);
+  EXPECT_EQ(byMiddles.outerFacesSplit, 0);
+  options.outerDomain = test::boxDomain();
+  const RefinedGrid refined = refineBlockMesh(mesh, options);
+  std::map<volume::BoundaryCondition, Eigen::Index> expected;
+  int split = 0;
+  for (const GridBlock& block : refined.grid.blocks()) {
+    for (int f = 0; f < 6; ++f) {
+      if (block.faces[static_cast<size_t>(f)].condition == volume::BoundaryCondition::Connected) continue;
+      const std::array<int, 2> counts = volume::faceGridCounts(block.size, f);
+      bool mixed = false;
+      for (int b = 0; b + 1 < counts[1]; ++b) {
+        for (int a = 0; a + 1 < counts[0]; ++a) {
+          Vector3d centre = Vector3d::Zero();
+          for (const auto& [da, db] : {std::pair{0, 0}, {1, 0}, {0, 1}, {1, 1}}) {
+            centre += 0.25 * block.points.row(block.facePoint(f, a + da, b + db)).transpose();
+          }
+          const volume::BoundaryCondition truth = test::boxDomainPart(centre);
+          EXPECT_EQ(block.quadCondition(f, a, b), truth) << centre.transpose();
+          mixed |= truth != block.faces[static_cast<size_t>(f)].condition;
+          ++expected[truth];
+        }
+      }
+      split += mixed;
+    }
+  }
+  EXPECT_EQ(refined.outerFacesSplit, split);
+  EXPECT_EQ(split, 8);  // the top and bottom faces of the four blocks
+  const HexTopology topology(refined.grid);
+  ASSERT_EQ(topology.patches().size(), 3u);
+  for (const BoundaryPatch& patch : topology.patches()) EXPECT_EQ(patch.size, expected[patch.condition]) << patch.name;
+  const HexTopology plain(byMiddles.grid);
+  bool differs = false;
+  for (const BoundaryPatch& patch : plain.patches()) differs |= patch.size != expected[patch.condition];
+  EXPECT_TRUE(differs);
+  const std::filesystem::path root = std::filesystem::path(BVMESH_TEST_OUTPUT_DIR) / "grid_openfoam_box_domain";
+  std::filesystem::remove_all(root);
+  io::writeOpenFoamCase(topology, root.string());
+  const std::string boundary = readText(root / "constant" / "polyMesh" / "boundary");
+  for (const auto& [condition, faces] : expected) {
+    const std::string name = volume::boundaryConditionName(condition);
+    const std::regex patch(name + "\\s*\\{[^}]*nFaces\\s+" + std::to_string(faces) + ";");
+    EXPECT_TRUE(std::regex_search(boundary, patch)) << name << " " << faces << "\n" << boundary;
+  }
+  if (!haveCheckMesh()) GTEST_SKIP() << "checkMesh is not installed";
+  const std::string output = checkMesh(root);
+  EXPECT_NE(output.find("Mesh OK."), std::string::npos) << output;
 }
 
 TEST(OpenFoamWriter, BoxCaseIsUpperTriangularAndPassesCheckMesh) {

@@ -19,6 +19,8 @@
 
 #include "core/common/bspline_basis.h"
 #include "core/common/errors.h"
+#include "block_fixtures.h"
+#include "core/grid/refinement.h"
 #include "core/io/cgns_writer.h"
 #include "core/io/gismo_writer.h"
 #include "core/io/io_common.h"
@@ -477,6 +479,93 @@ TEST(IoCgns, CgnscheckFindsNoErrorsOrWarnings) {
 
 // ---------------------------------------------------------------------------------------------
 // Plot3D
+
+TEST(IoCgns, OuterFacesSplitQuadByQuadAreFaceCentreListsThatCgnscheckAccepts) {
+  // The one-layer box in the box domain whose edges its top and bottom faces reach over
+  // (block_fixtures.h): those faces become one BC per condition, listing their quads' face centres.
+  grid::RefinementOptions options;
+  options.edgePoints = 9;
+  options.outerDomain = test::boxDomain();
+  const StructuredGrid grid = grid::refineBlockMesh(test::boxInBoxDomain(), options).grid;
+  std::map<std::string, cgsize_t> expected;
+  for (const GridBlock& block : grid.blocks()) {
+    for (int f = 0; f < 6; ++f) {
+      if (block.faces[static_cast<size_t>(f)].condition == BoundaryCondition::Connected) continue;
+      const std::array<int, 2> counts = volume::faceGridCounts(block.size, f);
+      for (int b = 0; b + 1 < counts[1]; ++b) {
+        for (int a = 0; a + 1 < counts[0]; ++a) ++expected[volume::boundaryConditionName(block.quadCondition(f, a, b))];
+      }
+    }
+  }
+  const std::string path = outputPath("io_box_domain.cgns");
+  writeCgns(grid, path);
+  std::map<std::string, cgsize_t> quads;
+  int lists = 0;
+  {
+    CgnsReader file(path);
+    for (int z = 1; z <= grid.blockCount(); ++z) {
+      int count = 0;
+      CG(cg_nbocos(file.fn, 1, z, &count));
+      for (int bc = 1; bc <= count; ++bc) {
+        char name[64], family[64];
+        CGNS_ENUMT(BCType_t) type;
+        CGNS_ENUMT(PointSetType_t) pointSet;
+        CGNS_ENUMT(DataType_t) normalType;
+        CGNS_ENUMT(GridLocation_t) location;
+        cgsize_t pointCount = 0, normalSize = 0;
+        int normalIndex[3], datasets = 0;
+        CG(cg_boco_info(file.fn, 1, z, bc, name, &type, &pointSet, &pointCount, normalIndex, &normalSize, &normalType,
+                        &datasets));
+        CG(cg_boco_gridlocation_read(file.fn, 1, z, bc, &location));
+        CG(cg_goto(file.fn, 1, "Zone_t", z, "ZoneBC_t", 1, "BC_t", bc, "end"));
+        CG(cg_famname_read(family));
+        EXPECT_EQ(type, expectedType(family, false)) << name;
+        if (pointSet == CGNS_ENUMV(PointRange)) {
+          std::vector<cgsize_t> range(6);
+          CG(cg_boco_read(file.fn, 1, z, bc, range.data(), nullptr));
+          cgsize_t faces = 1;
+          for (int d = 0; d < 3; ++d) faces *= std::max<cgsize_t>(1, std::abs(range[static_cast<size_t>(d + 3)] - range[static_cast<size_t>(d)]));
+          quads[family] += faces;
+          continue;
+        }
+        ASSERT_EQ(pointSet, CGNS_ENUMV(PointList)) << name;
+        // Named after its block face: u faces list i-face centres, v faces j, w faces k.
+        const char direction = std::string(name).substr(std::string(name).rfind('_') - 1, 1)[0];
+        EXPECT_EQ(location, direction == 'u'   ? CGNS_ENUMV(IFaceCenter)
+                            : direction == 'v' ? CGNS_ENUMV(JFaceCenter)
+                                               : CGNS_ENUMV(KFaceCenter))
+            << name;
+        quads[family] += pointCount;
+        ++lists;
+        // Every listed face centre is a quad of the block face that lies on that family's part.
+        std::vector<cgsize_t> centres(static_cast<size_t>(3 * pointCount));
+        CG(cg_boco_read(file.fn, 1, z, bc, centres.data(), nullptr));
+        const GridBlock& block = grid.blocks()[static_cast<size_t>(z - 1)];
+        const int across = direction == 'u' ? 0 : direction == 'v' ? 1 : 2;
+        for (cgsize_t q = 0; q < pointCount; ++q) {
+          Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+          for (int corner = 0; corner < 4; ++corner) {
+            std::array<int, 3> ijk{};
+            for (int d = 0; d < 3; ++d) ijk[static_cast<size_t>(d)] = static_cast<int>(centres[static_cast<size_t>(3 * q + d)]) - 1;
+            int bit = 0;
+            for (int d = 0; d < 3; ++d) {
+              if (d != across) ijk[static_cast<size_t>(d)] += (corner >> bit++) & 1;
+            }
+            centre += 0.25 * block.points.row(block.index(ijk[0], ijk[1], ijk[2])).transpose();
+          }
+          EXPECT_STREQ(volume::boundaryConditionName(test::boxDomainPart(centre)), family) << name << " quad " << q;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(lists, 16);  // 8 faces, each with side quads and inlet or outlet quads
+  EXPECT_EQ(quads, expected);
+  if (std::system("command -v cgnscheck > /dev/null 2>&1") != 0) GTEST_SKIP() << "cgnscheck is not installed";
+  const CheckReport report = cgnscheck(path);
+  ASSERT_TRUE(report.complete) << report.text;
+  EXPECT_EQ(report.errors, 0) << report.text;
+  EXPECT_EQ(report.warnings, 0) << report.text;
+}
 
 void expectSameBlocks(const StructuredGrid& grid, const std::vector<Plot3dBlock>& blocks) {
   ASSERT_EQ(blocks.size(), grid.blocks().size());

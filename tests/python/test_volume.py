@@ -547,10 +547,47 @@ class M6InItsFlowDomain(unittest.TestCase):
             self.assertLess(to_plane.max(), 1e-9 * 7400.0, "block {}".format(b))
             self.assertTrue(np.all(outer >= low - 1e-9 * 7400.0) and np.all(outer <= high + 1e-9 * 7400.0))
             conditions.add(blocks.faces(b)["w_max"]["condition"])
-        # Tagged by where each face lies; the wing's O-blocks bend round the box's edges, so the
-        # downstream face has no block face of its own here (docs/volume.md, "Not there yet").
+        # Tagged by where each face's middle lies; the wing's O-blocks bend round the box's edges,
+        # so the downstream face has no block face of its own here (the grid patches it quad by
+        # quad: test_grid_patches_the_box_quad_by_quad).
         self.assertIn("inlet", conditions)
         self.assertLessEqual(conditions, {"inlet", "outlet", "side"})
+
+    def test_grid_patches_the_box_quad_by_quad(self):
+        # The O-blocks' outer faces reach over the box's edges, so the downstream face has no block
+        # face of its own; the grid puts every outer quad on the box face its centre lies on (the
+        # volume stage's box: the ray from the centre meets the cube round it on the face of the
+        # largest |x - c|, scaled to the box): the x faces are inlet and outlet, the others side.
+        import re
+
+        import bvmesh.grid
+
+        mesh = bvmesh.volume.offset_and_farfield(self.fitter, reference_length=805.0, **self.domain["volume_options"])
+        refined = bvmesh.grid.refine(mesh, "euler", edge_points=9)
+        self.assertGreater(refined.outer_faces_split, 0)
+        centre = np.array([1300.0, 0.0, 0.0])
+        counts = {}
+        for b in range(refined.grid.block_count):
+            points = refined.grid.points(b)
+            for name, face in refined.grid.faces(b).items():
+                if face["condition"] not in ("inlet", "outlet", "side"):
+                    continue
+                sheet = bvmesh.grid.face_array(points, name)
+                middles = 0.25 * (sheet[:-1, :-1] + sheet[1:, :-1] + sheet[:-1, 1:] + sheet[1:, 1:])
+                middles = middles.transpose(1, 0, 2).reshape(-1, 3)  # quad (a, b) at a + (na - 1) b
+                offset = middles - centre
+                axis = np.argmax(np.abs(offset), axis=1)
+                truth = np.where(axis != 0, "side", np.where(offset[:, 0] > 0.0, "outlet", "inlet"))
+                self.assertEqual(refined.grid.quad_conditions(b, name), list(truth), "block {} {}".format(b, name))
+                for condition in truth:
+                    counts[condition] = counts.get(condition, 0) + 1
+        self.assertEqual(set(counts), {"inlet", "outlet", "side"})
+        with tempfile.TemporaryDirectory() as case:
+            bvmesh.grid.write_openfoam(refined, case)
+            with open(os.path.join(case, "constant", "polyMesh", "boundary")) as file:
+                boundary = file.read()
+        for condition, quads in counts.items():
+            self.assertRegex(boundary, r"{}\s*\{{[^}}]*nFaces\s+{};".format(condition, quads))
 
     def test_domain_centre_off_the_symmetry_plane_or_around_the_wall_is_refused(self):
         options = dict(self.domain["volume_options"])

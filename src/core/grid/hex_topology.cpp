@@ -76,9 +76,10 @@ HexTopology::HexTopology(const StructuredGrid& grid) : grid_(grid), merged_(merg
     BoundaryPatch patch{condition, volume::boundaryConditionName(condition), 0};
     for (const GridBlock& block : blocks) {
       for (int side = 0; side < 6; ++side) {
-        if (block.faces[static_cast<size_t>(side)].condition != condition) continue;
-        const std::array<int, 2> counts = volume::faceGridCounts(cellSizes(block), side);
-        patch.size += static_cast<Eigen::Index>(counts[0]) * counts[1];
+        if (block.faces[static_cast<size_t>(side)].condition == BoundaryCondition::Connected) continue;
+        forEachFaceCell(block, side, [&](int a, int b, const std::array<int, 3>&) {
+          if (block.quadCondition(side, a, b) == condition) ++patch.size;
+        });
       }
     }
     if (patch.size > 0) patches_.push_back(patch);
@@ -163,8 +164,9 @@ void HexTopology::forEachBoundaryFace(const std::function<void(size_t, const Hex
     for (size_t b = 0; b < blocks.size(); ++b) {
       const std::array<int, 3> c = cellSizes(blocks[b]);
       for (int side = 0; side < 6; ++side) {
-        if (blocks[b].faces[static_cast<size_t>(side)].condition != patches_[patch].condition) continue;
-        forEachFaceCell(blocks[b], side, [&](int, int, const std::array<int, 3>& ijk) {
+        if (blocks[b].faces[static_cast<size_t>(side)].condition == BoundaryCondition::Connected) continue;
+        forEachFaceCell(blocks[b], side, [&](int qa, int qb, const std::array<int, 3>& ijk) {
+          if (blocks[b].quadCondition(side, qa, qb) != patches_[patch].condition) return;
           const Eigen::Index cell = cellOffset_[b] + ijk[0] + static_cast<Eigen::Index>(c[0]) * (ijk[1] + static_cast<Eigen::Index>(c[1]) * ijk[2]);
           visit(patch, {cellFace(cell, side), cell, -1});
         });

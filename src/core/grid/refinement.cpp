@@ -14,6 +14,7 @@
 #include "core/common/errors.h"
 #include "core/common/parallel.h"
 #include "core/grid/distribution.h"
+#include "core/grid/outer_quads.h"
 
 namespace bvmesh::grid {
 namespace {
@@ -725,6 +726,7 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
   result.firstCellHeightMin = columnOffset.back() > 0 ? measured.firstHeightMin : 0.0;
   result.firstCellHeightMax = measured.firstHeightMax;
   result.growthMax = measured.growthMax;
+  if (options.outerDomain) result.outerFacesSplit = tagOuterQuads(gridBlocks, *options.outerDomain);
   result.grid = StructuredGrid(std::move(gridBlocks), firstHeight > 0.0);
   return result;
 }

@@ -5,10 +5,12 @@
 // of a shared face place the same points; shared points are then made identical bit for bit.
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "core/grid/structured_grid.h"
 #include "core/volume/block_mesh.h"
+#include "core/volume/domain.h"
 
 namespace bvmesh::grid {
 
@@ -47,6 +49,9 @@ struct RefinementOptions {
   // set, so they gather where the wall bends (a wing's nose). Lines inside a face take their
   // parameters blended from its edges' and can turn somewhat more (a sphere at 10 degrees: 12.4).
   double maxTurningDegrees = 0.0;
+  // The flow domain the blocks were marched to: a box's or cylinder's outer faces are then tagged
+  // quad by quad (grid::tagOuterQuads), not by their middle alone.
+  std::optional<volume::Domain> outerDomain;
 };
 
 struct RefinedGrid {
@@ -58,6 +63,7 @@ struct RefinedGrid {
   double firstCellHeightMin = 0.0;
   double firstCellHeightMax = 0.0;
   double growthMax = 0.0;
+  int outerFacesSplit = 0;  // outer block faces whose quads lie on more than one part of the domain
 };
 
 // Each wall-normal line runs in one block from the wall to the outer boundary (blocks stacked on

@@ -1,5 +1,6 @@
 #include "core/grid/structured_grid.h"
 
+#include <algorithm>
 #include <string>
 
 #include "core/common/errors.h"
@@ -11,6 +12,13 @@ namespace bvmesh::grid {
 Eigen::Index GridBlock::facePoint(int face, int a, int b) const {
   const std::array<int, 3> ijk = volume::faceGridPosition(size, face, a, b);
   return index(ijk[0], ijk[1], ijk[2]);
+}
+
+volume::BoundaryCondition GridBlock::quadCondition(int face, int a, int b) const {
+  const std::vector<volume::BoundaryCondition>& quads = quadConditions[static_cast<size_t>(face)];
+  if (quads.empty()) return faces[static_cast<size_t>(face)].condition;
+  const std::array<int, 2> counts = volume::faceGridCounts(size, face);
+  return quads[static_cast<size_t>(a + static_cast<Eigen::Index>(counts[0] - 1) * b)];
 }
 
 StructuredGrid::StructuredGrid(std::vector<GridBlock> blocks, bool viscousWall)
@@ -30,6 +38,19 @@ StructuredGrid::StructuredGrid(std::vector<GridBlock> blocks, bool viscousWall)
       throw InvalidInputError(name + " has " + std::to_string(block.points.rows()) + " points, its size " +
                               std::to_string(block.size[0]) + " x " + std::to_string(block.size[1]) + " x " +
                               std::to_string(block.size[2]) + " needs " + std::to_string(block.pointCount()));
+    }
+    for (int f = 0; f < 6; ++f) {
+      const std::vector<volume::BoundaryCondition>& quads = block.quadConditions[static_cast<size_t>(f)];
+      if (quads.empty()) continue;
+      const std::array<int, 2> counts = volume::faceGridCounts(block.size, f);
+      const auto expected = static_cast<size_t>(counts[0] - 1) * static_cast<size_t>(counts[1] - 1);
+      const bool connected = block.faces[static_cast<size_t>(f)].condition == volume::BoundaryCondition::Connected;
+      if (connected || quads.size() != expected ||
+          std::count(quads.begin(), quads.end(), volume::BoundaryCondition::Connected) > 0) {
+        throw InvalidInputError(name + " face " + volume::blockFaceName(f) + " has " + std::to_string(quads.size()) +
+                                " quad conditions; a boundary face takes one per quad (" + std::to_string(expected) +
+                                "), none of them 'connected'");
+      }
     }
     faces.push_back(block.faces);
     sizes.push_back(block.size);

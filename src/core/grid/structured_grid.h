@@ -17,6 +17,10 @@ struct GridBlock {
   // Per face (volume::BlockFaceSide order) its condition or its connection; a connection maps
   // face point positions (a, b) as volume::BlockMesh::mapFacePosition does for poles.
   std::array<volume::BlockFace, 6> faces;
+  // Per face, empty (every quad has the face's condition) or the condition of each quad (a, b),
+  // at a + (na - 1) b for the face's point counts (na, nb): an outer face of a box or cylinder
+  // domain that bends over the domain's edges is inlet, outlet or side quad by quad.
+  std::array<std::vector<volume::BoundaryCondition>, 6> quadConditions;
 
   Eigen::Index index(int i, int j, int k) const {
     return i + static_cast<Eigen::Index>(size[0]) * (j + static_cast<Eigen::Index>(size[1]) * k);
@@ -25,6 +29,8 @@ struct GridBlock {
   Eigen::Index cellCount() const { return static_cast<Eigen::Index>(size[0] - 1) * (size[1] - 1) * (size[2] - 1); }
   // The row of face point (a, b) of `face`.
   Eigen::Index facePoint(int face, int a, int b) const;
+  // The condition of quad (a, b) of a boundary face.
+  volume::BoundaryCondition quadCondition(int face, int a, int b) const;
 };
 
 class StructuredGrid {

@@ -2,6 +2,7 @@
 
 #include <cgnslib.h>
 
+#include <map>
 #include <set>
 #include <vector>
 
@@ -102,6 +103,22 @@ class CgnsFile {
   int fn_ = -1;
 };
 
+// One BC_t of a zone in its condition's family, named after the condition and the block face;
+// `points` as cg_boco_write takes them (a point range, or a list of face centres). Returns its index.
+int writeBoundary(int fn, int base, int zone, BoundaryCondition condition, bool viscousWall, const std::string& faceName,
+                  CGNS_ENUMT(PointSetType_t) setType, const std::vector<cgsize_t>& points, const std::string& path,
+                  const std::string& zoneName) {
+  const char* family = volume::boundaryConditionName(condition);
+  const std::string bc = std::string(family) + "_" + faceName;
+  const auto count = static_cast<cgsize_t>(setType == CGNS_ENUMV(PointRange) ? 2 : points.size() / 3);
+  int index = 0;
+  check(cg_boco_write(fn, base, zone, bc.c_str(), bcType(condition, viscousWall), setType, count, points.data(), &index),
+        path, zoneName + " " + bc);
+  check(cg_goto(fn, base, "Zone_t", zone, "ZoneBC_t", 1, "BC_t", index, "end"), path, zoneName + " " + bc);
+  check(cg_famname_write(family), path, zoneName + " " + bc + " family");
+  return index;
+}
+
 void writeZone(int fn, int base, const grid::StructuredGrid& grid, int b, const std::string& path) {
   const grid::GridBlock& block = grid.blocks()[static_cast<size_t>(b)];
   const std::string name = blockName(b);
@@ -138,13 +155,34 @@ void writeZone(int fn, int base, const grid::StructuredGrid& grid, int b, const 
             path, name + " " + connection);
       continue;
     }
-    const char* family = volume::boundaryConditionName(face.condition);
-    const std::string bc = std::string(family) + "_" + faceName;
-    check(cg_boco_write(fn, base, zone, bc.c_str(), bcType(face.condition, grid.viscousWall()),
-                        CGNS_ENUMV(PointRange), 2, pointRange.data(), &index),
-          path, name + " " + bc);
-    check(cg_goto(fn, base, "Zone_t", zone, "ZoneBC_t", 1, "BC_t", index, "end"), path, name + " " + bc);
-    check(cg_famname_write(family), path, name + " " + bc + " family");
+    if (block.quadConditions[static_cast<size_t>(f)].empty()) {
+      writeBoundary(fn, base, zone, face.condition, grid.viscousWall(), faceName, CGNS_ENUMV(PointRange),
+                    {pointRange.begin(), pointRange.end()}, path, name);
+      continue;
+    }
+    // A face whose quads lie on several parts of the domain: per condition, its quads as a list
+    // of face centres (i, j, k: the face's own index across it, cell indices along it).
+    const std::array<int, 2> along = volume::faceDirections(f);
+    const std::array<int, 2> counts = volume::faceGridCounts(block.size, f);
+    std::map<BoundaryCondition, std::vector<cgsize_t>> quads;
+    for (int qb = 0; qb + 1 < counts[1]; ++qb) {
+      for (int qa = 0; qa + 1 < counts[0]; ++qa) {
+        std::array<cgsize_t, 3> ijk{};
+        ijk[static_cast<size_t>(f / 2)] = f % 2 == 0 ? 1 : block.size[static_cast<size_t>(f / 2)];
+        ijk[static_cast<size_t>(along[0])] = qa + 1;
+        ijk[static_cast<size_t>(along[1])] = qb + 1;
+        std::vector<cgsize_t>& list = quads[block.quadCondition(f, qa, qb)];
+        list.insert(list.end(), ijk.begin(), ijk.end());
+      }
+    }
+    const CGNS_ENUMT(GridLocation_t) location = f / 2 == 0   ? CGNS_ENUMV(IFaceCenter)
+                                                : f / 2 == 1 ? CGNS_ENUMV(JFaceCenter)
+                                                             : CGNS_ENUMV(KFaceCenter);
+    for (const auto& [condition, list] : quads) {
+      const int bcIndex = writeBoundary(fn, base, zone, condition, grid.viscousWall(), faceName,
+                                        CGNS_ENUMV(PointList), list, path, name);
+      check(cg_boco_gridlocation_write(fn, base, zone, bcIndex, location), path, name + " " + faceName + " location");
+    }
   }
 }
 
@@ -159,8 +197,9 @@ void writeFile(const grid::StructuredGrid& grid, const std::string& temporary, c
   // Families first, in condition order, only for the conditions some face uses.
   std::set<BoundaryCondition> used;
   for (const grid::GridBlock& block : grid.blocks()) {
-    for (const volume::BlockFace& face : block.faces) {
-      if (face.condition != BoundaryCondition::Connected) used.insert(face.condition);
+    for (size_t f = 0; f < 6; ++f) {
+      if (block.faces[f].condition != BoundaryCondition::Connected) used.insert(block.faces[f].condition);
+      used.insert(block.quadConditions[f].begin(), block.quadConditions[f].end());
     }
   }
   for (BoundaryCondition condition : used) {
