@@ -263,6 +263,27 @@ Eigen::Index row(const GridBlock& block, const std::array<cgsize_t, 3>& ijk) {
   return block.index(static_cast<int>(ijk[0] - 1), static_cast<int>(ijk[1] - 1), static_cast<int>(ijk[2] - 1));
 }
 
+// A zone's BC_t node: its name, family, type and point set.
+struct BocoInfo {
+  std::string name, family;
+  CGNS_ENUMT(BCType_t) type = CGNS_ENUMV(BCTypeNull);
+  CGNS_ENUMT(PointSetType_t) pointSet = CGNS_ENUMV(PointSetTypeNull);
+  cgsize_t pointCount = 0;
+};
+
+void readBoco(int fn, int zone, int bc, BocoInfo& info) {
+  char name[64], family[64];
+  CGNS_ENUMT(DataType_t) normalType;
+  cgsize_t normalSize = 0;
+  int normalIndex[3], datasets = 0;
+  CG(cg_boco_info(fn, 1, zone, bc, name, &info.type, &info.pointSet, &info.pointCount, normalIndex, &normalSize,
+                  &normalType, &datasets));
+  CG(cg_goto(fn, 1, "Zone_t", zone, "ZoneBC_t", 1, "BC_t", bc, "end"));
+  CG(cg_famname_read(family));
+  info.name = name;
+  info.family = family;
+}
+
 void checkCgnsFile(const StructuredGrid& grid, const std::string& path) {
   CgnsReader file(path);
   int bases = 0, cellDim = 0, physDim = 0, zones = 0;
@@ -368,20 +389,12 @@ void checkCgnsFile(const StructuredGrid& grid, const std::string& path) {
     int count = 0;
     CG(cg_nbocos(file.fn, 1, z, &count));
     for (int bc = 1; bc <= count; ++bc) {
-      CGNS_ENUMT(BCType_t) type;
-      CGNS_ENUMT(PointSetType_t) pointSet;
-      CGNS_ENUMT(DataType_t) normalType;
-      cgsize_t pointCount = 0, normalSize = 0;
-      int normalIndex[3], datasets = 0;
-      CG(cg_boco_info(file.fn, 1, z, bc, name, &type, &pointSet, &pointCount, normalIndex, &normalSize, &normalType,
-                      &datasets));
-      EXPECT_EQ(pointSet, CGNS_ENUMV(PointRange));
-      EXPECT_EQ(pointCount, 2);
-      char family[64];
-      CG(cg_goto(file.fn, 1, "Zone_t", z, "ZoneBC_t", 1, "BC_t", bc, "end"));
-      CG(cg_famname_read(family));
-      EXPECT_EQ(type, expectedType(family, grid.viscousWall())) << name;
-      ++facesOfFamily[family];
+      BocoInfo info;
+      readBoco(file.fn, z, bc, info);
+      EXPECT_EQ(info.pointSet, CGNS_ENUMV(PointRange));
+      EXPECT_EQ(info.pointCount, 2);
+      EXPECT_EQ(info.type, expectedType(info.family, grid.viscousWall())) << info.name;
+      ++facesOfFamily[info.family];
     }
   }
   const std::map<std::string, int> expected = {{"wall", 4}, {"symmetry", 4}, {"inlet", 4}, {"outlet", 4}, {"farfield", 8}};
@@ -507,19 +520,15 @@ TEST(IoCgns, OuterFacesSplitQuadByQuadAreFaceCentreListsThatCgnscheckAccepts) {
       int count = 0;
       CG(cg_nbocos(file.fn, 1, z, &count));
       for (int bc = 1; bc <= count; ++bc) {
-        char name[64], family[64];
-        CGNS_ENUMT(BCType_t) type;
-        CGNS_ENUMT(PointSetType_t) pointSet;
-        CGNS_ENUMT(DataType_t) normalType;
+        BocoInfo info;
+        readBoco(file.fn, z, bc, info);
+        const char* name = info.name.c_str();
+        const char* family = info.family.c_str();
+        const CGNS_ENUMT(PointSetType_t) pointSet = info.pointSet;
+        const cgsize_t pointCount = info.pointCount;
         CGNS_ENUMT(GridLocation_t) location;
-        cgsize_t pointCount = 0, normalSize = 0;
-        int normalIndex[3], datasets = 0;
-        CG(cg_boco_info(file.fn, 1, z, bc, name, &type, &pointSet, &pointCount, normalIndex, &normalSize, &normalType,
-                        &datasets));
         CG(cg_boco_gridlocation_read(file.fn, 1, z, bc, &location));
-        CG(cg_goto(file.fn, 1, "Zone_t", z, "ZoneBC_t", 1, "BC_t", bc, "end"));
-        CG(cg_famname_read(family));
-        EXPECT_EQ(type, expectedType(family, false)) << name;
+        EXPECT_EQ(info.type, expectedType(family, false)) << name;
         if (pointSet == CGNS_ENUMV(PointRange)) {
           std::vector<cgsize_t> range(6);
           CG(cg_boco_read(file.fn, 1, z, bc, range.data(), nullptr));
