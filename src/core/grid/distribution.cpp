@@ -433,6 +433,7 @@ double TurningTable::measureAt(double s, double spacing, double maxTurning) cons
 SharedMeasure::SharedMeasure(int samples) : sum_(static_cast<size_t>(std::max(1, samples)) + 1, 0.0) {}
 
 void SharedMeasure::add(const TurningTable& edge, bool reversed, double spacing, double maxTurning) {
+  linear_ = linear_ && !(maxTurning > 0.0);
   const double steps = static_cast<double>(sum_.size() - 1);
   const double total = edge.measure(spacing, maxTurning);
   for (size_t k = 0; k < sum_.size(); ++k) {
@@ -444,7 +445,7 @@ void SharedMeasure::add(const TurningTable& edge, bool reversed, double spacing,
 
 double SharedMeasure::at(double sigma) const {
   const double x = std::clamp(sigma, 0.0, 1.0);
-  if (!(sum_.back() > 0.0)) return x;
+  if (linear_ || !(sum_.back() > 0.0)) return x;
   const double at = x * static_cast<double>(sum_.size() - 1);
   const size_t k = std::min(static_cast<size_t>(at), sum_.size() - 2);
   const double w = at - static_cast<double>(k);
@@ -452,7 +453,7 @@ double SharedMeasure::at(double sigma) const {
 }
 
 double SharedMeasure::sigmaAt(double measure) const {
-  if (!(sum_.back() > 0.0)) return std::clamp(measure, 0.0, 1.0);
+  if (linear_ || !(sum_.back() > 0.0)) return std::clamp(measure, 0.0, 1.0);
   const double target = measure * sum_.back();
   if (target <= 0.0) return 0.0;
   if (target >= sum_.back()) return 1.0;

@@ -143,8 +143,10 @@ class SharedMeasure {
   explicit SharedMeasure(int samples);
   // Adds an edge's measure (reversed: the edge runs against the shared sense).
   void add(const TurningTable& edge, bool reversed, double spacing, double maxTurning);
-  // The normalised measure at fraction sigma of arc length (in the shared sense); the identity
-  // until an edge is added.
+  // Without a turning limit every measure is arc length: the shared fractions are those of arc
+  // length itself, exactly (at and the fractions' inverse are the identity, no rounding).
+  bool uniformInArcLength() const { return linear_; }
+  // The normalised measure at fraction sigma of arc length (in the shared sense).
   double at(double sigma) const;
   // Fractions 0 = sigma_0 < ... < sigma_{n-1} = 1 of `points` points at equal steps of the
   // normalised measure, or stretched by Vinokur's law so that the first and last steps are
@@ -154,6 +156,7 @@ class SharedMeasure {
  private:
   double sigmaAt(double measure) const;  // the inverse of at()
   std::vector<double> sum_;             // at sigma = k / (samples)
+  bool linear_ = true;
 };
 
 // A geometric law in straight distances between consecutive points of a line:

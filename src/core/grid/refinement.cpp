@@ -414,12 +414,15 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
           throw InvalidInputError(blockText(b) + " has an edge of zero length along " + "uvw"[d] +
                                   " (collapsed edges cannot be refined)");
         }
-        // The end spacing as steps of the shared measure at the edge's two ends, in the shared sense.
+        // The end spacing as steps of the shared measure at the edge's two ends, in the shared
+        // sense. In arc length the distribution is symmetric and read from the edge's own start
+        // (so grids without a turning limit keep their points bit for bit).
         const double end = std::min(options.edgeEndSpacing / arc.length(), 0.5);
+        const bool arcLength = shared.uniformInArcLength();
         const double atStart = end > 0.0 ? shared.at(end) : 0.0;
-        const double atEnd = end > 0.0 ? 1.0 - shared.at(1.0 - end) : 0.0;
+        const double atEnd = end > 0.0 ? (arcLength ? end : 1.0 - shared.at(1.0 - end)) : 0.0;
         std::vector<double> sigma = shared.fractions(points, atStart, atEnd);
-        if (parity == 1) {
+        if (parity == 1 && !arcLength) {
           std::reverse(sigma.begin(), sigma.end());
           for (double& x : sigma) x = 1.0 - x;
         }
