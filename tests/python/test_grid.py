@@ -268,6 +268,8 @@ class SphereGrids(unittest.TestCase):
     def test_errors_name_the_problem(self):
         with self.assertRaisesRegex(ValueError, "max_turning_angle"):
             bvmesh.grid.refine(self.volume, "euler", max_turning_angle=-5.0)
+        with self.assertRaisesRegex(ValueError, "no block face 'top'"):
+            self.euler.grid.quad_conditions(0, "top")
         with self.assertRaisesRegex(ValueError, "preset"):
             bvmesh.grid.refine(self.volume, "navier")
         with self.assertRaisesRegex(ValueError, "reynolds_number"):
