@@ -169,6 +169,9 @@ class VolumeObjects(unittest.TestCase):
             # The sphere template's charts are not aligned with the box: the faces bending around its
             # edges are counted (the cube layout in tests/python/test_volume.py has none).
             self.assertEqual(vm.FacesAcrossDomainEdges, api.volume_mesh_of(vm).farfield_faces_across_domain_edges)
+            # The grid puts those faces' quads on the patch each lies on.
+            self.assertGreater(grid.OuterFacesSplit, 0)
+            self.assertEqual(grid.OuterFacesSplit, api.grid_of(grid).outer_faces_split)
             case = os.path.join(self.folder, "box_case")
             api.export_grid(grid, case, name="BoxedExport")
             with open(os.path.join(case, "constant", "polyMesh", "boundary")) as boundary:

@@ -126,6 +126,8 @@ class VolumeGridProxy(RecomputedProxy):
             ("FirstCellHeightMin", "App::PropertyFloat", "Smallest first cell height of the wall-normal lines"),
             ("FirstCellHeightMax", "App::PropertyFloat", "Largest first cell height of the wall-normal lines"),
             ("GrowthMax", "App::PropertyFloat", "Largest growth ratio of the wall-normal lines"),
+            ("OuterFacesSplit", "App::PropertyInteger",
+             "Outer block faces of a box or cylinder domain whose quads go to more than one of inlet, outlet, side"),
             ("Digest", "App::PropertyString", "SHA-1 of the grid's points"),
         ):
             add_property(obj, type_name, name, r, doc, mode=READ_ONLY)
@@ -171,12 +173,14 @@ class VolumeGridProxy(RecomputedProxy):
                 walls = [b for b in range(structured.block_count) if structured.faces(b)["w_min"]["condition"] == "wall"]
                 obj.NormalPointsUsed = structured.size(walls[0])[2] if walls else 0
                 obj.FirstCellHeightAsked = obj.FirstCellHeightMin = obj.FirstCellHeightMax = obj.GrowthMax = 0.0
+                obj.OuterFacesSplit = 0
             else:
                 obj.NormalPointsUsed = result.normal_points
                 obj.FirstCellHeightAsked = result.first_cell_height_asked
                 obj.FirstCellHeightMin = result.first_cell_height_min
                 obj.FirstCellHeightMax = result.first_cell_height_max
                 obj.GrowthMax = result.growth_max
+                obj.OuterFacesSplit = result.outer_faces_split
         conditions = {condition for prop, condition, _ in DISPLAY if getattr(obj, prop)}
         obj.Shape = boundary_lines_shape(structured, conditions)
 
