@@ -116,11 +116,15 @@ TEST(GridDistribution, TurningMeasureGathersPointsInTheBend) {
   EXPECT_NEAR(table.turning(), M_PI / 2.0, 1e-12);
   EXPECT_NEAR(table.length(), arc.length(), 1e-15);
   const double limit = 10.0 * M_PI / 180.0;
-  // No turning limit: uniform in arc length.
+  // No turning limit: the arc-length fractions exactly (grids refined without it keep their points
+  // bit for bit), with or without end spacings.
   SharedMeasure plain(1000);
   plain.add(table, false, 0.5, 0.0);
-  const std::vector<double> uniform = plain.fractions(11, 0.0, 0.0);
-  for (size_t i = 0; i < uniform.size(); ++i) EXPECT_NEAR(uniform[i], static_cast<double>(i) / 10.0, 1e-12);
+  plain.add(table, true, 0.5, 0.0);
+  EXPECT_TRUE(plain.uniformInArcLength());
+  EXPECT_EQ(plain.fractions(11, 0.0, 0.0), vinokurFractions(11, 0.0, 0.0));
+  EXPECT_EQ(plain.fractions(11, 0.01, 0.01), vinokurFractions(11, 0.01, 0.01));
+  EXPECT_EQ(plain.at(0.3), 0.3);
   // Spacing 0.5 and 10 degrees: length / 0.5 + 9 cells; none longer than 0.5 in arc length, none
   // whose end tangents differ by more than 10 degrees (measured on the curve, not the table).
   const double cells = table.measure(0.5, limit);
@@ -128,6 +132,7 @@ TEST(GridDistribution, TurningMeasureGathersPointsInTheBend) {
   const int points = static_cast<int>(std::ceil(cells)) + 1;
   SharedMeasure shared(1000);
   shared.add(table, false, 0.5, limit);
+  EXPECT_FALSE(shared.uniformInArcLength());
   const std::vector<double> sigma = shared.fractions(points, 0.0, 0.0);
   int inBend = 0;
   for (size_t i = 1; i < sigma.size(); ++i) {
