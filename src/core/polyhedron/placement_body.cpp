@@ -21,11 +21,14 @@ namespace bvmesh::polyhedron::placement_detail {
 
 // Whether a free-boundary curve (other than one lying in the symmetry plane) lies across the axis
 // at `end` (its axial coordinate from `origin`), within `reach`: that end of the body is open.
-bool boundaryNear(const target::Target& target, const std::vector<FeatureCurve>& curves,
-                  const std::optional<fit::SymmetryPlane>& plane, const Vec& origin, const Vec& axis,
-                  double end, double reach) {
+// Whether a feature curve of `kind` lies within `reach` of the axial position `end` all along,
+// other than one lying in the symmetry plane (a half model's cut): an open end's free boundary,
+// or the crease round a flat end's face.
+bool curveAtEnd(const target::Target& target, const std::vector<FeatureCurve>& curves, FeatureCurveKind kind,
+                const std::optional<fit::SymmetryPlane>& plane, const Vec& origin, const Vec& axis, double end,
+                double reach) {
   for (const FeatureCurve& curve : curves) {
-    if (curve.kind != FeatureCurveKind::Boundary) continue;
+    if (curve.kind != kind) continue;
     const target::Points points = curvePolyline(target, curve);
     bool inPlane = plane.has_value();
     bool atEnd = points.rows() > 0;
@@ -62,7 +65,7 @@ int quarterSegments(const TemplateValues& values) {
   return circumferential / 4;
 }
 
-// Resolves `auto` nose and tail choices from the target's free boundary and records them.
+// Resolves `auto` nose and tail choices from the target's free boundary and creases, and records them.
 void resolveEnds(const TemplateValues& values, const target::Target& target,
                  const std::vector<FeatureCurve>& curves, const std::optional<fit::SymmetryPlane>& plane,
                  BodyAxis& body, std::map<std::string, std::string>& used) {
@@ -70,10 +73,10 @@ void resolveEnds(const TemplateValues& values, const target::Target& target,
   for (int side = 0; side < 2; ++side) {
     std::string& end = body.ends[static_cast<size_t>(side)];
     if (end == "auto") {
-      end = boundaryNear(target, curves, plane, body.origin, body.e1, side ? body.hi : body.lo,
-                         0.01 * (body.hi - body.lo))
-                ? "open"
-                : "round";
+      const double at = side ? body.hi : body.lo, reach = 0.01 * (body.hi - body.lo);
+      end = curveAtEnd(target, curves, FeatureCurveKind::Boundary, plane, body.origin, body.e1, at, reach) ? "open"
+            : curveAtEnd(target, curves, FeatureCurveKind::Sharp, plane, body.origin, body.e1, at, reach) ? "flat"
+                                                                                                         : "round";
     }
   }
   used["nose"] = body.ends[0];
