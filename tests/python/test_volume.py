@@ -436,11 +436,13 @@ def hemisphere_cylinder_with_flat_base():
 
 
 class HemisphereCylinderVolume(unittest.TestCase):
-    """A slender body with a flat base, on the symmetry plane: the base (radius 0.5) is narrower
+    """A slender body with a flat base, on the symmetry plane. The base (radius 0.5) is narrower
     than the splay band at its rim would be (two boundary-layer thicknesses, 0.47), which used to
-    swallow the whole base: every grid line on it took the cylinder's radial normals, and the
-    first cells at the rim lay flat (848 faces above 70 degrees, minimum scaled Jacobian 0.0044).
-    The band now covers at most half of the smooth region it lies in."""
+    swallow the whole base: every grid line on it took the cylinder's radial normals and the first
+    cells at the rim lay flat (848 faces above 70 degrees); the band now covers at most half of the
+    smooth region it lies in. And the base was one quad grid with its corners on the rim, where
+    the rim runs straight through them (scaled Jacobian 0 there, 84 faces above 70 degrees next to
+    them); flat ends now get a ring cap."""
 
     @classmethod
     def setUpClass(cls):
@@ -471,36 +473,27 @@ class HemisphereCylinderVolume(unittest.TestCase):
         self.assertLess(self.target.project(wall)["distances"].max(), 1e-3)
 
     def test_blocks_positive_and_far_field_and_symmetry_as_asked(self):
-        # The half disc of the base is one chart whose corners lie on the rim, at 45 degrees from
-        # the symmetry plane, where the rim runs straight through them: there the wall's du and dv
-        # are parallel and the scaled Jacobian is 0 (to rounding, -4e-13). Elsewhere the blocks'
-        # samples are positive (measured 0.083 at worst, next to the base's rim).
-        blocks, worst_away, worst_near = self.mesh.blocks, 1.0, 1.0
-        corners = np.array([[10.0, 0.5 ** 1.5, -(0.5 ** 1.5)], [10.0, 0.5 ** 1.5, 0.5 ** 1.5]])
+        # The blocks' samples: 0.275 at worst (measured), next to the base's rim.
+        blocks, worst = self.mesh.blocks, 1.0
         centre = np.asarray(self.mesh.domain_centre)
         for b in range(blocks.block_count):
             x, du, dv, dw = blocks.evaluate_grid(b, *[samples(k) for k in blocks.knots(b)], derivatives=True)
             scaled = np.einsum("...i,...i", np.cross(du, dv), dw) / (
                 np.linalg.norm(du, axis=3) * np.linalg.norm(dv, axis=3) * np.linalg.norm(dw, axis=3))
-            near = np.linalg.norm(x[..., None, :] - corners, axis=-1).min(axis=-1) < 0.05
-            worst_away = min(worst_away, scaled[~near].min())
-            worst_near = min(worst_near, scaled[near].min(initial=1.0))
+            worst = min(worst, scaled.min())
             np.testing.assert_allclose(np.linalg.norm(x[:, :, -1] - centre, axis=2), 200.0, rtol=0.01)
             for name, face in (("u_min", x[0]), ("u_max", x[-1]), ("v_min", x[:, 0]), ("v_max", x[:, -1])):
                 if blocks.faces(b)[name]["condition"] == "symmetry":
                     self.assertLess(np.abs(face[..., 1]).max(), 1e-12 * 10.0)
-        self.assertGreater(worst_away, 0.05)
-        self.assertGreater(worst_near, -1e-9)
+        self.assertGreater(worst, 0.25)
 
     def test_grid_cells_at_the_base_rim(self):
-        # Measured: minimum scaled Jacobian 0.0125, 84 faces above 70 degrees (max 84.3), all in
-        # the base's block at the rim next to the symmetry plane, where the half disc's block has
-        # its corners on the rim.
+        # Measured on the 300 k-cell euler grid: minimum scaled Jacobian 0.307, largest
+        # non-orthogonality 62.5 degrees.
         scaled = np.asarray(self.quality["scaled_jacobian"])
         non_orthogonality = np.asarray(self.quality["non_orthogonality"])
-        self.assertGreater(scaled.min(), 0.0)
-        self.assertLess(int((non_orthogonality > 70.0).sum()), 200)
-        self.assertLess(int((scaled < 0.2).sum()), 150)
+        self.assertGreater(scaled.min(), 0.25)
+        self.assertLess(non_orthogonality.max(), 70.0)
 
 
 class M6InItsFlowDomain(unittest.TestCase):

@@ -83,6 +83,9 @@ void resolveEnds(const TemplateValues& values, const target::Target& target,
   used["tail"] = body.ends[1];
 }
 
+// A ring-capped flat end's inner ring, as a fraction of the body's radius.
+constexpr double kCapRing = 0.5;
+
 // Axial coordinates of the end rims: a round end's dome takes `cap` of the length.
 std::array<double, 2> bodyRims(const BodyAxis& body) {
   const double length = body.hi - body.lo;
@@ -106,6 +109,9 @@ Draft buildBodyGrid(const target::Target& target, const BodyAxis& body, int n,
   const double cap = std::min(body.radius, 0.25 * (body.hi - body.lo));
   lattice = latticeSurface({axial, ny, n},
                            {body.ends[0] != "open", body.ends[1] != "open", !half, true, true, true});
+  // The stations whose rings are an end's rim (a ring-capped end's rim is its second station).
+  const std::array<int, 2> rim{body.ringCapped[0] ? 1 : 0, body.ringCapped[1] ? axial - 1 : axial};
+  auto capRing = [&](int i) { return (i == 0 && body.ringCapped[0]) || (i == axial && body.ringCapped[1]); };
   Draft draft;
   draft.faces = lattice.faces;
   RayBatch rays;
@@ -123,17 +129,22 @@ Draft buildBodyGrid(const target::Target& target, const BodyAxis& body, int n,
     // Rays in the symmetry plane would graze the target's boundary there: cast them from just
     // inside the body; the improvement snaps the vertices back onto the plane.
     const Vec lift = half && j == 0 ? Vec(1e-3 * body.radius * body.e2) : Vec::Zero();
+    const double outward = i == 0 ? -1.0 : 1.0;
+    if (capRing(i)) {  // the end face: its ring and its inside, pulled in to kCapRing of the radius
+      draft.vertices[static_cast<size_t>(v)] = centre + kCapRing * body.radius * radial;
+      rays.add(v, centre + kCapRing * body.radius * radial + lift, outward * body.e1);
+      continue;
+    }
     if (ring) {
       rays.add(v, centre + lift, radial);
-      if ((i == 0 && body.ends[0] == "flat") || (i == axial && body.ends[1] == "flat")) flatRim.push_back(v);
+      if ((i == rim[0] && body.ends[0] == "flat") || (i == rim[1] && body.ends[1] == "flat")) flatRim.push_back(v);
       // Half models: where the symmetry boundary meets an open or flat end.
       if (half && j == 0 && (k == 0 || k == n) &&
-          ((i == 0 && body.ends[0] != "round") || (i == axial && body.ends[1] != "round"))) {
+          ((i == rim[0] && body.ends[0] != "round") || (i == rim[1] && body.ends[1] != "round"))) {
         draft.corners.push_back(v);
       }
       continue;
     }
-    const double outward = i == 0 ? -1.0 : 1.0;
     const std::string& end = body.ends[i == 0 ? 0 : 1];
     if (end == "round") {
       const double rho = std::min(1.0, std::sqrt(a * a + b * b));
@@ -186,7 +197,8 @@ void checkFlatEnds(const std::string& templateName, const BodyAxis& body, const 
   for (int i = 0; i <= last; ++i) largest = std::max(largest, ringArea(body, draft, lattice, i));
   for (int side = 0; side < 2; ++side) {
     if (body.ends[static_cast<size_t>(side)] != "flat") continue;
-    const double area = ringArea(body, draft, lattice, side ? last : 0);
+    const int rimStation = side ? (body.ringCapped[1] ? last - 1 : last) : (body.ringCapped[0] ? 1 : 0);
+    const double area = ringArea(body, draft, lattice, rimStation);
     if (area >= 1e-2 * largest) continue;
     const char* name = side ? "tail" : "nose";
     char what[560];
@@ -250,6 +262,15 @@ Draft buildRevolution(const TemplateValues& values, const target::Target& target
     centre += (a - (centre - body.origin).dot(body.e1)) * body.e1;
     if (body.half) centre -= (centre - plane->point).dot(body.e2) * body.e2;
     centres[static_cast<size_t>(i)] = centre;
+  }
+  // Flat ends get ring caps: a single quad grid across the end has its corners on the rim, where
+  // the rim runs straight through them, and the charts there meet at 180 degrees (a volume
+  // block's wall face then has du parallel to dv at that corner).
+  for (int side = 0; side < 2; ++side) {
+    if (body.ends[static_cast<size_t>(side)] != "flat") continue;
+    body.ringCapped[static_cast<size_t>(side)] = true;
+    if (side == 0) centres.insert(centres.begin(), centres.front());
+    else centres.push_back(centres.back());
   }
   Lattice lattice;
   Draft draft = buildBodyGrid(target, body, n, centres, false, lattice);

@@ -90,11 +90,14 @@ struct BodyAxis {
   double lo = 0.0, hi = 0.0;
   double radius = 0.0;              // largest distance of the body from the axis
   std::array<std::string, 2> ends;  // nose (at lo) and tail (at hi): round, flat or open
+  // Per end, whether a flat end is capped O-wise: its first station repeats the rim's and its ring
+  // lies on the end face (buildBodyGrid), so that every rim vertex has two end-face quads.
+  std::array<bool, 2> ringCapped{false, false};
 };
 
 int quarterSegments(const TemplateValues& values);
 
-// Resolves `auto` nose and tail choices from the target's free boundary and records them.
+// Resolves `auto` nose and tail choices from the target's free boundary and creases, and records them.
 void resolveEnds(const TemplateValues& values, const target::Target& target,
                  const std::vector<FeatureCurve>& curves, const std::optional<fit::SymmetryPlane>& plane,
                  BodyAxis& body, std::map<std::string, std::string>& used);
@@ -105,7 +108,9 @@ std::array<double, 2> bodyRims(const BodyAxis& body);
 // The body grid: the lattice [0, #stations - 1] x [0, ny] x [0, n] (a half body without its
 // j = 0 side, open ends without their end sides) with rings at the station centres (#stations,
 // on the axis in order from nose rim to tail rim), each ring vertex cast radially onto the target,
-// the end caps cast from their rim centres (domes) or along the axis (flat). Draft vertex v is
+// the end caps cast from their rim centres (domes) or along the axis (flat; a ring-capped flat
+// end's first station is a ring at kCapRing of the radius on the end face, the next one its rim).
+// Draft vertex v is
 // lattice vertex v. `firstHit`: cast to the nearest surface from the centre (a body with other
 // parts around it, such as a wing); otherwise to the outermost surface.
 Draft buildBodyGrid(const target::Target& target, const BodyAxis& body, int n,
