@@ -274,6 +274,15 @@ def samples(knots):
     return np.concatenate([np.linspace(k[i], k[i + 1], 4, endpoint=False) for i in range(len(k) - 1)] + [k[-1:]])
 
 
+def sampled_block(blocks, b):
+    """Block b evaluated at samples() of each direction's knots: points, du, dv, dw and the scaled
+    Jacobian (du x dv . dw over the three lengths), each (nu, nv, nw, ...)."""
+    x, du, dv, dw = blocks.evaluate_grid(b, *[samples(k) for k in blocks.knots(b)], derivatives=True)
+    scaled = np.einsum("...i,...i", np.cross(du, dv), dw) / (
+        np.linalg.norm(du, axis=3) * np.linalg.norm(dv, axis=3) * np.linalg.norm(dw, axis=3))
+    return x, du, dv, dw, scaled
+
+
 class M6Volume(unittest.TestCase):
     """The volume mesh around the M6 at level 2 (O-topology around the sharp trailing edge). Before
     the far-field directions turned radial, the grid lines behind the root of the swept trailing
@@ -400,9 +409,7 @@ class M6VolumeOnTheConvergedWall(unittest.TestCase):
         negative = []
         centre = np.asarray(self.mesh.domain_centre)
         for b in range(blocks.block_count):
-            x, du, dv, dw = blocks.evaluate_grid(b, *[samples(k) for k in blocks.knots(b)], derivatives=True)
-            scaled = np.einsum("...i,...i", np.cross(du, dv), dw) / (
-                np.linalg.norm(du, axis=3) * np.linalg.norm(dv, axis=3) * np.linalg.norm(dw, axis=3))
+            x, _, _, _, scaled = sampled_block(blocks, b)
             worst = min(worst, scaled.min())
             negative.extend(x[scaled <= 0.0])
             np.testing.assert_allclose(np.linalg.norm(x[:, :, -1] - centre, axis=2), 20 * 805.0, rtol=0.01)
@@ -477,9 +484,7 @@ class HemisphereCylinderVolume(unittest.TestCase):
         blocks, worst = self.mesh.blocks, 1.0
         centre = np.asarray(self.mesh.domain_centre)
         for b in range(blocks.block_count):
-            x, du, dv, dw = blocks.evaluate_grid(b, *[samples(k) for k in blocks.knots(b)], derivatives=True)
-            scaled = np.einsum("...i,...i", np.cross(du, dv), dw) / (
-                np.linalg.norm(du, axis=3) * np.linalg.norm(dv, axis=3) * np.linalg.norm(dw, axis=3))
+            x, _, _, _, scaled = sampled_block(blocks, b)
             worst = min(worst, scaled.min())
             np.testing.assert_allclose(np.linalg.norm(x[:, :, -1] - centre, axis=2), 200.0, rtol=0.01)
             for name, face in (("u_min", x[0]), ("u_max", x[-1]), ("v_min", x[:, 0]), ("v_max", x[:, -1])):
