@@ -4,8 +4,8 @@
 #include <string>
 
 #include "core/common/errors.h"
-#include "core/common/parallel.h"
 #include "core/common/input_checks.h"
+#include "core/common/parallel.h"
 
 namespace bvmesh::grid {
 
