@@ -281,6 +281,53 @@ TEST(VolumeMesh, AroundTheLimitSurfaceOfARefinedCube) {
   }
 }
 
+TEST(VolumeMesh, SplayBandLeavesAFaceNarrowerThanItsOwnNormals) {
+  // A box 10 x 1 x 1 (the cube stretched along x), every edge a crease and every corner sharp,
+  // refined three times. Its end faces (half width 0.5) are narrower than the splay band at their
+  // rims would be (two boundary-layer thicknesses, 0.8): the band covers half of them (0.25), so
+  // the lines in their middle leave along the end face's normal instead of taking the long sides'
+  // normals interpolated across the whole face (measured: 0.42 degrees off the end face's normal
+  // within 0.2 of its centre; 6.4 with the band at full width).
+  surface::QuadControlMesh box = surface::testing::cube();
+  for (Eigen::Index v = 0; v < box.vertices.rows(); ++v) box.vertices(v, 0) *= 5.0;
+  std::vector<std::array<int, 2>> edges;
+  for (Eigen::Index f = 0; f < box.faces.rows(); ++f) {
+    for (int k = 0; k < 4; ++k) {
+      const int a = box.faces(f, k), b = box.faces(f, (k + 1) % 4);
+      if (a < b) edges.push_back({a, b});
+    }
+  }
+  box.creases.resize(static_cast<Eigen::Index>(edges.size()), 2);
+  for (size_t e = 0; e < edges.size(); ++e) box.creases.row(static_cast<Eigen::Index>(e)) << edges[e][0], edges[e][1];
+  for (int v = 0; v < 8; ++v) box.corners.push_back(v);
+  const surface::QuadControlMesh wall = surface::testing::subdivide(box, 3);
+  VolumeMeshOptions options;
+  options.boundaryLayerThickness = 0.4;
+  options.farfieldDistance = 100.0;
+  const VolumeMesh result = generateVolumeMesh(wall, options);
+  // The wall-normal derivative at wall samples on the end faces within 0.2 of their centre.
+  double worst = 0.0;
+  int samples = 0;
+  for (const Block& block : result.blocks.blocks()) {
+    const BsplineVolume& v = block.volume;
+    std::vector<double> u(41), w(41);
+    for (int k = 0; k <= 40; ++k) {
+      u[static_cast<size_t>(k)] = v.lower(0) + (v.upper(0) - v.lower(0)) * k / 40.0;
+      w[static_cast<size_t>(k)] = v.lower(1) + (v.upper(1) - v.lower(1)) * k / 40.0;
+    }
+    RowMatrixX3d x, du, dv, dw;
+    v.evaluateGrid(u, w, {v.lower(2)}, x, &du, &dv, &dw);
+    for (Eigen::Index p = 0; p < x.rows(); ++p) {
+      if (std::abs(std::abs(x(p, 0)) - 5.0) > 1e-3 || std::hypot(x(p, 1), x(p, 2)) > 0.2) continue;
+      const Vector3d normal(x(p, 0) > 0.0 ? 1.0 : -1.0, 0.0, 0.0);
+      worst = std::max(worst, std::acos(std::min(1.0, dw.row(p).normalized().dot(normal.transpose()))) * 180.0 / M_PI);
+      ++samples;
+    }
+  }
+  EXPECT_GT(samples, 8);
+  EXPECT_LT(worst, 1.0);
+}
+
 TEST(VolumeMesh, HalfModelKeepsTheSymmetryPlane) {
   const surface::QuadControlMesh half = surface::testing::upperHalfOfRefinedCube();
   VolumeMeshOptions options;
