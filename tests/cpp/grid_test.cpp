@@ -118,9 +118,9 @@ TEST(GridDistribution, TurningMeasureGathersPointsInTheBend) {
   const double limit = 10.0 * M_PI / 180.0;
   // No turning limit: the arc-length fractions exactly (grids refined without it keep their points
   // bit for bit), with or without end spacings.
-  SharedMeasure plain(1000);
-  plain.add(table, false, 0.5, 0.0);
-  plain.add(table, true, 0.5, 0.0);
+  SharedMeasure plain(1000, 0.5, 0.0);
+  plain.add(table, false);
+  plain.add(table, true);
   EXPECT_TRUE(plain.uniformInArcLength());
   EXPECT_EQ(plain.fractions(11, 0.0, 0.0), vinokurFractions(11, 0.0, 0.0));
   EXPECT_EQ(plain.fractions(11, 0.01, 0.01), vinokurFractions(11, 0.01, 0.01));
@@ -130,8 +130,8 @@ TEST(GridDistribution, TurningMeasureGathersPointsInTheBend) {
   const double cells = table.measure(0.5, limit);
   EXPECT_NEAR(cells, arc.length() / 0.5 + 9.0, 1e-9);
   const int points = static_cast<int>(std::ceil(cells)) + 1;
-  SharedMeasure shared(1000);
-  shared.add(table, false, 0.5, limit);
+  SharedMeasure shared(1000, 0.5, limit);
+  shared.add(table, false);
   EXPECT_FALSE(shared.uniformInArcLength());
   const std::vector<double> sigma = shared.fractions(points, 0.0, 0.0);
   int inBend = 0;
@@ -151,8 +151,8 @@ TEST(GridDistribution, TurningMeasureGathersPointsInTheBend) {
   EXPECT_NEAR(ends[1] / end, 1.0, 1e-2);
   EXPECT_NEAR((1.0 - ends[ends.size() - 2]) / end, 1.0, 1e-2);
   // The same edge added against the shared sense gives the mirrored measure.
-  SharedMeasure mirrored(1000);
-  mirrored.add(table, true, 0.5, limit);
+  SharedMeasure mirrored(1000, 0.5, limit);
+  mirrored.add(table, true);
   for (const double x : {0.1, 0.5, 0.77, 0.95}) EXPECT_NEAR(mirrored.at(x), 1.0 - shared.at(1.0 - x), 1e-12);
 }
 

@@ -407,7 +407,6 @@ TurningTable::TurningTable(const BsplineCurve& curve, const ArcLength& arc, int 
   for (size_t k = 0; k <= steps; ++k) arc_[k] = arc.length() * static_cast<double>(k) / static_cast<double>(steps);
   arc.parametersAt(arc_, 0, t);
   Eigen::Vector3d previous = Eigen::Vector3d::Zero();
-  turning_[0] = 0.0;
   for (size_t k = 0; k <= steps; ++k) {
     Eigen::Vector3d tangent;
     curve.point(t[k], &tangent);
@@ -430,22 +429,25 @@ double TurningTable::measureAt(double s, double spacing, double maxTurning) cons
   return s / spacing + ((1.0 - w) * turning_[k] + w * turning_[k + 1]) / maxTurning;
 }
 
-SharedMeasure::SharedMeasure(int samples) : sum_(static_cast<size_t>(std::max(1, samples)) + 1, 0.0) {}
+SharedMeasure::SharedMeasure(int samples, double spacing, double maxTurning)
+    : spacing_(spacing), maxTurning_(maxTurning) {
+  if (!uniformInArcLength()) sum_.assign(static_cast<size_t>(std::max(1, samples)) + 1, 0.0);
+}
 
-void SharedMeasure::add(const TurningTable& edge, bool reversed, double spacing, double maxTurning) {
-  linear_ = linear_ && !(maxTurning > 0.0);
+void SharedMeasure::add(const TurningTable& edge, bool reversed) {
+  if (uniformInArcLength()) return;  // arc length's fractions need no table
   const double steps = static_cast<double>(sum_.size() - 1);
-  const double total = edge.measure(spacing, maxTurning);
+  const double total = edge.measure(spacing_, maxTurning_);
   for (size_t k = 0; k < sum_.size(); ++k) {
     const double sigma = static_cast<double>(k) / steps;
-    sum_[k] += reversed ? total - edge.measureAt((1.0 - sigma) * edge.length(), spacing, maxTurning)
-                        : edge.measureAt(sigma * edge.length(), spacing, maxTurning);
+    sum_[k] += reversed ? total - edge.measureAt((1.0 - sigma) * edge.length(), spacing_, maxTurning_)
+                        : edge.measureAt(sigma * edge.length(), spacing_, maxTurning_);
   }
 }
 
 double SharedMeasure::at(double sigma) const {
   const double x = std::clamp(sigma, 0.0, 1.0);
-  if (linear_ || !(sum_.back() > 0.0)) return x;
+  if (uniformInArcLength() || !(sum_.back() > 0.0)) return x;
   const double at = x * static_cast<double>(sum_.size() - 1);
   const size_t k = std::min(static_cast<size_t>(at), sum_.size() - 2);
   const double w = at - static_cast<double>(k);
@@ -453,7 +455,7 @@ double SharedMeasure::at(double sigma) const {
 }
 
 double SharedMeasure::sigmaAt(double measure) const {
-  if (linear_ || !(sum_.back() > 0.0)) return std::clamp(measure, 0.0, 1.0);
+  if (uniformInArcLength() || !(sum_.back() > 0.0)) return std::clamp(measure, 0.0, 1.0);
   const double target = measure * sum_.back();
   if (target <= 0.0) return 0.0;
   if (target >= sum_.back()) return 1.0;

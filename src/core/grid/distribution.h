@@ -140,12 +140,14 @@ class TurningTable {
 // opposite edge bends elsewhere. Edges with more to resolve weigh more.
 class SharedMeasure {
  public:
-  explicit SharedMeasure(int samples);
+  // The measures of the set's spacing and turning limit, tabulated at `samples` fractions.
+  SharedMeasure(int samples, double spacing, double maxTurning);
   // Adds an edge's measure (reversed: the edge runs against the shared sense).
-  void add(const TurningTable& edge, bool reversed, double spacing, double maxTurning);
+  void add(const TurningTable& edge, bool reversed);
   // Without a turning limit every measure is arc length: the shared fractions are those of arc
-  // length itself, exactly (at and the fractions' inverse are the identity, no rounding).
-  bool uniformInArcLength() const { return linear_; }
+  // length itself, exactly (at and the fractions' inverse are the identity, no table, no
+  // rounding).
+  bool uniformInArcLength() const { return !(maxTurning_ > 0.0); }
   // The normalised measure at fraction sigma of arc length (in the shared sense).
   double at(double sigma) const;
   // Fractions 0 = sigma_0 < ... < sigma_{n-1} = 1 of `points` points at equal steps of the
@@ -155,8 +157,8 @@ class SharedMeasure {
 
  private:
   double sigmaAt(double measure) const;  // the inverse of at()
-  std::vector<double> sum_;             // at sigma = k / (samples)
-  bool linear_ = true;
+  double spacing_, maxTurning_;
+  std::vector<double> sum_;  // at sigma = k / (samples); empty when uniform in arc length
 };
 
 // A geometric law in straight distances between consecutive points of a line:

@@ -388,15 +388,17 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
       const auto [root, parity] = sets.find(static_cast<int>(3 * b) + d);
       std::optional<SharedMeasure>& shared = setMeasure[static_cast<size_t>(root)];
       if (wallParity[static_cast<size_t>(root)] >= 0) continue;
-      if (!shared) shared.emplace(kSharedMeasureSamples);
-      // With edge_points the set's spacing is what its longest counted edge gets.
-      const double setSpacing =
-          spacing > 0.0 ? spacing : longestEdge[static_cast<size_t>(root)] / (tangentialCounts[static_cast<size_t>(root)] - 1);
-      if (!(setSpacing > 0.0)) continue;
+      if (!shared) {
+        // With edge_points the set's spacing is what its longest counted edge gets.
+        const double setSpacing = spacing > 0.0 ? spacing
+                                                : longestEdge[static_cast<size_t>(root)] /
+                                                      (tangentialCounts[static_cast<size_t>(root)] - 1);
+        shared.emplace(kSharedMeasureSamples, setSpacing, setSpacing > 0.0 ? maxTurning : 0.0);
+      }
       const std::vector<TurningTable>& tables = edgeTurning[b][static_cast<size_t>(d)];
       for (size_t e = 0; e < tables.size(); ++e) {
         if (e < 4 && !onWallOrNoWall(plans[b], d, static_cast<int>(e))) continue;
-        shared->add(tables[e], parity == 1, setSpacing, maxTurning);
+        shared->add(tables[e], parity == 1);
       }
     }
   }
