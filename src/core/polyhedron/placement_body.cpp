@@ -19,8 +19,6 @@ namespace bvmesh::polyhedron::placement_detail {
 
 // ---- bodies of revolution -------------------------------------------------------------------
 
-// Whether a free-boundary curve (other than one lying in the symmetry plane) lies across the axis
-// at `end` (its axial coordinate from `origin`), within `reach`: that end of the body is open.
 // Whether a feature curve of `kind` lies within `reach` of the axial position `end` all along,
 // other than one lying in the symmetry plane (a half model's cut): an open end's free boundary,
 // or the crease round a flat end's face.
@@ -86,6 +84,12 @@ void resolveEnds(const TemplateValues& values, const target::Target& target,
 // A ring-capped flat end's inner ring, as a fraction of the body's radius.
 constexpr double kCapRing = 0.5;
 
+// The stations whose rings are the nose's and the tail's rims (of stations 0 .. last): a
+// ring-capped end's rim is the station next to its end.
+std::array<int, 2> rimStations(const BodyAxis& body, int last) {
+  return {body.ringCapped[0] ? 1 : 0, body.ringCapped[1] ? last - 1 : last};
+}
+
 // Axial coordinates of the end rims: a round end's dome takes `cap` of the length.
 std::array<double, 2> bodyRims(const BodyAxis& body) {
   const double length = body.hi - body.lo;
@@ -109,8 +113,7 @@ Draft buildBodyGrid(const target::Target& target, const BodyAxis& body, int n,
   const double cap = std::min(body.radius, 0.25 * (body.hi - body.lo));
   lattice = latticeSurface({axial, ny, n},
                            {body.ends[0] != "open", body.ends[1] != "open", !half, true, true, true});
-  // The stations whose rings are an end's rim (a ring-capped end's rim is its second station).
-  const std::array<int, 2> rim{body.ringCapped[0] ? 1 : 0, body.ringCapped[1] ? axial - 1 : axial};
+  const std::array<int, 2> rim = rimStations(body, axial);
   auto capRing = [&](int i) { return (i == 0 && body.ringCapped[0]) || (i == axial && body.ringCapped[1]); };
   Draft draft;
   draft.faces = lattice.faces;
@@ -197,8 +200,7 @@ void checkFlatEnds(const std::string& templateName, const BodyAxis& body, const 
   for (int i = 0; i <= last; ++i) largest = std::max(largest, ringArea(body, draft, lattice, i));
   for (int side = 0; side < 2; ++side) {
     if (body.ends[static_cast<size_t>(side)] != "flat") continue;
-    const int rimStation = side ? (body.ringCapped[1] ? last - 1 : last) : (body.ringCapped[0] ? 1 : 0);
-    const double area = ringArea(body, draft, lattice, rimStation);
+    const double area = ringArea(body, draft, lattice, rimStations(body, last)[static_cast<size_t>(side)]);
     if (area >= 1e-2 * largest) continue;
     const char* name = side ? "tail" : "nose";
     char what[560];
