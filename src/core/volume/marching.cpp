@@ -362,19 +362,19 @@ class Marcher {
                                        double width) const {
     const size_t n = sharp.size();
     std::vector<double> result(n, width);
-    std::vector<int> region(n, -1);
+    std::vector<char> seen(n, 0);
     std::vector<int> members;
     for (size_t seed = 0; seed < n; ++seed) {
-      if (sharp[seed] != 0 || region[seed] >= 0) continue;
+      if (sharp[seed] != 0 || seen[seed] != 0) continue;
       members.assign(1, static_cast<int>(seed));
-      region[seed] = static_cast<int>(seed);
+      seen[seed] = 1;
       double reach = 0.0;
       for (size_t next = 0; next < members.size(); ++next) {
         const auto p = static_cast<size_t>(members[next]);
         reach = std::max(reach, distance[p]);
         for (int q : neighbours_[p]) {
-          if (sharp[static_cast<size_t>(q)] != 0 || region[static_cast<size_t>(q)] >= 0) continue;
-          region[static_cast<size_t>(q)] = static_cast<int>(seed);
+          if (sharp[static_cast<size_t>(q)] != 0 || seen[static_cast<size_t>(q)] != 0) continue;
+          seen[static_cast<size_t>(q)] = 1;
           members.push_back(q);
         }
       }
