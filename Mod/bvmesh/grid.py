@@ -10,8 +10,9 @@ the files flow solvers read.
 One B-spline mesh serves both presets: `euler` (no wall clustering, every wall-normal line grows
 by the same ratio) and `rans` (first cell height for y+ ~ 1 by the flat-plate estimate, as many
 wall-normal points as keep the growth ratio at most 1.2). `max_turning_angle` (degrees) gathers
-tangential points where the wall bends, a wing's nose (docs/grid.md: what it costs on the M6). `refine(..., method="subdivision",
-steps=k)` is the other refinement: k volumetric Catmull-Clark steps of the blocks' control mesh.
+tangential points where the wall bends, a wing's nose (docs/grid.md: what it costs on the M6).
+`refine(..., method="subdivision", steps=k)` is the other refinement: k volumetric Catmull-Clark
+steps of the blocks' control mesh.
 """
 
 from . import load_core
