@@ -481,6 +481,59 @@ TEST(GridRefinement, BentWallNormalLinesKeepTheGrowthInPointDistances) {
   EXPECT_LE(fixed.growthMax, 1.15 * (1 + 1e-9));
 }
 
+// A block with its wall at w = 0 over [x0, x0 + 1] x [0, 1], `height` tall; `zigzag` moves its
+// inner pole layers sideways by that much, alternately, which lengthens its control polygon
+// much more than its lines.
+volume::Block wallBlockOfLines(double x0, double height, double zigzag) {
+  const std::vector<double> knots = uniformClampedKnots(3, 1);
+  const std::vector<double> wKnots = uniformClampedKnots(3, 4);
+  const std::vector<double> across = grevilleAbscissae(knots, 3);
+  const std::vector<double> along = grevilleAbscissae(wKnots, 3);
+  RowMatrixX3d poles(static_cast<Eigen::Index>(16 * along.size()), 3);
+  Eigen::Index row = 0;
+  for (size_t layer = 0; layer < along.size(); ++layer) {
+    const bool inner = layer > 0 && layer + 1 < along.size();
+    const double shift = inner ? (layer % 2 == 0 ? zigzag : -zigzag) : 0.0;
+    for (const double v : across) {
+      for (const double u : across) poles.row(row++) = Vector3d(x0 + u + shift, v, height * along[layer] / along.back()).transpose();
+    }
+  }
+  volume::Block block;
+  block.volume = volume::BsplineVolume({3, 3, 3}, {knots, knots, wKnots}, poles);
+  block.faces[4].condition = volume::BoundaryCondition::Wall;
+  return block;
+}
+
+TEST(GridRefinement, AutomaticNormalPointsFollowTheLongestLineNotTheLongestPolygon) {
+  // The automatic count measures lines in the order of a bound from their control polygons. Here
+  // the zigzag block's polygons are the longest (its 81 lines come first, more than one round of
+  // measured lines) but the straight block's lines are the longest: the count must come from them.
+  const volume::Block zigzag = wallBlockOfLines(0.0, 1.0, 0.3);
+  const volume::Block straight = wallBlockOfLines(3.0, 1.8, 0.0);
+  double polygon = 0.0;
+  const RowMatrixX3d& poles = zigzag.volume.poles();
+  for (int k = 0; k + 1 < zigzag.volume.poleCount(2); ++k) {
+    polygon += (poles.row(zigzag.volume.poleIndex(0, 0, k + 1)) - poles.row(zigzag.volume.poleIndex(0, 0, k))).norm();
+  }
+  RowMatrixX3d along(2001, 3), points;
+  const double top = zigzag.volume.knots(2).back();
+  for (Eigen::Index s = 0; s < along.rows(); ++s) along.row(s) << 0.5, 0.5, top * static_cast<double>(s) / 2000.0;
+  zigzag.volume.evaluate(along, points);
+  double line = 0.0;
+  for (Eigen::Index s = 1; s < points.rows(); ++s) line += (points.row(s) - points.row(s - 1)).norm();
+  ASSERT_GT(polygon, 3.0);  // the premise: a polygon far above the straight block's 1.8, a line below
+  ASSERT_LT(line, 1.5);
+  RefinementOptions options;
+  options.edgePoints = 9;
+  options.normalPoints = 0;
+  options.firstCellHeight = 1e-3;
+  const volume::BlockMesh mesh({zigzag, straight});
+  const RefinedGrid refined = refineBlockMesh(mesh, options);
+  EXPECT_EQ(refined.normalPoints, geometricPointsNeeded(1e-3, 1.2, 1.8));
+  EXPECT_GT(refined.normalPoints, geometricPointsNeeded(1e-3, 1.2, line));
+  EXPECT_LE(refined.growthMax, 1.2 * (1 + 1e-9));
+}
+
 TEST(GridRefinement, BlocksStackedOnAWallBlockAreRefused) {
   const test::BoxBlocks box = test::boxBlocks(0.0, true, 2);
   RefinementOptions options;
