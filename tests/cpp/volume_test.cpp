@@ -151,6 +151,46 @@ TEST(BlockMesh, ValidatesConnectionsAndSharedPoles) {
   EXPECT_THROW(BlockMesh{flipped}, InvalidInputError);  // the poles no longer meet
 }
 
+TEST(BlockMesh, FaceRowsAreThePositionLookupsAsLinearFunctions) {
+  // Every face of a 3 x 4 x 5 grid, and every orientation of a connection to every face of a
+  // 5 x 3 x 4 grid whose face sizes fit: the linear rows equal the position-by-position lookup.
+  const std::array<int, 3> mine{3, 4, 5}, theirs{5, 3, 4};
+  auto row = [](const std::array<int, 3>& counts, const std::array<int, 3>& ijk) {
+    return ijk[0] + static_cast<Eigen::Index>(counts[0]) * (ijk[1] + static_cast<Eigen::Index>(counts[1]) * ijk[2]);
+  };
+  int connections = 0;
+  for (int f = 0; f < 6; ++f) {
+    const std::array<int, 2> counts = volume::faceGridCounts(mine, f);
+    const volume::FaceRows rows = volume::faceRows(mine, f);
+    for (int a = 0; a < counts[0]; ++a) {
+      for (int b = 0; b < counts[1]; ++b) EXPECT_EQ(rows.at(a, b), row(mine, volume::faceGridPosition(mine, f, a, b)));
+    }
+    for (int g = 0; g < 6; ++g) {
+      const std::array<int, 2> other = volume::faceGridCounts(theirs, g);
+      for (int orientation = 0; orientation < 8; ++orientation) {
+        volume::FaceConnection connection;
+        connection.block = 1;
+        connection.face = g;
+        connection.swapped = (orientation & 1) != 0;
+        connection.reverseFirst = (orientation & 2) != 0;
+        connection.reverseSecond = (orientation & 4) != 0;
+        const std::array<int, 2> seen = connection.swapped ? std::array<int, 2>{other[1], other[0]} : other;
+        if (seen != counts) continue;
+        ++connections;
+        const volume::FaceRows there = volume::BlockMesh::neighbourFaceRows(connection, theirs);
+        for (int a = 0; a < counts[0]; ++a) {
+          for (int b = 0; b < counts[1]; ++b) {
+            const std::array<int, 2> mapped = volume::BlockMesh::mapFacePosition(connection, other, a, b);
+            EXPECT_EQ(there.at(a, b), row(theirs, volume::faceGridPosition(theirs, g, mapped[0], mapped[1])))
+                << f << " " << g << " " << orientation << " " << a << " " << b;
+          }
+        }
+      }
+    }
+  }
+  EXPECT_GT(connections, 40);
+}
+
 TEST(BlockMeshFile, RoundTripsAndNamesTheBadLine) {
   const BlockMesh mesh(twoBlocks());
   std::stringstream text;

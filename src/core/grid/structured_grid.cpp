@@ -73,12 +73,12 @@ void StructuredGrid::checkPointMatching(size_t b, int f) const {
   const volume::BlockFace& face = mine.faces[static_cast<size_t>(f)];
   const GridBlock& theirs = blocks_[static_cast<size_t>(face.neighbour.block)];
   const std::array<int, 2> counts = volume::faceGridCounts(mine.size, f);
-  const std::array<int, 2> otherCounts = volume::faceGridCounts(theirs.size, face.neighbour.face);
-  for (int a = 0; a < counts[0]; ++a) {
-    for (int c = 0; c < counts[1]; ++c) {
-      const std::array<int, 2> there = volume::BlockMesh::mapFacePosition(face.neighbour, otherCounts, a, c);
-      const auto p = mine.points.row(mine.facePoint(f, a, c));
-      const auto q = theirs.points.row(theirs.facePoint(face.neighbour.face, there[0], there[1]));
+  const volume::FaceRows here = volume::faceRows(mine.size, f);
+  const volume::FaceRows there = volume::BlockMesh::neighbourFaceRows(face.neighbour, theirs.size);
+  for (int c = 0; c < counts[1]; ++c) {
+    for (int a = 0; a < counts[0]; ++a) {
+      const auto p = mine.points.row(here.at(a, c));
+      const auto q = theirs.points.row(there.at(a, c));
       if (p != q) {
         throw InvalidInputError("grid block " + std::to_string(b) + " face " + volume::blockFaceName(f) + " point (" +
                                 std::to_string(a) + ", " + std::to_string(c) + ") differs from its neighbour's in block " +

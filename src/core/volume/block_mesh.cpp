@@ -91,6 +91,14 @@ std::array<int, 3> faceGridPosition(const std::array<int, 3>& counts, int face, 
   return ijk;
 }
 
+FaceRows faceRows(const std::array<int, 3>& counts, int face) {
+  const std::array<Eigen::Index, 3> stride{1, counts[0], static_cast<Eigen::Index>(counts[0]) * counts[1]};
+  const std::array<int, 3> origin = faceGridPosition(counts, face, 0, 0);
+  const auto [first, second] = faceDirections(face);
+  return {origin[0] * stride[0] + origin[1] * stride[1] + origin[2] * stride[2], stride[static_cast<size_t>(first)],
+          stride[static_cast<size_t>(second)]};
+}
+
 namespace {
 std::array<int, 3> poleCounts(const BsplineVolume& volume) {
   return {volume.poleCount(0), volume.poleCount(1), volume.poleCount(2)};
@@ -104,6 +112,23 @@ std::array<int, 2> BlockMesh::facePoleCounts(const BsplineVolume& volume, int fa
 Eigen::Index BlockMesh::facePole(const BsplineVolume& volume, int face, int a, int b) {
   const std::array<int, 3> ijk = faceGridPosition(poleCounts(volume), face, a, b);
   return volume.poleIndex(ijk[0], ijk[1], ijk[2]);
+}
+
+FaceRows BlockMesh::neighbourFaceRows(const FaceConnection& connection, const std::array<int, 3>& neighbourCounts) {
+  const FaceRows theirs = faceRows(neighbourCounts, connection.face);
+  const std::array<int, 2> counts = faceGridCounts(neighbourCounts, connection.face);
+  // Along the neighbour's own face directions, then swapped onto (a, b).
+  FaceRows rows{theirs.base, theirs.first, theirs.second};
+  if (connection.reverseFirst) {
+    rows.base += (counts[0] - 1) * theirs.first;
+    rows.first = -theirs.first;
+  }
+  if (connection.reverseSecond) {
+    rows.base += (counts[1] - 1) * theirs.second;
+    rows.second = -theirs.second;
+  }
+  if (connection.swapped) std::swap(rows.first, rows.second);
+  return rows;
 }
 
 std::array<int, 2> BlockMesh::mapFacePosition(const FaceConnection& connection,
@@ -206,9 +231,6 @@ std::vector<Eigen::Index> sharedGridRoots(const std::vector<std::array<BlockFace
   for (size_t b = 0; b < counts.size(); ++b) {
     offset[b + 1] = offset[b] + static_cast<Eigen::Index>(counts[b][0]) * counts[b][1] * counts[b][2];
   }
-  auto row = [&](size_t b, const std::array<int, 3>& ijk) {
-    return offset[b] + ijk[0] + static_cast<Eigen::Index>(counts[b][0]) * (ijk[1] + static_cast<Eigen::Index>(counts[b][1]) * ijk[2]);
-  };
   std::vector<Eigen::Index> parent(static_cast<size_t>(offset.back()));
   std::iota(parent.begin(), parent.end(), Eigen::Index{0});
   auto find = [&](Eigen::Index x) {
@@ -224,12 +246,12 @@ std::vector<Eigen::Index> sharedGridRoots(const std::vector<std::array<BlockFace
       if (face.condition != BoundaryCondition::Connected) continue;
       const size_t other = static_cast<size_t>(face.neighbour.block);
       const std::array<int, 2> mine = faceGridCounts(counts[b], f);
-      const std::array<int, 2> theirs = faceGridCounts(counts[other], face.neighbour.face);
-      for (int a = 0; a < mine[0]; ++a) {
-        for (int c = 0; c < mine[1]; ++c) {
-          const std::array<int, 2> there = BlockMesh::mapFacePosition(face.neighbour, theirs, a, c);
-          const Eigen::Index rp = find(row(b, faceGridPosition(counts[b], f, a, c)));
-          const Eigen::Index rq = find(row(other, faceGridPosition(counts[other], face.neighbour.face, there[0], there[1])));
+      const FaceRows here = faceRows(counts[b], f);
+      const FaceRows there = BlockMesh::neighbourFaceRows(face.neighbour, counts[other]);
+      for (int c = 0; c < mine[1]; ++c) {
+        for (int a = 0; a < mine[0]; ++a) {
+          const Eigen::Index rp = find(offset[b] + here.at(a, c));
+          const Eigen::Index rq = find(offset[other] + there.at(a, c));
           // The smaller index becomes the root, so every position's root is the smallest it is shared with.
           if (rp != rq) parent[static_cast<size_t>(std::max(rp, rq))] = std::min(rp, rq);
         }

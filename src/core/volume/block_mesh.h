@@ -30,6 +30,14 @@ std::array<int, 2> faceDirections(int face);
 std::array<int, 2> faceGridCounts(const std::array<int, 3>& counts, int face);
 std::array<int, 3> faceGridPosition(const std::array<int, 3>& counts, int face, int a, int b);
 
+// Rows (i fastest, then j, then k) of a face's grid positions as a linear function of (a, b):
+// base + a * first + b * second, so a loop over a face needs no per-position lookup.
+struct FaceRows {
+  Eigen::Index base = 0, first = 0, second = 0;
+  Eigen::Index at(int a, int b) const { return base + a * first + b * second; }
+};
+FaceRows faceRows(const std::array<int, 3>& counts, int face);
+
 // Where a connected face continues: face pole (a, b) is neighbour face pole (a', b'), where
 // (a', b') = swapped ? (b, a) : (a, b), then a' -> n'_a - 1 - a' if reverseFirst and
 // b' -> n'_b - 1 - b' if reverseSecond (n' the neighbour face's pole counts).
@@ -83,6 +91,9 @@ class BlockMesh {
   // The neighbour face position of face position (a, b) under `connection`.
   static std::array<int, 2> mapFacePosition(const FaceConnection& connection, const std::array<int, 2>& neighbourCounts,
                                             int a, int b);
+  // The neighbour's rows of face position (a, b) under `connection` (`neighbourCounts` the
+  // neighbour block's grid sizes): mapFacePosition followed by faceRows, as one linear function.
+  static FaceRows neighbourFaceRows(const FaceConnection& connection, const std::array<int, 3>& neighbourCounts);
 
  private:
   std::vector<Block> blocks_;
