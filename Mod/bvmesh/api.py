@@ -660,11 +660,12 @@ def make_volume_grid(volume_mesh_object, preset="euler", name="VolumeGrid", show
     """The B-spline blocks of a VolumeMesh evaluated on a stretched, point-matched grid. preset:
     'euler' (no wall clustering) or 'rans' (first cell for y+ ~ 1). options: those of
     bvmesh.grid.refine (normal_points, first_cell_height, y_plus, reynolds_number, growth,
-    edge_points, tangential_spacing, target_cells, edge_end_spacing, max_turning_angle);
-    reynolds_number defaults to the volume mesh's. method 'subdivision' (option steps, default 1): instead, the control volume
-    of the same fit, wall level and marching options (bvmesh.volume.control_volume) refined by
-    volumetric Catmull-Clark, its wall on the fitted surface, no wall clustering. show: the
-    boundary faces whose grid lines are shown."""
+    edge_points, tangential_spacing, target_cells, edge_end_spacing, max_turning_angle,
+    max_spacing_jump); reynolds_number defaults to the volume mesh's. method 'subdivision'
+    (option steps, default 1): instead, the control volume of the same fit, wall level and
+    marching options (bvmesh.volume.control_volume) refined by volumetric Catmull-Clark, its wall
+    on the fitted surface, no wall clustering. show: the boundary faces whose grid lines are
+    shown."""
     from bvmesh.features import volume_grid
 
     def fill(obj):

@@ -11,6 +11,8 @@ One B-spline mesh serves both presets: `euler` (no wall clustering, every wall-n
 by the same ratio) and `rans` (first cell height for y+ ~ 1 by the flat-plate estimate, as many
 wall-normal points as keep the growth ratio at most 1.2). `max_turning_angle` (degrees) gathers
 tangential points where the wall bends, a wing's nose (docs/grid.md: what it costs on the M6).
+Both presets cluster a set of tangential lines at an end where the wall edges continuing it are
+more than 4 times finer (`max_spacing_jump`, 0 for none): a wing's span towards its tip cap.
 `refine(..., method="subdivision", steps=k)` is the other refinement: k volumetric Catmull-Clark
 steps of the blocks' control mesh.
 """
@@ -18,8 +20,8 @@ steps of the blocks' control mesh.
 from . import load_core
 
 PRESETS = {
-    "euler": dict(normal_points=49, growth=1.2),
-    "rans": dict(normal_points=0, y_plus=1.0, growth=1.2),
+    "euler": dict(normal_points=49, growth=1.2, max_spacing_jump=4.0),
+    "rans": dict(normal_points=0, y_plus=1.0, growth=1.2, max_spacing_jump=4.0),
 }
 
 METRICS = ("scaled_jacobian", "non_orthogonality", "skewness", "aspect_ratio", "growth_ratio",
@@ -76,9 +78,10 @@ def refine(blocks, preset="euler", method="bspline", steps=None, **options):
     'rans' (see the module doc), or None for options alone; options: those of
     bvmesh._core.refine_blocks (normal_points, first_cell_height, y_plus, reynolds_number,
     reference_length, growth, distribution, edge_points, tangential_spacing, target_cells,
-    edge_end_spacing, max_turning_angle), overriding the preset's. From a VolumeMesh in a box or
-    cylinder domain, every outer quad is tagged inlet, outlet or side by where it lies (a block
-    face reaching over the domain's edges is split; RefinedGrid.outer_faces_split counts them).
+    edge_end_spacing, max_turning_angle, max_spacing_jump), overriding the preset's. From a
+    VolumeMesh in a box or cylinder domain, every outer quad is tagged inlet, outlet or side by
+    where it lies (a block face reaching over the domain's edges is split;
+    RefinedGrid.outer_faces_split counts them).
     Returns a RefinedGrid (.grid, and the measured first cell heights and growth).
 
     method 'subdivision': `steps` volumetric Catmull-Clark steps of the control mesh

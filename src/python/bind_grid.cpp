@@ -154,7 +154,7 @@ void bindGrid(py::module_& module) {
       [](const volume::BlockMesh& blocks, int normalPoints, double firstCellHeight, double yPlus, double reynoldsNumber,
          double referenceLength, double growth, const std::string& distribution, int edgePoints,
          double tangentialSpacing, long long targetCells, double edgeEndSpacing, double maxTurningAngle,
-         const volume::VolumeMesh* outerDomainOf) {
+         double maxSpacingJump, const volume::VolumeMesh* outerDomainOf) {
         grid::RefinementOptions options;
         options.normalPoints = normalPoints;
         options.firstCellHeight = firstCellHeight;
@@ -168,6 +168,7 @@ void bindGrid(py::module_& module) {
         options.targetCells = targetCells;
         options.edgeEndSpacing = edgeEndSpacing;
         options.maxTurningDegrees = maxTurningAngle;
+        options.maxSpacingJump = maxSpacingJump;
         if (outerDomainOf != nullptr) options.outerDomain = outerDomainOf->domain;
         py::gil_scoped_release release;
         return grid::refineBlockMesh(blocks, options);
@@ -176,7 +177,7 @@ void bindGrid(py::module_& module) {
       py::arg("reynolds_number") = 0.0, py::arg("reference_length") = 0.0, py::arg("growth") = 1.2,
       py::arg("distribution") = "geometric", py::arg("edge_points") = 17, py::arg("tangential_spacing") = 0.0,
       py::arg("target_cells") = 0, py::arg("edge_end_spacing") = 0.0,
-      py::arg("max_turning_angle") = 0.0, py::arg("outer_domain_of") = nullptr,
+      py::arg("max_turning_angle") = 0.0, py::arg("max_spacing_jump") = 0.0, py::arg("outer_domain_of") = nullptr,
       R"doc(Evaluates a BlockMesh on stretched, point-matched grids.
 
 Wall-normal lines (from wall faces, and every direction a connection links to them): normal_points
@@ -187,6 +188,9 @@ edge_points per block edge, or the count tangential_spacing needs, or the spacin
 target_cells cells; uniform in arc length, clustered to edge_end_spacing at block corners if > 0.
 max_turning_angle (degrees, 0: none): wall cells along block edges turn at most this much; with a
 spacing the counts grow to keep it, and the points gather where the wall bends (a wing's nose).
+max_spacing_jump (0: none, else a ratio >= 1): a set of tangential edges whose wall edges are
+continued across a block corner (within 45 degrees of straight on) by wall edges spaced more than
+this many times finer is clustered at that end to this many times their spacing.
 outer_domain_of: the VolumeMesh the blocks come from; a box or cylinder domain's outer faces are
 then inlet, outlet or side quad by quad (RefinedGrid.outer_faces_split counts the faces split).
 Returns a RefinedGrid.)doc");

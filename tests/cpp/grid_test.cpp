@@ -124,6 +124,12 @@ TEST(GridDistribution, TurningMeasureGathersPointsInTheBend) {
   EXPECT_TRUE(plain.uniformInArcLength());
   EXPECT_EQ(plain.fractions(11, 0.0, 0.0), vinokurFractions(11, 0.0, 0.0));
   EXPECT_EQ(plain.fractions(11, 0.01, 0.01), vinokurFractions(11, 0.01, 0.01));
+  // One end clustered (the other's step 0, or no shorter than an equal step): the one-sided law.
+  const std::vector<double> oneSided = plain.fractions(11, 0.0, 0.01);
+  EXPECT_EQ(oneSided, vinokurFractions(11, 0.0, 0.01));
+  EXPECT_EQ(plain.fractions(11, 0.2, 0.01), oneSided);
+  EXPECT_NEAR(1.0 - oneSided[9], 0.01, 1e-12);
+  EXPECT_GT(oneSided[1], 0.1);
   EXPECT_EQ(plain.at(0.3), 0.3);
   // Spacing 0.5 and 10 degrees: length / 0.5 + 9 cells; none longer than 0.5 in arc length, none
   // whose end tangents differ by more than 10 degrees (measured on the curve, not the table).
@@ -532,6 +538,68 @@ TEST(GridRefinement, AutomaticNormalPointsFollowTheLongestLineNotTheLongestPolyg
   EXPECT_EQ(refined.normalPoints, geometricPointsNeeded(1e-3, 1.2, 1.8));
   EXPECT_GT(refined.normalPoints, geometricPointsNeeded(1e-3, 1.2, line));
   EXPECT_LE(refined.growthMax, 1.2 * (1 + 1e-9));
+}
+
+// A block on the box [x0, x1] x [0, 1] x [0, 1] (poles on the identity map), its wall at z = 0.
+volume::Block wallBox(double x0, double x1) {
+  const std::vector<double> knots = uniformClampedKnots(3, 1);
+  const std::vector<double> at = grevilleAbscissae(knots, 3);
+  RowMatrixX3d poles(64, 3);
+  Eigen::Index row = 0;
+  for (const double z : at) {
+    for (const double y : at) {
+      for (const double x : at) poles.row(row++) = Vector3d(x0 + (x1 - x0) * x, y, z).transpose();
+    }
+  }
+  volume::Block block;
+  block.volume = volume::BsplineVolume({3, 3, 3}, {knots, knots, knots}, poles);
+  block.faces[4].condition = volume::BoundaryCondition::Wall;
+  return block;
+}
+
+TEST(GridRefinement, ASpacingJumpToAFinerNeighbourIsLimitedAtThatEnd) {
+  // A long block (x 0 .. 10) continued along x by a thin one (10 .. 10.05): at spacing 0.5 the
+  // thin block's one cell is 10 times finer. With max_spacing_jump 4 the long block's x lines
+  // end at the thin block with 4 x 0.05, and their other end (no neighbour) is left free.
+  std::vector<volume::Block> blocks{wallBox(0.0, 10.0), wallBox(10.0, 10.05)};
+  blocks[0].faces[1].condition = volume::BoundaryCondition::Connected;
+  blocks[0].faces[1].neighbour.block = 1;
+  blocks[0].faces[1].neighbour.face = 0;
+  blocks[1].faces[0].condition = volume::BoundaryCondition::Connected;
+  blocks[1].faces[0].neighbour.block = 0;
+  blocks[1].faces[0].neighbour.face = 1;
+  const volume::BlockMesh mesh(std::move(blocks));
+  RefinementOptions options;
+  options.tangentialSpacing = 0.5;
+  options.normalPoints = 5;
+  auto xSteps = [](const RefinedGrid& refined) {
+    const GridBlock& block = refined.grid.blocks()[0];
+    std::vector<double> steps;
+    for (int i = 1; i < block.size[0]; ++i) {
+      steps.push_back(block.points(block.index(i, 1, 0), 0) - block.points(block.index(i - 1, 1, 0), 0));
+    }
+    return steps;
+  };
+  const std::vector<double> uniform = xSteps(refineBlockMesh(mesh, options));
+  ASSERT_EQ(uniform.size(), 20u);
+  EXPECT_NEAR(uniform.back(), 0.5, 1e-12);
+  options.maxSpacingJump = 4.0;
+  const RefinedGrid limited = refineBlockMesh(mesh, options);  // point-matched bit for bit (checked)
+  const std::vector<double> steps = xSteps(limited);
+  ASSERT_EQ(steps.size(), 20u);
+  EXPECT_NEAR(steps.back(), 4.0 * 0.05, 1e-9);
+  EXPECT_GT(steps.front(), 0.5);  // one-sided: the free end gets what the cluster gives up
+  for (size_t i = 1; i < steps.size(); ++i) EXPECT_LT(steps[i], steps[i - 1]);
+  // The thin block is not touched (its neighbour is coarser), nor is a jump within the limit.
+  EXPECT_EQ(limited.grid.blocks()[1].points, refineBlockMesh(mesh, [&] {
+              RefinementOptions plain = options;
+              plain.maxSpacingJump = 0.0;
+              return plain;
+            }()).grid.blocks()[1].points);
+  options.maxSpacingJump = 10.0;
+  EXPECT_EQ(xSteps(refineBlockMesh(mesh, options)), uniform);
+  options.maxSpacingJump = 0.5;
+  EXPECT_THROW(refineBlockMesh(mesh, options), InvalidInputError);
 }
 
 TEST(GridRefinement, BlocksStackedOnAWallBlockAreRefused) {

@@ -105,6 +105,18 @@ class VolumeObjects(unittest.TestCase):
             api.make_volume_grid(self.volume, "euler", max_turning_angle=200.0)
         self.assertEqual([o.Name for o in self.doc.Objects], names)
 
+    def test_spacing_jump_limit_is_on_for_new_grids_and_off_for_restored_ones(self):
+        # A grid saved before the option existed is restored without the property: it gets 0, the
+        # limit off, so its grid is the one it was saved with (its digest); a new grid gets 4.
+        grid = api.make_volume_grid(self.volume, "euler", edge_points=5, normal_points=5)
+        try:
+            self.assertEqual(grid.MaxSpacingJump, 4.0)
+            grid.removeProperty("MaxSpacingJump")
+            grid.Proxy.setup(grid)
+            self.assertEqual(grid.MaxSpacingJump, 0.0)
+        finally:
+            self.doc.removeObject(grid.Name)
+
     def test_span_station_cut_of_a_body_without_symmetry_plane(self):
         point, normal = api.span_station(self.grid, 0.5)
         self.assertAlmostEqual(point.y, 0.0, delta=1e-2)

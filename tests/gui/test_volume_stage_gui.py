@@ -222,6 +222,8 @@ def run():
     panel.findChild(QtGui.QSpinBox, "spinEdgePoints").setValue(9)
     turning = panel.findChild(QtGui.QDoubleSpinBox, "spinMaxTurningAngle")
     check(turning is not None and turning.value() == 0.0, "the grid panel offers the turning limit, off")
+    jump = panel.findChild(QtGui.QDoubleSpinBox, "spinMaxSpacingJump")
+    check(jump is not None and jump.value() == 4.0, "the grid panel offers the spacing jump limit, at 4")
     check(panel.grab().save(GRID_PANEL_PICTURE), "grid panel saved to " + GRID_PANEL_PICTURE)
     press_task_ok()
     grid = doc.getObject("VolumeGrid")

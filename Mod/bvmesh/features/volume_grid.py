@@ -39,7 +39,13 @@ OPTIONS = (
     ("MaxTurningAngle", "max_turning_angle", "App::PropertyFloat", 0.0,
      "Largest turning of the wall per tangential cell in degrees, points gathered where the wall bends "
      "(a wing's nose); 0: none"),
+    ("MaxSpacingJump", "max_spacing_jump", "App::PropertyFloat", 4.0,
+     "Largest ratio of tangential spacings across a block corner: lines continued by much finer ones "
+     "are clustered at that end (a wing's span at its tip cap); 0: none"),
 )
+# Options added after documents were saved with grids: a restored object without one takes this
+# value, which gives the grid it was saved with (its digest).
+RESTORED_WITHOUT = {"MaxSpacingJump": 0.0}
 # Refinement by subdivision (Method subdivision): (property, option, type, default, description).
 SUBDIVISION_OPTIONS = (
     ("SubdivisionSteps", "steps", "App::PropertyInteger", 1,
@@ -112,8 +118,9 @@ class VolumeGridProxy(RecomputedProxy):
             obj.addProperty("App::PropertyEnumeration", "Distribution", "Refinement", "Wall-normal point distribution")
             obj.Distribution = DISTRIBUTIONS
             obj.Distribution = "geometric"
+        restored = "Digest" in obj.PropertiesList  # an object of a saved document, or a new one
         for prop, _, type_name, default, doc in OPTIONS:
-            add_property(obj, type_name, prop, "Refinement", doc, default)
+            add_property(obj, type_name, prop, "Refinement", doc, RESTORED_WITHOUT.get(prop, default) if restored else default)
         for prop, condition, default in DISPLAY:
             add_property(obj, "App::PropertyBool", prop, "Display",
                          "Show the grid lines on the {} faces".format(condition), default)

@@ -94,7 +94,9 @@ std::vector<double> vinokurFractions(int points, double firstSpacing, double las
   std::vector<double> x = vinokurFormula(points, first, last);
   for (int iteration = 0; iteration < 50; ++iteration) {
     const double gotFirst = x[1], gotLast = 1.0 - x[x.size() - 2];
-    if (std::abs(gotFirst - firstSpacing) <= 1e-10 * firstSpacing && std::abs(gotLast - lastSpacing) <= 1e-10 * lastSpacing) break;
+    const bool firstMet = firstSpacing == 0.0 || std::abs(gotFirst - firstSpacing) <= 1e-10 * firstSpacing;
+    const bool lastMet = lastSpacing == 0.0 || std::abs(gotLast - lastSpacing) <= 1e-10 * lastSpacing;
+    if (firstMet && lastMet) break;
     if (first > 0.0) first = std::min(0.999, first * firstSpacing / gotFirst);
     if (last > 0.0) last = std::min(0.999, last * lastSpacing / gotLast);
     x = vinokurFormula(points, first, last);
@@ -469,8 +471,9 @@ double SharedMeasure::sigmaAt(double measure) const {
 
 std::vector<double> SharedMeasure::fractions(int points, double firstStep, double lastStep) const {
   const double uniform = 1.0 / (points - 1);
-  const bool stretched = firstStep > 0.0 && firstStep < uniform && lastStep > 0.0 && lastStep < uniform;
-  std::vector<double> sigma = vinokurFractions(points, stretched ? firstStep : 0.0, stretched ? lastStep : 0.0);
+  // An end is clustered where its step is shorter than an equal one; the other may stay free.
+  const auto clustered = [uniform](double step) { return step > 0.0 && step < uniform ? step : 0.0; };
+  std::vector<double> sigma = vinokurFractions(points, clustered(firstStep), clustered(lastStep));
   for (double& x : sigma) x = sigmaAt(x);
   sigma.front() = 0.0;
   sigma.back() = 1.0;

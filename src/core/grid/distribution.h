@@ -152,7 +152,8 @@ class SharedMeasure {
   double at(double sigma) const;
   // Fractions 0 = sigma_0 < ... < sigma_{n-1} = 1 of `points` points at equal steps of the
   // normalised measure, or stretched by Vinokur's law so that the first and last steps are
-  // firstStep and lastStep of it (used when both are > 0 and shorter than an equal step).
+  // firstStep and lastStep of it: each end whose step is > 0 and shorter than an equal step (one
+  // such end alone: the one-sided law, the other end free).
   std::vector<double> fractions(int points, double firstStep, double lastStep) const;
 
  private:

@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <future>
 #include <limits>
+#include <map>
 #include <mutex>
 #include <numeric>
 #include <optional>
@@ -136,6 +137,10 @@ void checkOptions(const RefinementOptions& options) {
     throw InvalidInputError("max_turning_angle must be 0 (none) or a number of degrees up to 90 (got " +
                             std::to_string(options.maxTurningDegrees) + ")");
   }
+  if (!std::isfinite(options.maxSpacingJump) || (options.maxSpacingJump != 0.0 && options.maxSpacingJump < 1.0)) {
+    throw InvalidInputError("max_spacing_jump must be 0 (none) or a ratio >= 1 (got " +
+                            std::to_string(options.maxSpacingJump) + ")");
+  }
   if (!std::isfinite(options.growth) || options.growth <= 1.0 || options.growth > 3.0) {
     throw InvalidInputError("growth must be in (1, 3] (got " + std::to_string(options.growth) + ")");
   }
@@ -265,6 +270,78 @@ std::vector<double> columnLengthBounds(const std::vector<volume::Block>& blocks,
     }
   }
   return bound;
+}
+
+// Per set (indexed by its root) and shared end, the step at that end as a fraction of the set's
+// longest counted edge that keeps the jump to the finest continuing wall edge within maxJump (as
+// far as an eighth of the set's mean spacing goes), or 0 where the set's own spacing already does. Continuations: the wall edges of other blocks or
+// directions that start at the end's corner (shared corners are bit-identical points) and leave
+// it within 45 degrees of straight on; their spacing is their mean (length over cells).
+std::vector<std::array<double, 2>> continuationEndSteps(const std::vector<volume::Block>& blocks,
+                                                        const std::vector<BlockPlan>& plans, DirectionSets& sets,
+                                                        const std::vector<std::array<std::vector<ArcLength>, 3>>& edgeArcs,
+                                                        const std::vector<int>& counts,
+                                                        const std::vector<double>& longestEdge, double maxJump) {
+  struct EdgeEnd {
+    std::array<double, 3> corner;
+    Eigen::Vector3d outward;  // unit tangent from the corner into the edge
+    double spacing;
+    size_t root;
+    int sharedEnd;  // 0: the set's start, 1: its end
+  };
+  std::vector<EdgeEnd> ends;
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    const int n = plans[b].normalDirection;
+    if (n < 0) continue;
+    for (int d = 0; d < 3; ++d) {
+      if (d == n) continue;
+      const auto [root, parity] = sets.find(static_cast<int>(3 * b) + d);
+      for (int e = 0; e < 4; ++e) {
+        if (!onWallOrNoWall(plans[b], d, e)) continue;
+        // A clamped curve starts at its first pole, leaving towards its second.
+        const RowMatrixX3d& poles = edgeCurve(blocks[b].volume, d, e).poles;
+        const double spacing = edgeArcs[b][static_cast<size_t>(d)][static_cast<size_t>(e)].length() /
+                               (counts[3 * b + static_cast<size_t>(d)] - 1);
+        for (int end = 0; end < 2; ++end) {
+          const Eigen::Index at = end == 0 ? 0 : poles.rows() - 1;
+          const Eigen::Index next = end == 0 ? 1 : poles.rows() - 2;
+          const Eigen::Vector3d corner = poles.row(at).transpose();
+          ends.push_back({{corner.x(), corner.y(), corner.z()},
+                          (poles.row(next).transpose() - corner).normalized(),
+                          spacing,
+                          static_cast<size_t>(root),
+                          end ^ parity});
+        }
+      }
+    }
+  }
+  std::map<std::array<double, 3>, std::vector<size_t>> atCorner;
+  for (size_t k = 0; k < ends.size(); ++k) atCorner[ends[k].corner].push_back(k);
+  const double straightOn = std::cos(M_PI / 4.0);
+  std::vector<std::array<double, 2>> finest(counts.size(), {std::numeric_limits<double>::infinity(),
+                                                            std::numeric_limits<double>::infinity()});
+  for (const EdgeEnd& end : ends) {
+    for (size_t other : atCorner[end.corner]) {
+      if (ends[other].outward.dot(end.outward) >= -straightOn) continue;
+      double& known = finest[end.root][static_cast<size_t>(end.sharedEnd)];
+      known = std::min(known, ends[other].spacing);
+    }
+  }
+  // A set is never clustered to less than an eighth of its mean spacing: a continuation far finer
+  // than that (a 0.1 mm corner block beside a wing's 49 mm chordwise spacing) would squeeze the
+  // whole set, and its narrower edges with it, into folded cells (on the M6's level-2 blocks at 17
+  // points per edge: 8 cells with a negative Jacobian; none with the bound).
+  constexpr double kMostClustering = 8.0;
+  std::vector<std::array<double, 2>> steps(counts.size(), {0.0, 0.0});
+  for (size_t root = 0; root < counts.size(); ++root) {
+    if (!(longestEdge[root] > 0.0)) continue;
+    const double own = longestEdge[root] / (counts[root] - 1);
+    for (size_t end = 0; end < 2; ++end) {
+      const double limited = maxJump * finest[root][end];
+      if (limited < own) steps[root][end] = std::max(limited, own / kMostClustering) / longestEdge[root];
+    }
+  }
+  return steps;
 }
 
 }  // namespace
@@ -458,6 +535,10 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
       }
     }
   }
+  const std::vector<std::array<double, 2>> endSteps =
+      options.maxSpacingJump > 0.0
+          ? continuationEndSteps(blocks, plans, sets, edgeArcs, tangentialCounts, longestEdge, options.maxSpacingJump)
+          : std::vector<std::array<double, 2>>(3 * blockCount, {0.0, 0.0});
   for (size_t b = 0; b < blockCount; ++b) {
     BlockPlan& plan = plans[b];
     for (int d = 0; d < 3; ++d) plan.size[static_cast<size_t>(d)] = tangentialCounts[3 * b + static_cast<size_t>(d)];
@@ -477,8 +558,20 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
         // (so grids without a turning limit keep their points bit for bit).
         const double end = std::min(options.edgeEndSpacing / arc.length(), 0.5);
         const bool arcLength = shared.uniformInArcLength();
-        const double atStart = end > 0.0 ? shared.at(end) : 0.0;
-        const double atEnd = end > 0.0 ? (arcLength ? end : 1.0 - shared.at(1.0 - end)) : 0.0;
+        double atStart = end > 0.0 ? shared.at(end) : 0.0;
+        double atEnd = end > 0.0 ? (arcLength ? end : 1.0 - shared.at(1.0 - end)) : 0.0;
+        // A spacing jump limited at a set end: the same fraction on every edge of the set; the
+        // tighter of that and edge_end_spacing. In arc length the steps are the edge's own (its
+        // start is the set's end `parity`), else the shared measure's.
+        const auto& setSteps = endSteps[static_cast<size_t>(root)];
+        const auto tighten = [](double& step, double limit) {
+          if (limit > 0.0) step = step > 0.0 ? std::min(step, limit) : limit;
+        };
+        const int startEnd = arcLength ? parity : 0;
+        const double startStep = setSteps[static_cast<size_t>(startEnd)];
+        const double endStep = setSteps[static_cast<size_t>(1 - startEnd)];
+        if (startStep > 0.0) tighten(atStart, arcLength ? startStep : shared.at(startStep));
+        if (endStep > 0.0) tighten(atEnd, arcLength ? endStep : 1.0 - shared.at(1.0 - endStep));
         std::vector<double> sigma = shared.fractions(points, atStart, atEnd);
         if (parity == 1 && !arcLength) {
           std::reverse(sigma.begin(), sigma.end());

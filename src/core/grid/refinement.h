@@ -49,6 +49,13 @@ struct RefinementOptions {
   // set, so they gather where the wall bends (a wing's nose). Lines inside a face take their
   // parameters blended from its edges' and can turn somewhat more (a sphere at 10 degrees: 12.4).
   double maxTurningDegrees = 0.0;
+  // Largest ratio between a set's spacing at its end and that of the wall edges continuing its
+  // wall edges there, across a block corner within 45 degrees of straight on (0: no limit). A set
+  // whose continuation is finer than that is clustered at that end (Vinokur's law, all its edges
+  // alike) to this many times the finest continuation's mean spacing: a wing's span towards a
+  // small tip cap. OpenFOAM reads neighbours 20 times apart as small interpolation weights and 100
+  // times apart in volume as a failed check. The presets of bvmesh.grid use 4.
+  double maxSpacingJump = 0.0;
   // The flow domain the blocks were marched to: a box's or cylinder's outer faces are then tagged
   // quad by quad (grid::tagOuterQuads), not by their middle alone.
   std::optional<volume::Domain> outerDomain;
