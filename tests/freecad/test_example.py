@@ -52,10 +52,11 @@ class MainJob(unittest.TestCase):
             self.assertIn("{} cells".format(grid_object.CellCount), volume_report)
             self.assertGreater(grid_object.CellCount, 900000)
             # The tip corner's 1 mm blocks get the points their wall edges need: when their
-            # far-field edges set the counts, 616 cells had a face above 70 degrees, up to 83.
+            # far-field edges set the counts, 616 cells had a face above 70 degrees, up to 83; the
+            # spacing-jump limit at block corners took the 26 left (up to 78.4) to 14 (75.6).
             non_orthogonality = recomputed["non_orthogonality"]
-            self.assertLess(int((non_orthogonality > 70.0).sum()), 60)
-            self.assertLess(float(non_orthogonality.max()), 80.0)
+            self.assertLess(int((non_orthogonality > 70.0).sum()), 20)
+            self.assertLess(float(non_orthogonality.max()), 77.0)
             # The wall's distance from the CAD, measured on the grid (here the level-2 wall: 1.2e-2).
             reported = re.search(r"wall points lie within ([-+.e0-9]+) of the CAD faces", volume_report)
             self.assertAlmostEqual(float(reported.group(1)), example.wall_distance(grid_object), delta=1e-5)
