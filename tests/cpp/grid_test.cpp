@@ -406,6 +406,16 @@ TEST(GridRefinement, UpperEndWallsOnUnevenKnotsFollowTheLawInEveryBlock) {
   }
 }
 
+// Joins block 0's u_max face to block 1's u_min face, orientations alike.
+void connectAlongU(std::vector<volume::Block>& blocks) {
+  blocks[0].faces[1].condition = volume::BoundaryCondition::Connected;
+  blocks[0].faces[1].neighbour.block = 1;
+  blocks[0].faces[1].neighbour.face = 0;
+  blocks[1].faces[0].condition = volume::BoundaryCondition::Connected;
+  blocks[1].faces[0].neighbour.block = 0;
+  blocks[1].faces[0].neighbour.face = 1;
+}
+
 // Two blocks side by side over the wall z = 0 ([0, 1] and [1, 2] in x, [0, 1] in y, connected
 // at x = 1), whose wall-normal lines rise from the wall, turn by 60 degrees round a circle of
 // radius 0.3 + 0.2 y and run on straight: bent in one part, straight in the other, and
@@ -433,12 +443,7 @@ std::vector<volume::Block> bentLineBlocks() {
     blocks[static_cast<size_t>(b)].volume = volume::BsplineVolume({3, 3, 3}, {knots, knots, wKnots}, poles);
     blocks[static_cast<size_t>(b)].faces[4].condition = volume::BoundaryCondition::Wall;
   }
-  blocks[0].faces[1].condition = volume::BoundaryCondition::Connected;
-  blocks[0].faces[1].neighbour.block = 1;
-  blocks[0].faces[1].neighbour.face = 0;
-  blocks[1].faces[0].condition = volume::BoundaryCondition::Connected;
-  blocks[1].faces[0].neighbour.block = 0;
-  blocks[1].faces[0].neighbour.face = 1;
+  connectAlongU(blocks);
   return blocks;
 }
 
@@ -562,12 +567,7 @@ TEST(GridRefinement, ASpacingJumpToAFinerNeighbourIsLimitedAtThatEnd) {
   // thin block's one cell is 10 times finer. With max_spacing_jump 4 the long block's x lines
   // end at the thin block with 4 x 0.05, and their other end (no neighbour) is left free.
   std::vector<volume::Block> blocks{wallBox(0.0, 10.0), wallBox(10.0, 10.05)};
-  blocks[0].faces[1].condition = volume::BoundaryCondition::Connected;
-  blocks[0].faces[1].neighbour.block = 1;
-  blocks[0].faces[1].neighbour.face = 0;
-  blocks[1].faces[0].condition = volume::BoundaryCondition::Connected;
-  blocks[1].faces[0].neighbour.block = 0;
-  blocks[1].faces[0].neighbour.face = 1;
+  connectAlongU(blocks);
   const volume::BlockMesh mesh(std::move(blocks));
   RefinementOptions options;
   options.tangentialSpacing = 0.5;
