@@ -135,6 +135,7 @@ int main(int argc, char** argv) {
     blocks = bvmesh::volume::readBlockMeshFile(argv[2]);
     options.normalPoints = 49;  // bvmesh.grid.PRESETS
     options.growth = 1.2;
+    options.maxSpacingJump = 4.0;
     presets.emplace_back("euler", options);
     options.normalPoints = 0;
     options.yPlus = 1.0;

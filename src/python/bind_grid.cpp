@@ -151,10 +151,10 @@ void bindGrid(py::module_& module) {
 
   module.def(
       "refine_blocks",
-      [](const volume::BlockMesh& blocks, int normalPoints, double firstCellHeight, double yPlus, double reynoldsNumber,
-         double referenceLength, double growth, const std::string& distribution, int edgePoints,
-         double tangentialSpacing, long long targetCells, double edgeEndSpacing, double maxTurningAngle,
-         double maxSpacingJump, const volume::VolumeMesh* outerDomainOf) {
+      [](const volume::BlockMesh& blocks, int normalPoints, double firstCellHeight, double yPlus,
+         double reynoldsNumber, double referenceLength, double growth, const std::string& distribution,
+         int edgePoints, double tangentialSpacing, long long targetCells, double edgeEndSpacing,
+         double maxTurningAngle, double maxSpacingJump, const volume::VolumeMesh* outerDomainOf) {
         grid::RefinementOptions options;
         options.normalPoints = normalPoints;
         options.firstCellHeight = firstCellHeight;
@@ -173,11 +173,12 @@ void bindGrid(py::module_& module) {
         py::gil_scoped_release release;
         return grid::refineBlockMesh(blocks, options);
       },
-      py::arg("blocks"), py::arg("normal_points") = 49, py::arg("first_cell_height") = 0.0, py::arg("y_plus") = 0.0,
-      py::arg("reynolds_number") = 0.0, py::arg("reference_length") = 0.0, py::arg("growth") = 1.2,
-      py::arg("distribution") = "geometric", py::arg("edge_points") = 17, py::arg("tangential_spacing") = 0.0,
-      py::arg("target_cells") = 0, py::arg("edge_end_spacing") = 0.0,
-      py::arg("max_turning_angle") = 0.0, py::arg("max_spacing_jump") = 0.0, py::arg("outer_domain_of") = nullptr,
+      py::arg("blocks"), py::arg("normal_points") = 49, py::arg("first_cell_height") = 0.0,
+      py::arg("y_plus") = 0.0, py::arg("reynolds_number") = 0.0, py::arg("reference_length") = 0.0,
+      py::arg("growth") = 1.2, py::arg("distribution") = "geometric", py::arg("edge_points") = 17,
+      py::arg("tangential_spacing") = 0.0, py::arg("target_cells") = 0, py::arg("edge_end_spacing") = 0.0,
+      py::arg("max_turning_angle") = 0.0, py::arg("max_spacing_jump") = 0.0,
+      py::arg("outer_domain_of") = nullptr,
       R"doc(Evaluates a BlockMesh on stretched, point-matched grids.
 
 Wall-normal lines (from wall faces, and every direction a connection links to them): normal_points

@@ -506,7 +506,8 @@ volume::Block wallBlockOfLines(double x0, double height, double zigzag) {
     const bool inner = layer > 0 && layer + 1 < along.size();
     const double shift = inner ? (layer % 2 == 0 ? zigzag : -zigzag) : 0.0;
     for (const double v : across) {
-      for (const double u : across) poles.row(row++) = Vector3d(x0 + u + shift, v, height * along[layer] / along.back()).transpose();
+      for (const double u : across)
+        poles.row(row++) = Vector3d(x0 + u + shift, v, height * along[layer] / along.back()).transpose();
     }
   }
   volume::Block block;
@@ -524,11 +525,13 @@ TEST(GridRefinement, AutomaticNormalPointsFollowTheLongestLineNotTheLongestPolyg
   double polygon = 0.0;
   const RowMatrixX3d& poles = zigzag.volume.poles();
   for (int k = 0; k + 1 < zigzag.volume.poleCount(2); ++k) {
-    polygon += (poles.row(zigzag.volume.poleIndex(0, 0, k + 1)) - poles.row(zigzag.volume.poleIndex(0, 0, k))).norm();
+    polygon += (poles.row(zigzag.volume.poleIndex(0, 0, k + 1)) - poles.row(zigzag.volume.poleIndex(0, 0, k)))
+                   .norm();
   }
   RowMatrixX3d along(2001, 3), points;
   const double top = zigzag.volume.knots(2).back();
-  for (Eigen::Index s = 0; s < along.rows(); ++s) along.row(s) << 0.5, 0.5, top * static_cast<double>(s) / 2000.0;
+  for (Eigen::Index s = 0; s < along.rows(); ++s)
+    along.row(s) << 0.5, 0.5, top * static_cast<double>(s) / 2000.0;
   zigzag.volume.evaluate(along, points);
   double line = 0.0;
   for (Eigen::Index s = 1; s < points.rows(); ++s) line += (points.row(s) - points.row(s - 1)).norm();
@@ -591,11 +594,14 @@ TEST(GridRefinement, ASpacingJumpToAFinerNeighbourIsLimitedAtThatEnd) {
   EXPECT_GT(steps.front(), 0.5);  // one-sided: the free end gets what the cluster gives up
   for (size_t i = 1; i < steps.size(); ++i) EXPECT_LT(steps[i], steps[i - 1]);
   // The thin block is not touched (its neighbour is coarser), nor is a jump within the limit.
-  EXPECT_EQ(limited.grid.blocks()[1].points, refineBlockMesh(mesh, [&] {
-              RefinementOptions plain = options;
-              plain.maxSpacingJump = 0.0;
-              return plain;
-            }()).grid.blocks()[1].points);
+  EXPECT_EQ(limited.grid.blocks()[1].points, refineBlockMesh(mesh,
+                                                             [&] {
+                                                               RefinementOptions plain = options;
+                                                               plain.maxSpacingJump = 0.0;
+                                                               return plain;
+                                                             }())
+                                                 .grid.blocks()[1]
+                                                 .points);
   options.maxSpacingJump = 10.0;
   EXPECT_EQ(xSteps(refineBlockMesh(mesh, options)), uniform);
   options.maxSpacingJump = 0.5;

@@ -156,14 +156,16 @@ TEST(BlockMesh, FaceRowsAreThePositionLookupsAsLinearFunctions) {
   // 5 x 3 x 4 grid whose face sizes fit: the linear rows equal the position-by-position lookup.
   const std::array<int, 3> mine{3, 4, 5}, theirs{5, 3, 4};
   auto row = [](const std::array<int, 3>& counts, const std::array<int, 3>& ijk) {
-    return ijk[0] + static_cast<Eigen::Index>(counts[0]) * (ijk[1] + static_cast<Eigen::Index>(counts[1]) * ijk[2]);
+    return ijk[0] +
+           static_cast<Eigen::Index>(counts[0]) * (ijk[1] + static_cast<Eigen::Index>(counts[1]) * ijk[2]);
   };
   int connections = 0;
   for (int f = 0; f < 6; ++f) {
     const std::array<int, 2> counts = volume::faceGridCounts(mine, f);
     const volume::FaceRows rows = volume::faceRows(mine, f);
     for (int a = 0; a < counts[0]; ++a) {
-      for (int b = 0; b < counts[1]; ++b) EXPECT_EQ(rows.at(a, b), row(mine, volume::faceGridPosition(mine, f, a, b)));
+      for (int b = 0; b < counts[1]; ++b)
+        EXPECT_EQ(rows.at(a, b), row(mine, volume::faceGridPosition(mine, f, a, b)));
     }
     for (int g = 0; g < 6; ++g) {
       const std::array<int, 2> other = volume::faceGridCounts(theirs, g);

@@ -43,31 +43,32 @@ double geometricSum(double growth, int intervals) {
   return geometricSum(growth - 1.0, std::log1p(growth - 1.0), intervals);
 }
 
-// Vinokur's formula as published.
+// Vinokur's formula as published. Its stretching parameter and ratio are the same for every
+// point, so they are solved for once.
 std::vector<double> vinokurFormula(int points, double firstSpacing, double lastSpacing) {
   const int intervals = points - 1;
   std::vector<double> x(static_cast<size_t>(points));
   const bool atStart = firstSpacing > 0.0;
   const bool atEnd = lastSpacing > 0.0;
+  const bool both = atStart && atEnd;
+  const double a = both ? std::sqrt(lastSpacing / firstSpacing) : 1.0;
+  const double b = both               ? 1.0 / (intervals * std::sqrt(firstSpacing * lastSpacing))
+                   : atStart || atEnd ? 1.0 / (intervals * (atStart ? firstSpacing : lastSpacing))
+                                      : 1.0;
+  const double d = b != 1.0 ? stretchingParameter(b) : 0.0;
   for (int i = 0; i <= intervals; ++i) {
     const double xi = static_cast<double>(i) / intervals;
     double value = xi;
-    if (atStart && atEnd) {
-      const double a = std::sqrt(lastSpacing / firstSpacing);
-      const double b = 1.0 / (intervals * std::sqrt(firstSpacing * lastSpacing));
+    if (both) {
       if (b != 1.0) {
-        const double d = stretchingParameter(b);
         const double u = b > 1.0 ? 0.5 * (1.0 + std::tanh(d * (xi - 0.5)) / std::tanh(0.5 * d))
                                  : 0.5 * (1.0 + std::tan(d * (xi - 0.5)) / std::tan(0.5 * d));
         value = u / (a + (1.0 - a) * u);
       }
     } else if (atStart || atEnd) {
-      const double spacing = atStart ? firstSpacing : lastSpacing;
       const double eta = atStart ? xi : 1.0 - xi;
-      const double b = 1.0 / (intervals * spacing);
       double clustered = eta;
       if (b != 1.0) {
-        const double d = stretchingParameter(b);
         clustered = b > 1.0 ? 1.0 + std::tanh(0.5 * d * (eta - 1.0)) / std::tanh(0.5 * d)
                             : 1.0 + std::tan(0.5 * d * (eta - 1.0)) / std::tan(0.5 * d);
       }

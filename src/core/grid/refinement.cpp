@@ -11,6 +11,7 @@
 #include <numeric>
 #include <optional>
 #include <string>
+#include <tuple>
 
 #include "core/common/bspline_basis.h"
 #include "core/common/errors.h"
@@ -137,7 +138,8 @@ void checkOptions(const RefinementOptions& options) {
     throw InvalidInputError("max_turning_angle must be 0 (none) or a number of degrees up to 90 (got " +
                             std::to_string(options.maxTurningDegrees) + ")");
   }
-  if (!std::isfinite(options.maxSpacingJump) || (options.maxSpacingJump != 0.0 && options.maxSpacingJump < 1.0)) {
+  if (!std::isfinite(options.maxSpacingJump) ||
+      (options.maxSpacingJump != 0.0 && options.maxSpacingJump < 1.0)) {
     throw InvalidInputError("max_spacing_jump must be 0 (none) or a ratio >= 1 (got " +
                             std::to_string(options.maxSpacingJump) + ")");
   }
@@ -222,7 +224,8 @@ bool nextInRow(const PlacedLine& line, size_t block, const std::array<int, 3>& n
 // parameters blend (B-spline weights are non-negative and sum to one, so the line's polygon is no
 // longer than the longest of theirs, and a B-spline curve no longer than its polygon), with a
 // margin for the arc-length quadrature's rounding.
-std::vector<double> columnLengthBounds(const std::vector<volume::Block>& blocks, const std::vector<BlockPlan>& plans,
+std::vector<double> columnLengthBounds(const std::vector<volume::Block>& blocks,
+                                       const std::vector<BlockPlan>& plans,
                                        const std::vector<std::int64_t>& columnOffset) {
   std::vector<double> bound(static_cast<size_t>(columnOffset.back()), 0.0);
   for (size_t b = 0; b < blocks.size(); ++b) {
@@ -243,7 +246,8 @@ std::vector<double> columnLengthBounds(const std::vector<volume::Block>& blocks,
           ijk[static_cast<size_t>(n)] = k;
           const Eigen::Index here = volume.poleIndex(ijk[0], ijk[1], ijk[2]);
           ijk[static_cast<size_t>(n)] = k + 1;
-          length += (volume.poles().row(volume.poleIndex(ijk[0], ijk[1], ijk[2])) - volume.poles().row(here)).norm();
+          length += (volume.poles().row(volume.poleIndex(ijk[0], ijk[1], ijk[2])) - volume.poles().row(here))
+                        .norm();
         }
         polygon[static_cast<size_t>(a2) * static_cast<size_t>(count1) + static_cast<size_t>(a1)] = length;
       }
@@ -263,7 +267,9 @@ std::vector<double> columnLengthBounds(const std::vector<volume::Block>& blocks,
       double longest = 0.0;
       for (int a2 = first2; a2 <= first2 + volume.degree(t2); ++a2) {
         for (int a1 = first1; a1 <= first1 + volume.degree(t1); ++a1) {
-          longest = std::max(longest, polygon[static_cast<size_t>(a2) * static_cast<size_t>(count1) + static_cast<size_t>(a1)]);
+          longest = std::max(
+              longest,
+              polygon[static_cast<size_t>(a2) * static_cast<size_t>(count1) + static_cast<size_t>(a1)]);
         }
       }
       bound[static_cast<size_t>(columnOffset[b] + local)] = longest * (1.0 + 1e-6);
@@ -274,14 +280,14 @@ std::vector<double> columnLengthBounds(const std::vector<volume::Block>& blocks,
 
 // Per set (indexed by its root) and shared end, the step at that end as a fraction of the set's
 // longest counted edge that keeps the jump to the finest continuing wall edge within maxJump (as
-// far as an eighth of the set's mean spacing goes), or 0 where the set's own spacing already does. Continuations: the wall edges of other blocks or
-// directions that start at the end's corner (shared corners are bit-identical points) and leave
-// it within 45 degrees of straight on; their spacing is their mean (length over cells).
-std::vector<std::array<double, 2>> continuationEndSteps(const std::vector<volume::Block>& blocks,
-                                                        const std::vector<BlockPlan>& plans, DirectionSets& sets,
-                                                        const std::vector<std::array<std::vector<ArcLength>, 3>>& edgeArcs,
-                                                        const std::vector<int>& counts,
-                                                        const std::vector<double>& longestEdge, double maxJump) {
+// far as an eighth of the set's mean spacing goes), or 0 where the set's own spacing already
+// does. Continuations: the wall edges of other blocks or directions that start at the end's
+// corner (shared corners are bit-identical points) and leave it within 45 degrees of straight
+// on; their spacing is their mean (length over cells).
+std::vector<std::array<double, 2>> continuationEndSteps(
+    const std::vector<volume::Block>& blocks, const std::vector<BlockPlan>& plans, DirectionSets& sets,
+    const std::vector<std::array<std::vector<ArcLength>, 3>>& edgeArcs, const std::vector<int>& counts,
+    const std::vector<double>& longestEdge, double maxJump) {
   struct EdgeEnd {
     std::array<double, 3> corner;
     Eigen::Vector3d outward;  // unit tangent from the corner into the edge
@@ -318,8 +324,8 @@ std::vector<std::array<double, 2>> continuationEndSteps(const std::vector<volume
   std::map<std::array<double, 3>, std::vector<size_t>> atCorner;
   for (size_t k = 0; k < ends.size(); ++k) atCorner[ends[k].corner].push_back(k);
   const double straightOn = std::cos(M_PI / 4.0);
-  std::vector<std::array<double, 2>> finest(counts.size(), {std::numeric_limits<double>::infinity(),
-                                                            std::numeric_limits<double>::infinity()});
+  std::vector<std::array<double, 2>> finest(
+      counts.size(), {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()});
   for (const EdgeEnd& end : ends) {
     for (size_t other : atCorner[end.corner]) {
       if (ends[other].outward.dot(end.outward) >= -straightOn) continue;
@@ -536,9 +542,12 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
     }
   }
   const std::vector<std::array<double, 2>> endSteps =
-      options.maxSpacingJump > 0.0
-          ? continuationEndSteps(blocks, plans, sets, edgeArcs, tangentialCounts, longestEdge, options.maxSpacingJump)
-          : std::vector<std::array<double, 2>>(3 * blockCount, {0.0, 0.0});
+      options.maxSpacingJump > 0.0 ? continuationEndSteps(blocks, plans, sets, edgeArcs, tangentialCounts,
+                                                          longestEdge, options.maxSpacingJump)
+                                   : std::vector<std::array<double, 2>>(3 * blockCount, {0.0, 0.0});
+  // A set's edges mostly ask for the same fractions (a stretched law solves for its parameter by
+  // fixed-point steps, a few hundred edges over): each asked once per set.
+  std::map<std::tuple<int, double, double>, std::vector<double>> fractionsOf;
   for (size_t b = 0; b < blockCount; ++b) {
     BlockPlan& plan = plans[b];
     for (int d = 0; d < 3; ++d) plan.size[static_cast<size_t>(d)] = tangentialCounts[3 * b + static_cast<size_t>(d)];
@@ -572,7 +581,13 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
         const double endStep = setSteps[static_cast<size_t>(1 - startEnd)];
         if (startStep > 0.0) tighten(atStart, arcLength ? startStep : shared.at(startStep));
         if (endStep > 0.0) tighten(atEnd, arcLength ? endStep : 1.0 - shared.at(1.0 - endStep));
-        std::vector<double> sigma = shared.fractions(points, atStart, atEnd);
+        auto known = fractionsOf.find({root, atStart, atEnd});
+        if (known == fractionsOf.end())
+          known =
+              fractionsOf
+                  .emplace(std::make_tuple(root, atStart, atEnd), shared.fractions(points, atStart, atEnd))
+                  .first;
+        std::vector<double> sigma = known->second;
         if (parity == 1 && !arcLength) {
           std::reverse(sigma.begin(), sigma.end());
           for (double& x : sigma) x = 1.0 - x;
@@ -674,8 +689,11 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
     constexpr std::int64_t kLinesPerRound = 64;
     std::mutex guard;
     for (size_t next = 0; next < order.size();) {
-      if (geometricPointsNeeded(firstHeight, options.growth, bound[static_cast<size_t>(order[next])]) <= normalPoints) break;
-      const std::int64_t round = std::min<std::int64_t>(kLinesPerRound, static_cast<std::int64_t>(order.size() - next));
+      if (geometricPointsNeeded(firstHeight, options.growth, bound[static_cast<size_t>(order[next])]) <=
+          normalPoints)
+        break;
+      const std::int64_t round =
+          std::min<std::int64_t>(kLinesPerRound, static_cast<std::int64_t>(order.size() - next));
       parallelChunks(round, 8, [&](std::int64_t begin, std::int64_t end) {
         WallLine line;
         for (std::int64_t k = begin; k < end; ++k) {

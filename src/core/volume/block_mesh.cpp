@@ -95,8 +95,8 @@ FaceRows faceRows(const std::array<int, 3>& counts, int face) {
   const std::array<Eigen::Index, 3> stride{1, counts[0], static_cast<Eigen::Index>(counts[0]) * counts[1]};
   const std::array<int, 3> origin = faceGridPosition(counts, face, 0, 0);
   const auto [first, second] = faceDirections(face);
-  return {origin[0] * stride[0] + origin[1] * stride[1] + origin[2] * stride[2], stride[static_cast<size_t>(first)],
-          stride[static_cast<size_t>(second)]};
+  return {origin[0] * stride[0] + origin[1] * stride[1] + origin[2] * stride[2],
+          stride[static_cast<size_t>(first)], stride[static_cast<size_t>(second)]};
 }
 
 namespace {
@@ -114,7 +114,8 @@ Eigen::Index BlockMesh::facePole(const BsplineVolume& volume, int face, int a, i
   return volume.poleIndex(ijk[0], ijk[1], ijk[2]);
 }
 
-FaceRows BlockMesh::neighbourFaceRows(const FaceConnection& connection, const std::array<int, 3>& neighbourCounts) {
+FaceRows BlockMesh::neighbourFaceRows(const FaceConnection& connection,
+                                      const std::array<int, 3>& neighbourCounts) {
   const FaceRows theirs = faceRows(neighbourCounts, connection.face);
   const std::array<int, 2> counts = faceGridCounts(neighbourCounts, connection.face);
   // Along the neighbour's own face directions, then swapped onto (a, b).

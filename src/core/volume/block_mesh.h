@@ -93,7 +93,8 @@ class BlockMesh {
                                             int a, int b);
   // The neighbour's rows of face position (a, b) under `connection` (`neighbourCounts` the
   // neighbour block's grid sizes): mapFacePosition followed by faceRows, as one linear function.
-  static FaceRows neighbourFaceRows(const FaceConnection& connection, const std::array<int, 3>& neighbourCounts);
+  static FaceRows neighbourFaceRows(const FaceConnection& connection,
+                                    const std::array<int, 3>& neighbourCounts);
 
  private:
   std::vector<Block> blocks_;
