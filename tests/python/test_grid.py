@@ -265,9 +265,20 @@ class SphereGrids(unittest.TestCase):
         self.assertGreater(edges, 5.0)  # the limit is what set the counts, not a finer spacing
         self.assertLess(inside, 13.0)
 
+    def test_spacing_jump_limit_leaves_an_even_layout_alone(self):
+        # The sphere's six blocks meet at corners with equal spacings on both sides: the presets'
+        # limit (4) finds no jump and the grid is the one without it, bit for bit.
+        limited = bvmesh.grid.refine(self.volume, "euler", edge_points=9, normal_points=9)
+        plain = bvmesh.grid.refine(self.volume, "euler", edge_points=9, normal_points=9, max_spacing_jump=0.0)
+        for b in range(limited.grid.block_count):
+            np.testing.assert_array_equal(limited.grid.points(b), plain.grid.points(b))
+
     def test_errors_name_the_problem(self):
         with self.assertRaisesRegex(ValueError, "max_turning_angle"):
             bvmesh.grid.refine(self.volume, "euler", max_turning_angle=-5.0)
+        for bad in (0.5, float("nan")):
+            with self.assertRaisesRegex(ValueError, "max_spacing_jump"):
+                bvmesh.grid.refine(self.volume, "euler", max_spacing_jump=bad)
         with self.assertRaisesRegex(ValueError, "no block face 'top'"):
             self.euler.grid.quad_conditions(0, "top")
         with self.assertRaisesRegex(ValueError, "preset"):
