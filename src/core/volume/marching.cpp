@@ -39,6 +39,9 @@ std::vector<std::vector<int>> neighbours(const MarchingFront& front) {
 // Rounds of local smoothing before a poor cell is accepted (if positive) or reported.
 constexpr int kRepairs = 30;
 constexpr double kPi = 3.14159265358979323846;
+// A wall cell turned further than this from a point's normal (or from another cell at the point)
+// makes the point sharp.
+constexpr double kSharpAngle = kPi / 6.0;
 
 class Marcher {
  public:
@@ -300,7 +303,8 @@ class Marcher {
       const Vector3d c = front_.points.row(q[2]).transpose(), d = front_.points.row(q[3]).transpose();
       const Vector3d n = (c - a).cross(d - b).normalized();
       for (int p : q) {
-        if (n.dot(front_.normals.row(p).transpose()) < std::cos(kPi / 6.0)) sharp[static_cast<size_t>(p)] = 1;
+        if (n.dot(front_.normals.row(p).transpose()) < std::cos(kSharpAngle))
+          sharp[static_cast<size_t>(p)] = 1;
       }
     }
     return sharp;
@@ -353,6 +357,72 @@ class Marcher {
       reach = std::move(next);
     }
     return reach;
+  }
+
+  // Per sharp point on a concave crease (a wing-body junction, where a trailing edge ends on the
+  // fuselage), the direction that sees its wall cells best: the largest smallest dot product with
+  // their normals, found among the directions that one, two or three of the normals fix (the axis
+  // of the smallest cone holding them). Zero elsewhere. The band's harmonic interpolation there
+  // mixes the fuselage's normal with the trailing edge's cancelling ones and leaves a line nearly in
+  // the wing's surface; this one runs along the fuselage, downstream, between both.
+  RowMatrixX3d concaveCornerLines(const std::vector<char>& sharp) const {
+    const Eigen::Index n = front_.points.rows();
+    std::vector<std::vector<Vector3d>> normals(static_cast<size_t>(n)), centres(static_cast<size_t>(n));
+    for (const auto& q : front_.quads) {
+      const Vector3d a = front_.points.row(q[0]).transpose(), b = front_.points.row(q[1]).transpose();
+      const Vector3d c = front_.points.row(q[2]).transpose(), d = front_.points.row(q[3]).transpose();
+      const Vector3d normal = (c - a).cross(d - b);
+      if (normal.norm() == 0.0) continue;
+      for (int p : q) {
+        if (sharp[static_cast<size_t>(p)] == 0) continue;
+        normals[static_cast<size_t>(p)].push_back(normal.normalized());
+        centres[static_cast<size_t>(p)].push_back(0.25 * (a + b + c + d));
+      }
+    }
+    RowMatrixX3d lines = RowMatrixX3d::Zero(n, 3);
+    for (Eigen::Index p = 0; p < n; ++p) {
+      const auto& around = normals[static_cast<size_t>(p)];
+      if (onPlane(p) ||
+          !onConcaveCrease(front_.points.row(p).transpose(), around, centres[static_cast<size_t>(p)])) {
+        continue;
+      }
+      std::vector<Vector3d> candidates(around.begin(), around.end());
+      for (size_t i = 0; i < around.size(); ++i) {
+        for (size_t j = i + 1; j < around.size(); ++j) {
+          candidates.push_back(around[i] + around[j]);
+          for (size_t k = j + 1; k < around.size(); ++k) {
+            const Vector3d axis = (around[i] - around[j]).cross(around[i] - around[k]);
+            candidates.push_back(axis.dot(around[i]) >= 0.0 ? axis : Vector3d(-axis));
+          }
+        }
+      }
+      double best = 0.0;  // a point no direction sees all cells from keeps the band's line
+      for (const Vector3d& candidate : candidates) {
+        if (candidate.norm() < 1e-12) continue;
+        const Vector3d d = candidate.normalized();
+        double seen = 1.0;
+        for (const Vector3d& normal : around) seen = std::min(seen, normal.dot(d));
+        if (seen > best) {
+          best = seen;
+          lines.row(p) = d.transpose();
+        }
+      }
+    }
+    return lines;
+  }
+
+  // Whether some wall cell at `point` lies in front of another's plane (by more than a quarter of
+  // its distance) where the two turn by more than the sharp angle: a concave crease.
+  static bool onConcaveCrease(const Vector3d& point, const std::vector<Vector3d>& normals,
+                              const std::vector<Vector3d>& centres) {
+    for (const Vector3d& normal : normals) {
+      for (size_t j = 0; j < normals.size(); ++j) {
+        const Vector3d toCell = centres[j] - point;
+        if (normal.dot(normals[j]) < std::cos(kSharpAngle) && normal.dot(toCell) > 0.25 * toCell.norm())
+          return true;
+      }
+    }
+    return false;
   }
 
   // Per front point the splay band's width in its smooth region (the points connected without
@@ -418,7 +488,11 @@ class Marcher {
       }
     }
     const std::vector<double> bandWidth = regionBandWidths(sharp, distance, width);
-    auto inBand = [&](Eigen::Index p) { return distance[static_cast<size_t>(p)] < bandWidth[static_cast<size_t>(p)]; };
+    const RowMatrixX3d cornerLines = concaveCornerLines(sharp);
+    auto heldAtCorner = [&](Eigen::Index p) { return cornerLines.row(p).squaredNorm() > 0.0; };
+    auto inBand = [&](Eigen::Index p) {
+      return !heldAtCorner(p) && distance[static_cast<size_t>(p)] < bandWidth[static_cast<size_t>(p)];
+    };
     std::vector<Eigen::Triplet<double>> entries;
     for (Eigen::Index p = 0; p < n; ++p) {
       if (!inBand(p)) {
@@ -436,6 +510,7 @@ class Marcher {
     Eigen::MatrixXd rim = front_.normals;  // column major, as SparseLU solves
     for (Eigen::Index p = 0; p < n; ++p) {
       if (inBand(p)) rim.row(p).setZero();
+      if (heldAtCorner(p)) rim.row(p) = cornerLines.row(p);
     }
     RowMatrixX3d lines = Eigen::MatrixXd(solver.solve(rim));
     for (Eigen::Index p = 0; p < n; ++p) {
