@@ -7,6 +7,7 @@
 #include <future>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include "core/common/errors.h"
 #include "core/common/parallel.h"
@@ -24,7 +25,8 @@ using volume::BlockMesh;
 void checkOptions(const RefinementOptions& options) {
   auto positiveOrZero = [](double value, const char* name) {
     if (!std::isfinite(value) || value < 0.0) {
-      throw InvalidInputError(std::string(name) + " must be a finite number >= 0 (got " + std::to_string(value) + ")");
+      throw InvalidInputError(std::string(name) + " must be a finite number >= 0 (got " +
+                              std::to_string(value) + ")");
     }
   };
   positiveOrZero(options.firstCellHeight, "first_cell_height");
@@ -33,7 +35,8 @@ void checkOptions(const RefinementOptions& options) {
   positiveOrZero(options.referenceLength, "reference_length");
   positiveOrZero(options.tangentialSpacing, "tangential_spacing");
   positiveOrZero(options.edgeEndSpacing, "edge_end_spacing");
-  if (!std::isfinite(options.maxTurningDegrees) || options.maxTurningDegrees < 0.0 || options.maxTurningDegrees > 90.0) {
+  if (!std::isfinite(options.maxTurningDegrees) || options.maxTurningDegrees < 0.0 ||
+      options.maxTurningDegrees > 90.0) {
     throw InvalidInputError("max_turning_angle must be 0 (none) or a number of degrees up to 90 (got " +
                             std::to_string(options.maxTurningDegrees) + ")");
   }
@@ -50,11 +53,13 @@ void checkOptions(const RefinementOptions& options) {
                             std::to_string(options.normalPoints) + ")");
   }
   if (options.edgePoints < 2 || options.edgePoints > 100000) {
-    throw InvalidInputError("edge_points must be 2 .. 100000 (got " + std::to_string(options.edgePoints) + ")");
+    throw InvalidInputError("edge_points must be 2 .. 100000 (got " + std::to_string(options.edgePoints) +
+                            ")");
   }
   // 2e9 cells are 100 GB of points and topology: beyond any machine this runs on.
   if (options.targetCells < 0 || options.targetCells > 2000000000LL) {
-    throw InvalidInputError("target_cells must be 0 (none) or up to 2e9, got " + std::to_string(options.targetCells));
+    throw InvalidInputError("target_cells must be 0 (none) or up to 2e9, got " +
+                            std::to_string(options.targetCells));
   }
   if (options.normalPoints == 0 && options.firstCellHeight == 0.0 && options.yPlus == 0.0) {
     throw InvalidInputError("automatic normal_points (0) needs a first cell height or a y+ target");
@@ -68,50 +73,52 @@ std::string shortNumber(double value) {
   return text;
 }
 
-}  // namespace
+// The first cell height asked: absolute, or from y+ by the flat-plate estimate; 0: none.
+double firstCellHeight(const RefinementOptions& options) {
+  return options.firstCellHeight > 0.0 ? options.firstCellHeight
+         : options.yPlus > 0.0
+             ? flatPlateFirstCellHeight(options.yPlus, options.reynoldsNumber, options.referenceLength)
+             : 0.0;
+}
 
-RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& options) {
-  checkOptions(options);
-  const auto& blocks = mesh.blocks();
-  const size_t blockCount = blocks.size();
-  if (blockCount == 0) throw InvalidInputError("the block mesh has no blocks to refine");
-
-  const double firstHeight = options.firstCellHeight > 0.0 ? options.firstCellHeight
-                             : options.yPlus > 0.0
-                                 ? flatPlateFirstCellHeight(options.yPlus, options.reynoldsNumber, options.referenceLength)
-                                 : 0.0;
-  std::vector<BlockPlan> plans = planDirectionSets(blocks, options, firstHeight);
-
-  // Automatic: the edges' estimate served the cell target; the wall-normal lines themselves decide.
-  const int normalPoints = options.normalPoints == 0
-                               ? fewestWallNormalPoints(blocks, plans, firstHeight, options.growth)
-                               : options.normalPoints;
-  std::vector<GridBlock> gridBlocks(blockCount);
-  for (size_t b = 0; b < blockCount; ++b) {
-    BlockPlan& plan = plans[b];
-    if (plan.normalDirection >= 0) plan.size[static_cast<size_t>(plan.normalDirection)] = normalPoints;
-    GridBlock& grid = gridBlocks[b];
-    grid.size = plan.size;
+// The grid blocks at the plans' sizes (`normalPoints` along wall-normal directions), their points
+// still to be computed.
+std::vector<GridBlock> sizedGrids(const std::vector<volume::Block>& blocks,
+                                  const std::vector<BlockPlan>& plans, int normalPoints) {
+  std::vector<GridBlock> grids(blocks.size());
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    GridBlock& grid = grids[b];
+    grid.size = plans[b].size;
+    if (plans[b].normalDirection >= 0)
+      grid.size[static_cast<size_t>(plans[b].normalDirection)] = normalPoints;
     grid.faces = blocks[b].faces;
     grid.points.resize(grid.pointCount(), 3);
   }
-  // Which points are shared follows from the sizes alone: found on a thread of its own while the
-  // points are computed.
+  return grids;
+}
+
+// Which points are shared follows from the sizes alone: found on a thread of its own while the
+// points are computed (per point, numbered block after block, the number of its first copy).
+std::future<std::vector<Eigen::Index>> findSharedPoints(const std::vector<GridBlock>& grids) {
   std::vector<std::array<volume::BlockFace, 6>> faces;
   std::vector<std::array<int, 3>> sizes;
-  std::vector<Eigen::Index> offset{0};
-  for (const GridBlock& grid : gridBlocks) {
+  for (const GridBlock& grid : grids) {
     faces.push_back(grid.faces);
     sizes.push_back(grid.size);
-    offset.push_back(offset.back() + grid.pointCount());
   }
-  std::future<std::vector<Eigen::Index>> sharedRoots =
-      std::async(std::launch::async, [&faces, &sizes] { return volume::sharedGridRoots(faces, sizes); });
-  for (size_t b = 0; b < blockCount; ++b) {
+  return std::async(std::launch::async, [faces = std::move(faces), sizes = std::move(sizes)] {
+    return volume::sharedGridRoots(faces, sizes);
+  });
+}
+
+// The points of the blocks without a wall-normal direction: every parameter blended from the
+// block's edges.
+void evaluateBlocksWithoutWall(const std::vector<volume::Block>& blocks, const std::vector<BlockPlan>& plans,
+                               std::vector<GridBlock>& grids) {
+  for (size_t b = 0; b < blocks.size(); ++b) {
     const BlockPlan& plan = plans[b];
     if (plan.normalDirection >= 0) continue;
-    // No wall-normal direction: every parameter blended from the block's edges.
-    GridBlock& grid = gridBlocks[b];
+    GridBlock& grid = grids[b];
     RowMatrixX3d parameters(grid.pointCount(), 3);
     for (int k = 0; k < grid.size[2]; ++k) {
       for (int j = 0; j < grid.size[1]; ++j) {
@@ -123,21 +130,30 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
     }
     blocks[b].volume.evaluate(parameters, grid.points);
   }
-  const LineMeasures measured = placeWallLines(blocks, plans, options, firstHeight, normalPoints, gridBlocks);
+}
 
-  // Shared points made identical (the first block's copy wins), after checking they agree to
-  // 1e-9 of the model (the largest block's pole box, which holds its points), or to what their
-  // coordinates resolve where that is coarser (a model far from the origin).
+// How far shared points may lie apart: 1e-9 of the model (the largest block's pole box, which
+// holds its points), or what their coordinates resolve where that is coarser (a model far from
+// the origin).
+double sharedTolerance(const std::vector<volume::Block>& blocks) {
   double extent = 0.0, coordinateScale = 0.0;
   for (const volume::Block& block : blocks) {
     const RowMatrixX3d& poles = block.volume.poles();
     extent = std::max(extent, (poles.colwise().maxCoeff() - poles.colwise().minCoeff()).norm());
     coordinateScale = std::max(coordinateScale, poles.cwiseAbs().maxCoeff());
   }
-  const double sharedTolerance = std::max(1e-9 * extent, 64.0 * std::numeric_limits<double>::epsilon() * coordinateScale);
-  const std::vector<Eigen::Index> roots = sharedRoots.get();
+  return std::max(1e-9 * extent, 64.0 * std::numeric_limits<double>::epsilon() * coordinateScale);
+}
+
+// Shared points made identical (the first block's copy, its root, wins), after checking they agree
+// to `tolerance`; throws SolverError naming the first pair apart.
+void makeSharedPointsIdentical(const std::vector<Eigen::Index>& roots, double tolerance,
+                               std::vector<GridBlock>& grids) {
+  std::vector<Eigen::Index> offset{0};
+  for (const GridBlock& grid : grids) offset.push_back(offset.back() + grid.pointCount());
   auto locate = [&](Eigen::Index global) {
-    const size_t b = static_cast<size_t>(std::upper_bound(offset.begin(), offset.end(), global) - offset.begin()) - 1;
+    const size_t b =
+        static_cast<size_t>(std::upper_bound(offset.begin(), offset.end(), global) - offset.begin()) - 1;
     return std::pair<size_t, Eigen::Index>{b, global - offset[b]};
   };
   // Each copy reads a root, which is never written: chunks run in parallel; the first
@@ -150,9 +166,9 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
       const Eigen::Index root = roots[static_cast<size_t>(global)];
       if (root == global) continue;
       const auto [rb, rrow] = locate(root);
-      auto mine = gridBlocks[b].points.row(global - offset[b]);
-      const auto theirs = gridBlocks[rb].points.row(rrow);
-      if ((mine - theirs).norm() > sharedTolerance) {
+      auto mine = grids[b].points.row(global - offset[b]);
+      const auto theirs = grids[rb].points.row(rrow);
+      if ((mine - theirs).norm() > tolerance) {
         Eigen::Index known = firstApart.load();
         while (global < known && !firstApart.compare_exchange_weak(known, global)) {
         }
@@ -161,14 +177,33 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
       mine = theirs;
     }
   });
-  if (firstApart.load() != std::numeric_limits<Eigen::Index>::max()) {
-    const auto [b, row] = locate(firstApart.load());
-    const auto [rb, rrow] = locate(roots[static_cast<size_t>(firstApart.load())]);
-    const double gap = (gridBlocks[b].points.row(row) - gridBlocks[rb].points.row(rrow)).norm();
-    throw SolverError(blockText(b) + " point " + std::to_string(row) + " and " + blockText(rb) + " point " +
-                      std::to_string(rrow) + " are shared but " + shortNumber(gap) +
-                      " apart: the distributions disagree across a shared face (block layout not supported)");
-  }
+  if (firstApart.load() == std::numeric_limits<Eigen::Index>::max()) return;
+  const auto [b, row] = locate(firstApart.load());
+  const auto [rb, rrow] = locate(roots[static_cast<size_t>(firstApart.load())]);
+  const double gap = (grids[b].points.row(row) - grids[rb].points.row(rrow)).norm();
+  throw SolverError(blockText(b) + " point " + std::to_string(row) + " and " + blockText(rb) + " point " +
+                    std::to_string(rrow) + " are shared but " + shortNumber(gap) +
+                    " apart: the distributions disagree across a shared face (block layout not supported)");
+}
+
+}  // namespace
+
+RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& options) {
+  checkOptions(options);
+  const auto& blocks = mesh.blocks();
+  if (blocks.empty()) throw InvalidInputError("the block mesh has no blocks to refine");
+  const double firstHeight = firstCellHeight(options);
+
+  const std::vector<BlockPlan> plans = planDirectionSets(blocks, options, firstHeight);
+  // Automatic: the edges' estimate served the cell target; the wall-normal lines themselves decide.
+  const int normalPoints = options.normalPoints == 0
+                               ? fewestWallNormalPoints(blocks, plans, firstHeight, options.growth)
+                               : options.normalPoints;
+  std::vector<GridBlock> grids = sizedGrids(blocks, plans, normalPoints);
+  std::future<std::vector<Eigen::Index>> sharedRoots = findSharedPoints(grids);
+  evaluateBlocksWithoutWall(blocks, plans, grids);
+  const LineMeasures measured = placeWallLines(blocks, plans, options, firstHeight, normalPoints, grids);
+  makeSharedPointsIdentical(sharedRoots.get(), sharedTolerance(blocks), grids);
 
   RefinedGrid result;
   result.normalPoints = normalPoints;
@@ -176,8 +211,8 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
   result.firstCellHeightMin = measured.firstHeightMin;
   result.firstCellHeightMax = measured.firstHeightMax;
   result.growthMax = measured.growthMax;
-  if (options.outerDomain) result.outerFacesSplit = tagOuterQuads(gridBlocks, *options.outerDomain);
-  result.grid = StructuredGrid(std::move(gridBlocks), firstHeight > 0.0);
+  if (options.outerDomain) result.outerFacesSplit = tagOuterQuads(grids, *options.outerDomain);
+  result.grid = StructuredGrid(std::move(grids), firstHeight > 0.0);
   return result;
 }
 
