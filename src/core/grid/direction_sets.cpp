@@ -1,0 +1,478 @@
+#include "core/grid/direction_sets.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <numeric>
+#include <optional>
+#include <string>
+#include <tuple>
+
+#include "core/common/errors.h"
+#include "core/grid/distribution.h"
+
+namespace bvmesh::grid {
+namespace {
+
+using volume::BoundaryCondition;
+using volume::BsplineVolume;
+
+// Arc-length tables sample each knot span this often (Simpson + Hermite on polynomial pieces).
+// Block edges: their tangential distributions follow arc length to about 1e-6.
+constexpr int kIntervalsPerSpan = 4;
+// Turning tables sample block edges this often per knot (a cubic span turns smoothly).
+constexpr int kTurningSamplesPerSpan = 16;
+// A set's shared measure is tabulated at this many fractions of arc length.
+constexpr int kSharedMeasureSamples = 2048;
+
+// Block directions (node 3 b + d) joined through connected faces, with the orientation of each
+// relative to its set's root (parity 1: reversed).
+class DirectionSets {
+ public:
+  explicit DirectionSets(int nodes)
+      : parent_(static_cast<size_t>(nodes)), parity_(static_cast<size_t>(nodes), 0) {
+    std::iota(parent_.begin(), parent_.end(), 0);
+  }
+  std::pair<int, int> find(int x) const {
+    int parity = 0;
+    while (parent_[static_cast<size_t>(x)] != x) {
+      parity ^= parity_[static_cast<size_t>(x)];
+      x = parent_[static_cast<size_t>(x)];
+    }
+    return {x, parity};
+  }
+  // Joins a and b, b reversed relative to a if `reversed`. False if that contradicts an earlier join.
+  bool join(int a, int b, bool reversed) {
+    const auto [ra, pa] = find(a);
+    const auto [rb, pb] = find(b);
+    const int wanted = pa ^ pb ^ (reversed ? 1 : 0);
+    if (ra == rb) return wanted == 0;
+    parent_[static_cast<size_t>(rb)] = ra;
+    parity_[static_cast<size_t>(rb)] = wanted;
+    return true;
+  }
+
+ private:
+  std::vector<int> parent_;
+  std::vector<int> parity_;
+};
+
+BsplineCurve edgeCurve(const BsplineVolume& volume, int direction, int edge) {
+  const auto [first, second] = otherDirections(direction);
+  return volume.isoCurve(direction, parameterAtEnd(volume, first, edge & 1),
+                         parameterAtEnd(volume, second, edge >> 1));
+}
+
+// Directions linked through connected faces share their point count (and orientation).
+DirectionSets linkedDirections(const std::vector<volume::Block>& blocks) {
+  DirectionSets sets(static_cast<int>(3 * blocks.size()));
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    for (int f = 0; f < 6; ++f) {
+      const volume::BlockFace& face = blocks[b].faces[static_cast<size_t>(f)];
+      if (face.condition != BoundaryCondition::Connected) continue;
+      const std::array<int, 2> mine = volume::faceDirections(f);
+      const std::array<int, 2> theirs = volume::faceDirections(face.neighbour.face);
+      for (int axis = 0; axis < 2; ++axis) {
+        const int theirAxis = face.neighbour.swapped ? 1 - axis : axis;
+        const bool reversed = theirAxis == 0 ? face.neighbour.reverseFirst : face.neighbour.reverseSecond;
+        if (!sets.join(static_cast<int>(3 * b) + mine[static_cast<size_t>(axis)],
+                       3 * face.neighbour.block + theirs[static_cast<size_t>(theirAxis)], reversed)) {
+          throw InvalidInputError(blockText(b) + " face " + volume::blockFaceName(f) +
+                                  ": the block connections orient a grid direction both ways round");
+        }
+      }
+    }
+  }
+  return sets;
+}
+
+// Wall-normal sets: those holding a direction with a wall at one end; per set root the parity of
+// that end (-1: no wall).
+std::vector<int> wallParities(const std::vector<volume::Block>& blocks, const DirectionSets& sets) {
+  std::vector<int> wallParity(3 * blocks.size(), -1);
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    for (int d = 0; d < 3; ++d) {
+      const bool atLower = blocks[b].faces[static_cast<size_t>(2 * d)].condition == BoundaryCondition::Wall;
+      const bool atUpper =
+          blocks[b].faces[static_cast<size_t>(2 * d + 1)].condition == BoundaryCondition::Wall;
+      if (!atLower && !atUpper) continue;
+      if (atLower && atUpper) {
+        throw InvalidInputError(blockText(b) + " has walls at both ends of direction " + "uvw"[d] +
+                                " (wall clustering from both ends is not supported)");
+      }
+      const auto [root, parity] = sets.find(static_cast<int>(3 * b) + d);
+      const int wanted = parity ^ (atUpper ? 1 : 0);
+      int& known = wallParity[static_cast<size_t>(root)];
+      if (known >= 0 && known != wanted) {
+        throw InvalidInputError(blockText(b) + " direction " + "uvw"[d] +
+                                ": linked wall-normal lines start at walls at both ends");
+      }
+      known = wanted;
+    }
+  }
+  return wallParity;
+}
+
+// Per block its wall-normal direction (a direction of a wall-normal set) and wall end.
+std::vector<BlockPlan> wallNormalPlans(const std::vector<volume::Block>& blocks, const DirectionSets& sets,
+                                       const std::vector<int>& wallParity) {
+  std::vector<BlockPlan> plans(blocks.size());
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    for (int d = 0; d < 3; ++d) {
+      const auto [root, parity] = sets.find(static_cast<int>(3 * b) + d);
+      const int wall = wallParity[static_cast<size_t>(root)];
+      if (wall < 0) continue;
+      if (plans[b].normalDirection >= 0) {
+        throw InvalidInputError(blockText(b) +
+                                " has wall-normal lines in two directions (walls on two sides)");
+      }
+      plans[b].normalDirection = d;
+      plans[b].wallEnd = wall ^ parity;
+      // A wall-normal line keeps its wall's tangential parameters up to its far end; a block
+      // stacked on that end would take its own from its edges there, and the points would differ.
+      const volume::BlockFace& far = blocks[b].faces[static_cast<size_t>(2 * d + 1 - plans[b].wallEnd)];
+      if (far.condition == BoundaryCondition::Connected) {
+        throw InvalidInputError(
+            blockText(b) + "'s wall-normal lines end on " +
+            blockText(static_cast<size_t>(far.neighbour.block)) + " face " +
+            volume::blockFaceName(far.neighbour.face) +
+            ": blocks stacked along the wall-normal direction are not supported (each wall-normal "
+            "line must run from the wall to the outer boundary in one block)");
+      }
+    }
+  }
+  return plans;
+}
+
+// The block edges' arc-length and turning tables, kept for their distributions, and per set
+// (indexed by its root) the tables that count its points and its longest counted edge.
+struct EdgeTables {
+  std::vector<std::array<std::vector<ArcLength>, 3>> arcs;        // per block and direction: its 4 edges
+  std::vector<std::array<std::vector<TurningTable>, 3>> turning;  // the same edges, then a middle line
+  std::vector<std::vector<const TurningTable*>> counted;
+  std::vector<double> longestEdge;
+};
+
+// A set counts its wall edges (all its edges if it has none), each asking for its length in
+// spacings plus its turning in maxTurning steps. With a turning limit, a wall face's middle grid
+// line along each of its directions counts too (after the four edges): a face that bulges turns
+// more there than along its edges (a sphere's cube-layout face: 90 degrees across its middle,
+// 70.5 along its edges).
+EdgeTables tabulateEdges(const std::vector<volume::Block>& blocks, const std::vector<BlockPlan>& plans,
+                         const DirectionSets& sets, double maxTurning) {
+  const size_t blockCount = blocks.size();
+  EdgeTables tables{std::vector<std::array<std::vector<ArcLength>, 3>>(blockCount),
+                    std::vector<std::array<std::vector<TurningTable>, 3>>(blockCount),
+                    std::vector<std::vector<const TurningTable*>>(3 * blockCount),
+                    std::vector<double>(3 * blockCount, 0.0)};
+  for (size_t b = 0; b < blockCount; ++b) {
+    const BsplineVolume& volume = blocks[b].volume;
+    for (int d = 0; d < 3; ++d) {
+      const auto root = static_cast<size_t>(sets.find(static_cast<int>(3 * b) + d).first);
+      std::vector<ArcLength>& arcs = tables.arcs[b][static_cast<size_t>(d)];
+      std::vector<TurningTable>& turnings = tables.turning[b][static_cast<size_t>(d)];
+      arcs.reserve(4);
+      turnings.reserve(5);  // `counted` points into it
+      auto turningOf = [&](const BsplineCurve& curve, const ArcLength& arc) -> const TurningTable& {
+        // Without a turning limit the table serves arc length alone: one step.
+        const int samples =
+            maxTurning > 0.0 ? kTurningSamplesPerSpan * static_cast<int>(curve.knots.size()) : 1;
+        return turnings.emplace_back(curve, arc, samples);
+      };
+      for (int e = 0; e < 4; ++e) {
+        const BsplineCurve curve = edgeCurve(volume, d, e);
+        const ArcLength& arc = arcs.emplace_back(curve, kIntervalsPerSpan);
+        const TurningTable& turning = turningOf(curve, arc);
+        if (onWallOrNoWall(plans[b], d, e)) {
+          tables.longestEdge[root] = std::max(tables.longestEdge[root], arc.length());
+          tables.counted[root].push_back(&turning);
+        }
+      }
+      const int n = plans[b].normalDirection;
+      if (maxTurning > 0.0 && n >= 0 && n != d) {
+        const auto [first, second] = otherDirections(d);
+        const int across = first == n ? second : first;
+        auto at = [&](int direction) {
+          return direction == n ? parameterAtEnd(volume, n, plans[b].wallEnd)
+                                : 0.5 * (volume.lower(across) + volume.upper(across));
+        };
+        const BsplineCurve middle = volume.isoCurve(d, at(first), at(second));
+        tables.counted[root].push_back(&turningOf(middle, ArcLength(middle, kIntervalsPerSpan)));
+      }
+    }
+  }
+  return tables;
+}
+
+// Point counts per direction node: `normalPoints` in wall-normal sets, else what the set's
+// counted edges need at `spacing` (edge_points without one).
+struct PointCounts {
+  const DirectionSets& sets;
+  const std::vector<int>& wallParity;
+  const EdgeTables& edges;
+  double maxTurning;
+  int edgePoints;
+
+  std::vector<int> operator()(double spacing, int normalPoints) const {
+    std::vector<int> count(wallParity.size(), 0);
+    for (size_t node = 0; node < count.size(); ++node) {
+      const auto root = static_cast<size_t>(sets.find(static_cast<int>(node)).first);
+      if (wallParity[root] >= 0) {
+        count[node] = normalPoints;
+      } else if (spacing > 0.0) {
+        double cells = 0.0;
+        for (const TurningTable* edge : edges.counted[root])
+          cells = std::max(cells, edge->measure(spacing, maxTurning));
+        // An edge a whole number of spacings long (to the rounding of its arc length) takes no extra point.
+        count[node] = std::max(2, static_cast<int>(std::ceil(cells * (1.0 - 1e-12))) + 1);
+      } else {
+        count[node] = edgePoints;
+      }
+    }
+    return count;
+  }
+};
+
+// Normal points before the columns are known (for the cell target): from the wall blocks' edges.
+int estimatedNormalPoints(const std::vector<BlockPlan>& plans, const EdgeTables& edges, double firstHeight,
+                          double growth) {
+  int normalPoints = 0;
+  for (size_t b = 0; b < plans.size(); ++b) {
+    const int n = plans[b].normalDirection;
+    if (n < 0) continue;
+    for (const ArcLength& arc : edges.arcs[b][static_cast<size_t>(n)]) {
+      normalPoints = std::max(normalPoints, geometricPointsNeeded(firstHeight, growth, arc.length()));
+    }
+  }
+  return std::max(normalPoints, 2);
+}
+
+// The tangential spacing that gives about `targetCells` cells in all (bisected in its logarithm).
+double spacingForTarget(const PointCounts& countsFor, const std::vector<double>& longestEdge,
+                        int normalPoints, long long targetCells) {
+  auto cells = [&](double h) {
+    const std::vector<int> count = countsFor(h, normalPoints);
+    double total = 0.0;
+    for (size_t node = 0; node < count.size(); node += 3) {
+      total += static_cast<double>(count[node] - 1) * (count[node + 1] - 1) * (count[node + 2] - 1);
+    }
+    return total;
+  };
+  const double longest = *std::max_element(longestEdge.begin(), longestEdge.end());
+  double lo = longest * 1e-5, hi = 2.0 * longest;  // cells(lo) large, cells(hi) small
+  for (int iteration = 0; iteration < 80; ++iteration) {
+    const double mid = std::sqrt(lo * hi);
+    (cells(mid) > static_cast<double>(targetCells) ? lo : hi) = mid;
+  }
+  return hi;
+}
+
+// Per tangential set (indexed by its root) the measure its edges share: the fractions of arc
+// length their points go at (uniform without a turning limit).
+std::vector<std::optional<SharedMeasure>> sharedMeasures(
+    const std::vector<BlockPlan>& plans, const DirectionSets& sets, const std::vector<int>& wallParity,
+    const EdgeTables& edges, const std::vector<int>& counts, double spacing, double maxTurning) {
+  std::vector<std::optional<SharedMeasure>> setMeasure(3 * plans.size());
+  for (size_t b = 0; b < plans.size(); ++b) {
+    for (int d = 0; d < 3; ++d) {
+      const auto [root, parity] = sets.find(static_cast<int>(3 * b) + d);
+      std::optional<SharedMeasure>& shared = setMeasure[static_cast<size_t>(root)];
+      if (wallParity[static_cast<size_t>(root)] >= 0) continue;
+      if (!shared) {
+        // With edge_points the set's spacing is what its longest counted edge gets.
+        const double setSpacing = spacing > 0.0 ? spacing
+                                                : edges.longestEdge[static_cast<size_t>(root)] /
+                                                      (counts[static_cast<size_t>(root)] - 1);
+        shared.emplace(kSharedMeasureSamples, setSpacing, setSpacing > 0.0 ? maxTurning : 0.0);
+      }
+      const std::vector<TurningTable>& tables = edges.turning[b][static_cast<size_t>(d)];
+      for (size_t e = 0; e < tables.size(); ++e) {
+        if (e < 4 && !onWallOrNoWall(plans[b], d, static_cast<int>(e))) continue;
+        shared->add(tables[e], parity == 1);
+      }
+    }
+  }
+  return setMeasure;
+}
+
+// Per set (indexed by its root) and shared end, the step at that end as a fraction of the set's
+// longest counted edge that keeps the jump to the finest continuing wall edge within maxJump (as
+// far as an eighth of the set's mean spacing goes), or 0 where the set's own spacing already
+// does. Continuations: the wall edges of other blocks or directions that start at the end's
+// corner (shared corners are bit-identical points) and leave it within 45 degrees of straight
+// on; their spacing is their mean (length over cells).
+std::vector<std::array<double, 2>> continuationEndSteps(const std::vector<volume::Block>& blocks,
+                                                        const std::vector<BlockPlan>& plans,
+                                                        const DirectionSets& sets, const EdgeTables& edges,
+                                                        const std::vector<int>& counts, double maxJump) {
+  struct EdgeEnd {
+    std::array<double, 3> corner;
+    Eigen::Vector3d outward;  // unit tangent from the corner into the edge
+    double spacing;
+    size_t root;
+    int sharedEnd;  // 0: the set's start, 1: its end
+  };
+  std::vector<EdgeEnd> ends;
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    const int n = plans[b].normalDirection;
+    if (n < 0) continue;
+    for (int d = 0; d < 3; ++d) {
+      if (d == n) continue;
+      const auto [root, parity] = sets.find(static_cast<int>(3 * b) + d);
+      for (int e = 0; e < 4; ++e) {
+        if (!onWallOrNoWall(plans[b], d, e)) continue;
+        // A clamped curve starts at its first pole, leaving towards its second.
+        const RowMatrixX3d& poles = edgeCurve(blocks[b].volume, d, e).poles;
+        const double spacing = edges.arcs[b][static_cast<size_t>(d)][static_cast<size_t>(e)].length() /
+                               (counts[3 * b + static_cast<size_t>(d)] - 1);
+        for (int end = 0; end < 2; ++end) {
+          const Eigen::Index at = end == 0 ? 0 : poles.rows() - 1;
+          const Eigen::Index next = end == 0 ? 1 : poles.rows() - 2;
+          const Eigen::Vector3d corner = poles.row(at).transpose();
+          ends.push_back({{corner.x(), corner.y(), corner.z()},
+                          (poles.row(next).transpose() - corner).normalized(),
+                          spacing,
+                          static_cast<size_t>(root),
+                          end ^ parity});
+        }
+      }
+    }
+  }
+  std::map<std::array<double, 3>, std::vector<size_t>> atCorner;
+  for (size_t k = 0; k < ends.size(); ++k) atCorner[ends[k].corner].push_back(k);
+  const double straightOn = std::cos(M_PI / 4.0);
+  std::vector<std::array<double, 2>> finest(
+      counts.size(), {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()});
+  for (const EdgeEnd& end : ends) {
+    for (size_t other : atCorner[end.corner]) {
+      if (ends[other].outward.dot(end.outward) >= -straightOn) continue;
+      double& known = finest[end.root][static_cast<size_t>(end.sharedEnd)];
+      known = std::min(known, ends[other].spacing);
+    }
+  }
+  // A set is never clustered to less than an eighth of its mean spacing: a continuation far finer
+  // than that (a 0.1 mm corner block beside a wing's 49 mm chordwise spacing) would squeeze the
+  // whole set, and its narrower edges with it, into folded cells (on the M6's level-2 blocks at 17
+  // points per edge: 8 cells with a negative Jacobian; none with the bound).
+  constexpr double kMostClustering = 8.0;
+  const std::vector<double>& longestEdge = edges.longestEdge;
+  std::vector<std::array<double, 2>> steps(counts.size(), {0.0, 0.0});
+  for (size_t root = 0; root < counts.size(); ++root) {
+    if (!(longestEdge[root] > 0.0)) continue;
+    const double own = longestEdge[root] / (counts[root] - 1);
+    for (size_t end = 0; end < 2; ++end) {
+      const double limited = maxJump * finest[root][end];
+      if (limited < own) steps[root][end] = std::max(limited, own / kMostClustering) / longestEdge[root];
+    }
+  }
+  return steps;
+}
+
+// A set's edges mostly ask for the same fractions (a stretched law solves for its parameter by
+// fixed-point steps, a few hundred edges over): each asked once per set.
+using FractionsCache = std::map<std::tuple<int, double, double>, std::vector<double>>;
+
+// The fractions of arc length of an edge's `points` points, its own start first: at equal steps
+// of its set's shared measure, or clustered at both ends, which keeps a distribution the same
+// seen from either end. `parity`: the edge's orientation in its set (rooted at `root`).
+// `end`: edge_end_spacing as a fraction of the edge's length (at most a half).
+std::vector<double> edgeFractions(const SharedMeasure& shared, int root, int parity, int points, double end,
+                                  const std::array<double, 2>& setSteps, FractionsCache& cache) {
+  // The end spacing as steps of the shared measure at the edge's two ends, in the shared
+  // sense. In arc length the distribution is symmetric and read from the edge's own start
+  // (so grids without a turning limit keep their points bit for bit).
+  const bool arcLength = shared.uniformInArcLength();
+  double atStart = end > 0.0 ? shared.at(end) : 0.0;
+  double atEnd = end > 0.0 ? (arcLength ? end : 1.0 - shared.at(1.0 - end)) : 0.0;
+  // A spacing jump limited at a set end: the same fraction on every edge of the set; the
+  // tighter of that and edge_end_spacing. In arc length the steps are the edge's own (its
+  // start is the set's end `parity`), else the shared measure's.
+  const auto tighten = [](double& step, double limit) {
+    if (limit > 0.0) step = step > 0.0 ? std::min(step, limit) : limit;
+  };
+  const int startEnd = arcLength ? parity : 0;
+  const double startStep = setSteps[static_cast<size_t>(startEnd)];
+  const double endStep = setSteps[static_cast<size_t>(1 - startEnd)];
+  if (startStep > 0.0) tighten(atStart, arcLength ? startStep : shared.at(startStep));
+  if (endStep > 0.0) tighten(atEnd, arcLength ? endStep : 1.0 - shared.at(1.0 - endStep));
+  auto known = cache.find({root, atStart, atEnd});
+  if (known == cache.end())
+    known =
+        cache.emplace(std::make_tuple(root, atStart, atEnd), shared.fractions(points, atStart, atEnd)).first;
+  std::vector<double> sigma = known->second;
+  if (parity == 1 && !arcLength) {
+    std::reverse(sigma.begin(), sigma.end());
+    for (double& x : sigma) x = 1.0 - x;
+  }
+  return sigma;
+}
+
+// The plans' sizes, and the edge parameters of every direction but the wall-normal one, at the
+// fractions of arc length their set shares.
+void placeEdgePoints(const std::vector<volume::Block>& blocks, const DirectionSets& sets,
+                     const EdgeTables& edges, const std::vector<int>& counts,
+                     const std::vector<std::optional<SharedMeasure>>& setMeasure,
+                     const std::vector<std::array<double, 2>>& endSteps, double edgeEndSpacing,
+                     std::vector<BlockPlan>& plans) {
+  FractionsCache fractionsOf;
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    BlockPlan& plan = plans[b];
+    for (int d = 0; d < 3; ++d) plan.size[static_cast<size_t>(d)] = counts[3 * b + static_cast<size_t>(d)];
+    for (int d = 0; d < 3; ++d) {
+      if (d == plan.normalDirection) continue;
+      const int points = plan.size[static_cast<size_t>(d)];
+      const auto [root, parity] = sets.find(static_cast<int>(3 * b) + d);
+      for (int e = 0; e < 4; ++e) {
+        const ArcLength& arc = edges.arcs[b][static_cast<size_t>(d)][static_cast<size_t>(e)];
+        if (!(arc.length() > 0.0)) {
+          throw InvalidInputError(blockText(b) + " has an edge of zero length along " + "uvw"[d] +
+                                  " (collapsed edges cannot be refined)");
+        }
+        const std::vector<double> sigma = edgeFractions(*setMeasure[static_cast<size_t>(root)], root, parity,
+                                                        points, std::min(edgeEndSpacing / arc.length(), 0.5),
+                                                        endSteps[static_cast<size_t>(root)], fractionsOf);
+        auto& parameters = plan.edgeParameters[static_cast<size_t>(d)][static_cast<size_t>(e)];
+        parameters.resize(static_cast<size_t>(points));
+        for (int i = 0; i < points; ++i)
+          parameters[static_cast<size_t>(i)] = arc.parameterAt(sigma[static_cast<size_t>(i)] * arc.length());
+        parameters.front() = blocks[b].volume.lower(d);
+        parameters.back() = blocks[b].volume.upper(d);
+      }
+    }
+  }
+}
+
+}  // namespace
+
+std::vector<BlockPlan> planDirectionSets(const std::vector<volume::Block>& blocks,
+                                         const RefinementOptions& options, double firstHeight) {
+  const DirectionSets sets = linkedDirections(blocks);
+  const std::vector<int> wallParity = wallParities(blocks, sets);
+  std::vector<BlockPlan> plans = wallNormalPlans(blocks, sets, wallParity);
+
+  // Tangential point counts: per set, from its counted edges at the spacing asked, or at the
+  // spacing that gives the cell target with the normal points known or estimated.
+  const double maxTurning = options.maxTurningDegrees * M_PI / 180.0;
+  const EdgeTables edges = tabulateEdges(blocks, plans, sets, maxTurning);
+  const PointCounts countsFor{sets, wallParity, edges, maxTurning, options.edgePoints};
+  const int normalPoints = options.normalPoints != 0
+                               ? options.normalPoints
+                               : estimatedNormalPoints(plans, edges, firstHeight, options.growth);
+  const double spacing = options.targetCells > 0 ? spacingForTarget(countsFor, edges.longestEdge,
+                                                                    normalPoints, options.targetCells)
+                                                 : options.tangentialSpacing;
+  const std::vector<int> counts = countsFor(spacing, normalPoints);
+
+  // Tangential edge distributions: the set's shared measure, clustered at its ends as asked.
+  const std::vector<std::optional<SharedMeasure>> setMeasure =
+      sharedMeasures(plans, sets, wallParity, edges, counts, spacing, maxTurning);
+  const std::vector<std::array<double, 2>> endSteps =
+      options.maxSpacingJump > 0.0
+          ? continuationEndSteps(blocks, plans, sets, edges, counts, options.maxSpacingJump)
+          : std::vector<std::array<double, 2>>(3 * blocks.size(), {0.0, 0.0});
+  placeEdgePoints(blocks, sets, edges, counts, setMeasure, endSteps, options.edgeEndSpacing, plans);
+  return plans;
+}
+
+}  // namespace bvmesh::grid
