@@ -78,7 +78,9 @@ def refine(blocks, preset="euler", method="bspline", steps=None, **options):
     'rans' (see the module doc), or None for options alone; options: those of
     bvmesh._core.refine_blocks (normal_points, first_cell_height, y_plus, reynolds_number,
     reference_length, growth, distribution, edge_points, tangential_spacing, target_cells,
-    edge_end_spacing, max_turning_angle, max_spacing_jump), overriding the preset's. From a
+    edge_end_spacing, max_turning_angle, max_spacing_jump, feature_spacings), overriding the
+    preset's. feature_spacings: [{"points": (n, 3) polyline, "spacing": s}, ...] clusters the
+    wall edges that leave a feature line (a leading edge) to s there (docs/grid.md). From a
     VolumeMesh in a box or cylinder domain, every outer quad is tagged inlet, outlet or side by
     where it lies (a block face reaching over the domain's edges is split;
     RefinedGrid.outer_faces_split counts them).

@@ -38,6 +38,36 @@ const GridBlock& gridBlockOf(const StructuredGrid& grid, int block) {
   return grid.blocks()[static_cast<size_t>(block)];
 }
 
+// feature_spacings: a sequence of dicts {"points": (n, 3), "spacing": s, "tolerance": t (optional)}.
+std::vector<grid::FeatureSpacing> featureSpacingsOf(const py::object& features) {
+  std::vector<grid::FeatureSpacing> result;
+  if (features.is_none()) return result;
+  if (!py::isinstance<py::sequence>(features) || py::isinstance<py::str>(features)) {
+    throw py::value_error("feature_spacings must be a sequence of dicts with 'points' and 'spacing'");
+  }
+  for (const py::handle item : features) {
+    const std::string name = "feature_spacings[" + std::to_string(result.size()) + "]";
+    if (!py::isinstance<py::dict>(item))
+      throw py::value_error(name + " must be a dict with 'points' and 'spacing'");
+    const py::dict entry = py::reinterpret_borrow<py::dict>(item);
+    for (const auto& [key, value] : entry) {
+      const std::string text = py::str(key);
+      if (text != "points" && text != "spacing" && text != "tolerance") {
+        throw py::value_error(name + " has an unknown key '" + text + "' (points, spacing, tolerance)");
+      }
+    }
+    if (!entry.contains("points") || !entry.contains("spacing")) {
+      throw py::value_error(name + " needs 'points' and 'spacing'");
+    }
+    grid::FeatureSpacing feature;
+    feature.points = rowsOf(entry["points"], (name + "['points']").c_str(), 3);
+    feature.spacing = py::cast<double>(entry["spacing"]);
+    if (entry.contains("tolerance")) feature.tolerance = py::cast<double>(entry["tolerance"]);
+    result.push_back(std::move(feature));
+  }
+  return result;
+}
+
 py::array_t<double> valuesArray(const std::vector<double>& values) {
   py::array_t<double> array(static_cast<py::ssize_t>(values.size()));
   std::copy(values.begin(), values.end(), array.mutable_data());
@@ -154,7 +184,8 @@ void bindGrid(py::module_& module) {
       [](const volume::BlockMesh& blocks, int normalPoints, double firstCellHeight, double yPlus,
          double reynoldsNumber, double referenceLength, double growth, const std::string& distribution,
          int edgePoints, double tangentialSpacing, long long targetCells, double edgeEndSpacing,
-         double maxTurningAngle, double maxSpacingJump, const volume::VolumeMesh* outerDomainOf) {
+         double maxTurningAngle, double maxSpacingJump, const py::object& featureSpacings,
+         const volume::VolumeMesh* outerDomainOf) {
         grid::RefinementOptions options;
         options.normalPoints = normalPoints;
         options.firstCellHeight = firstCellHeight;
@@ -169,6 +200,7 @@ void bindGrid(py::module_& module) {
         options.edgeEndSpacing = edgeEndSpacing;
         options.maxTurningDegrees = maxTurningAngle;
         options.maxSpacingJump = maxSpacingJump;
+        options.featureSpacings = featureSpacingsOf(featureSpacings);
         if (outerDomainOf != nullptr) options.outerDomain = outerDomainOf->domain;
         py::gil_scoped_release release;
         return grid::refineBlockMesh(blocks, options);
@@ -178,7 +210,7 @@ void bindGrid(py::module_& module) {
       py::arg("growth") = 1.2, py::arg("distribution") = "geometric", py::arg("edge_points") = 17,
       py::arg("tangential_spacing") = 0.0, py::arg("target_cells") = 0, py::arg("edge_end_spacing") = 0.0,
       py::arg("max_turning_angle") = 0.0, py::arg("max_spacing_jump") = 0.0,
-      py::arg("outer_domain_of") = nullptr,
+      py::arg("feature_spacings") = py::none(), py::arg("outer_domain_of") = nullptr,
       R"doc(Evaluates a BlockMesh on stretched, point-matched grids.
 
 Wall-normal lines (from wall faces, and every direction a connection links to them): normal_points
@@ -192,6 +224,10 @@ spacing the counts grow to keep it, and the points gather where the wall bends (
 max_spacing_jump (0: none, else a ratio >= 1): a set of tangential edges whose wall edges are
 continued across a block corner (within 45 degrees of straight on) by wall edges spaced more than
 this many times finer is clustered at that end to this many times their spacing.
+feature_spacings: [{"points": (n, 3) polyline, "spacing": s, "tolerance": t (optional)}, ...]: wall
+edges that end on a feature line (within t; default 1e-3 of the wall's size) and leave it (more than
+45 degrees off it) start there with a spacing of at most s (the longest exactly); their linked sets
+are clustered at that end (Vinokur's law, counts unchanged), the finer where a spacing jump asks too.
 outer_domain_of: the VolumeMesh the blocks come from; a box or cylinder domain's outer faces are
 then inlet, outlet or side quad by quad (RefinedGrid.outer_faces_split counts the faces split).
 Returns a RefinedGrid.)doc");

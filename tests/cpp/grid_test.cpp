@@ -602,6 +602,88 @@ TEST(GridRefinement, ASpacingJumpToAFinerNeighbourIsLimitedAtThatEnd) {
   EXPECT_THROW(refineBlockMesh(mesh, options), InvalidInputError);
 }
 
+TEST(GridRefinement, FeatureSpacingsClusterTheWallEdgesLeavingTheLine) {
+  // Two blocks over the wall z = 0, x in [0, 1] and [1, 3], joined at x = 1 where a feature line
+  // runs along y (a wing's leading edge, say): the x edges that end there start with the asked
+  // spacing, their counts grow so that their steps grow by about `growth` away from it, and the
+  // y edges along the line are left as they were.
+  std::vector<volume::Block> blocks{wallBox(0.0, 1.0), wallBox(1.0, 3.0)};
+  connectAlongU(blocks);
+  const volume::BlockMesh mesh(std::move(blocks));
+  RefinementOptions options;
+  options.tangentialSpacing = 0.1;
+  options.normalPoints = 5;
+  auto steps = [](const RefinedGrid& refined, size_t b, int along, int k) {
+    const GridBlock& block = refined.grid.blocks()[b];
+    std::vector<double> result;
+    std::array<int, 3> ijk{1, 1, k};
+    for (int i = 1; i < block.size[static_cast<size_t>(along)]; ++i) {
+      std::array<int, 3> before = ijk;
+      ijk[static_cast<size_t>(along)] = i;
+      before[static_cast<size_t>(along)] = i - 1;
+      result.push_back((block.points.row(block.index(ijk[0], ijk[1], ijk[2])) -
+                        block.points.row(block.index(before[0], before[1], before[2])))
+                           .norm());
+    }
+    return result;
+  };
+  const RefinedGrid plain = refineBlockMesh(mesh, options);
+  RowMatrixX3d line(2, 3);
+  line << 1.0, -1.0, 0.0, 1.0, 2.0, 0.0;
+  options.featureSpacings = {FeatureSpacing{line, 0.01, 0.0}};
+  const RefinedGrid clustered = refineBlockMesh(mesh, options);  // point-matched bit for bit (checked)
+  for (int k : {0, 4}) {  // on the wall and at the far end of the wall-normal lines
+    const std::vector<double> before = steps(clustered, 0, 0, k), after = steps(clustered, 1, 0, k);
+    EXPECT_NEAR(before.back() / (k == 0 ? 0.01 : before.back()), 1.0, 1e-6);
+    EXPECT_NEAR(after.front() / (k == 0 ? 0.01 : after.front()), 1.0, 1e-6);
+    for (const std::vector<double>* x : {&before, &after}) {
+      double largestRatio = 0.0;
+      for (size_t i = 1; i < x->size(); ++i) {
+        largestRatio = std::max(largestRatio, std::max((*x)[i] / (*x)[i - 1], (*x)[i - 1] / (*x)[i]));
+      }
+      EXPECT_LT(largestRatio, 1.25);
+    }
+    EXPECT_GT(before.front(), 0.05);  // the free end (x = 0) is not clustered
+  }
+  EXPECT_GT(clustered.grid.blocks()[0].size[0], plain.grid.blocks()[0].size[0]);
+  for (double y : steps(clustered, 0, 1, 0)) EXPECT_NEAR(y, 0.1, 1e-12);  // along the line: as before
+  // Both ends on features: two-sided.
+  RowMatrixX3d start(2, 3);
+  start << 0.0, -1.0, 0.0, 0.0, 2.0, 0.0;
+  options.featureSpacings.push_back(FeatureSpacing{start, 0.02, 0.0});
+  const std::vector<double> twoSided = steps(refineBlockMesh(mesh, options), 0, 0, 0);
+  EXPECT_NEAR(twoSided.front() / 0.02, 1.0, 1e-6);
+  EXPECT_NEAR(twoSided.back() / 0.01, 1.0, 1e-6);
+  // A line through no block corner changes nothing; one along the x edges (y = 0) leaves them
+  // and clusters the y edges leaving it.
+  RowMatrixX3d across(2, 3);
+  across << 0.5, -1.0, 0.0, 0.5, 2.0, 0.0;
+  options.featureSpacings = {FeatureSpacing{across, 0.01, 0.0}};
+  EXPECT_EQ(refineBlockMesh(mesh, options).grid.blocks()[0].points, plain.grid.blocks()[0].points);
+  RowMatrixX3d along(2, 3);
+  along << -1.0, 0.0, 0.0, 4.0, 0.0, 0.0;
+  options.featureSpacings = {FeatureSpacing{along, 0.01, 0.0}};
+  const RefinedGrid alongX = refineBlockMesh(mesh, options);
+  for (double x : steps(alongX, 0, 0, 0)) EXPECT_NEAR(x, 0.1, 1e-12);
+  EXPECT_NEAR(steps(alongX, 0, 1, 0).front() / 0.01, 1.0, 1e-6);
+  // Bad features are named.
+  for (const FeatureSpacing& bad :
+       {FeatureSpacing{line, 0.0, 0.0}, FeatureSpacing{line.topRows(1), 0.01, 0.0},
+        FeatureSpacing{RowMatrixX3d::Zero(2, 3), 0.01, 0.0}, FeatureSpacing{line, 0.01, -1.0}}) {
+    options.featureSpacings = {bad};
+    EXPECT_THROW(
+        {
+          try {
+            refineBlockMesh(mesh, options);
+          } catch (const InvalidInputError& error) {
+            EXPECT_NE(std::string(error.what()).find("feature spacing 0"), std::string::npos) << error.what();
+            throw;
+          }
+        },
+        InvalidInputError);
+  }
+}
+
 TEST(GridRefinement, BlocksStackedOnAWallBlockAreRefused) {
   const test::BoxBlocks box = test::boxBlocks(0.0, true, 2);
   RefinementOptions options;

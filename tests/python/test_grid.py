@@ -273,7 +273,39 @@ class SphereGrids(unittest.TestCase):
         for b in range(limited.grid.block_count):
             np.testing.assert_array_equal(limited.grid.points(b), plain.grid.points(b))
 
+    def test_feature_spacing_clusters_the_wall_edges_leaving_a_corner(self):
+        # A short line through one corner of the cube layout, along the sphere's normal: the three
+        # wall edges leaving that corner start with the asked spacing (the wall points nearest the
+        # corner are that far along the edges' arcs; their chords are shorter by ~1e-5), the
+        # counts stay as edge_points asks, and the opposite corner keeps its uniform spacing.
+        plain = bvmesh.grid.refine(self.volume, "euler", edge_points=9, normal_points=9)
+        wall = bvmesh.grid.wall_points(plain)
+        corner = wall[np.argmax(wall.sum(axis=1))]
+        spacing = 0.02 * np.linalg.norm(corner)
+        refined = bvmesh.grid.refine(self.volume, "euler", edge_points=9, normal_points=9,
+                                     feature_spacings=[{"points": [0.9 * corner, 1.1 * corner], "spacing": spacing}])
+        self.assertEqual([refined.grid.size(b) for b in range(6)], [plain.grid.size(b) for b in range(6)])
+
+        def nearest(points, at):
+            distance = np.linalg.norm(points - at, axis=1)
+            return distance[distance > 1e-9 * np.linalg.norm(at)].min()
+
+        clustered = bvmesh.grid.wall_points(refined)
+        self.assertAlmostEqual(nearest(clustered, corner) / spacing, 1.0, delta=1e-3)
+        self.assertGreater(nearest(wall, corner), 5 * spacing)
+        self.assertAlmostEqual(nearest(clustered, -corner), nearest(wall, -corner), delta=1e-9)
+
     def test_errors_name_the_problem(self):
+        line = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]
+        for bad, message in ((dict(points=line[:1], spacing=0.1), "feature spacing 0: the line needs at least two"),
+                             (dict(points=line, spacing=-1.0), "feature spacing 0: the spacing"),
+                             (dict(points=[[0.0, 1.0]] * 2, spacing=0.1), r"feature_spacings\[0\]\['points'\] must have shape"),
+                             (dict(points=line, spacing=0.1, width=2), "unknown key 'width'"),
+                             (dict(points=line), "needs 'points' and 'spacing'")):
+            with self.assertRaisesRegex(ValueError, message):
+                bvmesh.grid.refine(self.volume, "euler", feature_spacings=[bad])
+        with self.assertRaisesRegex(ValueError, "sequence of dicts"):
+            bvmesh.grid.refine(self.volume, "euler", feature_spacings="leading edge")
         with self.assertRaisesRegex(ValueError, "max_turning_angle"):
             bvmesh.grid.refine(self.volume, "euler", max_turning_angle=-5.0)
         for bad in (0.5, float("nan")):

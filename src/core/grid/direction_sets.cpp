@@ -1,5 +1,7 @@
 #include "core/grid/direction_sets.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -205,6 +207,120 @@ EdgeTables tabulateEdges(const std::vector<volume::Block>& blocks, const std::ve
   return tables;
 }
 
+// The ends of the wall blocks' tangential wall edges: a clamped curve starts at its first pole,
+// leaving towards its second.
+struct EdgeEnd {
+  std::array<double, 3> corner;
+  Eigen::Vector3d outward;  // unit tangent from the corner into the edge
+  double length;
+  size_t node;  // its block direction, 3 b + d
+  size_t root;
+  int sharedEnd;  // 0: the set's start, 1: its end
+};
+
+std::vector<EdgeEnd> wallEdgeEnds(const std::vector<volume::Block>& blocks,
+                                  const std::vector<BlockPlan>& plans, const DirectionSets& sets,
+                                  const EdgeTables& edges) {
+  std::vector<EdgeEnd> ends;
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    const int n = plans[b].normalDirection;
+    if (n < 0) continue;
+    for (int d = 0; d < 3; ++d) {
+      if (d == n) continue;
+      const auto [root, parity] = sets.find(static_cast<int>(3 * b) + d);
+      for (int e = 0; e < 4; ++e) {
+        if (!onWallOrNoWall(plans[b], d, e)) continue;
+        const RowMatrixX3d& poles = edgeCurve(blocks[b].volume, d, e).poles;
+        const double length = edges.arcs[b][static_cast<size_t>(d)][static_cast<size_t>(e)].length();
+        for (int end = 0; end < 2; ++end) {
+          const Eigen::Index at = end == 0 ? 0 : poles.rows() - 1;
+          const Eigen::Index next = end == 0 ? 1 : poles.rows() - 2;
+          const Eigen::Vector3d corner = poles.row(at).transpose();
+          ends.push_back({{corner.x(), corner.y(), corner.z()},
+                          (poles.row(next).transpose() - corner).normalized(),
+                          length,
+                          3 * b + static_cast<size_t>(d),
+                          static_cast<size_t>(root),
+                          end ^ parity});
+        }
+      }
+    }
+  }
+  return ends;
+}
+
+// Distance from `point` to a polyline, and the unit direction of its nearest segment.
+std::pair<double, Eigen::Vector3d> nearestOnPolyline(const RowMatrixX3d& line, const Eigen::Vector3d& point) {
+  double nearest = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero();
+  for (Eigen::Index k = 1; k < line.rows(); ++k) {
+    const Eigen::Vector3d a = line.row(k - 1).transpose();
+    const Eigen::Vector3d segment = line.row(k).transpose() - a;
+    const double t = std::clamp((point - a).dot(segment) / segment.squaredNorm(), 0.0, 1.0);
+    const double distance = (a + t * segment - point).norm();
+    if (distance < nearest) {
+      nearest = distance;
+      direction = segment.normalized();
+    }
+  }
+  return {nearest, direction};
+}
+
+// Per set end (indexed by its root), the spacing wall features ask there (0: none) and the
+// longest wall edge of the set that ends on one of them and leaves it (more than 45 degrees off
+// the line's direction); a set's other edges share its fractions, so they get less.
+struct FeatureDemand {
+  std::array<double, 2> spacing{0.0, 0.0};
+  std::array<double, 2> length{0.0, 0.0};
+};
+
+std::vector<FeatureDemand> featureDemands(const std::vector<EdgeEnd>& ends,
+                                          const std::vector<FeatureSpacing>& features, size_t nodes) {
+  std::vector<FeatureDemand> demands(nodes);
+  if (features.empty()) return demands;
+  Eigen::AlignedBox3d wall;
+  for (const EdgeEnd& end : ends) wall.extend(Eigen::Vector3d(end.corner[0], end.corner[1], end.corner[2]));
+  const double defaultTolerance = 1e-3 * wall.diagonal().norm();
+  const double alongTheLine = std::cos(M_PI / 4.0);
+  for (const FeatureSpacing& feature : features) {
+    const double tolerance = feature.tolerance > 0.0 ? feature.tolerance : defaultTolerance;
+    for (const EdgeEnd& end : ends) {
+      const Eigen::Vector3d corner(end.corner[0], end.corner[1], end.corner[2]);
+      const auto [distance, direction] = nearestOnPolyline(feature.points, corner);
+      if (distance > tolerance || std::abs(direction.dot(end.outward)) >= alongTheLine) continue;
+      FeatureDemand& demand = demands[end.root];
+      const auto at = static_cast<size_t>(end.sharedEnd);
+      demand.spacing[at] =
+          demand.spacing[at] > 0.0 ? std::min(demand.spacing[at], feature.spacing) : feature.spacing;
+      demand.length[at] = std::max(demand.length[at], end.length);
+    }
+  }
+  return demands;
+}
+
+// The fewest cells on a line of length `length` that start at spacings s0 and s1 at its ends (0:
+// none) and grow by at most `growth` to `spacing` (geometric, then uniform; where the two graded
+// parts meet first, geometric from both ends to the middle).
+int gradedCells(double length, double s0, double s1, double spacing, double growth) {
+  const auto graded = [&](double s, double reach) {  // cells and length from s up to the spacing
+    if (!(s > 0.0 && s < spacing)) return std::pair<int, double>{0, 0.0};
+    const int cells = static_cast<int>(std::ceil(std::log(spacing / s) / std::log(growth)));
+    return std::pair<int, double>{cells,
+                                  std::min(reach, s * (std::pow(growth, cells) - 1.0) / (growth - 1.0))};
+  };
+  const auto [k0, l0] = graded(s0, length);
+  const auto [k1, l1] = graded(s1, length);
+  if (l0 + l1 < length)
+    return k0 + k1 + static_cast<int>(std::ceil((length - l0 - l1) / spacing * (1.0 - 1e-12)));
+  const auto toward = [&](double s, double reach) {  // geometric from s over `reach`
+    return s > 0.0
+               ? static_cast<int>(std::ceil(std::log(1.0 + reach * (growth - 1.0) / s) / std::log(growth)))
+               : 0;
+  };
+  if (k0 > 0 && k1 > 0) return toward(s0, 0.5 * length) + toward(s1, 0.5 * length);
+  return toward(k0 > 0 ? s0 : s1, length);
+}
+
 // Point counts per direction node: `normalPoints` in wall-normal sets, else what the set's
 // counted edges need at `spacing` (edge_points without one).
 struct PointCounts {
@@ -213,6 +329,10 @@ struct PointCounts {
   const EdgeTables& edges;
   double maxTurning;
   int edgePoints;
+  // With a spacing, a set also takes the cells its longest feature edge needs to grow from the
+  // features' spacings to the set's by at most `growth`.
+  const std::vector<FeatureDemand>& featureDemand;
+  double growth;
 
   std::vector<int> operator()(double spacing, int normalPoints) const {
     std::vector<int> count(wallParity.size(), 0);
@@ -224,6 +344,12 @@ struct PointCounts {
         double cells = 0.0;
         for (const TurningTable* edge : edges.counted[root])
           cells = std::max(cells, edge->measure(spacing, maxTurning));
+        const FeatureDemand& demand = featureDemand[root];
+        const double featureLength = std::max(demand.length[0], demand.length[1]);
+        if (featureLength > 0.0) {
+          cells = std::max(cells, static_cast<double>(gradedCells(featureLength, demand.spacing[0],
+                                                                  demand.spacing[1], spacing, growth)));
+        }
         // An edge a whole number of spacings long (to the rounding of its arc length) takes no extra point.
         count[node] = std::max(2, static_cast<int>(std::ceil(cells * (1.0 - 1e-12))) + 1);
       } else {
@@ -302,43 +428,9 @@ std::vector<std::optional<SharedMeasure>> sharedMeasures(
 // does. Continuations: the wall edges of other blocks or directions that start at the end's
 // corner (shared corners are bit-identical points) and leave it within 45 degrees of straight
 // on; their spacing is their mean (length over cells).
-std::vector<std::array<double, 2>> continuationEndSteps(const std::vector<volume::Block>& blocks,
-                                                        const std::vector<BlockPlan>& plans,
-                                                        const DirectionSets& sets, const EdgeTables& edges,
+std::vector<std::array<double, 2>> continuationEndSteps(const std::vector<EdgeEnd>& ends,
+                                                        const EdgeTables& edges,
                                                         const std::vector<int>& counts, double maxJump) {
-  struct EdgeEnd {
-    std::array<double, 3> corner;
-    Eigen::Vector3d outward;  // unit tangent from the corner into the edge
-    double spacing;
-    size_t root;
-    int sharedEnd;  // 0: the set's start, 1: its end
-  };
-  std::vector<EdgeEnd> ends;
-  for (size_t b = 0; b < blocks.size(); ++b) {
-    const int n = plans[b].normalDirection;
-    if (n < 0) continue;
-    for (int d = 0; d < 3; ++d) {
-      if (d == n) continue;
-      const auto [root, parity] = sets.find(static_cast<int>(3 * b) + d);
-      for (int e = 0; e < 4; ++e) {
-        if (!onWallOrNoWall(plans[b], d, e)) continue;
-        // A clamped curve starts at its first pole, leaving towards its second.
-        const RowMatrixX3d& poles = edgeCurve(blocks[b].volume, d, e).poles;
-        const double spacing = edges.arcs[b][static_cast<size_t>(d)][static_cast<size_t>(e)].length() /
-                               (counts[3 * b + static_cast<size_t>(d)] - 1);
-        for (int end = 0; end < 2; ++end) {
-          const Eigen::Index at = end == 0 ? 0 : poles.rows() - 1;
-          const Eigen::Index next = end == 0 ? 1 : poles.rows() - 2;
-          const Eigen::Vector3d corner = poles.row(at).transpose();
-          ends.push_back({{corner.x(), corner.y(), corner.z()},
-                          (poles.row(next).transpose() - corner).normalized(),
-                          spacing,
-                          static_cast<size_t>(root),
-                          end ^ parity});
-        }
-      }
-    }
-  }
   std::map<std::array<double, 3>, std::vector<size_t>> atCorner;
   for (size_t k = 0; k < ends.size(); ++k) atCorner[ends[k].corner].push_back(k);
   const double straightOn = std::cos(M_PI / 4.0);
@@ -348,7 +440,7 @@ std::vector<std::array<double, 2>> continuationEndSteps(const std::vector<volume
     for (size_t other : atCorner[end.corner]) {
       if (ends[other].outward.dot(end.outward) >= -straightOn) continue;
       double& known = finest[end.root][static_cast<size_t>(end.sharedEnd)];
-      known = std::min(known, ends[other].spacing);
+      known = std::min(known, ends[other].length / (counts[ends[other].node] - 1));
     }
   }
   // A set is never clustered to less than an eighth of its mean spacing: a continuation far finer
@@ -364,6 +456,34 @@ std::vector<std::array<double, 2>> continuationEndSteps(const std::vector<volume
     for (size_t end = 0; end < 2; ++end) {
       const double limited = maxJump * finest[root][end];
       if (limited < own) steps[root][end] = std::max(limited, own / kMostClustering) / longestEdge[root];
+    }
+  }
+  return steps;
+}
+
+// Per set and end, the step as a fraction of each edge's length that gives the longest edge on a
+// feature the feature's spacing; 0 where none asks or the set's own spacing is already as fine.
+std::vector<std::array<double, 2>> featureEndSteps(const std::vector<FeatureDemand>& demands,
+                                                   const std::vector<int>& counts) {
+  std::vector<std::array<double, 2>> steps(counts.size(), {0.0, 0.0});
+  for (size_t root = 0; root < counts.size(); ++root) {
+    for (size_t end = 0; end < 2; ++end) {
+      const double length = demands[root].length[end];
+      if (length > 0.0 && demands[root].spacing[end] < length / (counts[root] - 1)) {
+        steps[root][end] = demands[root].spacing[end] / length;
+      }
+    }
+  }
+  return steps;
+}
+
+// Per set and end the finer of two clusterings (0: none).
+std::vector<std::array<double, 2>> finerSteps(std::vector<std::array<double, 2>> steps,
+                                              const std::vector<std::array<double, 2>>& others) {
+  for (size_t root = 0; root < steps.size(); ++root) {
+    for (size_t end = 0; end < 2; ++end) {
+      const double other = others[root][end];
+      if (other > 0.0) steps[root][end] = steps[root][end] > 0.0 ? std::min(steps[root][end], other) : other;
     }
   }
   return steps;
@@ -455,7 +575,10 @@ std::vector<BlockPlan> planDirectionSets(const std::vector<volume::Block>& block
   // spacing that gives the cell target with the normal points known or estimated.
   const double maxTurning = options.maxTurningDegrees * M_PI / 180.0;
   const EdgeTables edges = tabulateEdges(blocks, plans, sets, maxTurning);
-  const PointCounts countsFor{sets, wallParity, edges, maxTurning, options.edgePoints};
+  const std::vector<EdgeEnd> ends = wallEdgeEnds(blocks, plans, sets, edges);
+  const std::vector<FeatureDemand> demands = featureDemands(ends, options.featureSpacings, 3 * blocks.size());
+  const PointCounts countsFor{sets,    wallParity,    edges, maxTurning, options.edgePoints,
+                              demands, options.growth};
   const int normalPoints = options.normalPoints != 0
                                ? options.normalPoints
                                : estimatedNormalPoints(plans, edges, firstHeight, options.growth);
@@ -467,10 +590,10 @@ std::vector<BlockPlan> planDirectionSets(const std::vector<volume::Block>& block
   // Tangential edge distributions: the set's shared measure, clustered at its ends as asked.
   const std::vector<std::optional<SharedMeasure>> setMeasure =
       sharedMeasures(plans, sets, wallParity, edges, counts, spacing, maxTurning);
-  const std::vector<std::array<double, 2>> endSteps =
-      options.maxSpacingJump > 0.0
-          ? continuationEndSteps(blocks, plans, sets, edges, counts, options.maxSpacingJump)
-          : std::vector<std::array<double, 2>>(3 * blocks.size(), {0.0, 0.0});
+  const std::vector<std::array<double, 2>> endSteps = finerSteps(
+      options.maxSpacingJump > 0.0 ? continuationEndSteps(ends, edges, counts, options.maxSpacingJump)
+                                   : std::vector<std::array<double, 2>>(counts.size(), {0.0, 0.0}),
+      featureEndSteps(demands, counts));
   placeEdgePoints(blocks, sets, edges, counts, setMeasure, endSteps, options.edgeEndSpacing, plans);
   return plans;
 }

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "core/common/errors.h"
+#include "core/common/input_checks.h"
 #include "core/common/parallel.h"
 #include "core/grid/block_plan.h"
 #include "core/grid/direction_sets.h"
@@ -44,6 +45,26 @@ void checkOptions(const RefinementOptions& options) {
       (options.maxSpacingJump != 0.0 && options.maxSpacingJump < 1.0)) {
     throw InvalidInputError("max_spacing_jump must be 0 (none) or a ratio >= 1 (got " +
                             std::to_string(options.maxSpacingJump) + ")");
+  }
+  for (size_t f = 0; f < options.featureSpacings.size(); ++f) {
+    const FeatureSpacing& feature = options.featureSpacings[f];
+    const std::string name = "feature spacing " + std::to_string(f);
+    if (!(std::isfinite(feature.spacing) && feature.spacing > 0.0)) {
+      throw InvalidInputError(name + ": the spacing must be a positive finite length (got " +
+                              std::to_string(feature.spacing) + ")");
+    }
+    if (!(std::isfinite(feature.tolerance) && feature.tolerance >= 0.0)) {
+      throw InvalidInputError(name + ": the tolerance must be a finite length >= 0 (got " +
+                              std::to_string(feature.tolerance) + ")");
+    }
+    if (feature.points.rows() < 2) throw InvalidInputError(name + ": the line needs at least two points");
+    checkFinitePoints(feature.points, name + " point");
+    for (Eigen::Index k = 1; k < feature.points.rows(); ++k) {
+      if (feature.points.row(k) == feature.points.row(k - 1)) {
+        throw InvalidInputError(name + ": points " + std::to_string(k - 1) + " and " + std::to_string(k) +
+                                " coincide");
+      }
+    }
   }
   if (!std::isfinite(options.growth) || options.growth <= 1.0 || options.growth > 3.0) {
     throw InvalidInputError("growth must be in (1, 3] (got " + std::to_string(options.growth) + ")");

@@ -16,6 +16,17 @@ namespace bvmesh::grid {
 
 enum class WallDistribution { Geometric, Tanh };
 
+// A wall feature (a wing's leading or trailing edge, its tip) as a polyline, and the tangential
+// spacing asked next to it. Every wall edge of a block that ends on the line (its end within
+// `tolerance` of it; 0: 1e-3 of the blocks' size) and leaves it (more than 45 degrees off the
+// line's direction there) gets a first spacing there of at most `spacing`: the longest of them
+// exactly (in arc length), the others, which share its set's fractions, less.
+struct FeatureSpacing {
+  RowMatrixX3d points;  // at least two, consecutive ones apart
+  double spacing = 0.0;
+  double tolerance = 0.0;
+};
+
 struct RefinementOptions {
   // Wall-normal lines (the direction whose end face is a wall, and every direction a connected
   // face links to it): `normalPoints` points (0: the fewest that keep the growth ratio at most
@@ -56,6 +67,10 @@ struct RefinementOptions {
   // small tip cap. OpenFOAM reads neighbours 20 times apart as small interpolation weights and 100
   // times apart in volume as a failed check. The presets of bvmesh.grid use 4.
   double maxSpacingJump = 0.0;
+  // Spacings asked at wall features, each clustering its linked sets at the ends on it (Vinokur's
+  // law, one-sided or two-sided, every edge of a set at the same fractions, the point counts as
+  // they are); where a spacing-jump limit clusters the same end, the finer of the two.
+  std::vector<FeatureSpacing> featureSpacings;
   // The flow domain the blocks were marched to: a box's or cylinder's outer faces are then tagged
   // quad by quad (grid::tagOuterQuads), not by their middle alone.
   std::optional<volume::Domain> outerDomain;
