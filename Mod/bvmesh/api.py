@@ -656,12 +656,15 @@ def volume_mesh_of(volume_mesh_object):
 
 
 def make_volume_grid(volume_mesh_object, preset="euler", name="VolumeGrid", show=None, distribution="geometric",
-                     method="bspline", **options):
+                     method="bspline", feature_edges=None, feature_spacing=0.0, **options):
     """The B-spline blocks of a VolumeMesh evaluated on a stretched, point-matched grid. preset:
     'euler' (no wall clustering) or 'rans' (first cell for y+ ~ 1). options: those of
     bvmesh.grid.refine (normal_points, first_cell_height, y_plus, reynolds_number, growth,
     edge_points, tangential_spacing, target_cells, edge_end_spacing, max_turning_angle,
-    max_spacing_jump); reynolds_number defaults to the volume mesh's. method 'subdivision'
+    max_spacing_jump); reynolds_number defaults to the volume mesh's. feature_edges: edges of
+    document objects, [(object, "Edge3"), (object, ("Edge1", "Edge5")), ...] (a wing's leading
+    edge in its CAD), where the tangential lines leaving them start at feature_spacing (model
+    units; bvmesh.grid.refine's feature_spacings). method 'subdivision'
     (option steps, default 1): instead, the control volume of the same fit, wall level and
     marching options (bvmesh.volume.control_volume) refined by volumetric Catmull-Clark, its wall
     on the fitted surface, no wall clustering. show: the boundary faces whose grid lines are
@@ -674,19 +677,24 @@ def make_volume_grid(volume_mesh_object, preset="euler", name="VolumeGrid", show
         obj.Distribution = distribution
         obj.Method = method
         _set_options(obj, volume_grid.OPTIONS + volume_grid.SUBDIVISION_OPTIONS, options, "volume grid")
+        obj.FeatureEdges = list(feature_edges or [])
+        obj.FeatureSpacing = feature_spacing
         _set_display(obj, volume_grid.DISPLAY, show)
 
     return _new_object(volume_grid.create, volume_mesh_object.Document, name, fill)
 
 
-def set_grid_options(grid_object, preset=None, distribution=None, method=None, show=None, **options):
-    """Changes the refinement of a VolumeGrid (as make_volume_grid) and recomputes; on a failure
-    the object keeps its previous options."""
+def set_grid_options(grid_object, preset=None, distribution=None, method=None, show=None, feature_edges=None,
+                     feature_spacing=None, **options):
+    """Changes the refinement of a VolumeGrid (as make_volume_grid; feature_edges [] clears them)
+    and recomputes; on a failure the object keeps its previous options."""
     from bvmesh.features import volume_grid
 
     return _set_and_recompute(grid_object, volume_grid.OPTIONS + volume_grid.SUBDIVISION_OPTIONS, volume_grid.DISPLAY,
                               options, show, "volume grid",
-                              {"Preset": preset, "Distribution": distribution, "Method": method})
+                              {"Preset": preset, "Distribution": distribution, "Method": method,
+                               "FeatureEdges": None if feature_edges is None else list(feature_edges),
+                               "FeatureSpacing": feature_spacing})
 
 
 def grid_of(grid_object):

@@ -117,6 +117,41 @@ class VolumeObjects(unittest.TestCase):
         finally:
             self.doc.removeObject(grid.Name)
 
+    def test_feature_edges_set_the_spacing_where_lines_leave_them(self):
+        # A line along the sphere's normal through a corner of its cube layout, as a document
+        # object's edge: the wall lines leaving that corner start at FeatureSpacing.
+        wall = grid_module.wall_points(api.grid_of(self.grid))
+        corner = wall[np.argmax(wall.sum(axis=1))]
+        line = self.doc.addObject("Part::Feature", "CornerLine")
+        line.Shape = Part.makeLine(FreeCAD.Vector(*(0.9 * corner)), FreeCAD.Vector(*(1.1 * corner)))
+        spacing = 0.02
+        grid = api.make_volume_grid(self.volume, "euler", edge_points=9, normal_points=9,
+                                    feature_edges=[(line, "Edge1")], feature_spacing=spacing)
+        try:
+            points = grid_module.wall_points(api.grid_of(grid))
+            distance = np.linalg.norm(points - corner, axis=1)
+            self.assertAlmostEqual(distance[distance > 1e-9].min() / spacing, 1.0, delta=1e-3)
+            names = [o.Name for o in self.doc.Objects]
+            digest = grid.Digest
+            with self.assertRaisesRegex(Exception, "not an edge"):
+                api.set_grid_options(grid, feature_edges=[(line, "Vertex1")])
+            with self.assertRaisesRegex(Exception, "needs FeatureEdges"):
+                api.set_grid_options(grid, feature_edges=[])
+            self.assertEqual(([o.Name for o in self.doc.Objects], grid.Digest), (names, digest))
+            self.assertEqual(len(grid.FeatureEdges), 1)
+            # A grid restored from a document saved before the properties existed is unchanged.
+            api.set_grid_options(grid, feature_edges=[], feature_spacing=0.0)
+            plain = grid.Digest
+            for prop in ("FeatureEdges", "FeatureSpacing"):
+                grid.removeProperty(prop)
+            grid.Proxy.setup(grid)
+            grid.touch()
+            self.doc.recompute()
+            self.assertEqual(grid.Digest, plain)
+        finally:
+            self.doc.removeObject(grid.Name)
+            self.doc.removeObject(line.Name)
+
     def test_span_station_cut_of_a_body_without_symmetry_plane(self):
         point, normal = api.span_station(self.grid, 0.5)
         self.assertAlmostEqual(point.y, 0.0, delta=1e-2)

@@ -51,6 +51,14 @@ SUBDIVISION_OPTIONS = (
     ("SubdivisionSteps", "steps", "App::PropertyInteger", 1,
      "Method subdivision: volumetric Catmull-Clark steps of the control volume (8 times the cells each)"),
 )
+# Feature lines: edges of any shape (a wing's leading edge in its CAD) along which the tangential
+# lines leaving them start at FeatureSpacing (bvmesh.grid.refine's feature_spacings).
+FEATURE_PROPERTIES = (
+    ("FeatureEdges", "App::PropertyLinkSubList",
+     "Edges (of the CAD or any shape) where the tangential lines leaving them start at FeatureSpacing: "
+     "a wing's leading edge"),
+    ("FeatureSpacing", "App::PropertyFloat", "Tangential spacing at the FeatureEdges (model units); 0: none"),
+)
 DISPLAY = (("ShowWall", "wall", True), ("ShowSymmetry", "symmetry", True), ("ShowFarfield", "farfield", False))
 
 
@@ -66,7 +74,26 @@ def refine_options(obj):
         settings[option] = value
     if "reynolds_number" not in settings:
         settings["reynolds_number"] = obj.VolumeMesh.ReynoldsNumber
+    if obj.FeatureSpacing != 0.0 or obj.FeatureEdges:
+        settings["feature_spacings"] = [{"points": points, "spacing": obj.FeatureSpacing}
+                                        for points in feature_lines(obj.FeatureEdges)]
     return settings
+
+
+def feature_lines(links):
+    """The edges of a PropertyLinkSubList value as polylines (lists of (x, y, z)), each within
+    1e-6 of its length of the edge."""
+    if not links:
+        raise ValueError("FeatureSpacing needs FeatureEdges: the edges it applies to")
+    lines = []
+    for shape_object, names in links:
+        for name in (names if isinstance(names, (list, tuple)) else [names]):
+            if not name.startswith("Edge"):
+                raise ValueError("feature edge {}.{} is not an edge".format(shape_object.Label, name))
+            edge = shape_object.Shape.getElement(name)
+            points = edge.discretize(Deflection=1e-6 * max(edge.Length, 1e-300))
+            lines.append([(p.x, p.y, p.z) for p in points])
+    return lines
 
 
 def grid_digest(grid):
@@ -121,6 +148,8 @@ class VolumeGridProxy(RecomputedProxy):
         restored = "Digest" in obj.PropertiesList  # an object of a saved document, or a new one
         for prop, _, type_name, default, doc in OPTIONS:
             add_property(obj, type_name, prop, "Refinement", doc, RESTORED_WITHOUT.get(prop, default) if restored else default)
+        for prop, type_name, doc in FEATURE_PROPERTIES:
+            add_property(obj, type_name, prop, "Refinement", doc)
         for prop, condition, default in DISPLAY:
             add_property(obj, "App::PropertyBool", prop, "Display",
                          "Show the grid lines on the {} faces".format(condition), default)
