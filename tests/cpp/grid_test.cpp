@@ -548,15 +548,16 @@ TEST(GridRefinement, AutomaticNormalPointsFollowTheLongestLineNotTheLongestPolyg
   EXPECT_LE(refined.growthMax, 1.2 * (1 + 1e-9));
 }
 
-// A block on the box [x0, x1] x [0, 1] x [0, 1] (poles on the identity map), its wall at z = 0.
-volume::Block wallBox(double x0, double x1) {
+// A block on the box [x0, x1] x [y0, y1] x [0, 1] (poles on the identity map), its wall at z = 0.
+volume::Block wallBox(double x0, double x1, double y0 = 0.0, double y1 = 1.0) {
   const std::vector<double> knots = uniformClampedKnots(3, 1);
   const std::vector<double> at = grevilleAbscissae(knots, 3);
   RowMatrixX3d poles(64, 3);
   Eigen::Index row = 0;
   for (const double z : at) {
     for (const double y : at) {
-      for (const double x : at) poles.row(row++) = Vector3d(x0 + (x1 - x0) * x, y, z).transpose();
+      for (const double x : at)
+        poles.row(row++) = Vector3d(x0 + (x1 - x0) * x, y0 + (y1 - y0) * y, z).transpose();
     }
   }
   volume::Block block;
@@ -681,6 +682,38 @@ TEST(GridRefinement, FeatureSpacingsClusterTheWallEdgesLeavingTheLine) {
           }
         },
         InvalidInputError);
+  }
+}
+
+TEST(GridRefinement, FeatureClusteringFadesBlockByBlockAlongItsSet) {
+  // Three blocks in a row along y share their x lines' set; a feature line crosses x = 0 at y = 0
+  // only, so it asks its spacing of block 0's x edge at y = 0 alone. The x edges 1, 2 and 3
+  // blocks away (y = 1, 2, 3) start at u (f / u)^(1 / 2^k), u the uniform step: the clustering
+  // fades instead of running through the whole set.
+  std::vector<volume::Block> blocks{wallBox(0.0, 1.0, 0.0, 1.0), wallBox(0.0, 1.0, 1.0, 2.0),
+                                    wallBox(0.0, 1.0, 2.0, 3.0)};
+  for (int b = 0; b < 2; ++b) {
+    blocks[static_cast<size_t>(b)].faces[3].condition = volume::BoundaryCondition::Connected;
+    blocks[static_cast<size_t>(b)].faces[3].neighbour.block = b + 1;
+    blocks[static_cast<size_t>(b)].faces[3].neighbour.face = 2;
+    blocks[static_cast<size_t>(b) + 1].faces[2].condition = volume::BoundaryCondition::Connected;
+    blocks[static_cast<size_t>(b) + 1].faces[2].neighbour.block = b;
+    blocks[static_cast<size_t>(b) + 1].faces[2].neighbour.face = 3;
+  }
+  const volume::BlockMesh mesh(std::move(blocks));
+  RefinementOptions options;
+  options.edgePoints = 11;  // the count as asked: u = 0.1
+  options.normalPoints = 3;
+  RowMatrixX3d line(2, 3);
+  line << 0.0, -1.0, 0.0, 0.0, 0.5, 0.0;
+  options.featureSpacings = {FeatureSpacing{line, 0.01, 1e-6}};
+  const RefinedGrid refined = refineBlockMesh(mesh, options);
+  const double u = 0.1, f = 0.01;
+  for (int k = 0; k <= 3; ++k) {
+    const GridBlock& block = refined.grid.blocks()[static_cast<size_t>(k == 3 ? 2 : k)];
+    const int j = k == 3 ? block.size[1] - 1 : 0;
+    const double first = block.points(block.index(1, j, 0), 0) - block.points(block.index(0, j, 0), 0);
+    EXPECT_NEAR(first / (u * std::pow(f / u, std::pow(0.5, k))), 1.0, 1e-6) << "edge " << k;
   }
 }
 

@@ -214,6 +214,7 @@ struct EdgeEnd {
   Eigen::Vector3d outward;  // unit tangent from the corner into the edge
   double length;
   size_t node;  // its block direction, 3 b + d
+  int edge;     // e = s1 + 2 s2 (BlockPlan)
   size_t root;
   int sharedEnd;  // 0: the set's start, 1: its end
 };
@@ -240,6 +241,7 @@ std::vector<EdgeEnd> wallEdgeEnds(const std::vector<volume::Block>& blocks,
                           (poles.row(next).transpose() - corner).normalized(),
                           length,
                           3 * b + static_cast<size_t>(d),
+                          e,
                           static_cast<size_t>(root),
                           end ^ parity});
         }
@@ -274,28 +276,35 @@ struct FeatureDemand {
   std::array<double, 2> length{0.0, 0.0};
 };
 
-std::vector<FeatureDemand> featureDemands(const std::vector<EdgeEnd>& ends,
-                                          const std::vector<FeatureSpacing>& features, size_t nodes) {
-  std::vector<FeatureDemand> demands(nodes);
-  if (features.empty()) return demands;
+struct FeatureMatches {
+  std::vector<FeatureDemand> demands;  // per set root
+  std::vector<char> onFeature;         // per edge end
+};
+
+FeatureMatches featureDemands(const std::vector<EdgeEnd>& ends, const std::vector<FeatureSpacing>& features,
+                              size_t nodes) {
+  FeatureMatches matches{std::vector<FeatureDemand>(nodes), std::vector<char>(ends.size(), 0)};
+  if (features.empty()) return matches;
   Eigen::AlignedBox3d wall;
   for (const EdgeEnd& end : ends) wall.extend(Eigen::Vector3d(end.corner[0], end.corner[1], end.corner[2]));
   const double defaultTolerance = 1e-3 * wall.diagonal().norm();
   const double alongTheLine = std::cos(M_PI / 4.0);
   for (const FeatureSpacing& feature : features) {
     const double tolerance = feature.tolerance > 0.0 ? feature.tolerance : defaultTolerance;
-    for (const EdgeEnd& end : ends) {
+    for (size_t k = 0; k < ends.size(); ++k) {
+      const EdgeEnd& end = ends[k];
       const Eigen::Vector3d corner(end.corner[0], end.corner[1], end.corner[2]);
       const auto [distance, direction] = nearestOnPolyline(feature.points, corner);
       if (distance > tolerance || std::abs(direction.dot(end.outward)) >= alongTheLine) continue;
-      FeatureDemand& demand = demands[end.root];
+      matches.onFeature[k] = 1;
+      FeatureDemand& demand = matches.demands[end.root];
       const auto at = static_cast<size_t>(end.sharedEnd);
       demand.spacing[at] =
           demand.spacing[at] > 0.0 ? std::min(demand.spacing[at], feature.spacing) : feature.spacing;
       demand.length[at] = std::max(demand.length[at], end.length);
     }
   }
-  return demands;
+  return matches;
 }
 
 // The fewest cells on a line of length `length` that start at spacings s0 and s1 at its ends (0:
@@ -461,30 +470,116 @@ std::vector<std::array<double, 2>> continuationEndSteps(const std::vector<EdgeEn
   return steps;
 }
 
-// Per set and end, the step as a fraction of each edge's length that gives the longest edge on a
-// feature the feature's spacing; 0 where none asks or the set's own spacing is already as fine.
-std::vector<std::array<double, 2>> featureEndSteps(const std::vector<FeatureDemand>& demands,
-                                                   const std::vector<int>& counts) {
-  std::vector<std::array<double, 2>> steps(counts.size(), {0.0, 0.0});
+// Per block direction (3 b + d) and edge, the steps at its set's two ends as fractions of the
+// edge's length, in the set's sense (0: none).
+using EdgeSteps = std::vector<std::array<std::array<double, 2>, 4>>;
+
+// Feature clustering, graded along each set. The longest wall edge on a feature gets its spacing
+// (step f of its length); a wall edge k blocks away from the feature's edges (through the other
+// wall edge of a block, and the same edge shared by neighbours) gets u (f / u)^(1 / 2^k), u the
+// uniform step, so the clustering fades block by block instead of running through the whole set:
+// a wing's nose set runs on through the tip cap into the trailing edge's small corner blocks,
+// which a full clustering squeezed. Neighbouring wall edges of a block differ by at most a
+// square root of the cluster, which their blended inner lines take without shearing. A set that
+// holds a block without a wall clusters every edge alike (its lines are not held at a wall).
+EdgeSteps featureEdgeSteps(const std::vector<BlockPlan>& plans, const DirectionSets& sets,
+                           const std::vector<EdgeEnd>& ends, const FeatureMatches& matches,
+                           const std::vector<int>& counts) {
+  constexpr double kFadePerBlock = 0.5;
+  EdgeSteps steps(counts.size());
+  std::vector<std::array<double, 2>> featureStep(counts.size(), {0.0, 0.0});
+  bool any = false;
   for (size_t root = 0; root < counts.size(); ++root) {
     for (size_t end = 0; end < 2; ++end) {
-      const double length = demands[root].length[end];
-      if (length > 0.0 && demands[root].spacing[end] < length / (counts[root] - 1)) {
-        steps[root][end] = demands[root].spacing[end] / length;
+      const double length = matches.demands[root].length[end];
+      if (length > 0.0 && matches.demands[root].spacing[end] < length / (counts[root] - 1)) {
+        featureStep[root][end] = matches.demands[root].spacing[end] / length;
+        any = true;
+      }
+    }
+  }
+  if (!any) return steps;
+  std::vector<char> alike(counts.size(), 0);
+  for (size_t b = 0; b < plans.size(); ++b) {
+    if (plans[b].normalDirection >= 0) continue;
+    for (int d = 0; d < 3; ++d) {
+      const auto root = static_cast<size_t>(sets.find(static_cast<int>(3 * b) + d).first);
+      alike[root] = 1;
+      for (auto& edge : steps[3 * b + static_cast<size_t>(d)]) edge = featureStep[root];
+    }
+  }
+  // Wall edges (pairs of ends) as graph nodes: one per physical edge, found by its corners.
+  std::map<std::array<double, 6>, int> byCorners;
+  std::vector<int> nodeOf(ends.size() / 2);
+  for (size_t w = 0; w < nodeOf.size(); ++w) {
+    std::array<double, 3> a = ends[2 * w].corner, b = ends[2 * w + 1].corner;
+    if (b < a) std::swap(a, b);
+    nodeOf[w] = byCorners
+                    .emplace(std::array<double, 6>{a[0], a[1], a[2], b[0], b[1], b[2]},
+                             static_cast<int>(byCorners.size()))
+                    .first->second;
+  }
+  std::vector<std::vector<int>> next(byCorners.size());
+  std::map<size_t, std::vector<int>> wallEdgesOf;  // per block direction
+  for (size_t w = 0; w < nodeOf.size(); ++w) wallEdgesOf[ends[2 * w].node].push_back(nodeOf[w]);
+  for (const auto& [node, ids] : wallEdgesOf) {
+    for (int a : ids) {
+      for (int b : ids) {
+        if (a != b) next[static_cast<size_t>(a)].push_back(b);
+      }
+    }
+  }
+  for (size_t end = 0; end < 2; ++end) {
+    std::vector<int> hops(byCorners.size(), -1);
+    std::vector<int> queue;
+    for (size_t k = 0; k < ends.size(); ++k) {
+      if (matches.onFeature[k] != 0 && static_cast<size_t>(ends[k].sharedEnd) == end &&
+          hops[static_cast<size_t>(nodeOf[k / 2])] < 0) {
+        hops[static_cast<size_t>(nodeOf[k / 2])] = 0;
+        queue.push_back(nodeOf[k / 2]);
+      }
+    }
+    for (size_t at = 0; at < queue.size(); ++at) {
+      for (int n : next[static_cast<size_t>(queue[at])]) {
+        if (hops[static_cast<size_t>(n)] >= 0) continue;
+        hops[static_cast<size_t>(n)] = hops[static_cast<size_t>(queue[at])] + 1;
+        queue.push_back(n);
+      }
+    }
+    for (size_t w = 0; w < nodeOf.size(); ++w) {
+      const EdgeEnd& edge = ends[2 * w];
+      const double f = featureStep[edge.root][end];
+      const int k = hops[static_cast<size_t>(nodeOf[w])];
+      if (!(f > 0.0) || alike[edge.root] != 0 || k < 0) continue;
+      const double uniform = 1.0 / (counts[edge.root] - 1);
+      const double share = std::pow(kFadePerBlock, k);
+      if (share > 1e-3) {
+        steps[edge.node][static_cast<size_t>(edge.edge)][end] = uniform * std::pow(f / uniform, share);
+      }
+    }
+  }
+  // A wall block's outer edges (whose points its wall-normal lines place) as the wall edge below.
+  for (size_t b = 0; b < plans.size(); ++b) {
+    const int n = plans[b].normalDirection;
+    if (n < 0) continue;
+    for (int d = 0; d < 3; ++d) {
+      if (d == n) continue;
+      const int first = otherDirections(d)[0];
+      auto& edges = steps[3 * b + static_cast<size_t>(d)];
+      for (int e = 0; e < 4; ++e) {
+        if (onWallOrNoWall(plans[b], d, e)) continue;
+        const int below = n == first ? (e & 2) | plans[b].wallEnd : (e & 1) | (plans[b].wallEnd << 1);
+        edges[static_cast<size_t>(e)] = edges[static_cast<size_t>(below)];
       }
     }
   }
   return steps;
 }
 
-// Per set and end the finer of two clusterings (0: none).
-std::vector<std::array<double, 2>> finerSteps(std::vector<std::array<double, 2>> steps,
-                                              const std::vector<std::array<double, 2>>& others) {
-  for (size_t root = 0; root < steps.size(); ++root) {
-    for (size_t end = 0; end < 2; ++end) {
-      const double other = others[root][end];
-      if (other > 0.0) steps[root][end] = steps[root][end] > 0.0 ? std::min(steps[root][end], other) : other;
-    }
+// Per end the finer of two clusterings (0: none).
+std::array<double, 2> finerSteps(std::array<double, 2> steps, const std::array<double, 2>& others) {
+  for (size_t end = 0; end < 2; ++end) {
+    if (others[end] > 0.0) steps[end] = steps[end] > 0.0 ? std::min(steps[end], others[end]) : others[end];
   }
   return steps;
 }
@@ -533,8 +628,8 @@ std::vector<double> edgeFractions(const SharedMeasure& shared, int root, int par
 void placeEdgePoints(const std::vector<volume::Block>& blocks, const DirectionSets& sets,
                      const EdgeTables& edges, const std::vector<int>& counts,
                      const std::vector<std::optional<SharedMeasure>>& setMeasure,
-                     const std::vector<std::array<double, 2>>& endSteps, double edgeEndSpacing,
-                     std::vector<BlockPlan>& plans) {
+                     const std::vector<std::array<double, 2>>& setSteps, const EdgeSteps& featureSteps,
+                     double edgeEndSpacing, std::vector<BlockPlan>& plans) {
   FractionsCache fractionsOf;
   for (size_t b = 0; b < blocks.size(); ++b) {
     BlockPlan& plan = plans[b];
@@ -549,9 +644,12 @@ void placeEdgePoints(const std::vector<volume::Block>& blocks, const DirectionSe
           throw InvalidInputError(blockText(b) + " has an edge of zero length along " + "uvw"[d] +
                                   " (collapsed edges cannot be refined)");
         }
-        const std::vector<double> sigma = edgeFractions(*setMeasure[static_cast<size_t>(root)], root, parity,
-                                                        points, std::min(edgeEndSpacing / arc.length(), 0.5),
-                                                        endSteps[static_cast<size_t>(root)], fractionsOf);
+        const std::vector<double> sigma =
+            edgeFractions(*setMeasure[static_cast<size_t>(root)], root, parity, points,
+                          std::min(edgeEndSpacing / arc.length(), 0.5),
+                          finerSteps(setSteps[static_cast<size_t>(root)],
+                                     featureSteps[3 * b + static_cast<size_t>(d)][static_cast<size_t>(e)]),
+                          fractionsOf);
         auto& parameters = plan.edgeParameters[static_cast<size_t>(d)][static_cast<size_t>(e)];
         parameters.resize(static_cast<size_t>(points));
         for (int i = 0; i < points; ++i)
@@ -576,9 +674,9 @@ std::vector<BlockPlan> planDirectionSets(const std::vector<volume::Block>& block
   const double maxTurning = options.maxTurningDegrees * M_PI / 180.0;
   const EdgeTables edges = tabulateEdges(blocks, plans, sets, maxTurning);
   const std::vector<EdgeEnd> ends = wallEdgeEnds(blocks, plans, sets, edges);
-  const std::vector<FeatureDemand> demands = featureDemands(ends, options.featureSpacings, 3 * blocks.size());
-  const PointCounts countsFor{sets,    wallParity,    edges, maxTurning, options.edgePoints,
-                              demands, options.growth};
+  const FeatureMatches features = featureDemands(ends, options.featureSpacings, 3 * blocks.size());
+  const PointCounts countsFor{
+      sets, wallParity, edges, maxTurning, options.edgePoints, features.demands, options.growth};
   const int normalPoints = options.normalPoints != 0
                                ? options.normalPoints
                                : estimatedNormalPoints(plans, edges, firstHeight, options.growth);
@@ -590,11 +688,11 @@ std::vector<BlockPlan> planDirectionSets(const std::vector<volume::Block>& block
   // Tangential edge distributions: the set's shared measure, clustered at its ends as asked.
   const std::vector<std::optional<SharedMeasure>> setMeasure =
       sharedMeasures(plans, sets, wallParity, edges, counts, spacing, maxTurning);
-  const std::vector<std::array<double, 2>> endSteps = finerSteps(
+  const std::vector<std::array<double, 2>> jumpSteps =
       options.maxSpacingJump > 0.0 ? continuationEndSteps(ends, edges, counts, options.maxSpacingJump)
-                                   : std::vector<std::array<double, 2>>(counts.size(), {0.0, 0.0}),
-      featureEndSteps(demands, counts));
-  placeEdgePoints(blocks, sets, edges, counts, setMeasure, endSteps, options.edgeEndSpacing, plans);
+                                   : std::vector<std::array<double, 2>>(counts.size(), {0.0, 0.0});
+  placeEdgePoints(blocks, sets, edges, counts, setMeasure, jumpSteps,
+                  featureEdgeSteps(plans, sets, ends, features, counts), options.edgeEndSpacing, plans);
   return plans;
 }
 

@@ -18,9 +18,9 @@ enum class WallDistribution { Geometric, Tanh };
 
 // A wall feature (a wing's leading or trailing edge, its tip) as a polyline, and the tangential
 // spacing asked next to it. Every wall edge of a block that ends on the line (its end within
-// `tolerance` of it; 0: 1e-3 of the blocks' size) and leaves it (more than 45 degrees off the
+// `tolerance` of it; 0: 1e-3 of the wall's size) and leaves it (more than 45 degrees off the
 // line's direction there) gets a first spacing there of at most `spacing`: the longest of them
-// exactly (in arc length), the others, which share its set's fractions, less.
+// exactly (in arc length), the others the same fraction of their length.
 struct FeatureSpacing {
   RowMatrixX3d points;  // at least two, consecutive ones apart
   double spacing = 0.0;
@@ -67,9 +67,11 @@ struct RefinementOptions {
   // small tip cap. OpenFOAM reads neighbours 20 times apart as small interpolation weights and 100
   // times apart in volume as a failed check. The presets of bvmesh.grid use 4.
   double maxSpacingJump = 0.0;
-  // Spacings asked at wall features, each clustering its linked sets at the ends on it (Vinokur's
-  // law, one-sided or two-sided, every edge of a set at the same fractions, the point counts as
-  // they are); where a spacing-jump limit clusters the same end, the finer of the two.
+  // Spacings asked at wall features: the linked sets of the edges on them are clustered at those
+  // ends (Vinokur's law, one-sided or two-sided), the clustering fading by a square root per
+  // block away from the feature's edges; with a spacing or cell target a set takes the cells
+  // its longest feature edge needs to grow back to its spacing by at most `growth`. Where a
+  // spacing-jump limit clusters the same end, the finer of the two.
   std::vector<FeatureSpacing> featureSpacings;
   // The flow domain the blocks were marched to: a box's or cylinder's outer faces are then tagged
   // quad by quad (grid::tagOuterQuads), not by their middle alone.
