@@ -224,11 +224,21 @@ def run():
     check(turning is not None and turning.value() == 0.0, "the grid panel offers the turning limit, off")
     jump = panel.findChild(QtGui.QDoubleSpinBox, "spinMaxSpacingJump")
     check(jump is not None and jump.value() == 4.0, "the grid panel offers the spacing jump limit, at 4")
+    # The CAD's leading edge (Edge21, the straight line from the root to the tip) as a feature.
+    FreeCADGui.Selection.addSelection(doc.getObject("CAD"), "Edge21")
+    panel.findChild(QtGui.QPushButton, "buttonFeatureEdges").click()
+    FreeCADGui.Selection.clearSelection()
+    shown = panel.findChild(QtGui.QLabel, "labelFeatureEdges").text()
+    check(shown.startswith("Edge21 ("), "the panel shows the selected feature edge: " + shown)
+    panel.findChild(QtGui.QDoubleSpinBox, "spinFeatureSpacing").setValue(20.0)
+    settle()
     check(panel.grab().save(GRID_PANEL_PICTURE), "grid panel saved to " + GRID_PANEL_PICTURE)
     press_task_ok()
     grid = doc.getObject("VolumeGrid")
     check(grid is not None and grid.CellCount == 24 * 8 * 8 * 48, "the Euler grid has {} cells".format(
         grid.CellCount if grid else None))
+    check([(o.Name, tuple(names)) for o, names in grid.FeatureEdges] == [("CAD", ("Edge21",))]
+          and grid.FeatureSpacing == 20.0, "the grid takes the leading edge as a feature at 20 mm")
 
     answer_input_dialogs(0.44, "scaled_jacobian")  # the span station, then the metric
     click_toolbar("BVMesh_GridCut")
@@ -282,7 +292,7 @@ def replay_recorded_macro(grid):
     text = open(MACRO).read()
     for call in ("bvmesh.api.make_surface_fit(", "bvmesh.api.fit_to_tolerance(", "bvmesh.api.make_volume_mesh(",
                  "bvmesh.api.make_volume_grid(", "bvmesh.api.make_grid_cut(", "bvmesh.api.make_mesh_quality(",
-                 "bvmesh.api.export_grid("):
+                 "bvmesh.api.export_grid(", "feature_edges=[(App.ActiveDocument.getObject('CAD'), ('Edge21',))]"):
         check(call in text, "the recorded macro holds " + call)
     result = os.path.join(OUTPUT_DIR, "gui_volume_macro_replay.json")
     if os.path.exists(result):

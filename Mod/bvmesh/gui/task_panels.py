@@ -271,11 +271,15 @@ class _OptionsPanel(_Panel):
             changed["show"] = shown
         return changed
 
+    def argument(self, keyword, value):
+        """The keyword argument as the macro line writes it."""
+        return ", {}={!r}".format(keyword, value)
+
     def accept(self):
         from bvmesh.gui import progress
 
         changed = self.changed()
-        arguments = "".join(", {}={!r}".format(k, v) for k, v in changed.items())
+        arguments = "".join(self.argument(k, v) for k, v in changed.items())
         if self.obj is None:
             line = "bvmesh.api.{}({}{})".format(self.create_function, _object_ref(self.source), arguments)
         elif changed:
@@ -308,3 +312,44 @@ class VolumeGridPanel(_OptionsPanel):
     options, display = volume_grid.OPTIONS + volume_grid.SUBDIVISION_OPTIONS, volume_grid.DISPLAY
     combos = (("Method", "method", volume_grid.METHODS), ("Preset", "preset", volume_grid.PRESETS),
               ("Distribution", "distribution", volume_grid.DISTRIBUTIONS))
+
+    def __init__(self, obj, source=None):
+        from PySide import QtGui
+
+        super().__init__(obj, source)
+        # Feature edges as (object, (edge names, ...)), taken from the selection by the button.
+        self.feature_edges = [(o, tuple(names)) for o, names in (obj.FeatureEdges if obj is not None else [])]
+        self.widget("spin", "FeatureSpacing", 0.0).setValue(self.current("FeatureSpacing", 0.0))
+        self.form.findChild(QtGui.QPushButton, "buttonFeatureEdges").clicked.connect(self.take_selected_edges)
+        self.show_feature_edges()
+
+    def take_selected_edges(self):
+        edges = []
+        for selection in FreeCADGui.Selection.getSelectionEx():
+            names = tuple(name for name in selection.SubElementNames if name.startswith("Edge"))
+            if names:
+                edges.append((selection.Object, names))
+        self.feature_edges = edges
+        self.show_feature_edges()
+
+    def show_feature_edges(self):
+        from PySide import QtGui
+
+        text = "; ".join("{} ({})".format(", ".join(names), o.Label) for o, names in self.feature_edges)
+        self.form.findChild(QtGui.QLabel, "labelFeatureEdges").setText(text or "none")
+
+    def changed(self):
+        changed = super().changed()
+        saved = [(o, tuple(names)) for o, names in (self.obj.FeatureEdges if self.obj is not None else [])]
+        if self.feature_edges != saved:
+            changed["feature_edges"] = self.feature_edges
+        spacing = self.widget("spin", "FeatureSpacing", 0.0).value()
+        if spacing != self.current("FeatureSpacing", 0.0):
+            changed["feature_spacing"] = spacing
+        return changed
+
+    def argument(self, keyword, value):
+        if keyword != "feature_edges":
+            return super().argument(keyword, value)
+        edges = ", ".join("({}, {!r})".format(_object_ref(o), names) for o, names in value)
+        return ", feature_edges=[{}]".format(edges)
