@@ -566,24 +566,38 @@ volume::Block wallBox(double x0, double x1, double y0 = 0.0, double y1 = 1.0) {
   return block;
 }
 
+// Two wall boxes joined at x = x1: [x0, x1] and [x1, x2] in x, [0, 1] in y and z.
+volume::BlockMesh wallBoxesAlongX(double x0, double x1, double x2) {
+  std::vector<volume::Block> blocks{wallBox(x0, x1), wallBox(x1, x2)};
+  connectAlongU(blocks);
+  return volume::BlockMesh(std::move(blocks));
+}
+
+// Distances between consecutive points of block b along `along`, through the point (1, 1, k).
+std::vector<double> gridSteps(const RefinedGrid& refined, size_t b, int along, int k) {
+  const GridBlock& block = refined.grid.blocks()[b];
+  std::vector<double> steps;
+  std::array<int, 3> ijk{1, 1, k};
+  for (int i = 1; i < block.size[static_cast<size_t>(along)]; ++i) {
+    std::array<int, 3> before = ijk;
+    ijk[static_cast<size_t>(along)] = i;
+    before[static_cast<size_t>(along)] = i - 1;
+    steps.push_back((block.points.row(block.index(ijk[0], ijk[1], ijk[2])) -
+                     block.points.row(block.index(before[0], before[1], before[2])))
+                        .norm());
+  }
+  return steps;
+}
+
 TEST(GridRefinement, ASpacingJumpToAFinerNeighbourIsLimitedAtThatEnd) {
   // A long block (x 0 .. 10) continued along x by a thin one (10 .. 10.05): at spacing 0.5 the
   // thin block's one cell is 10 times finer. With max_spacing_jump 4 the long block's x lines
   // end at the thin block with 4 x 0.05, and their other end (no neighbour) is left free.
-  std::vector<volume::Block> blocks{wallBox(0.0, 10.0), wallBox(10.0, 10.05)};
-  connectAlongU(blocks);
-  const volume::BlockMesh mesh(std::move(blocks));
+  const volume::BlockMesh mesh = wallBoxesAlongX(0.0, 10.0, 10.05);
   RefinementOptions options;
   options.tangentialSpacing = 0.5;
   options.normalPoints = 5;
-  auto xSteps = [](const RefinedGrid& refined) {
-    const GridBlock& block = refined.grid.blocks()[0];
-    std::vector<double> steps;
-    for (int i = 1; i < block.size[0]; ++i) {
-      steps.push_back(block.points(block.index(i, 1, 0), 0) - block.points(block.index(i - 1, 1, 0), 0));
-    }
-    return steps;
-  };
+  auto xSteps = [](const RefinedGrid& refined) { return gridSteps(refined, 0, 0, 0); };
   const RefinedGrid plain = refineBlockMesh(mesh, options);
   const std::vector<double> uniform = xSteps(plain);
   ASSERT_EQ(uniform.size(), 20u);
@@ -608,33 +622,17 @@ TEST(GridRefinement, FeatureSpacingsClusterTheWallEdgesLeavingTheLine) {
   // runs along y (a wing's leading edge, say): the x edges that end there start with the asked
   // spacing, their counts grow so that their steps grow by about `growth` away from it, and the
   // y edges along the line are left as they were.
-  std::vector<volume::Block> blocks{wallBox(0.0, 1.0), wallBox(1.0, 3.0)};
-  connectAlongU(blocks);
-  const volume::BlockMesh mesh(std::move(blocks));
+  const volume::BlockMesh mesh = wallBoxesAlongX(0.0, 1.0, 3.0);
   RefinementOptions options;
   options.tangentialSpacing = 0.1;
   options.normalPoints = 5;
-  auto steps = [](const RefinedGrid& refined, size_t b, int along, int k) {
-    const GridBlock& block = refined.grid.blocks()[b];
-    std::vector<double> result;
-    std::array<int, 3> ijk{1, 1, k};
-    for (int i = 1; i < block.size[static_cast<size_t>(along)]; ++i) {
-      std::array<int, 3> before = ijk;
-      ijk[static_cast<size_t>(along)] = i;
-      before[static_cast<size_t>(along)] = i - 1;
-      result.push_back((block.points.row(block.index(ijk[0], ijk[1], ijk[2])) -
-                        block.points.row(block.index(before[0], before[1], before[2])))
-                           .norm());
-    }
-    return result;
-  };
   const RefinedGrid plain = refineBlockMesh(mesh, options);
   RowMatrixX3d line(2, 3);
   line << 1.0, -1.0, 0.0, 1.0, 2.0, 0.0;
   options.featureSpacings = {FeatureSpacing{line, 0.01, 0.0}};
   const RefinedGrid clustered = refineBlockMesh(mesh, options);  // point-matched bit for bit (checked)
   for (int k : {0, 4}) {  // on the wall and at the far end of the wall-normal lines
-    const std::vector<double> before = steps(clustered, 0, 0, k), after = steps(clustered, 1, 0, k);
+    const std::vector<double> before = gridSteps(clustered, 0, 0, k), after = gridSteps(clustered, 1, 0, k);
     EXPECT_NEAR(before.back() / (k == 0 ? 0.01 : before.back()), 1.0, 1e-6);
     EXPECT_NEAR(after.front() / (k == 0 ? 0.01 : after.front()), 1.0, 1e-6);
     for (const std::vector<double>* x : {&before, &after}) {
@@ -647,12 +645,12 @@ TEST(GridRefinement, FeatureSpacingsClusterTheWallEdgesLeavingTheLine) {
     EXPECT_GT(before.front(), 0.05);  // the free end (x = 0) is not clustered
   }
   EXPECT_GT(clustered.grid.blocks()[0].size[0], plain.grid.blocks()[0].size[0]);
-  for (double y : steps(clustered, 0, 1, 0)) EXPECT_NEAR(y, 0.1, 1e-12);  // along the line: as before
+  for (double y : gridSteps(clustered, 0, 1, 0)) EXPECT_NEAR(y, 0.1, 1e-12);  // along the line: as before
   // Both ends on features: two-sided.
   RowMatrixX3d start(2, 3);
   start << 0.0, -1.0, 0.0, 0.0, 2.0, 0.0;
   options.featureSpacings.push_back(FeatureSpacing{start, 0.02, 0.0});
-  const std::vector<double> twoSided = steps(refineBlockMesh(mesh, options), 0, 0, 0);
+  const std::vector<double> twoSided = gridSteps(refineBlockMesh(mesh, options), 0, 0, 0);
   EXPECT_NEAR(twoSided.front() / 0.02, 1.0, 1e-6);
   EXPECT_NEAR(twoSided.back() / 0.01, 1.0, 1e-6);
   // A line through no block corner changes nothing; one along the x edges (y = 0) leaves them
@@ -665,8 +663,8 @@ TEST(GridRefinement, FeatureSpacingsClusterTheWallEdgesLeavingTheLine) {
   along << -1.0, 0.0, 0.0, 4.0, 0.0, 0.0;
   options.featureSpacings = {FeatureSpacing{along, 0.01, 0.0}};
   const RefinedGrid alongX = refineBlockMesh(mesh, options);
-  for (double x : steps(alongX, 0, 0, 0)) EXPECT_NEAR(x, 0.1, 1e-12);
-  EXPECT_NEAR(steps(alongX, 0, 1, 0).front() / 0.01, 1.0, 1e-6);
+  for (double x : gridSteps(alongX, 0, 0, 0)) EXPECT_NEAR(x, 0.1, 1e-12);
+  EXPECT_NEAR(gridSteps(alongX, 0, 1, 0).front() / 0.01, 1.0, 1e-6);
   // Bad features are named.
   for (const FeatureSpacing& bad :
        {FeatureSpacing{line, 0.0, 0.0}, FeatureSpacing{line.topRows(1), 0.01, 0.0},
