@@ -382,7 +382,10 @@ class Marcher {
     RowMatrixX3d lines = RowMatrixX3d::Zero(n, 3);
     for (Eigen::Index p = 0; p < n; ++p) {
       const auto& around = normals[static_cast<size_t>(p)];
-      if (onPlane(p) ||
+      // Beyond a few cells (a wall point has 4 per patch meeting there) the cubic candidate search
+      // would cost more than the marching; such a point keeps the band's line.
+      constexpr size_t kMostCells = 16;
+      if (onPlane(p) || around.size() > kMostCells ||
           !onConcaveCrease(front_.points.row(p).transpose(), around, centres[static_cast<size_t>(p)])) {
         continue;
       }
