@@ -13,6 +13,14 @@
 namespace bvmesh::grid {
 namespace {
 
+// A table sampled at equal steps over [0, 1], linearly interpolated at `fraction` (in [0, 1]).
+double sampledAt(const std::vector<double>& table, double fraction) {
+  const double at = fraction * static_cast<double>(table.size() - 1);
+  const size_t k = std::min(static_cast<size_t>(at), table.size() - 2);
+  const double w = at - static_cast<double>(k);
+  return (1.0 - w) * table[k] + w * table[k + 1];
+}
+
 // The root of an increasing function on [lo, hi] (f(lo) < 0 < f(hi)) by bisection to the last bit.
 template <class F>
 double increasingRoot(F f, double lo, double hi) {
@@ -425,11 +433,7 @@ TurningTable::TurningTable(const BsplineCurve& curve, const ArcLength& arc, int 
 
 double TurningTable::measureAt(double s, double spacing, double maxTurning) const {
   if (!(maxTurning > 0.0)) return s / spacing;
-  const double steps = static_cast<double>(arc_.size() - 1);
-  const double at = std::clamp(s / length(), 0.0, 1.0) * steps;
-  const size_t k = std::min(static_cast<size_t>(at), arc_.size() - 2);
-  const double w = at - static_cast<double>(k);
-  return s / spacing + ((1.0 - w) * turning_[k] + w * turning_[k + 1]) / maxTurning;
+  return s / spacing + sampledAt(turning_, std::clamp(s / length(), 0.0, 1.0)) / maxTurning;
 }
 
 SharedMeasure::SharedMeasure(int samples, double spacing, double maxTurning)
@@ -451,10 +455,7 @@ void SharedMeasure::add(const TurningTable& edge, bool reversed) {
 double SharedMeasure::at(double sigma) const {
   const double x = std::clamp(sigma, 0.0, 1.0);
   if (uniformInArcLength() || !(sum_.back() > 0.0)) return x;
-  const double at = x * static_cast<double>(sum_.size() - 1);
-  const size_t k = std::min(static_cast<size_t>(at), sum_.size() - 2);
-  const double w = at - static_cast<double>(k);
-  return ((1.0 - w) * sum_[k] + w * sum_[k + 1]) / sum_.back();
+  return sampledAt(sum_, x) / sum_.back();
 }
 
 double SharedMeasure::sigmaAt(double measure) const {
