@@ -61,8 +61,15 @@ std::vector<grid::FeatureSpacing> featureSpacingsOf(const py::object& features) 
     }
     grid::FeatureSpacing feature;
     feature.points = rowsOf(entry["points"], (name + "['points']").c_str(), 3);
-    feature.spacing = py::cast<double>(entry["spacing"]);
-    if (entry.contains("tolerance")) feature.tolerance = py::cast<double>(entry["tolerance"]);
+    const auto number = [&](const char* key) {
+      try {
+        return py::cast<double>(entry[key]);
+      } catch (const py::cast_error&) {
+        throw py::value_error(name + "['" + key + "'] must be a number");
+      }
+    };
+    feature.spacing = number("spacing");
+    if (entry.contains("tolerance")) feature.tolerance = number("tolerance");
     result.push_back(std::move(feature));
   }
   return result;
@@ -226,8 +233,10 @@ continued across a block corner (within 45 degrees of straight on) by wall edges
 this many times finer is clustered at that end to this many times their spacing.
 feature_spacings: [{"points": (n, 3) polyline, "spacing": s, "tolerance": t (optional)}, ...]: wall
 edges that end on a feature line (within t; default 1e-3 of the wall's size) and leave it (more than
-45 degrees off it) start there with a spacing of at most s (the longest exactly); their linked sets
-are clustered at that end (Vinokur's law, counts unchanged), the finer where a spacing jump asks too.
+45 degrees off it) start there with a spacing of at most s (the longest exactly), by Vinokur's law,
+the clustering fading block by block along their linked sets; with a spacing or cell target the sets
+take the cells to grow back to their spacing by at most `growth`; the finer where a spacing jump
+asks too.
 outer_domain_of: the VolumeMesh the blocks come from; a box or cylinder domain's outer faces are
 then inlet, outlet or side quad by quad (RefinedGrid.outer_faces_split counts the faces split).
 Returns a RefinedGrid.)doc");

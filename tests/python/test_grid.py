@@ -301,7 +301,8 @@ class SphereGrids(unittest.TestCase):
                              (dict(points=line, spacing=-1.0), "feature spacing 0: the spacing"),
                              (dict(points=[[0.0, 1.0]] * 2, spacing=0.1), r"feature_spacings\[0\]\['points'\] must have shape"),
                              (dict(points=line, spacing=0.1, width=2), "unknown key 'width'"),
-                             (dict(points=line), "needs 'points' and 'spacing'")):
+                             (dict(points=line), "needs 'points' and 'spacing'"),
+                             (dict(points=line, spacing="fine"), r"\['spacing'\] must be a number")):
             with self.assertRaisesRegex(ValueError, message):
                 bvmesh.grid.refine(self.volume, "euler", feature_spacings=[bad])
         with self.assertRaisesRegex(ValueError, "sequence of dicts"):

@@ -49,14 +49,8 @@ void checkOptions(const RefinementOptions& options) {
   for (size_t f = 0; f < options.featureSpacings.size(); ++f) {
     const FeatureSpacing& feature = options.featureSpacings[f];
     const std::string name = "feature spacing " + std::to_string(f);
-    if (!(std::isfinite(feature.spacing) && feature.spacing > 0.0)) {
-      throw InvalidInputError(name + ": the spacing must be a positive finite length (got " +
-                              std::to_string(feature.spacing) + ")");
-    }
-    if (!(std::isfinite(feature.tolerance) && feature.tolerance >= 0.0)) {
-      throw InvalidInputError(name + ": the tolerance must be a finite length >= 0 (got " +
-                              std::to_string(feature.tolerance) + ")");
-    }
+    checkFiniteAtLeast(feature.spacing, 0.0, name + ": the spacing", true);
+    checkFiniteAtLeast(feature.tolerance, 0.0, name + ": the tolerance");
     if (feature.points.rows() < 2) throw InvalidInputError(name + ": the line needs at least two points");
     checkFinitePoints(feature.points, name + " point");
     for (Eigen::Index k = 1; k < feature.points.rows(); ++k) {
