@@ -8,6 +8,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <optional>
 #include <queue>
 #include <set>
 #include <string>
@@ -128,10 +129,21 @@ class Marcher {
     // Marching directions remember the previous layer's: at a sharp convex edge (a trailing edge)
     // the front's own normal is the near-cancelling sum of both sides' and says little.
     RowMatrixX3d directions = lines;
+    std::optional<HyperbolicStepper> hyperbolic;
+    if (options_.farfieldScheme == FarfieldScheme::Hyperbolic) {
+      HyperbolicOptions scaled = options_.hyperbolic;
+      scaled.explicitSmoothing *= options_.smoothing;
+      scaled.implicitSmoothing *= options_.smoothing;
+      hyperbolic.emplace(front_.points.rows(), front_.quads, front_.onSymmetryPlane, options_.planePoint,
+                         options_.planeNormal, scaled);
+    }
     for (int k = 1; k <= nFar; ++k) {
       const double progress = static_cast<double>(k) / nFar;
       const double towardsDomain = std::min(1.0, distance / wallSize_);
-      RowMatrixX3d next = marchOnce(result.layers.back(), directions, step, progress, towardsDomain, nBl + k);
+      const RowMatrixX3d& points = result.layers.back();
+      RowMatrixX3d next = hyperbolic ? hyperbolicOnce(*hyperbolic, result.layers[result.layers.size() - 2],
+                                                      points, step, progress, nBl + k)
+                                     : marchOnce(points, directions, step, progress, towardsDomain, nBl + k);
       distance += step;
       result.layers.push_back(std::move(next));
       result.layerDistance.push_back(distance);
@@ -574,21 +586,39 @@ class Marcher {
     RowMatrixX3d next = points + step * directions;
     keepOnPlane(next);
     smoothPoints(next, directions, pointIterations, weight);
-    // Where a cell would be poor, more smoothing there alone.
+    next = repairPoorCells(points, std::move(next), directions,
+                           Eigen::VectorXd::Constant(points.rows(), step), layer);
+    previous = std::move(directions);
+    return next;
+  }
+
+  // One far-field step by the hyperbolic equations, then the same local repair as marchOnce's
+  // along the step's own directions and lengths.
+  RowMatrixX3d hyperbolicOnce(const HyperbolicStepper& stepper, const RowMatrixX3d& below,
+                              const RowMatrixX3d& points, double step, double progress, int layer) const {
+    RowMatrixX3d next = stepper.advance(below, points, step, progress);
+    const RowMatrixX3d moves = next - points;
+    const Eigen::VectorXd lengths = moves.rowwise().norm();
+    RowMatrixX3d directions = moves.rowwise().normalized();
+    return repairPoorCells(points, std::move(next), directions, lengths, layer);
+  }
+
+  // Where a cell between `points` and `next` would be poor, more smoothing of the directions and
+  // points there alone; each repaired point moves `lengths` along its direction.
+  RowMatrixX3d repairPoorCells(const RowMatrixX3d& points, RowMatrixX3d next, RowMatrixX3d& directions,
+                               const Eigen::VectorXd& lengths, int layer) const {
     for (int repair = 0;; ++repair) {
       std::vector<char> bad(front_.quads.size(), 0);
       const auto [worst, quad] = markPoorCells(points, next, bad);
-      if (worst >= options_.minScaledJacobian || (repair >= kRepairs && worst > 0.0)) {
-        previous = std::move(directions);
-        return next;
-      }
+      if (worst >= options_.minScaledJacobian || (repair >= kRepairs && worst > 0.0)) return next;
       if (repair >= kRepairs || options_.smoothing == 0.0) {
-        fold(layer, worst, quad, points, "after local smoothing: raise the smoothing, lower the growth or refine the wall there");
+        fold(layer, worst, quad, points,
+             "after local smoothing: raise the smoothing, lower the growth or refine the wall there");
       }
       const std::vector<char> marks = markAround(bad);
       smoothDirections(directions, 4, marks);
       for (Eigen::Index p = 0; p < points.rows(); ++p) {
-        if (marks[static_cast<size_t>(p)] != 0) next.row(p) = points.row(p) + step * directions.row(p);
+        if (marks[static_cast<size_t>(p)] != 0) next.row(p) = points.row(p) + lengths[p] * directions.row(p);
       }
       keepOnPlane(next);
       smoothPoints(next, directions, 4, 0.5, marks);
@@ -649,6 +679,12 @@ double hexScaledJacobian(const std::array<Eigen::Vector3d, 8>& corners) {
     }
   }
   return worst;
+}
+
+FarfieldScheme farfieldSchemeOf(const std::string& name) {
+  if (name == "smoothed") return FarfieldScheme::Smoothed;
+  if (name == "hyperbolic") return FarfieldScheme::Hyperbolic;
+  throw InvalidInputError("far-field scheme must be 'smoothed' or 'hyperbolic', got '" + name + "'");
 }
 
 MarchingResult marchLayers(const MarchingFront& front, const MarchingOptions& options) {

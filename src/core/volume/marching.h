@@ -12,6 +12,7 @@
 
 #include "core/common/types.h"
 #include "core/volume/domain.h"
+#include "core/volume/hyperbolic_step.h"
 
 namespace bvmesh::volume {
 
@@ -24,6 +25,13 @@ struct MarchingFront {
   std::vector<char> onSymmetryPlane;
   std::vector<std::string> quadNames;  // per quad, where it is (for error messages), may be empty
 };
+
+// How the far field is marched: `Smoothed` steps along directions blended from the previous
+// layer's, the front's normal and the domain's radial, smoothed implicitly, with the points
+// smoothed in the front; `Hyperbolic` solves Chan & Steger's orthogonality and cell-volume
+// equations per step (hyperbolic_step.h), whose smoothed volumes open concave corners.
+enum class FarfieldScheme { Smoothed, Hyperbolic };
+FarfieldScheme farfieldSchemeOf(const std::string& name);  // "smoothed", "hyperbolic"
 
 struct MarchingOptions {
   // Boundary layer: total thickness and number of layers (geometric growth).
@@ -45,6 +53,8 @@ struct MarchingOptions {
   // Far-field smoothing: direction smoothing (implicit, grows with the layer) and point smoothing
   // in the front's tangent plane (the cell-size equaliser), both scaled by this factor (0: none).
   double smoothing = 1.0;
+  FarfieldScheme farfieldScheme = FarfieldScheme::Smoothed;
+  HyperbolicOptions hyperbolic;     // its explicit and implicit smoothing are scaled by `smoothing`
   double minScaledJacobian = 0.05;  // a layer with a cell below this is marched again with more smoothing
   int maxLayers = 400;
 };

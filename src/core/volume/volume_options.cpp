@@ -134,6 +134,7 @@ ResolvedVolumeOptions resolveVolumeOptions(const VolumeMeshOptions& options, con
   marching.planePoint = options.planePoint;
   marching.planeNormal = planeNormal;
   marching.smoothing = options.smoothing;
+  marching.farfieldScheme = options.farfieldScheme;
   marching.minScaledJacobian = options.minScaledJacobian;
   marching.maxLayers = options.maxLayers;
   return result;

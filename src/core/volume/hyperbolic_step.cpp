@@ -1,0 +1,317 @@
+#include "core/volume/hyperbolic_step.h"
+
+#include <Eigen/Geometry>
+#include <Eigen/LU>
+#include <Eigen/SparseLU>
+#include <unsupported/Eigen/IterativeSolvers>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <string>
+
+#include "core/common/errors.h"
+
+namespace bvmesh::volume {
+namespace {
+
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+
+constexpr double kPi = 3.14159265358979323846;
+// Exponent of the explicit smoothing's growth with the marched share (Chan & Steger's S_l).
+constexpr double kSmoothingGrowthExponent = 0.15;
+// A step's linear system: relative residual (of a step, far below any cell's size) and GMRES budget.
+constexpr double kSolverTolerance = 1e-4;
+constexpr int kSolverIterations = 500;
+
+// GMRES preconditioner: the step's smoothing part alone, (1 + 4 eps_I) I - eps_I (4 / M) sum over the
+// ring, the same for x, y and z (without the ghosts' mirrored terms). It depends on the front's
+// topology only, so it is factored once; the orthogonality and volume coupling, at most about the
+// pseudo-step over the edge length, is left to the iterations.
+class SmoothingPreconditioner {
+ public:
+  void use(const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>* factor,
+           const Eigen::VectorXd* rowScale) {
+    factor_ = factor;
+    rowScale_ = rowScale;
+  }
+  template <typename Matrix>
+  SmoothingPreconditioner& analyzePattern(const Matrix&) {
+    return *this;
+  }
+  template <typename Matrix>
+  SmoothingPreconditioner& factorize(const Matrix&) {
+    return *this;
+  }
+  template <typename Matrix>
+  SmoothingPreconditioner& compute(const Matrix&) {
+    return *this;
+  }
+  template <typename Rhs>
+  Eigen::VectorXd solve(const Eigen::MatrixBase<Rhs>& b) const {
+    const Eigen::Index n = b.rows() / 3;
+    const Eigen::MatrixXd byComponent =
+        Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>>(Eigen::VectorXd(b).data(),
+                                                                                    n, 3);
+    const Eigen::MatrixXd solvedByComponent = factor_->solve(rowScale_->asDiagonal() * byComponent);
+    const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> solved = solvedByComponent;
+    return Eigen::Map<const Eigen::VectorXd>(solved.data(), 3 * n);
+  }
+  Eigen::ComputationInfo info() const { return Eigen::Success; }
+
+ private:
+  const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>* factor_ = nullptr;
+  const Eigen::VectorXd* rowScale_ = nullptr;
+};
+
+struct FanEdge {
+  int next;  // the quad's neighbour of the point that comes first counter-clockwise
+  int prev;
+};
+
+}  // namespace
+
+HyperbolicStepper::HyperbolicStepper(Eigen::Index pointCount, const std::vector<std::array<int, 4>>& quads,
+                                     const std::vector<char>& onPlane, const Vector3d& planePoint,
+                                     const Vector3d& planeNormal, const HyperbolicOptions& options)
+    : quads_(quads),
+      onPlane_(onPlane),
+      planePoint_(planePoint),
+      planeNormal_(planeNormal.normalized()),
+      mirror_(Matrix3d::Identity() - 2.0 * planeNormal_ * planeNormal_.transpose()),
+      options_(options),
+      rings_(static_cast<size_t>(pointCount)) {
+  if (onPlane_.empty()) onPlane_.assign(static_cast<size_t>(pointCount), 0);
+  std::vector<std::vector<FanEdge>> fans(static_cast<size_t>(pointCount));
+  for (const auto& quad : quads) {
+    for (int k = 0; k < 4; ++k) {
+      fans[static_cast<size_t>(quad[static_cast<size_t>(k)])].push_back(
+          {quad[static_cast<size_t>((k + 1) % 4)], quad[static_cast<size_t>((k + 3) % 4)]});
+    }
+  }
+  for (Eigen::Index p = 0; p < pointCount; ++p) {
+    const auto& fan = fans[static_cast<size_t>(p)];
+    auto fail = [&](const char* what) {
+      throw InvalidInputError(
+          "front point " + std::to_string(p) + " " + what +
+          ": hyperbolic marching needs a manifold front, closed or open only on the symmetry plane");
+    };
+    if (fan.empty()) fail("lies in no cell");
+    // An open fan starts at the neighbour no cell reaches counter-clockwise.
+    int start = fan.front().next;
+    bool open = false;
+    for (const FanEdge& edge : fan) {
+      const bool reached =
+          std::any_of(fan.begin(), fan.end(), [&](const FanEdge& e) { return e.prev == edge.next; });
+      if (!reached) {
+        start = edge.next;
+        open = true;
+        break;
+      }
+    }
+    if (open && onPlane_[static_cast<size_t>(p)] == 0)
+      fail("lies on an open boundary off the symmetry plane");
+    auto& ring = rings_[static_cast<size_t>(p)];
+    int current = start;
+    for (size_t walked = 0; walked <= fan.size(); ++walked) {
+      ring.push_back({current, false});
+      const auto edge =
+          std::find_if(fan.begin(), fan.end(), [&](const FanEdge& e) { return e.next == current; });
+      if (edge == fan.end()) break;
+      current = edge->prev;
+      if (!open && current == start) break;
+    }
+    if (ring.size() != fan.size() + (open ? 1 : 0)) fail("has cells that do not form one fan around it");
+    if (open) {
+      // The mirror image of the fan closes the ring, walked backwards so that it stays counter-clockwise.
+      const size_t real = ring.size();
+      for (size_t m = real - 2; m >= 1; --m) ring.push_back({ring[m].point, true});
+    }
+    if (ring.size() < 3) fail("has fewer than three neighbours around it");
+  }
+  // Rows scaled by M / 4 make the smoothing operator symmetric (a neighbour pair weighs -eps_I both ways).
+  std::vector<Eigen::Triplet<double>> entries;
+  smoothingRowScale_.resize(pointCount);
+  for (Eigen::Index p = 0; p < pointCount; ++p) {
+    const auto& ring = rings_[static_cast<size_t>(p)];
+    smoothingRowScale_[p] = static_cast<double>(ring.size()) / 4.0;
+    entries.emplace_back(p, p, smoothingRowScale_[p] * (1.0 + 4.0 * options_.implicitSmoothing));
+    for (const RingEntry& entry : ring) {
+      if (!entry.mirrored) entries.emplace_back(p, entry.point, -options_.implicitSmoothing);
+    }
+  }
+  Eigen::SparseMatrix<double> smoothing(pointCount, pointCount);
+  smoothing.setFromTriplets(entries.begin(), entries.end());
+  smoothingFactor_ = std::make_shared<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>>(smoothing);
+  if (smoothingFactor_->info() != Eigen::Success)
+    throw SolverError("hyperbolic marching: the smoothing operator is singular");
+}
+
+Vector3d HyperbolicStepper::ringPoint(const RowMatrixX3d& points, const RingEntry& entry) const {
+  const Vector3d x = points.row(entry.point).transpose();
+  if (!entry.mirrored) return x;
+  return x - 2.0 * (x - planePoint_).dot(planeNormal_) * planeNormal_;
+}
+
+// Each quad's area shared equally by its corners; a point on the symmetry plane counts its
+// mirrored cells too.
+Eigen::VectorXd HyperbolicStepper::nodeAreas(const RowMatrixX3d& points) const {
+  Eigen::VectorXd area = Eigen::VectorXd::Zero(points.rows());
+  for (const auto& q : quads_) {
+    const Vector3d diagonal1 = (points.row(q[2]) - points.row(q[0])).transpose();
+    const Vector3d diagonal2 = (points.row(q[3]) - points.row(q[1])).transpose();
+    const double quarter = 0.125 * diagonal1.cross(diagonal2).norm();
+    for (int p : q) area[p] += quarter;
+  }
+  for (Eigen::Index p = 0; p < area.rows(); ++p) {
+    if (onPlane_[static_cast<size_t>(p)] != 0) area[p] *= 2.0;
+  }
+  return area;
+}
+
+// A short edge of the front: its 10th percentile (a few sliver cells, such as a wing tip's
+// trailing-edge corner, would otherwise set every pseudo-step).
+double HyperbolicStepper::shortEdge(const RowMatrixX3d& points) const {
+  std::vector<double> lengths;
+  lengths.reserve(4 * quads_.size());
+  for (const auto& q : quads_) {
+    for (int k = 0; k < 4; ++k) {
+      lengths.push_back(
+          (points.row(q[static_cast<size_t>(k)]) - points.row(q[static_cast<size_t>((k + 1) % 4)])).norm());
+    }
+  }
+  const auto tenth = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 10);
+  std::nth_element(lengths.begin(), tenth, lengths.end());
+  return *tenth;
+}
+
+RowMatrixX3d HyperbolicStepper::advance(const RowMatrixX3d& below, const RowMatrixX3d& points,
+                                        double thickness, double progress) const {
+  const double edge = shortEdge(points);
+  const double wanted = edge > 0.0 ? std::ceil(thickness / (options_.maxStepToEdge * edge)) : 1.0;
+  const int steps = static_cast<int>(std::clamp(wanted, 1.0, static_cast<double>(options_.maxPseudoSteps)));
+  RowMatrixX3d before = below;
+  RowMatrixX3d current = points;
+  for (int s = 0; s < steps; ++s) {
+    RowMatrixX3d next = pseudoStep(before, current, thickness / steps, progress);
+    before = std::move(current);
+    current = std::move(next);
+  }
+  return current;
+}
+
+RowMatrixX3d HyperbolicStepper::pseudoStep(const RowMatrixX3d& before, const RowMatrixX3d& points,
+                                           double step, double progress) const {
+  const Eigen::Index n = points.rows();
+  const Eigen::VectorXd area = nodeAreas(points);
+  // Cell volumes: the step times the point's area, smoothed over the front (Jacobi passes).
+  Eigen::VectorXd volume = step * area;
+  for (int pass = 0; pass < options_.volumeSmoothingPasses; ++pass) {
+    Eigen::VectorXd next(n);
+    for (Eigen::Index p = 0; p < n; ++p) {
+      double mean = 0.0;
+      for (const RingEntry& entry : rings_[static_cast<size_t>(p)]) mean += volume[entry.point];
+      mean /= static_cast<double>(rings_[static_cast<size_t>(p)].size());
+      next[p] = (1.0 - options_.volumeSmoothing) * volume[p] + options_.volumeSmoothing * mean;
+    }
+    volume = std::move(next);
+  }
+  const double growth = std::pow(std::clamp(progress, 1e-3, 1.0), kSmoothingGrowthExponent);
+  const double implicitWeight = options_.implicitSmoothing;
+  const double coupling = 1.0 + options_.implicitCoupling;
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve(static_cast<size_t>(n) * 9 * 8);
+  auto addBlock = [&](Eigen::Index row, Eigen::Index column, const Matrix3d& block) {
+    for (int i = 0; i < 3; ++i) {
+      for (int j = 0; j < 3; ++j) {
+        if (block(i, j) != 0.0) entries.emplace_back(3 * row + i, 3 * column + j, block(i, j));
+      }
+    }
+  };
+  Eigen::VectorXd rhs(3 * n);
+  for (Eigen::Index p = 0; p < n; ++p) {
+    const auto& ring = rings_[static_cast<size_t>(p)];
+    const auto valence = static_cast<double>(ring.size());
+    const Vector3d x = points.row(p).transpose();
+    const Vector3d xBefore = before.row(p).transpose();
+    Vector3d rXi = Vector3d::Zero(), rEta = Vector3d::Zero(), laplacian = Vector3d::Zero();
+    double lengthBefore = 0.0, length = 0.0;
+    for (size_t m = 0; m < ring.size(); ++m) {
+      const double angle = 2.0 * kPi * static_cast<double>(m) / valence;
+      const Vector3d d = ringPoint(points, ring[m]) - x;
+      rXi += (2.0 / valence) * std::cos(angle) * d;
+      rEta += (2.0 / valence) * std::sin(angle) * d;
+      laplacian += (4.0 / valence) * d;
+      length += d.norm();
+      lengthBefore += (ringPoint(before, ring[m]) - xBefore).norm();
+    }
+    const Vector3d sigma = rXi.cross(rEta);
+    if (!(sigma.norm() > 1e-14 * rXi.norm() * rEta.norm()) || !(area[p] > 0.0)) {
+      throw SolverError("hyperbolic marching: the front is degenerate at point " + std::to_string(p) + " (" +
+                        std::to_string(x.x()) + ", " + std::to_string(x.y()) + ", " + std::to_string(x.z()) +
+                        ")");
+    }
+    const Vector3d rZeta = (volume[p] / area[p]) * sigma.normalized();
+    Matrix3d pMatrix, q1, q2;
+    pMatrix << rXi.transpose(), rEta.transpose(), sigma.transpose();
+    q1 << rZeta.transpose(), Eigen::RowVector3d::Zero(), rEta.cross(rZeta).transpose();
+    q2 << Eigen::RowVector3d::Zero(), rZeta.transpose(), rZeta.cross(rXi).transpose();
+    const Matrix3d pInverse = pMatrix.inverse();
+    const Matrix3d b1 = pInverse * q1;
+    const Matrix3d b2 = pInverse * q2;
+    // Explicit smoothing, stronger where the front converges (the grid sensor: neighbour distances
+    // shrinking since the last step) and further out.
+    const double sensor = std::max(std::pow(lengthBefore / length, 2.0 / growth), 0.1);
+    const double stepToEdge = rZeta.norm() / std::sqrt(rXi.norm() * rEta.norm());
+    const Vector3d dissipation = options_.explicitSmoothing * growth * sensor * stepToEdge * 0.5 * laplacian;
+    rhs.segment<3>(3 * p) = rZeta + dissipation;
+    addBlock(p, p, (1.0 + 4.0 * implicitWeight) * Matrix3d::Identity());
+    for (size_t m = 0; m < ring.size(); ++m) {
+      const double angle = 2.0 * kPi * static_cast<double>(m) / valence;
+      Matrix3d block = coupling * (2.0 / valence) * (std::cos(angle) * b1 + std::sin(angle) * b2) -
+                       implicitWeight * (4.0 / valence) * Matrix3d::Identity();
+      if (ring[m].mirrored) block = block * mirror_;
+      addBlock(p, ring[m].point, block);
+    }
+  }
+  Eigen::SparseMatrix<double> matrix(3 * n, 3 * n);
+  matrix.setFromTriplets(entries.begin(), entries.end());
+  Eigen::GMRES<Eigen::SparseMatrix<double>, SmoothingPreconditioner> solver;
+  solver.preconditioner().use(smoothingFactor_.get(), &smoothingRowScale_);
+  solver.setTolerance(kSolverTolerance);
+  solver.setMaxIterations(kSolverIterations);
+  solver.compute(matrix);
+  Eigen::VectorXd delta = solver.solve(rhs);
+  if (solver.info() != Eigen::Success || !delta.allFinite()) {
+    // A front with nearly flat cells (stopped boundary-layer lines in a concave corner) can stall
+    // the iterations; a direct solve still gives its step, whose cells the marching then checks.
+    const Eigen::SparseLU<Eigen::SparseMatrix<double>> direct(matrix);
+    if (direct.info() == Eigen::Success) delta = direct.solve(rhs);
+    if (direct.info() != Eigen::Success || !delta.allFinite()) {
+      throw SolverError(
+          "hyperbolic marching: the step's linear system is singular (the front is degenerate)");
+    }
+  }
+  // The linearised volume equation undershoots where the front expands (its cross terms count the
+  // front's growth over the step twice, Barth's coupling more): the step is scaled back to the
+  // asked mean length, which keeps every cell's shape.
+  // (Weighted by each point's own area: a symmetry-plane point's mirrored half is not the front's.)
+  double weightedLength = 0.0, frontArea = 0.0;
+  for (Eigen::Index p = 0; p < n; ++p) {
+    const double own = onPlane_[static_cast<size_t>(p)] != 0 ? 0.5 * area[p] : area[p];
+    weightedLength += own * delta.segment<3>(3 * p).norm();
+    frontArea += own;
+  }
+  const double scale = step * frontArea / weightedLength;
+  RowMatrixX3d next = points;
+  for (Eigen::Index p = 0; p < n; ++p) {
+    Vector3d x = points.row(p).transpose() + scale * delta.segment<3>(3 * p);
+    if (onPlane_[static_cast<size_t>(p)] != 0) x -= (x - planePoint_).dot(planeNormal_) * planeNormal_;
+    next.row(p) = x.transpose();
+  }
+  return next;
+}
+
+}  // namespace bvmesh::volume

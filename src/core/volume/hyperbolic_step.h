@@ -1,0 +1,77 @@
+// Chan & Steger's hyperbolic marching of a quad surface grid, on an unstructured front: each step
+// solves, at every point, the orthogonality of the marching direction to the front
+// (r_xi . r_zeta = r_eta . r_zeta = 0) and a prescribed cell volume ((r_xi x r_eta) . r_zeta = V),
+// linearised about the current front and coupled through the front's central differences, with
+// implicit and explicit second-difference smoothing: one sparse linear solve per step. The volume
+// term is what opens concave corners: the volumes are smoothed over the front, so a point whose
+// surrounding area is small (the inside of a corner) takes a longer step than its neighbours.
+// Derivatives at a point of any valence come from its ring of neighbours in counter-clockwise
+// order (Fourier weights: r_xi = 2/M sum cos(2 pi m / M) (x_m - x), r_eta with sin), which at
+// valence 4 are the central differences; a point on the symmetry plane closes its ring with its
+// neighbours mirrored (ghost points).
+#pragma once
+
+#include <Eigen/Core>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include "core/common/types.h"
+
+namespace bvmesh::volume {
+
+struct HyperbolicOptions {
+  double explicitSmoothing = 1.0;  // epsilon_E: second-difference dissipation of the current front
+  double implicitSmoothing = 2.0;  // epsilon_I: second-difference smoothing of the step itself
+  double implicitCoupling = 3.0;   // theta: extra weight of the implicit cross terms (Barth)
+  double volumeSmoothing = 0.25;   // weight of the neighbours' volumes in each Jacobi pass
+  int volumeSmoothingPasses = 20;
+  double maxStepToEdge = 1.0;  // a pseudo-step is at most this times a short edge of the front
+  int maxPseudoSteps = 64;     // per layer; beyond it the pseudo-steps are longer than asked
+};
+
+class HyperbolicStepper {
+ public:
+  // quads: counter-clockwise seen from the side marched to. onPlane (per point, may be empty):
+  // points kept on the plane through planePoint with unit normal planeNormal. Throws
+  // InvalidInputError when a point's cells do not form one fan around it (a non-manifold front).
+  HyperbolicStepper(Eigen::Index pointCount, const std::vector<std::array<int, 4>>& quads,
+                    const std::vector<char>& onPlane, const Eigen::Vector3d& planePoint,
+                    const Eigen::Vector3d& planeNormal, const HyperbolicOptions& options);
+
+  // The front `points` advanced by `thickness` (the area-weighted mean of the points' steps), in
+  // pseudo-steps no longer than maxStepToEdge times a short edge of the front (its 10th
+  // percentile). `below`: the front one layer earlier (the grid-convergence sensor compares edge
+  // lengths with it); `progress` in [0, 1]: the share of the far field marched, which raises the
+  // explicit smoothing towards the outside. Throws SolverError for a degenerate front.
+  RowMatrixX3d advance(const RowMatrixX3d& below, const RowMatrixX3d& points, double thickness,
+                       double progress) const;
+
+ private:
+  struct RingEntry {
+    int point;
+    bool mirrored;  // a ghost: the point's mirror image in the symmetry plane
+  };
+
+  RowMatrixX3d pseudoStep(const RowMatrixX3d& before, const RowMatrixX3d& points, double step,
+                          double progress) const;
+  Eigen::Vector3d ringPoint(const RowMatrixX3d& points, const RingEntry& entry) const;
+  Eigen::VectorXd nodeAreas(const RowMatrixX3d& points) const;
+  double shortEdge(const RowMatrixX3d& points) const;
+
+  std::vector<std::array<int, 4>> quads_;
+  std::vector<char> onPlane_;
+  Eigen::Vector3d planePoint_;
+  Eigen::Vector3d planeNormal_;
+  Eigen::Matrix3d mirror_;
+  HyperbolicOptions options_;
+  std::vector<std::vector<RingEntry>> rings_;
+  // The step's smoothing operator, factored once (the preconditioner of every step's solve).
+  std::shared_ptr<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>> smoothingFactor_;
+  Eigen::VectorXd smoothingRowScale_;
+};
+
+}  // namespace bvmesh::volume
