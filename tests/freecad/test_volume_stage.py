@@ -234,6 +234,27 @@ class VolumeObjects(unittest.TestCase):
                 if self.doc.getObject(name) is not None:
                     self.doc.removeObject(name)
 
+    def test_hyperbolic_far_field_through_the_document(self):
+        # Chosen by name; a wrong name leaves the object as it was; back to the smoothed scheme the
+        # blocks are the default object's; an object saved before the property marches smoothed.
+        vm = api.make_volume_mesh(self.fit, boundary_layer_thickness=0.05, farfield_distance=20.0,
+                                  farfield_scheme="hyperbolic", name="Hyperbolic")
+        try:
+            self.assertEqual(vm.FarfieldScheme, "hyperbolic")
+            self.assertEqual(vm.BlockCount, 6)
+            self.assertNotEqual(vm.Digest, self.volume.Digest)
+            self.assertGreater(min(vm.LayerMinScaledJacobian), 0.3)
+            with self.assertRaisesRegex(Exception, "'elliptic' is not part of the enumeration"):
+                api.set_volume_options(vm, farfield_scheme="elliptic")
+            self.assertEqual(vm.FarfieldScheme, "hyperbolic")
+            api.set_volume_options(vm, farfield_scheme="smoothed")
+            self.assertEqual(vm.Digest, self.volume.Digest)
+            vm.removeProperty("FarfieldScheme")
+            vm.Proxy.setup(vm)
+            self.assertEqual(vm.FarfieldScheme, "smoothed")
+        finally:
+            self.doc.removeObject(vm.Name)
+
     def test_lower_wall_level_refits(self):
         level = self.fit.Level - 1
         vm = api.make_volume_mesh(self.fit, wall_level=level, boundary_layer_thickness=0.05, farfield_distance=20.0,

@@ -28,6 +28,7 @@ BLOCKS_PICTURE = os.path.join(OUTPUT_DIR, "gui_volume_blocks.png")
 WALL_BLOCKS_PICTURE = os.path.join(OUTPUT_DIR, "gui_volume_wall_blocks.png")
 CUT_PICTURE = os.path.join(OUTPUT_DIR, "gui_volume_cut.png")
 GRID_PANEL_PICTURE = os.path.join(OUTPUT_DIR, "gui_volume_grid_panel.png")
+VOLUME_PANEL_PICTURE = os.path.join(OUTPUT_DIR, "gui_volume_mesh_panel.png")
 CUT_WINDOW_PICTURE = os.path.join(OUTPUT_DIR, "gui_volume_cut_window.png")
 MAIN_JOB_DIR = os.path.join(OUTPUT_DIR, "gui_main_job")
 MAIN_JOB_PICTURE = os.path.join(OUTPUT_DIR, "gui_main_job_document.png")
@@ -118,10 +119,16 @@ def surface_stage(doc_holder):
     return doc, fit
 
 
-def fill_volume_panel():
+def fill_volume_panel(farfield_scheme="smoothed"):
     panel = form("BVMeshVolumeMesh")
     panel.findChild(QtGui.QDoubleSpinBox, "spinReferenceLength").setValue(810.5)
     panel.findChild(QtGui.QDoubleSpinBox, "spinReynoldsNumber").setValue(11.72e6)
+    scheme = panel.findChild(QtGui.QComboBox, "comboFarfieldScheme")
+    offered = [scheme.itemText(i) for i in range(scheme.count())] if scheme is not None else []
+    check(offered == ["smoothed", "hyperbolic"] and scheme.currentText() == "smoothed",
+          "the volume panel offers the far-field schemes, smoothed first: {}".format(offered))
+    scheme.setCurrentIndex(offered.index(farfield_scheme))
+    return panel
 
 
 def cancelled_volume_mesh_leaves_document_as_it_was(doc):
@@ -137,7 +144,9 @@ def cancelled_volume_mesh_leaves_document_as_it_was(doc):
         dialog.findChild(QtGui.QPushButton).click()
 
     click_toolbar("BVMesh_VolumeMesh")
-    fill_volume_panel()
+    # As the command that follows (a cancelled command is still in the recorded macro, which
+    # replays it: the replayed grid must be built on the same blocks).
+    fill_volume_panel("hyperbolic")
     timer = when_shown(lambda: main_window().findChild(QtGui.QProgressDialog, progress.WORK_DIALOG_NAME), cancel)
     press_task_ok()
     timer.stop()
@@ -195,9 +204,12 @@ def run():
     cancelled_volume_mesh_leaves_document_as_it_was(doc)
 
     click_toolbar("BVMesh_VolumeMesh")
-    fill_volume_panel()
+    panel = fill_volume_panel("hyperbolic")
+    settle()
+    check(panel.grab().save(VOLUME_PANEL_PICTURE), "volume panel saved to " + VOLUME_PANEL_PICTURE)
     press_task_ok()
     volume = doc.getObject("VolumeMesh")
+    check(volume is not None and volume.FarfieldScheme == "hyperbolic", "the far field was marched hyperbolically")
     check(not fit.ViewObject.Visibility, "the fit steps back behind the new volume mesh")
     check(volume is not None and volume.BlockCount == 24 and len(volume.Shape.Faces) > 24,
           "the volume mesh has {} blocks and shows their wall and symmetry faces".format(
@@ -292,7 +304,8 @@ def replay_recorded_macro(grid):
     text = open(MACRO).read()
     for call in ("bvmesh.api.make_surface_fit(", "bvmesh.api.fit_to_tolerance(", "bvmesh.api.make_volume_mesh(",
                  "bvmesh.api.make_volume_grid(", "bvmesh.api.make_grid_cut(", "bvmesh.api.make_mesh_quality(",
-                 "bvmesh.api.export_grid(", "feature_edges=[(App.ActiveDocument.getObject('CAD'), ('Edge21',))]"):
+                 "bvmesh.api.export_grid(", "feature_edges=[(App.ActiveDocument.getObject('CAD'), ('Edge21',))]",
+                 "farfield_scheme='hyperbolic'"):
         check(call in text, "the recorded macro holds " + call)
     result = os.path.join(OUTPUT_DIR, "gui_volume_macro_replay.json")
     if os.path.exists(result):

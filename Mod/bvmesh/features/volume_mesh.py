@@ -38,6 +38,8 @@ OPTIONS = (
 DISPLAY = (("ShowWall", "wall", True), ("ShowSymmetry", "symmetry", True), ("ShowFarfield", "farfield", False))
 # cad: the flow domain of the fit's target (Target.FlowDomain), as its CAD gives it.
 DOMAINS = ["sphere", "box", "cylinder", "cad"]
+# How the far field is marched (bvmesh.volume.offset_and_farfield's farfield_scheme).
+FARFIELD_SCHEMES = ["smoothed", "hyperbolic"]
 # The domain's vector options: (property, option, default, description).
 VECTORS = (
     ("FlowDirection", "flow_direction", (1.0, 0.0, 0.0),
@@ -51,6 +53,7 @@ def options(obj):
     """The marching options of a VolumeMesh object, as offset_and_farfield's keywords."""
     settings = {option: getattr(obj, prop) for prop, option, _, _, _ in OPTIONS}
     settings["domain"] = obj.Domain
+    settings["farfield_scheme"] = obj.FarfieldScheme
     for prop, option, _, _ in VECTORS:
         settings[option] = tuple(getattr(obj, prop))
     if obj.Domain == "cad":
@@ -168,6 +171,12 @@ class VolumeMeshProxy(RecomputedProxy):
             kept = obj.Domain
             obj.Domain = DOMAINS
             obj.Domain = kept
+        if "FarfieldScheme" not in obj.PropertiesList:  # also a document saved before the hyperbolic scheme
+            obj.addProperty("App::PropertyEnumeration", "FarfieldScheme", "Marching",
+                            "Far-field marching: smoothed directions (fast), or hyperbolic: Chan & Steger's "
+                            "orthogonality and cell-volume equations (about six times slower, cells nearer to cubes)")
+            obj.FarfieldScheme = FARFIELD_SCHEMES
+            obj.FarfieldScheme = "smoothed"
         for prop, _, default, doc in VECTORS:
             if prop not in obj.PropertiesList:
                 import FreeCAD

@@ -303,7 +303,8 @@ class VolumeMeshPanel(_OptionsPanel):
     create_function, set_function = "make_volume_mesh", "set_volume_options"
     options, display = volume_mesh.OPTIONS, volume_mesh.DISPLAY
     extra_spins = (("WallLevel", "wall_level"), ("MarchingLevel", "marching_level"))
-    combos = (("Domain", "domain", volume_mesh.DOMAINS),)
+    combos = (("Domain", "domain", volume_mesh.DOMAINS),
+              ("FarfieldScheme", "farfield_scheme", volume_mesh.FARFIELD_SCHEMES))
 
 
 class VolumeGridPanel(_OptionsPanel):
