@@ -1,8 +1,9 @@
 """The volume stage on the ONERA M6 (the main job's setting): the block mesh from the fitted wall at
 surface levels 2, 3, 4 (time, peak memory, blocks and poles, or where the marching folds; the fit
 stops at level 3 when it reaches the main job's tolerance there), and above level 2 also with the
-layers marched from level 2 and carried onto that wall (the main job's way), each
-against the fit to that level measured in the same run; then the euler and rans grids of about
+layers marched from level 2 and carried onto that wall (the main job's way), at level 2 also with
+the hyperbolic far field (farfield_scheme='hyperbolic'), each against the fit to that level
+measured in the same run; then the euler and rans grids of about
 1 M cells from the level-2 blocks, against per-point evaluation of as many points of the same
 blocks measured in the same run, and the CGNS and OpenFOAM writers on the euler grid. The
 level-2 blocks are left in a file for build/bench/bench_grid, which measures each step's memory.
@@ -62,6 +63,8 @@ def main(max_level):
         ways = [("marched", {})]
         if fitter2 is not None and fitter.level > 2:
             ways.append(("carried from level 2", {"marching_wall": fitter2}))
+        if level == 2:
+            ways.append(("marched, hyperbolic far field", {"farfield_scheme": "hyperbolic"}))
         for way, extra in ways:
             try:
                 seconds, volume = timed(lambda: bvmesh.volume.offset_and_farfield(
@@ -76,7 +79,7 @@ def main(max_level):
             print("| {} / {} | {} | {:.2f} | {:.2f} | {:.2f} | {:.0f} | {} | {} | {}: {} control layers |".format(
                 level, fitter.level, fitter.mesh.num_vertices, fit_seconds, seconds, seconds / fit_seconds,
                 peak_megabytes(), blocks.block_count, poles, way, len(volume.layer_distance)))
-            if level == 2:
+            if level == 2 and not extra:
                 level2 = volume
     if level2 is None:
         return

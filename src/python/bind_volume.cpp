@@ -238,8 +238,8 @@ layers along the wall normals, total thickness boundary_layer_thickness (0: the 
 estimate 0.37 L Re^-0.2 with L = reference_length, 0: the wall's largest extent); around sharp convex
 edges the grid lines fan out over a band sharp_edge_splay boundary-layer thicknesses wide. Far field: marched
 (farfield_scheme 'smoothed': directions with growing implicit smoothing, turning radial; 'hyperbolic':
-Chan & Steger's orthogonality and cell-volume equations, one sparse solve per pseudo-step, about six
-times slower, cells nearer to cubes), layer thickness growing by farfield_growth, to the
+Chan & Steger's orthogonality and cell-volume equations, one sparse solve per pseudo-step, 6-14
+times slower on the M6, far-field cells nearer to cubes), layer thickness growing by farfield_growth, to the
 domain boundary around domain_centre (default: the wall's centre; on the symmetry plane of a half
 model, which halves the domain): domain 'sphere' of radius
 farfield_distance (0: 20 L), 'box' of half sizes box_half_extent (x, y, z; farfield_distance where

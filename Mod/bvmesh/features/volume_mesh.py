@@ -174,7 +174,7 @@ class VolumeMeshProxy(RecomputedProxy):
         if "FarfieldScheme" not in obj.PropertiesList:  # also a document saved before the hyperbolic scheme
             obj.addProperty("App::PropertyEnumeration", "FarfieldScheme", "Marching",
                             "Far-field marching: smoothed directions (fast), or hyperbolic: Chan & Steger's "
-                            "orthogonality and cell-volume equations (about six times slower, cells nearer to cubes)")
+                            "orthogonality and cell-volume equations (several times slower, far-field cells nearer to cubes)")
             obj.FarfieldScheme = FARFIELD_SCHEMES
             obj.FarfieldScheme = "smoothed"
         for prop, _, default, doc in VECTORS:
