@@ -24,18 +24,12 @@ namespace {
 using volume::BlockMesh;
 
 void checkOptions(const RefinementOptions& options) {
-  auto positiveOrZero = [](double value, const char* name) {
-    if (!std::isfinite(value) || value < 0.0) {
-      throw InvalidInputError(std::string(name) + " must be a finite number >= 0 (got " +
-                              std::to_string(value) + ")");
-    }
-  };
-  positiveOrZero(options.firstCellHeight, "first_cell_height");
-  positiveOrZero(options.yPlus, "y_plus");
-  positiveOrZero(options.reynoldsNumber, "reynolds_number");
-  positiveOrZero(options.referenceLength, "reference_length");
-  positiveOrZero(options.tangentialSpacing, "tangential_spacing");
-  positiveOrZero(options.edgeEndSpacing, "edge_end_spacing");
+  checkFiniteAtLeast(options.firstCellHeight, 0.0, "first_cell_height");
+  checkFiniteAtLeast(options.yPlus, 0.0, "y_plus");
+  checkFiniteAtLeast(options.reynoldsNumber, 0.0, "reynolds_number");
+  checkFiniteAtLeast(options.referenceLength, 0.0, "reference_length");
+  checkFiniteAtLeast(options.tangentialSpacing, 0.0, "tangential_spacing");
+  checkFiniteAtLeast(options.edgeEndSpacing, 0.0, "edge_end_spacing");
   if (!std::isfinite(options.maxTurningDegrees) || options.maxTurningDegrees < 0.0 ||
       options.maxTurningDegrees > 90.0) {
     throw InvalidInputError("max_turning_angle must be 0 (none) or a number of degrees up to 90 (got " +

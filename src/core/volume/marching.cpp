@@ -14,6 +14,7 @@
 #include <string>
 
 #include "core/common/errors.h"
+#include "core/common/input_checks.h"
 
 namespace bvmesh::volume {
 namespace {
@@ -159,13 +160,8 @@ class Marcher {
 
  private:
   void checkOptions() const {
-    auto positive = [](double value, const char* name) {
-      if (!(value > 0) || !std::isfinite(value)) {
-        throw InvalidInputError(std::string(name) + " must be positive and finite, got " + std::to_string(value));
-      }
-    };
-    positive(options_.boundaryLayerThickness, "boundary-layer thickness");
-    positive(options_.farfieldDistance, "far-field distance");
+    checkFiniteAtLeast(options_.boundaryLayerThickness, 0.0, "boundary-layer thickness", true);
+    checkFiniteAtLeast(options_.farfieldDistance, 0.0, "far-field distance", true);
     if (options_.boundaryLayerLayers < 1 || options_.boundaryLayerLayers > 100) {
       throw InvalidInputError("boundary-layer layers must be in 1..100, got " + std::to_string(options_.boundaryLayerLayers));
     }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "core/common/errors.h"
+#include "core/common/input_checks.h"
 
 namespace bvmesh::volume {
 namespace {
@@ -23,12 +24,6 @@ double enclosedVolume(const MarchingFront& front, const Vector3d& origin) {
     volume += (a.dot(b.cross(c)) + a.dot(c.cross(d))) / 6.0;
   }
   return volume;
-}
-
-void positiveOrZero(double value, const char* name) {
-  if (!(value >= 0) || !std::isfinite(value)) {
-    throw InvalidInputError(std::string(name) + " must be positive (or 0 for the default), got " + std::to_string(value));
-  }
 }
 
 }  // namespace
@@ -54,9 +49,9 @@ ResolvedVolumeOptions resolveVolumeOptions(const VolumeMeshOptions& options, con
   }
 
   const Vector3d extent = hi - lo;
-  positiveOrZero(options.referenceLength, "reference length");
-  positiveOrZero(options.boundaryLayerThickness, "boundary-layer thickness");
-  positiveOrZero(options.farfieldDistance, "far-field distance");
+  checkFiniteAtLeast(options.referenceLength, 0.0, "reference length (0: the default)");
+  checkFiniteAtLeast(options.boundaryLayerThickness, 0.0, "boundary-layer thickness (0: the default)");
+  checkFiniteAtLeast(options.farfieldDistance, 0.0, "far-field distance (0: the default)");
   if (!(options.reynoldsNumber >= 1e3 && options.reynoldsNumber <= 1e10)) {
     throw InvalidInputError("Reynolds number must be in [1e3, 1e10], got " + std::to_string(options.reynoldsNumber));
   }
