@@ -285,6 +285,23 @@ def sampled_block(blocks, b):
     return x, du, dv, dw, scaled
 
 
+def sampled_blocks(mesh):
+    """Every block of a volume mesh sampled as sampled_block does: the worst scaled Jacobian, the
+    sample points at or below 0 (n, 3), the largest distance of a symmetry face's samples from
+    y = 0, and the outer faces' samples' distances from the domain centre."""
+    blocks, centre = mesh.blocks, np.asarray(mesh.domain_centre)
+    worst, negative, symmetry_offset, outer = 1.0, [], 0.0, []
+    for b in range(blocks.block_count):
+        x, _, _, _, scaled = sampled_block(blocks, b)
+        worst = min(worst, scaled.min())
+        negative.extend(x[scaled <= 0.0])
+        outer.extend(np.linalg.norm(x[:, :, -1] - centre, axis=2).ravel())
+        for name, face in (("u_min", x[0]), ("u_max", x[-1]), ("v_min", x[:, 0]), ("v_max", x[:, -1])):
+            if blocks.faces(b)[name]["condition"] == "symmetry":
+                symmetry_offset = max(symmetry_offset, np.abs(face[..., 1]).max())
+    return worst, np.array(negative).reshape(-1, 3), symmetry_offset, np.array(outer)
+
+
 class M6Volume(unittest.TestCase):
     """The volume mesh around the M6 at level 2 (O-topology around the sharp trailing edge). Before
     the far-field directions turned radial, the grid lines behind the root of the swept trailing
@@ -387,18 +404,10 @@ class M6HyperbolicFarField(unittest.TestCase):
         np.testing.assert_array_equal(self.mesh.layer_min_scaled_jacobian[:5], self.smoothed.layer_min_scaled_jacobian[:5])
 
     def test_blocks_symmetry_plane_and_far_field_as_asked(self):
-        blocks, worst, negative = self.mesh.blocks, 1.0, []
-        centre = np.asarray(self.mesh.domain_centre)
-        for b in range(blocks.block_count):
-            x, _, _, _, scaled = sampled_block(blocks, b)
-            worst = min(worst, scaled.min())
-            negative.extend(x[scaled <= 0.0])
-            np.testing.assert_allclose(np.linalg.norm(x[:, :, -1] - centre, axis=2), 20 * 805.0, rtol=0.01)
-            for name, face in (("u_min", x[0]), ("u_max", x[-1]), ("v_min", x[:, 0]), ("v_max", x[:, -1])):
-                if blocks.faces(b)[name]["condition"] == "symmetry":
-                    self.assertLess(np.abs(face[..., 1]).max(), 1e-12 * 1457.0)
+        worst, negative, symmetry_offset, outer = sampled_blocks(self.mesh)
+        np.testing.assert_allclose(outer, 20 * 805.0, rtol=0.01)
+        self.assertLess(symmetry_offset, 1e-12 * 1457.0)
         # The boundary layer's known defect at the trailing edge's tip corner (M6Volume) and nothing else.
-        negative = np.array(negative).reshape(-1, 3)
         self.assertLessEqual(len(negative), 6)
         self.assertLess(np.abs(negative - np.array([1144.4, 1197.1, 0.0])).max(initial=0.0), 5.0)
         self.assertGreater(worst, -0.1)
@@ -447,25 +456,15 @@ class M6VolumeOnTheConvergedWall(unittest.TestCase):
         self.assertGreater(level2, 1e-5 * 805.0)
 
     def test_blocks_positive_and_the_far_field_as_asked(self):
-        blocks, worst = self.mesh.blocks, 1.0
-        negative = []
-        centre = np.asarray(self.mesh.domain_centre)
-        for b in range(blocks.block_count):
-            x, _, _, _, scaled = sampled_block(blocks, b)
-            worst = min(worst, scaled.min())
-            negative.extend(x[scaled <= 0.0])
-            np.testing.assert_allclose(np.linalg.norm(x[:, :, -1] - centre, axis=2), 20 * 805.0, rtol=0.01)
+        worst, negative, _, outer = sampled_blocks(self.mesh)
+        np.testing.assert_allclose(outer, 20 * 805.0, rtol=0.01)
         # The known defect of level 2 alone (M6Volume), at the same corner column: 8 samples (4 per
         # side, -0.134 at worst; level 2: 6, -0.070) in the first layers where the trailing edge
         # meets the tip, nowhere else.
-        negative = np.array(negative).reshape(-1, 3)
         self.assertLessEqual(len(negative), 8)
         self.assertLess(np.abs(negative - np.array([1144.4, 1197.1, 0.0])).max(initial=0.0), 6.0)
         self.assertGreater(worst, -0.15)
 
-
-if __name__ == "__main__":
-    unittest.main()
 
 
 def hemisphere_cylinder_with_flat_base():
@@ -523,15 +522,9 @@ class HemisphereCylinderVolume(unittest.TestCase):
 
     def test_blocks_positive_and_far_field_and_symmetry_as_asked(self):
         # The blocks' samples: 0.275 at worst (measured), next to the base's rim.
-        blocks, worst = self.mesh.blocks, 1.0
-        centre = np.asarray(self.mesh.domain_centre)
-        for b in range(blocks.block_count):
-            x, _, _, _, scaled = sampled_block(blocks, b)
-            worst = min(worst, scaled.min())
-            np.testing.assert_allclose(np.linalg.norm(x[:, :, -1] - centre, axis=2), 200.0, rtol=0.01)
-            for name, face in (("u_min", x[0]), ("u_max", x[-1]), ("v_min", x[:, 0]), ("v_max", x[:, -1])):
-                if blocks.faces(b)[name]["condition"] == "symmetry":
-                    self.assertLess(np.abs(face[..., 1]).max(), 1e-12 * 10.0)
+        worst, _, symmetry_offset, outer = sampled_blocks(self.mesh)
+        np.testing.assert_allclose(outer, 200.0, rtol=0.01)
+        self.assertLess(symmetry_offset, 1e-12 * 10.0)
         self.assertGreater(worst, 0.25)
 
     def test_grid_cells_at_the_base_rim(self):
@@ -644,3 +637,7 @@ class M6InItsFlowDomain(unittest.TestCase):
         options["box_half_extent"] = [3700.0, 1000.0, 2400.0]  # the wing reaches y = 1218
         with self.assertRaisesRegex(ValueError, "is not inside the box domain by a boundary-layer thickness"):
             bvmesh.volume.offset_and_farfield(self.fitter, reference_length=805.0, **options)
+
+
+if __name__ == "__main__":
+    unittest.main()
