@@ -1,7 +1,11 @@
-"""Toolbar and menu commands. Each one runs the public API through FreeCADGui.doCommand inside a
-transaction, so the Python console shows the call, a recorded macro replays it headless, and
-Undo takes it back. A failing command aborts its transaction: the document stays as it was."""
+"""Toolbar and menu commands. Each one runs the public API inside a transaction and, once it
+succeeded, puts the call through FreeCADGui.doCommand, so the Python console shows it, a recorded
+macro replays it headless, and Undo takes it back. A failing or cancelled command aborts its
+transaction: the document stays as it was and the macro does not hold it."""
 
+import types
+
+import __main__
 import FreeCAD
 import FreeCADGui
 
@@ -61,17 +65,18 @@ def find_object(type_name):
 
 
 def run_in_transaction(title, lines):
-    """Runs `lines` of Python through doCommand inside one undo transaction of the active
-    document; on an error the transaction is aborted, so the document is left as it was, and
-    the error goes to the Report view."""
+    """Runs `lines` (bvmesh.api calls) inside one undo transaction of the active document, where
+    doCommand runs its lines (__main__, with App and Gui), and records them in the macro once they
+    all succeeded. On an error or a Cancel the transaction is aborted, so the document is left as it
+    was, the error goes to the Report view, and nothing is recorded: a macro recorded through a
+    cancelled marching used to replay it to the end and create an object the later lines did not
+    mean, and a failed line stopped the replay."""
     doc = FreeCAD.ActiveDocument
     doc.openTransaction(title)
     try:
-        # Not addModule: it records the import only the first time in a session, so a macro
-        # recorded later would lack it. The macro recorder keeps one copy in the macro's header.
-        FreeCADGui.doCommand("import bvmesh.api")
+        exec("import bvmesh.api", __main__.__dict__)
         for line in lines:
-            FreeCADGui.doCommand(line)
+            exec(line, __main__.__dict__)
     except Exception as error:  # any failure of the command must leave the document intact
         doc.abortTransaction()
         if any(kind.__name__ in str(error) for kind in (surface_fit.FitCancelled, WorkCancelled)):
@@ -79,8 +84,33 @@ def run_in_transaction(title, lines):
         else:
             FreeCAD.Console.PrintError("BVMesh: {} failed: {}\n".format(title, error))
         return False
+    _record(lines)
     doc.commitTransaction()
     return True
+
+
+class _CallsDone:
+    """bvmesh.api as _record's lines see it: every call has already been made."""
+
+    def __getattr__(self, name):
+        return lambda *args, **kwargs: None
+
+
+def _record(lines):
+    """Puts lines that have run into the macro and the Python console. FreeCAD 0.20's doCommand is
+    the only way to record a line and it runs the line too, so while it records them `bvmesh` in
+    __main__ stands for a package whose API calls do nothing (their arguments are evaluated as
+    before)."""
+    # Not addModule: it records the import only the first time in a session, so a macro recorded
+    # later would lack it. The macro recorder keeps one copy in the macro's header.
+    FreeCADGui.doCommand("import bvmesh.api")
+    package = __main__.__dict__.get("bvmesh")
+    __main__.__dict__["bvmesh"] = types.SimpleNamespace(api=_CallsDone())
+    try:
+        for line in lines:
+            FreeCADGui.doCommand(line)
+    finally:
+        __main__.__dict__["bvmesh"] = package
 
 
 def _resources(icon, menu, tooltip):

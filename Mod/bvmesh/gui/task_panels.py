@@ -1,5 +1,5 @@
 """Task panels (FreeCAD's combo-view dialogs) for polyhedron creation and fit parameters. Their
-accept() runs the same API call a command would, through doCommand in one transaction."""
+accept() runs the same API call a command would, in one transaction (commands.run_in_transaction)."""
 
 import os
 
