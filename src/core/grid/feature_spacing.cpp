@@ -8,6 +8,8 @@
 #include <map>
 #include <utility>
 
+#include "core/common/closest_point.h"
+
 namespace bvmesh::grid {
 namespace {
 
@@ -17,12 +19,11 @@ std::pair<double, Eigen::Vector3d> nearestOnPolyline(const RowMatrixX3d& line, c
   Eigen::Vector3d direction = Eigen::Vector3d::Zero();
   for (Eigen::Index k = 1; k < line.rows(); ++k) {
     const Eigen::Vector3d a = line.row(k - 1).transpose();
-    const Eigen::Vector3d segment = line.row(k).transpose() - a;
-    const double t = std::clamp((point - a).dot(segment) / segment.squaredNorm(), 0.0, 1.0);
-    const double distance = (a + t * segment - point).norm();
+    const Eigen::Vector3d b = line.row(k).transpose();
+    const double distance = (closestPointOnSegment(point, a, b) - point).norm();
     if (distance < nearest) {
       nearest = distance;
-      direction = segment.normalized();
+      direction = (b - a).normalized();
     }
   }
   return {nearest, direction};
