@@ -8,7 +8,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <memory>
 #include <string>
 
 #include "core/common/errors.h"
@@ -144,8 +143,8 @@ HyperbolicStepper::HyperbolicStepper(Eigen::Index pointCount, const std::vector<
   }
   Eigen::SparseMatrix<double> smoothing(pointCount, pointCount);
   smoothing.setFromTriplets(entries.begin(), entries.end());
-  smoothingFactor_ = std::make_shared<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>>(smoothing);
-  if (smoothingFactor_->info() != Eigen::Success)
+  smoothingFactor_.compute(smoothing);
+  if (smoothingFactor_.info() != Eigen::Success)
     throw SolverError("hyperbolic marching: the smoothing operator is singular");
 }
 
@@ -279,7 +278,7 @@ RowMatrixX3d HyperbolicStepper::pseudoStep(const RowMatrixX3d& before, const Row
   Eigen::SparseMatrix<double> matrix(3 * n, 3 * n);
   matrix.setFromTriplets(entries.begin(), entries.end());
   Eigen::GMRES<Eigen::SparseMatrix<double>, SmoothingPreconditioner> solver;
-  solver.preconditioner().use(smoothingFactor_.get(), &smoothingRowScale_);
+  solver.preconditioner().use(&smoothingFactor_, &smoothingRowScale_);
   solver.setTolerance(kSolverTolerance);
   solver.setMaxIterations(kSolverIterations);
   solver.compute(matrix);

@@ -16,7 +16,6 @@
 #include <Eigen/SparseCore>
 
 #include <array>
-#include <memory>
 #include <vector>
 
 #include "core/common/types.h"
@@ -70,7 +69,7 @@ class HyperbolicStepper {
   HyperbolicOptions options_;
   std::vector<std::vector<RingEntry>> rings_;
   // The step's smoothing operator, factored once (the preconditioner of every step's solve).
-  std::shared_ptr<Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>> smoothingFactor_;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> smoothingFactor_;
   Eigen::VectorXd smoothingRowScale_;
 };
 
