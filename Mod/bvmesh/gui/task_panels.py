@@ -319,10 +319,14 @@ class VolumeGridPanel(_OptionsPanel):
 
         super().__init__(obj, source)
         # Feature edges as (object, (edge names, ...)), taken from the selection by the button.
-        self.feature_edges = [(o, tuple(names)) for o, names in (obj.FeatureEdges if obj is not None else [])]
+        self.feature_edges = self.saved_feature_edges()
         self.widget("spin", "FeatureSpacing", 0.0).setValue(self.current("FeatureSpacing", 0.0))
         self.form.findChild(QtGui.QPushButton, "buttonFeatureEdges").clicked.connect(self.take_selected_edges)
         self.show_feature_edges()
+
+    def saved_feature_edges(self):
+        """The grid's FeatureEdges as (object, (edge names, ...)); none for a new grid."""
+        return [(o, tuple(names)) for o, names in (self.obj.FeatureEdges if self.obj is not None else [])]
 
     def take_selected_edges(self):
         edges = []
@@ -341,8 +345,7 @@ class VolumeGridPanel(_OptionsPanel):
 
     def changed(self):
         changed = super().changed()
-        saved = [(o, tuple(names)) for o, names in (self.obj.FeatureEdges if self.obj is not None else [])]
-        if self.feature_edges != saved:
+        if self.feature_edges != self.saved_feature_edges():
             changed["feature_edges"] = self.feature_edges
         spacing = self.widget("spin", "FeatureSpacing", 0.0).value()
         if spacing != self.current("FeatureSpacing", 0.0):
