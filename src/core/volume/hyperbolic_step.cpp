@@ -21,8 +21,7 @@ using Eigen::Vector3d;
 constexpr double kPi = 3.14159265358979323846;
 // Exponent of the explicit smoothing's growth with the marched share (Chan & Steger's S_l).
 constexpr double kSmoothingGrowthExponent = 0.15;
-// A step's linear system: relative residual (of a step, far below any cell's size) and GMRES budget.
-constexpr double kSolverTolerance = 1e-4;
+// GMRES's budget of iterations for a step's linear system.
 constexpr int kSolverIterations = 500;
 
 // GMRES preconditioner: the step's smoothing part alone, (1 + 4 eps_I) I - eps_I (4 / M) sum over the
@@ -129,6 +128,12 @@ HyperbolicStepper::HyperbolicStepper(Eigen::Index pointCount, const std::vector<
       for (size_t m = real - 2; m >= 1; --m) ring.push_back({ring[m].point, true});
     }
     if (ring.size() < 3) fail("has fewer than three neighbours around it");
+    const auto valence = static_cast<double>(ring.size());
+    for (size_t m = 0; m < ring.size(); ++m) {
+      const double angle = 2.0 * kPi * static_cast<double>(m) / valence;
+      ring[m].xiWeight = (2.0 / valence) * std::cos(angle);
+      ring[m].etaWeight = (2.0 / valence) * std::sin(angle);
+    }
   }
   // Rows scaled by M / 4 make the smoothing operator symmetric (a neighbour pair weighs -eps_I both ways).
   std::vector<Eigen::Triplet<double>> entries;
@@ -187,7 +192,7 @@ double HyperbolicStepper::shortEdge(const RowMatrixX3d& points) const {
 }
 
 RowMatrixX3d HyperbolicStepper::advance(const RowMatrixX3d& below, const RowMatrixX3d& points,
-                                        double thickness, double progress) const {
+                                        double thickness, double progress) {
   const double edge = shortEdge(points);
   const double wanted = edge > 0.0 ? std::ceil(thickness / (options_.maxStepToEdge * edge)) : 1.0;
   const int steps = static_cast<int>(std::clamp(wanted, 1.0, static_cast<double>(options_.maxPseudoSteps)));
@@ -202,7 +207,7 @@ RowMatrixX3d HyperbolicStepper::advance(const RowMatrixX3d& below, const RowMatr
 }
 
 RowMatrixX3d HyperbolicStepper::pseudoStep(const RowMatrixX3d& before, const RowMatrixX3d& points,
-                                           double step, double progress) const {
+                                           double step, double progress) {
   const Eigen::Index n = points.rows();
   const Eigen::VectorXd area = nodeAreas(points);
   // Cell volumes: the step times the point's area, smoothed over the front (Jacobi passes).
@@ -237,14 +242,13 @@ RowMatrixX3d HyperbolicStepper::pseudoStep(const RowMatrixX3d& before, const Row
     const Vector3d xBefore = before.row(p).transpose();
     Vector3d rXi = Vector3d::Zero(), rEta = Vector3d::Zero(), laplacian = Vector3d::Zero();
     double lengthBefore = 0.0, length = 0.0;
-    for (size_t m = 0; m < ring.size(); ++m) {
-      const double angle = 2.0 * kPi * static_cast<double>(m) / valence;
-      const Vector3d d = ringPoint(points, ring[m]) - x;
-      rXi += (2.0 / valence) * std::cos(angle) * d;
-      rEta += (2.0 / valence) * std::sin(angle) * d;
+    for (const RingEntry& entry : ring) {
+      const Vector3d d = ringPoint(points, entry) - x;
+      rXi += entry.xiWeight * d;
+      rEta += entry.etaWeight * d;
       laplacian += (4.0 / valence) * d;
       length += d.norm();
-      lengthBefore += (ringPoint(before, ring[m]) - xBefore).norm();
+      lengthBefore += (ringPoint(before, entry) - xBefore).norm();
     }
     const Vector3d sigma = rXi.cross(rEta);
     if (!(sigma.norm() > 1e-14 * rXi.norm() * rEta.norm()) || !(area[p] > 0.0)) {
@@ -267,22 +271,31 @@ RowMatrixX3d HyperbolicStepper::pseudoStep(const RowMatrixX3d& before, const Row
     const Vector3d dissipation = options_.explicitSmoothing * growth * sensor * stepToEdge * 0.5 * laplacian;
     rhs.segment<3>(3 * p) = rZeta + dissipation;
     addBlock(p, p, (1.0 + 4.0 * implicitWeight) * Matrix3d::Identity());
-    for (size_t m = 0; m < ring.size(); ++m) {
-      const double angle = 2.0 * kPi * static_cast<double>(m) / valence;
-      Matrix3d block = coupling * (2.0 / valence) * (std::cos(angle) * b1 + std::sin(angle) * b2) -
+    for (const RingEntry& entry : ring) {
+      Matrix3d block = coupling * (entry.xiWeight * b1 + entry.etaWeight * b2) -
                        implicitWeight * (4.0 / valence) * Matrix3d::Identity();
-      if (ring[m].mirrored) block = block * mirror_;
-      addBlock(p, ring[m].point, block);
+      if (entry.mirrored) block = block * mirror_;
+      addBlock(p, entry.point, block);
     }
   }
   Eigen::SparseMatrix<double> matrix(3 * n, 3 * n);
   matrix.setFromTriplets(entries.begin(), entries.end());
   Eigen::GMRES<Eigen::SparseMatrix<double>, SmoothingPreconditioner> solver;
   solver.preconditioner().use(&smoothingFactor_, &smoothingRowScale_);
-  solver.setTolerance(kSolverTolerance);
   solver.setMaxIterations(kSolverIterations);
   solver.compute(matrix);
-  Eigen::VectorXd delta = solver.solve(rhs);
+  Eigen::VectorXd delta;
+  if (lastSolution_.size() == rhs.size()) {
+    // GMRES measures its residual against the first guess's: the tolerance that stops it at
+    // solverTolerance of the right-hand side.
+    const Eigen::VectorXd guess = (step / lastStep_) * lastSolution_;
+    const double start = (rhs - matrix * guess).norm() / rhs.norm();
+    solver.setTolerance(std::min(0.5, options_.solverTolerance / start));
+    delta = solver.solveWithGuess(rhs, guess);
+  } else {
+    solver.setTolerance(options_.solverTolerance);
+    delta = solver.solve(rhs);
+  }
   if (solver.info() != Eigen::Success || !delta.allFinite()) {
     // A front with nearly flat cells (stopped boundary-layer lines in a concave corner) can stall
     // the iterations; a direct solve still gives its step, whose cells the marching then checks.
@@ -304,6 +317,8 @@ RowMatrixX3d HyperbolicStepper::pseudoStep(const RowMatrixX3d& before, const Row
     frontArea += own;
   }
   const double scale = step * frontArea / weightedLength;
+  lastSolution_ = delta;
+  lastStep_ = step;
   RowMatrixX3d next = points;
   for (Eigen::Index p = 0; p < n; ++p) {
     Vector3d x = points.row(p).transpose() + scale * delta.segment<3>(3 * p);

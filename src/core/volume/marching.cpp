@@ -590,7 +590,7 @@ class Marcher {
 
   // One far-field step by the hyperbolic equations, then the same local repair as marchOnce's
   // along the step's own directions and lengths.
-  RowMatrixX3d hyperbolicOnce(const HyperbolicStepper& stepper, const RowMatrixX3d& below,
+  RowMatrixX3d hyperbolicOnce(HyperbolicStepper& stepper, const RowMatrixX3d& below,
                               const RowMatrixX3d& points, double step, double progress, int layer) const {
     RowMatrixX3d next = stepper.advance(below, points, step, progress);
     const RowMatrixX3d moves = next - points;
