@@ -2,7 +2,7 @@
 surface levels 2, 3, 4 (time, peak memory, blocks and poles, or where the marching folds; the fit
 stops at level 3 when it reaches the main job's tolerance there), and above level 2 also with the
 layers marched from level 2 and carried onto that wall (the main job's way), at level 2 also with
-the hyperbolic far field (farfield_scheme='hyperbolic'), each against the fit to that level
+the smoothed far field (farfield_scheme='smoothed'; the default is 'hyperbolic'), each against the fit to that level
 measured in the same run; then the euler and rans grids of about
 1 M cells from the level-2 blocks, against per-point evaluation of as many points of the same
 blocks measured in the same run, and the CGNS and OpenFOAM writers on the euler grid. The
@@ -64,7 +64,7 @@ def main(max_level):
         if fitter2 is not None and fitter.level > 2:
             ways.append(("carried from level 2", {"marching_wall": fitter2}))
         if level == 2:
-            ways.append(("marched, hyperbolic far field", {"farfield_scheme": "hyperbolic"}))
+            ways.append(("marched, smoothed far field", {"farfield_scheme": "smoothed"}))
         for way, extra in ways:
             try:
                 seconds, volume = timed(lambda: bvmesh.volume.offset_and_farfield(

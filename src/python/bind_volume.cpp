@@ -100,7 +100,7 @@ void defineMarchingFunction(py::module_& module, const char* name, Make make, co
       py::arg("farfield_growth") = 1.3, py::arg("smoothing") = 1.0, py::arg("min_scaled_jacobian") = 0.05,
       py::arg("max_layers") = 400, py::arg("domain") = "sphere", py::arg("box_half_extent") = py::none(),
       py::arg("flow_direction") = std::vector<double>{1.0, 0.0, 0.0}, py::arg("marching_wall") = py::none(),
-      py::arg("domain_centre") = py::none(), py::arg("farfield_scheme") = "smoothed", doc);
+      py::arg("domain_centre") = py::none(), py::arg("farfield_scheme") = "hyperbolic", doc);
 }
 
 }  // namespace
@@ -210,6 +210,8 @@ void bindVolume(py::module_& module) {
       .def_readonly("block_chart", &volume::VolumeMesh::blockChart)
       .def_readonly("layer_distance", &volume::VolumeMesh::layerDistance)
       .def_readonly("layer_min_scaled_jacobian", &volume::VolumeMesh::layerMinScaledJacobian)
+      .def_readonly("farfield_layers_smoothed", &volume::VolumeMesh::farfieldLayersSmoothed,
+                    "Far-field layers the hyperbolic scheme would have folded, marched by the smoothed step.")
       .def_readonly("reference_length", &volume::VolumeMesh::referenceLength)
       .def_readonly("boundary_layer_thickness", &volume::VolumeMesh::boundaryLayerThickness)
       .def_readonly("farfield_distance", &volume::VolumeMesh::farfieldDistance)
@@ -237,9 +239,10 @@ on symmetry_plane ((point, normal) of a half model). Boundary layer: boundary_la
 layers along the wall normals, total thickness boundary_layer_thickness (0: the turbulent flat-plate
 estimate 0.37 L Re^-0.2 with L = reference_length, 0: the wall's largest extent); around sharp convex
 edges the grid lines fan out over a band sharp_edge_splay boundary-layer thicknesses wide. Far field: marched
-(farfield_scheme 'smoothed': directions with growing implicit smoothing, turning radial; 'hyperbolic':
-Chan & Steger's orthogonality and cell-volume equations, one sparse solve per pseudo-step, 6-14
-times slower on the M6, far-field cells nearer to cubes), layer thickness growing by farfield_growth, to the
+(farfield_scheme 'hyperbolic', the default: Chan & Steger's orthogonality and cell-volume equations,
+one sparse solve per pseudo-step, a layer it would fold marched by the smoothed step
+(farfield_layers_smoothed counts them); 'smoothed': directions with growing implicit smoothing,
+turning radial, 2-7 times faster, poorer far-field cells), layer thickness growing by farfield_growth, to the
 domain boundary around domain_centre (default: the wall's centre; on the symmetry plane of a half
 model, which halves the domain): domain 'sphere' of radius
 farfield_distance (0: 20 L), 'box' of half sizes box_half_extent (x, y, z; farfield_distance where

@@ -323,13 +323,9 @@ TEST(VolumeMesh, AroundTheLimitSurfaceOfARefinedCube) {
   }
 }
 
-TEST(VolumeMesh, SplayBandLeavesAFaceNarrowerThanItsOwnNormals) {
-  // A box 10 x 1 x 1 (the cube stretched along x), every edge a crease and every corner sharp,
-  // refined three times. Its end faces (half width 0.5) are narrower than the splay band at their
-  // rims would be (two boundary-layer thicknesses, 0.8): the band covers half of them (0.25), so
-  // the lines in their middle leave along the end face's normal instead of taking the long sides'
-  // normals interpolated across the whole face (measured: 0.42 degrees off the end face's normal
-  // within 0.2 of its centre; 6.4 with the band at full width).
+// The cube stretched five times along x, every edge a crease and every corner sharp, refined
+// three times.
+surface::QuadControlMesh stretchedSharpBox() {
   surface::QuadControlMesh box = surface::testing::cube();
   for (Eigen::Index v = 0; v < box.vertices.rows(); ++v) box.vertices(v, 0) *= 5.0;
   std::vector<std::array<int, 2>> edges;
@@ -342,10 +338,20 @@ TEST(VolumeMesh, SplayBandLeavesAFaceNarrowerThanItsOwnNormals) {
   box.creases.resize(static_cast<Eigen::Index>(edges.size()), 2);
   for (size_t e = 0; e < edges.size(); ++e) box.creases.row(static_cast<Eigen::Index>(e)) << edges[e][0], edges[e][1];
   for (int v = 0; v < 8; ++v) box.corners.push_back(v);
-  const surface::QuadControlMesh wall = surface::testing::subdivide(box, 3);
+  return surface::testing::subdivide(box, 3);
+}
+
+TEST(VolumeMesh, SplayBandLeavesAFaceNarrowerThanItsOwnNormals) {
+  // The stretched box's end faces (half width 0.5) are narrower than the splay band at their rims
+  // would be (two boundary-layer thicknesses, 0.8): the band covers half of them (0.25), so the
+  // lines in their middle leave along the end face's normal instead of taking the long sides'
+  // normals interpolated across the whole face (measured: 0.42 degrees off the end face's normal
+  // within 0.2 of its centre; 6.4 with the band at full width).
+  const surface::QuadControlMesh wall = stretchedSharpBox();
   VolumeMeshOptions options;
   options.boundaryLayerThickness = 0.4;
   options.farfieldDistance = 100.0;
+  options.farfieldScheme = FarfieldScheme::Smoothed;
   const VolumeMesh result = generateVolumeMesh(wall, options);
   // The wall-normal derivative at wall samples on the end faces within 0.2 of their centre.
   double worst = 0.0;
@@ -368,6 +374,23 @@ TEST(VolumeMesh, SplayBandLeavesAFaceNarrowerThanItsOwnNormals) {
   }
   EXPECT_GT(samples, 8);
   EXPECT_LT(worst, 1.0);
+}
+
+TEST(VolumeMesh, AHyperbolicLayerThatWouldFoldTakesTheSmoothedStep) {
+  // Above the stretched box's splayed corners (a boundary layer 0.4 thick on a 2 x 2 section) the
+  // hyperbolic scheme's first far-field layer folds (measured: scaled Jacobian -0.57 next to an end
+  // face's corner after the local repair); that layer takes the smoothed step and the far field
+  // goes on hyperbolically.
+  const surface::QuadControlMesh wall = stretchedSharpBox();
+  VolumeMeshOptions options;
+  options.boundaryLayerThickness = 0.4;
+  options.farfieldDistance = 100.0;
+  ASSERT_EQ(options.farfieldScheme, FarfieldScheme::Hyperbolic);
+  const VolumeMesh result = generateVolumeMesh(wall, options);
+  const int farfieldLayers = static_cast<int>(result.layerDistance.size()) - 1 - options.boundaryLayerLayers;
+  EXPECT_GT(result.farfieldLayersSmoothed, 0);
+  EXPECT_LT(result.farfieldLayersSmoothed, farfieldLayers);
+  for (double worst : result.layerMinScaledJacobian) EXPECT_GT(worst, 0.0);
 }
 
 TEST(VolumeMesh, HalfModelKeepsTheSymmetryPlane) {

@@ -234,24 +234,31 @@ class VolumeObjects(unittest.TestCase):
                 if self.doc.getObject(name) is not None:
                     self.doc.removeObject(name)
 
-    def test_hyperbolic_far_field_through_the_document(self):
-        # Chosen by name; a wrong name leaves the object as it was; back to the smoothed scheme the
-        # blocks are the default object's; an object saved before the property marches smoothed.
+    def test_far_field_schemes_through_the_document(self):
+        # A new mesh marches hyperbolically; chosen by name; a wrong name leaves the object as it
+        # was; back to hyperbolic the blocks are the default object's; an object saved before the
+        # property marches smoothed, as it was made.
+        self.assertEqual(self.volume.FarfieldScheme, "hyperbolic")
+        self.assertEqual(self.volume.FarfieldLayersSmoothed, 0)
         vm = api.make_volume_mesh(self.fit, boundary_layer_thickness=0.05, farfield_distance=20.0,
-                                  farfield_scheme="hyperbolic", name="Hyperbolic")
+                                  farfield_scheme="smoothed", name="Smoothed")
         try:
-            self.assertEqual(vm.FarfieldScheme, "hyperbolic")
+            self.assertEqual(vm.FarfieldScheme, "smoothed")
             self.assertEqual(vm.BlockCount, 6)
             self.assertNotEqual(vm.Digest, self.volume.Digest)
-            self.assertGreater(min(vm.LayerMinScaledJacobian), 0.3)
+            self.assertGreater(min(self.volume.LayerMinScaledJacobian), 0.3)
             with self.assertRaisesRegex(Exception, "'elliptic' is not part of the enumeration"):
                 api.set_volume_options(vm, farfield_scheme="elliptic")
-            self.assertEqual(vm.FarfieldScheme, "hyperbolic")
-            api.set_volume_options(vm, farfield_scheme="smoothed")
+            self.assertEqual(vm.FarfieldScheme, "smoothed")
+            smoothed = vm.Digest
+            api.set_volume_options(vm, farfield_scheme="hyperbolic")
             self.assertEqual(vm.Digest, self.volume.Digest)
             vm.removeProperty("FarfieldScheme")
             vm.Proxy.setup(vm)
             self.assertEqual(vm.FarfieldScheme, "smoothed")
+            vm.touch()
+            self.doc.recompute()
+            self.assertEqual(vm.Digest, smoothed)
         finally:
             self.doc.removeObject(vm.Name)
 

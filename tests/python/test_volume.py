@@ -383,14 +383,18 @@ class M6Volume(unittest.TestCase):
 
 class M6HyperbolicFarField(unittest.TestCase):
     """The M6's far field marched by Chan & Steger's hyperbolic equations (farfield_scheme=
-    'hyperbolic') instead of the smoothed directions: the same boundary layer, then cells that the
-    smoothed cell volumes keep nearer to cubes out to the far field."""
+    'hyperbolic', the default) and by the smoothed directions: the same boundary layer, then cells
+    that the smoothed cell volumes keep nearer to cubes out to the far field."""
 
     @classmethod
     def setUpClass(cls):
         fitter, _ = fit_m6(level=2)
-        cls.smoothed = bvmesh.volume.offset_and_farfield(fitter, reference_length=805.0)
-        cls.mesh = bvmesh.volume.offset_and_farfield(fitter, reference_length=805.0, farfield_scheme="hyperbolic")
+        cls.smoothed = bvmesh.volume.offset_and_farfield(fitter, reference_length=805.0, farfield_scheme="smoothed")
+        cls.mesh = bvmesh.volume.offset_and_farfield(fitter, reference_length=805.0)
+
+    def test_every_far_field_layer_marched_hyperbolically(self):
+        self.assertEqual(self.mesh.farfield_layers_smoothed, 0)
+        self.assertEqual(self.smoothed.farfield_layers_smoothed, 0)
 
     def test_far_field_cells_nearer_to_cubes_than_the_smoothed_schemes(self):
         # Worst cell per layer beyond the first four far-field layers (the boundary layer has 4):

@@ -171,11 +171,12 @@ class VolumeMeshProxy(RecomputedProxy):
             kept = obj.Domain
             obj.Domain = DOMAINS
             obj.Domain = kept
-        if "FarfieldScheme" not in obj.PropertiesList:  # also a document saved before the hyperbolic scheme
+        if "FarfieldScheme" not in obj.PropertiesList:
             obj.addProperty("App::PropertyEnumeration", "FarfieldScheme", "Marching",
-                            "Far-field marching: smoothed directions (fast), or hyperbolic: Chan & Steger's "
-                            "orthogonality and cell-volume equations (several times slower, far-field cells nearer to cubes)")
+                            "Far-field marching: hyperbolic, Chan & Steger's orthogonality and cell-volume "
+                            "equations, or smoothed directions (2-5 times faster, poorer far-field cells)")
             obj.FarfieldScheme = FARFIELD_SCHEMES
+            # The scheme of documents saved before the property (create() gives new meshes the default).
             obj.FarfieldScheme = "smoothed"
         for prop, _, default, doc in VECTORS:
             if prop not in obj.PropertiesList:
@@ -196,6 +197,8 @@ class VolumeMeshProxy(RecomputedProxy):
             ("FarfieldDistanceUsed", "App::PropertyFloat", "Far-field radius used"),
             ("FacesAcrossDomainEdges", "App::PropertyInteger",
              "Far-field block faces bending around an edge of a box or cylinder domain (off its faces there)"),
+            ("FarfieldLayersSmoothed", "App::PropertyInteger",
+             "Far-field layers the hyperbolic scheme would have folded, marched by the smoothed step"),
             ("WallMaxDistance", "App::PropertyFloat",
              "Largest distance of the blocks' wall faces from the fitted limit surface (at 9 x 9 points per "
              "control face, along the limit normal)"),
@@ -239,6 +242,7 @@ class VolumeMeshProxy(RecomputedProxy):
             obj.FarfieldDistanceUsed = volume_mesh.farfield_distance
             obj.WallMaxDistance = volume_mesh.wall_max_distance
             obj.FacesAcrossDomainEdges = volume_mesh.farfield_faces_across_domain_edges
+            obj.FarfieldLayersSmoothed = volume_mesh.farfield_layers_smoothed
             obj.LayerMinScaledJacobian = [float(j) for j in volume_mesh.layer_min_scaled_jacobian]
         self._show(obj, blocks)
 
@@ -256,4 +260,5 @@ def volume_mesh(obj):
 def create(doc, name="VolumeMesh"):
     obj = doc.addObject("Part::FeaturePython", name)
     VolumeMeshProxy(obj)
+    obj.FarfieldScheme = "hyperbolic"
     return obj

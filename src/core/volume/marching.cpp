@@ -142,9 +142,19 @@ class Marcher {
       const double progress = static_cast<double>(k) / nFar;
       const double towardsDomain = std::min(1.0, distance / wallSize_);
       const RowMatrixX3d& points = result.layers.back();
-      RowMatrixX3d next = hyperbolic ? hyperbolicOnce(*hyperbolic, result.layers[result.layers.size() - 2],
-                                                      points, step, progress, nBl + k)
-                                     : marchOnce(points, directions, step, progress, towardsDomain, nBl + k);
+      // A hyperbolic layer that would fold (a convex box corner's splayed boundary-layer top)
+      // takes the smoothed step, whose radial turn and point smoothing open it.
+      std::optional<RowMatrixX3d> marched;
+      if (hyperbolic) {
+        try {
+          marched = hyperbolicOnce(*hyperbolic, result.layers[result.layers.size() - 2], points, step,
+                                   progress, nBl + k, directions);
+        } catch (const SolverError&) {
+          ++result.farfieldLayersSmoothed;
+        }
+      }
+      RowMatrixX3d next = marched ? std::move(*marched)
+                                  : marchOnce(points, directions, step, progress, towardsDomain, nBl + k);
       distance += step;
       result.layers.push_back(std::move(next));
       result.layerDistance.push_back(distance);
@@ -591,12 +601,15 @@ class Marcher {
   // One far-field step by the hyperbolic equations, then the same local repair as marchOnce's
   // along the step's own directions and lengths.
   RowMatrixX3d hyperbolicOnce(HyperbolicStepper& stepper, const RowMatrixX3d& below,
-                              const RowMatrixX3d& points, double step, double progress, int layer) const {
+                              const RowMatrixX3d& points, double step, double progress, int layer,
+                              RowMatrixX3d& previous) const {
     RowMatrixX3d next = stepper.advance(below, points, step, progress);
     const RowMatrixX3d moves = next - points;
     const Eigen::VectorXd lengths = moves.rowwise().norm();
     RowMatrixX3d directions = moves.rowwise().normalized();
-    return repairPoorCells(points, std::move(next), directions, lengths, layer);
+    next = repairPoorCells(points, std::move(next), directions, lengths, layer);
+    previous = std::move(directions);
+    return next;
   }
 
   // Where a cell between `points` and `next` would be poor, more smoothing of the directions and

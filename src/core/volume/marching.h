@@ -26,10 +26,11 @@ struct MarchingFront {
   std::vector<std::string> quadNames;  // per quad, where it is (for error messages), may be empty
 };
 
-// How the far field is marched: `Smoothed` steps along directions blended from the previous
-// layer's, the front's normal and the domain's radial, smoothed implicitly, with the points
-// smoothed in the front; `Hyperbolic` solves Chan & Steger's orthogonality and cell-volume
-// equations per step (hyperbolic_step.h), whose smoothed volumes open concave corners.
+// How the far field is marched: `Hyperbolic` solves Chan & Steger's orthogonality and cell-volume
+// equations per step (hyperbolic_step.h), whose smoothed volumes open concave corners; a layer it
+// would fold is marched by the smoothed step. `Smoothed` steps along directions blended from the
+// previous layer's, the front's normal and the domain's radial, smoothed implicitly, with the
+// points smoothed in the front.
 enum class FarfieldScheme { Smoothed, Hyperbolic };
 FarfieldScheme farfieldSchemeOf(const std::string& name);  // "smoothed", "hyperbolic"
 
@@ -53,7 +54,7 @@ struct MarchingOptions {
   // Far-field smoothing: direction smoothing (implicit, grows with the layer) and point smoothing
   // in the front's tangent plane (the cell-size equaliser), both scaled by this factor (0: none).
   double smoothing = 1.0;
-  FarfieldScheme farfieldScheme = FarfieldScheme::Smoothed;
+  FarfieldScheme farfieldScheme = FarfieldScheme::Hyperbolic;
   HyperbolicOptions hyperbolic;     // its explicit and implicit smoothing are scaled by `smoothing`
   double minScaledJacobian = 0.05;  // a layer with a cell below this is marched again with more smoothing
   int maxLayers = 400;
@@ -63,6 +64,9 @@ struct MarchingResult {
   std::vector<RowMatrixX3d> layers;         // layer 0 = the wall
   std::vector<double> layerDistance;        // mean marched distance of each layer
   std::vector<double> layerMinScaledJacobian;  // per layer k >= 1: worst cell between layers k-1 and k
+  // With the hyperbolic scheme: far-field layers it would have folded (after the local repair),
+  // marched by the smoothed scheme's step instead.
+  int farfieldLayersSmoothed = 0;
 };
 
 MarchingResult marchLayers(const MarchingFront& front, const MarchingOptions& options);

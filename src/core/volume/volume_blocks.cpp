@@ -416,6 +416,7 @@ MarchingResult transferLayers(const MarchingResult& coarse, const std::vector<Wa
   MarchingResult result;
   result.layerDistance = coarse.layerDistance;
   result.layerMinScaledJacobian = coarse.layerMinScaledJacobian;
+  result.farfieldLayersSmoothed = coarse.farfieldLayersSmoothed;
   result.layers.assign(static_cast<size_t>(layerCount), RowMatrixX3d(count, 3));
   result.layers[0] = grid.front.points;
   std::vector<char> done(static_cast<size_t>(count), 0);
@@ -505,6 +506,7 @@ VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const Volume
   }
   result.layerDistance = layers.layerDistance;
   result.layerMinScaledJacobian = layers.layerMinScaledJacobian;
+  result.farfieldLayersSmoothed = layers.farfieldLayersSmoothed;
 
   // w: the layers' mean distance, normalised; interpolated by one cubic per pole column.
   const int layerCount = static_cast<int>(layers.layers.size());

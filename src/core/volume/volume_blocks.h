@@ -20,6 +20,7 @@ struct VolumeMesh {
   std::vector<int> blockChart;           // chart of the wall surface each block stands on
   std::vector<double> layerDistance;     // mean marched distance of each control layer
   std::vector<double> layerMinScaledJacobian;
+  int farfieldLayersSmoothed = 0;  // MarchingResult::farfieldLayersSmoothed
   // The options as resolved (defaults filled in).
   double referenceLength = 0.0;
   double boundaryLayerThickness = 0.0;

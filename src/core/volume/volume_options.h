@@ -33,7 +33,7 @@ struct VolumeMeshOptions {
   Eigen::Vector3d boxHalfExtent = Eigen::Vector3d::Zero();
   Eigen::Vector3d flowDirection = Eigen::Vector3d::UnitX();
   double smoothing = 1.0;
-  FarfieldScheme farfieldScheme = FarfieldScheme::Smoothed;  // MarchingOptions::farfieldScheme
+  FarfieldScheme farfieldScheme = FarfieldScheme::Hyperbolic;  // MarchingOptions::farfieldScheme
   double minScaledJacobian = 0.05;
   int maxLayers = 400;
   // The domain's centre when given (a flow domain's CAD: bvmesh's splitFlowDomain), else the
