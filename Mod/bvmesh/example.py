@@ -133,6 +133,13 @@ def wall_distance(grid_object):
     return float(target.Proxy.core_target(target).project(grid.wall_points(api.grid_of(grid_object)))["distances"].max())
 
 
+def _smoothed_layers(vm):
+    count = vm.FarfieldLayersSmoothed
+    if vm.FarfieldScheme != "hyperbolic" or count == 0:
+        return ""
+    return " ({} layer{} by the smoothed step where the hyperbolic one would fold)".format(count, "" if count == 1 else "s")
+
+
 def _volume_report(vm, grid_object, quality, cgns, case, verdict, seconds):
     lines = [
         "# ONERA M6 half wing: volume mesh",
@@ -143,9 +150,10 @@ def _volume_report(vm, grid_object, quality, cgns, case, verdict, seconds):
             "from its own level the boundary layer folds at the trailing edge's tip corner)".format(vm.MarchingLevel)),
             wall_distance(grid_object), vm.Fit.Tolerance),
         "Blocks: {} tricubic B-spline blocks, {} control layers; boundary layer {:.4g} thick (reference length "
-        "{:.4g}, Re {:.4g}); far field: sphere of radius {:.6g} ({:.1f} reference lengths).".format(
+        "{:.4g}, Re {:.4g}); far field: sphere of radius {:.6g} ({:.1f} reference lengths), marched {}{}.".format(
             vm.BlockCount, vm.ControlLayers, vm.BoundaryLayerThicknessUsed, vm.ReferenceLengthUsed,
-            vm.ReynoldsNumber, vm.FarfieldDistanceUsed, vm.FarfieldDistanceUsed / vm.ReferenceLengthUsed),
+            vm.ReynoldsNumber, vm.FarfieldDistanceUsed, vm.FarfieldDistanceUsed / vm.ReferenceLengthUsed,
+            vm.FarfieldScheme, _smoothed_layers(vm)),
         _grid_line(grid_object),
         "Cells with a non-positive scaled Jacobian: {}; with a face above 70 degrees of non-orthogonality: "
         "{}.".format(quality.NonPositiveCells, quality.CellsAbove70Degrees),

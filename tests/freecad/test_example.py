@@ -75,6 +75,7 @@ class MainJob(unittest.TestCase):
             self.assertGreater(os.path.getsize(files[picture]), 50000)
         match = re.search(r"far field: sphere of radius ([0-9.]+)", volume_report)
         self.assertAlmostEqual(float(match.group(1)) / result["chord"], 20.0, delta=0.1)
+        self.assertIn("reference lengths), marched hyperbolic.", volume_report)
 
         self.assertGreater(os.path.getsize(files["plot"]), 10000)
         with open(files["report"]) as report:
