@@ -104,12 +104,17 @@ std::vector<FeatureCurve> detectFeatureCurves(const target::Target& target,
     const EdgeGeometry& g = geometry[static_cast<size_t>(edge)];
     Step step{forward ? g.vertices[1] : g.vertices[0]};
     if (step.vertex < 0) return step;
-    const std::vector<Use>& at = uses[static_cast<size_t>(step.vertex)];
-    if (at.size() != 2) return step;  // an end, or a junction of three or more feature edges
+    // The uses of this kind of feature edge: a curve goes on through a vertex where it meets one
+    // more, whatever edges of the other kinds end there (a kink along a wing's leading edge
+    // ending on its root or tip section, which the CAD splits there). Three or more: a junction.
+    std::vector<Use> at;
+    for (const Use& use : uses[static_cast<size_t>(step.vertex)]) {
+      if (kindOf[static_cast<size_t>(use.edge)] == kindOf[static_cast<size_t>(edge)]) at.push_back(use);
+    }
+    if (at.size() != 2) return step;
     // The other use: for a closed edge both uses are the edge itself.
     const bool firstIsThis = at[0].edge == edge && at[0].leavesForward != forward;
     const Use& other = firstIsThis ? at[1] : at[0];
-    if (kindOf[static_cast<size_t>(other.edge)] != kindOf[static_cast<size_t>(edge)]) return step;
     const Eigen::Vector3d in = forward ? g.endTangent : Eigen::Vector3d(-g.startTangent);
     const EdgeGeometry& o = geometry[static_cast<size_t>(other.edge)];
     const Eigen::Vector3d out = other.leavesForward ? o.startTangent : Eigen::Vector3d(-o.endTangent);
