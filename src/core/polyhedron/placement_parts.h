@@ -142,6 +142,9 @@ struct WingFrame {
   std::vector<target::Points> trailingEdges;  // polylines of the sharp spanwise curves
   std::vector<int> trailingEdgeCurves;        // their indices in the feature curve list
   std::map<double, target::Points> kinks;     // polylines of the sharp curves across the span, by span
+  // A blunt trailing edge: two spanwise sharp curves (its upper and lower edges) with a base face
+  // between them; rings then have both edges as vertices (set by the wing generator).
+  bool blunt = false;
   double extent() const { return extentHigh - extentLow; }
   // How far a placed vertex may lie from a CAD curve's tessellation polyline and still count as on
   // it (covers the polyline's chordal error).
@@ -231,8 +234,9 @@ WingLayout wingLayout(const target::Target& target, const std::vector<FeatureCur
                       bool followKinks);
 
 // Quad strips between consecutive wing rings (trailing edge first) and the trailing-edge crease
-// along their first vertices.
-void addWingStrips(Draft& draft, const std::vector<std::vector<int>>& rings);
+// along their first vertices; a blunt trailing edge's rings end at its lower edge, creased too
+// (the strip between last and first vertices lies on the base).
+void addWingStrips(Draft& draft, const std::vector<std::vector<int>>& rings, bool blunt);
 
 // Tip cap on the ring of station `station`: a row of vertices along the tip's ridge between upper
 // and lower surface, cast along outward x span onto a rounded tip, in the ring's plane with a
@@ -240,7 +244,10 @@ void addWingStrips(Draft& draft, const std::vector<std::vector<int>>& rings);
 // 2n - i - 1 (lower); at the trailing edge the cap is two triangles (a quad would fold around the
 // thin wedge, with a corner angle of a few degrees), meeting at ridge vertex 0, which is the end
 // of the CAD's ridge crease when it has one. outward 1: the far tip, continuing the strips'
-// orientation; -1: a full wing's near tip, reversed. The trailing edge becomes a corner.
+// orientation; -1: a full wing's near tip, reversed. The trailing edge becomes a corner. A blunt
+// trailing edge's ring (2n + 1 vertices, the base's upper edge at 0, its lower edge at 2n; a half
+// wing's flat tip only) pairs ring vertices i and 2n - i; the cap's face at the base is the pentagon between
+// the two base edges and the first ridge vertex, and both base edges' ends are corners.
 void addTipCap(Draft& draft, const target::Target& target, const WingFrame& w, const WingLayout& layout,
                int station, const std::vector<int>& ring, double outward, bool rounded);
 

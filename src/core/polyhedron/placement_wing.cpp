@@ -18,20 +18,37 @@ namespace bvmesh::polyhedron::placement_detail {
 
 // ---- wings ----------------------------------------------------------------------------------
 
-
-// The trailing-edge point at span s: where a trailing-edge polyline crosses the plane.
-std::optional<Vec> trailingEdgeAt(const WingFrame& w, double s) {
+// Where the trailing-edge polylines cross the plane at span s: one point per edge (two curves of
+// one edge cross at their common vertex; a blunt edge's base can be thinner than nearCurve).
+std::vector<Vec> trailingEdgesAt(const WingFrame& w, double s) {
+  std::vector<Vec> points;
   for (const target::Points& line : w.trailingEdges) {
     for (Eigen::Index k = 0; k + 1 < line.rows(); ++k) {
       const double a = (line.row(k).transpose() - w.origin).dot(w.span) - s;
       const double b = (line.row(k + 1).transpose() - w.origin).dot(w.span) - s;
-      if ((a <= 0.0) != (b <= 0.0)) {
-        const double t = a / (a - b);
-        return Vec((line.row(k) + t * (line.row(k + 1) - line.row(k))).transpose());
-      }
+      if ((a <= 0.0) == (b <= 0.0)) continue;
+      const Vec p = (line.row(k) + a / (a - b) * (line.row(k + 1) - line.row(k))).transpose();
+      if (std::none_of(points.begin(), points.end(),
+                       [&](const Vec& q) { return (q - p).norm() <= 1e-6 * w.extent(); }))
+        points.push_back(p);
     }
   }
-  return std::nullopt;
+  return points;
+}
+
+// A trailing edge is blunt when the section half way along the stations meets two trailing-edge
+// curves close together (within 2 % of the span): the upper and lower edges of its base face.
+bool bluntTrailingEdge(const WingFrame& w) {
+  const std::vector<Vec> edges = trailingEdgesAt(w, 0.5 * (w.low + w.high));
+  if (edges.size() > 2 || (edges.size() == 2 && (edges[0] - edges[1]).norm() > 0.02 * w.extent())) {
+    throw InvalidInputError(
+        "the wing templates take one sharp trailing edge or a blunt one (two sharp edges close together): " +
+        std::to_string(edges.size()) + " sharp spanwise curves cross the section half way along the span" +
+        (edges.size() == 2
+             ? " " + std::to_string((edges[0] - edges[1]).norm()) + " apart (a sharp leading edge?)"
+             : std::string()));
+  }
+  return edges.size() == 2;
 }
 
 WingFrame wingFrame(const target::Target& target, const std::vector<FeatureCurve>& curves, bool half,
@@ -104,21 +121,37 @@ std::vector<Vec> wingRing(const target::Target& target, const WingFrame& w, doub
   const double inset = 1e-4 * (w.extentHigh - w.extentLow);
   const double cut = std::clamp(s, w.low + inset, w.high - inset) + (w.kinks.count(s) ? inset : 0.0);
   const PlaneSection section(target, w.origin + cut * w.span, w.span);
-  const std::optional<Vec> te = trailingEdgeAt(w, cut);
-  if (section.empty() || !te) {
+  std::vector<Vec> edges = trailingEdgesAt(w, cut);
+  if (section.empty() || edges.empty()) {
     throw InvalidInputError("wing placement: no section of the target at span " + std::to_string(cut));
   }
+  if (edges.size() != (w.blunt ? 2u : 1u)) {
+    throw InvalidInputError("wing placement: the section at span " + std::to_string(cut) + " meets " +
+                            std::to_string(edges.size()) +
+                            " trailing-edge curves, the one half way along the span " +
+                            (w.blunt ? "two (a blunt trailing edge)" : "one (a sharp trailing edge)"));
+  }
+  // A blunt edge's chord runs from the middle of its base.
+  const Vec te = w.blunt ? Vec(0.5 * (edges[0] + edges[1])) : edges[0];
   WingSection wing;
   std::vector<Vec> ring =
-      sectionRing(*te, section.points(), w.span, upper, lower, wing,
+      sectionRing(te, section.points(), w.span, upper, lower, wing,
                   [&](const Vec& base, const Vec& thickness, bool upperSide) {
                     const std::vector<double> hits = section.lineHits(base, thickness);
                     if (hits.empty()) return base;
                     return Vec(base + (upperSide ? hits.back() : hits.front()) * thickness);
                   });
+  if (w.blunt) {  // the base's upper edge first, its lower edge last
+    if ((edges[0] - edges[1]).dot(wing.thickness) < 0.0) std::swap(edges[0], edges[1]);
+    ring[0] = edges[0];
+    ring.push_back(edges[1]);
+  }
   // Stations at the ends of the span lie on the end itself.
   for (Vec& v : ring) v += (s - (v - w.origin).dot(w.span)) * w.span;
-  if (sectionOut) *sectionOut = WingSection{ring[0], ring[upper.size() + 1], wing.thickness};
+  if (sectionOut) {
+    const Vec trailingEdge = w.blunt ? Vec(0.5 * (ring.front() + ring.back())) : ring[0];
+    *sectionOut = WingSection{trailingEdge, ring[upper.size() + 1], wing.thickness};
+  }
   return ring;
 }
 
@@ -289,7 +322,9 @@ WingLayout wingLayout(const target::Target& target, const std::vector<FeatureCur
   for (const auto& [j, span] : tipSpans) {
     WingSection section;
     wingRing(target, w, span, layout.upper, layout.lower, &section);
-    const TrailingEdgeTip tip = rounded ? trailingEdgeTip(target, curves, w, section) : TrailingEdgeTip{};
+    // A blunt trailing edge's base ends at the tip in an edge of its own: no wedge to close.
+    const TrailingEdgeTip tip =
+        rounded && !w.blunt ? trailingEdgeTip(target, curves, w, section) : TrailingEdgeTip{};
     layout.tips[j] = tip;
     if (tip.upper) layout.tipFractions[j] = {section.fraction(*tip.upper), section.fraction(*tip.lower)};
     if (!followKinks || !kinkUpper.empty() || !kinkLower.empty()) continue;
@@ -319,7 +354,7 @@ WingLayout wingLayout(const target::Target& target, const std::vector<FeatureCur
 
 // Quad strips between consecutive wing rings (trailing edge first) and the trailing-edge crease
 // along their first vertices.
-void addWingStrips(Draft& draft, const std::vector<std::vector<int>>& rings) {
+void addWingStrips(Draft& draft, const std::vector<std::vector<int>>& rings, bool blunt) {
   for (size_t j = 0; j + 1 < rings.size(); ++j) {
     const std::vector<int>& a = rings[j];
     const std::vector<int>& b = rings[j + 1];
@@ -328,9 +363,35 @@ void addWingStrips(Draft& draft, const std::vector<std::vector<int>>& rings) {
       draft.faces.push_back({a[k], a[k1], b[k1], b[k]});
     }
     draft.creases.push_back({a[0], b[0]});
+    if (blunt) draft.creases.push_back({a.back(), b.back()});
   }
 }
 
+// addTipCap for a blunt trailing edge's ring (2n + 1 vertices) at a half wing's flat tip: ridge
+// vertex i (1 <= i < n) half way between ring vertices i and 2n - i, a pentagon between the base's
+// two edges and ridge vertex 1, the rim creased, the base's ends corners.
+void addBluntTipCap(Draft& draft, const WingLayout& layout, const std::vector<int>& ring) {
+  const int n = layout.leadingEdge();
+  const int ringSize = 2 * n + 1;
+  const auto r = [&](int k) { return ring[static_cast<size_t>((k + ringSize) % ringSize)]; };
+  std::vector<int> c(static_cast<size_t>(n), -1);  // c[0] unused: the base's edge closes the cap there
+  for (int i = 1; i < n; ++i) {
+    c[static_cast<size_t>(i)] = draft.add(0.5 * (draft.vertices[static_cast<size_t>(r(i))] +
+                                                 draft.vertices[static_cast<size_t>(r(2 * n - i))]));
+  }
+  const auto cv = [&](int i) { return c[static_cast<size_t>(i)]; };
+  std::vector<std::vector<int>> faces;
+  faces.push_back({r(0), r(1), cv(1), r(2 * n - 1), r(2 * n)});
+  for (int i = 1; i + 1 < n; ++i) {
+    faces.push_back({r(i), r(i + 1), cv(i + 1), cv(i)});
+    faces.push_back({cv(i), cv(i + 1), r(2 * n - i - 1), r(2 * n - i)});
+  }
+  faces.push_back({r(n - 1), r(n), r(n + 1), cv(n - 1)});
+  for (std::vector<int>& face : faces) draft.faces.push_back(face);
+  for (int k = 0; k < ringSize; ++k) draft.creases.push_back({r(k), r(k + 1)});
+  draft.corners.push_back(r(0));
+  draft.corners.push_back(r(2 * n));
+}
 
 // Tip cap on the ring of station `station`: a row of vertices along the tip's ridge between upper
 // and lower surface, cast along outward x span onto a rounded tip, in the ring's plane with a
@@ -341,6 +402,10 @@ void addWingStrips(Draft& draft, const std::vector<std::vector<int>>& rings) {
 // orientation; -1: a full wing's near tip, reversed. The trailing edge becomes a corner.
 void addTipCap(Draft& draft, const target::Target& target, const WingFrame& w, const WingLayout& layout,
                int station, const std::vector<int>& ring, double outward, bool rounded) {
+  if (w.blunt) {
+    addBluntTipCap(draft, layout, ring);
+    return;
+  }
   const int n = layout.leadingEdge();
   const int ringSize = 2 * n;
   const auto r = [&](int k) { return ring[static_cast<size_t>((k + ringSize) % ringSize)]; };
@@ -408,8 +473,10 @@ std::map<double, target::Points> kinkSections(const target::Target& target, cons
 
 // Creases the ring edges that run along a sharp curve (both ends within `tolerance` of its
 // polyline, a tessellation polyline: the tolerance covers its chordal error); the ends of each
-// creased run are corners.
-void creaseAlong(Draft& draft, const std::vector<int>& ring, const target::Points& line, double tolerance) {
+// creased run are corners. A blunt trailing edge's ring is open over its base (the base can be
+// thinner than the tolerance, and a section's sharp outline ends at both of its edges).
+void creaseAlong(Draft& draft, const std::vector<int>& ring, const target::Points& line, double tolerance,
+                 bool openOverBase) {
   const auto onLine = [&](int vertex) {
     const Vec p = draft.vertices[static_cast<size_t>(vertex)];
     for (Eigen::Index k = 0; k + 1 < line.rows(); ++k) {
@@ -421,10 +488,13 @@ void creaseAlong(Draft& draft, const std::vector<int>& ring, const target::Point
   const size_t count = ring.size();
   std::vector<bool> on(count);
   for (size_t k = 0; k < count; ++k) on[k] = onLine(ring[k]);
+  const auto onAt = [&](size_t k, bool forward) {  // the neighbour's flag; off beyond an open base
+    if (openOverBase && (forward ? k + 1 == count : k == 0)) return false;
+    return static_cast<bool>(on[forward ? (k + 1) % count : (k + count - 1) % count]);
+  };
   for (size_t k = 0; k < count; ++k) {
-    const size_t next = (k + 1) % count, previous = (k + count - 1) % count;
-    if (on[k] && on[next]) draft.creases.push_back({ring[k], ring[next]});
-    if (on[k] && on[previous] != on[next]) draft.corners.push_back(ring[k]);  // a run's end
+    if (on[k] && onAt(k, true)) draft.creases.push_back({ring[k], ring[(k + 1) % count]});
+    if (on[k] && onAt(k, false) != onAt(k, true)) draft.corners.push_back(ring[k]);  // a run's end
   }
 }
 
@@ -470,8 +540,20 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
   const int stations = values.integer("spanwise");
   const bool half = values.choice("span") == "half";
   WingFrame w = wingFrame(target, curves, half, plane);
+  w.blunt = bluntTrailingEdge(w);
+  used["trailing_edge"] = w.blunt ? "blunt" : "sharp";
+  if (w.blunt && !half) {
+    throw InvalidInputError(
+        "the wing template (full span) takes a sharp trailing edge; this wing's is blunt: place "
+        "half_wing on its half model (leave out one half and the faces in its plane of symmetry)");
+  }
   w.kinks = kinkSections(target, curves, w);
   const bool rounded = roundedTip(values, target, curves, w, w.high, used);
+  if (w.blunt && rounded) {
+    throw InvalidInputError(
+        "the wing templates close a blunt trailing edge only at a flat tip (a sharp rim round the tip "
+        "face); this wing's tip is rounded");
+  }
   // Stations dense towards the tips, whose caps and wedge closures are small features, and coarse
   // where a wing's sections change slowly: half-cosine spacing, a half wing's root being no tip.
   std::vector<double> spans;
@@ -511,11 +593,11 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
     for (const Vec& p : ring) ids.push_back(draft.add(p));
     rings.push_back(ids);
   }
-  addWingStrips(draft, rings);
+  addWingStrips(draft, rings, w.blunt);
   const double kinkTolerance = w.nearCurve();
   for (const auto& [j, line] : kinkRings) {
     const std::vector<int>& ring = rings[static_cast<size_t>(j)];
-    creaseAlong(draft, ring, line, kinkTolerance);
+    creaseAlong(draft, ring, line, kinkTolerance, w.blunt);
     // Where the trailing edge ends on the kink section (its two halves meet at an angle there),
     // its vertex is a corner.
     bool trailingEdgeEnds = false;
@@ -530,6 +612,7 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
   addTipCap(draft, target, w, layout, tipStation, rings.back(), 1.0, rounded);
   if (half) {
     draft.corners.push_back(rings.front()[0]);
+    if (w.blunt) draft.corners.push_back(rings.front().back());
   } else {
     addTipCap(draft, target, w, layout, 0, rings.front(), -1.0, rounded);
   }

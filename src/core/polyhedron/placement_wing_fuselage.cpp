@@ -280,7 +280,7 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
   }
   Draft wing;
   wing.vertices = draft.vertices;
-  addWingStrips(wing, rings);
+  addWingStrips(wing, rings, false);
   addTipCap(wing, target, w, layout, stations, rings.back(), 1.0, rounded);
   // The wing's faces must run against the fuselage's along the junction edges.
   const int a = junctionRing[0], b = junctionRing[1];
