@@ -108,6 +108,15 @@ class BluntTrailingEdgeTest(unittest.TestCase):
         self.assertGreater(blunt.min(), 0.3)
         self.assertLess(sharp.min(), 0.15)
 
+    def test_wing_body_with_a_blunt_wing_is_refused_by_name(self):
+        import test_wing_fuselage as body
+
+        wing = Part.makeLoft([section(body.ROOT_LE, body.ROOT_Y, body.ROOT_CHORD, BASE),
+                              section(body.ROOT_LE + 1.0, body.TIP_Y, body.TIP_CHORD, BASE)], True, False)
+        target, _, _ = polyhedra.half_model_target(body.cut_at_symmetry_plane(body.fuselage().fuse(wing)))
+        with self.assertRaisesRegex(ValueError, "wing_fuselage template takes a sharp trailing edge; this wing's is blunt"):
+            polyhedra.place("wing_fuselage", target)
+
     def test_full_span_blunt_wing_is_refused_by_name(self):
         whole = half_wing(BASE)
         whole = whole.fuse(whole.mirror(FreeCAD.Vector(0, 0, 0), FreeCAD.Vector(0, 1, 0))).removeSplitter()

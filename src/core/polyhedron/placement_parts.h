@@ -207,6 +207,11 @@ std::vector<double> cosineFractions(int m);
 WingFrame wingFrame(const target::Target& target, const std::vector<FeatureCurve>& curves, bool half,
                     std::optional<fit::SymmetryPlane>& plane);
 
+// Whether the wing's trailing edge is blunt: the section half way along the stations meets two
+// trailing-edge curves close together (within 2 % of the span), the edges of its base face.
+// Throws InvalidInputError naming them when it meets more, or two far apart.
+bool bluntTrailingEdge(const WingFrame& w);
+
 // The wing's ring at span s (sectionRing on the plane section of the target).
 std::vector<Vec> wingRing(const target::Target& target, const WingFrame& w, double s,
                           const std::vector<double>& upper, const std::vector<double>& lower,

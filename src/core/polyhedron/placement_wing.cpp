@@ -36,8 +36,6 @@ std::vector<Vec> trailingEdgesAt(const WingFrame& w, double s) {
   return points;
 }
 
-// A trailing edge is blunt when the section half way along the stations meets two trailing-edge
-// curves close together (within 2 % of the span): the upper and lower edges of its base face.
 bool bluntTrailingEdge(const WingFrame& w) {
   const std::vector<Vec> edges = trailingEdgesAt(w, 0.5 * (w.low + w.high));
   if (edges.size() > 2 || (edges.size() == 2 && (edges[0] - edges[1]).norm() > 0.02 * w.extent())) {
@@ -128,7 +126,7 @@ std::vector<Vec> wingRing(const target::Target& target, const WingFrame& w, doub
   if (edges.size() != (w.blunt ? 2u : 1u)) {
     throw InvalidInputError("wing placement: the section at span " + std::to_string(cut) + " meets " +
                             std::to_string(edges.size()) +
-                            " trailing-edge curves, the one half way along the span " +
+                            " trailing-edge curves where the one half way along the span meets " +
                             (w.blunt ? "two (a blunt trailing edge)" : "one (a sharp trailing edge)"));
   }
   // A blunt edge's chord runs from the middle of its base.

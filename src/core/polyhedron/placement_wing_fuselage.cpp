@@ -117,6 +117,11 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
   // The wing: its trailing edge and, through the trailing edge's inner end, the intersection curve.
   std::optional<fit::SymmetryPlane> wingPlane;
   WingFrame w = wingFrame(target, curves, true, wingPlane);
+  if (bluntTrailingEdge(w)) {
+    throw InvalidInputError(
+        "the wing_fuselage template takes a sharp trailing edge; this wing's is blunt (half_wing takes "
+        "blunt ones)");
+  }
   // The junction: a closed sharp curve starting at an end vertex of a (spanwise, open) trailing-
   // edge curve, the innermost one if several (a flat tip's rim also starts at the trailing edge).
   const auto spanOf = [&](const Vec& p) { return (p - w.origin).dot(w.span); };
