@@ -380,7 +380,7 @@ TEST(VolumeMesh, AHyperbolicLayerThatWouldFoldTakesTheSmoothedStep) {
   // Above the stretched box's splayed corners (a boundary layer 0.4 thick on a 2 x 2 section) the
   // hyperbolic scheme's first far-field layer folds (measured: scaled Jacobian -0.57 next to an end
   // face's corner after the local repair); that layer takes the smoothed step and the far field
-  // goes on hyperbolically.
+  // goes on hyperbolically (measured: 2 of its 20 far-field layers smoothed).
   const surface::QuadControlMesh wall = stretchedSharpBox();
   VolumeMeshOptions options;
   options.boundaryLayerThickness = 0.4;
