@@ -117,6 +117,21 @@ class BluntTrailingEdgeTest(unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "wing_fuselage template takes a sharp trailing edge; this wing's is blunt"):
             polyhedra.place("wing_fuselage", target)
 
+    def test_a_sharp_leading_edge_is_no_base(self):
+        # A biconvex section (two circular arcs): sharp leading and trailing edges, a chord apart.
+        def biconvex(leading_edge, y, chord):
+            v = FreeCAD.Vector
+            le, te = v(leading_edge, y, 0), v(leading_edge + chord, y, 0)
+            upper = Part.Arc(le, v(leading_edge + 0.5 * chord, y, 0.05 * chord), te).toShape()
+            lower = Part.Arc(te, v(leading_edge + 0.5 * chord, y, -0.05 * chord), le).toShape()
+            return Part.Wire([upper, lower])
+
+        wing = Part.makeLoft([biconvex(0.0, 0.0, ROOT_CHORD), biconvex(TIP_LE, SPAN, TIP_CHORD)], True, False)
+        target, _, _ = polyhedra.half_model_target(wing)
+        with self.assertRaisesRegex(ValueError, r"2 sharp spanwise curves cross the section half way along the span, "
+                                                r"[0-9.]+ apart on a chord of [0-9.]+ \(a sharp leading edge\?\)"):
+            polyhedra.place("half_wing", target)
+
     def test_full_span_blunt_wing_is_refused_by_name(self):
         whole = half_wing(BASE)
         whole = whole.fuse(whole.mirror(FreeCAD.Vector(0, 0, 0), FreeCAD.Vector(0, 1, 0))).removeSplitter()

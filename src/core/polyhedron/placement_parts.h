@@ -208,9 +208,10 @@ WingFrame wingFrame(const target::Target& target, const std::vector<FeatureCurve
                     std::optional<fit::SymmetryPlane>& plane);
 
 // Whether the wing's trailing edge is blunt: the section half way along the stations meets two
-// trailing-edge curves close together (within 2 % of the span), the edges of its base face.
-// Throws InvalidInputError naming them when it meets more, or two far apart.
-bool bluntTrailingEdge(const WingFrame& w);
+// trailing-edge curves less than a fifth of its chord apart, the edges of its base face (a
+// flatback's base is up to about a tenth). Throws InvalidInputError naming them when it meets
+// more, or two farther apart (a sharp leading edge).
+bool bluntTrailingEdge(const target::Target& target, const WingFrame& w);
 
 // The wing's ring at span s (sectionRing on the plane section of the target).
 std::vector<Vec> wingRing(const target::Target& target, const WingFrame& w, double s,

@@ -36,15 +36,25 @@ std::vector<Vec> trailingEdgesAt(const WingFrame& w, double s) {
   return points;
 }
 
-bool bluntTrailingEdge(const WingFrame& w) {
-  const std::vector<Vec> edges = trailingEdgesAt(w, 0.5 * (w.low + w.high));
-  if (edges.size() > 2 || (edges.size() == 2 && (edges[0] - edges[1]).norm() > 0.02 * w.extent())) {
+bool bluntTrailingEdge(const target::Target& target, const WingFrame& w) {
+  const double middle = 0.5 * (w.low + w.high);
+  const std::vector<Vec> edges = trailingEdgesAt(w, middle);
+  if (edges.size() < 2) return false;
+  // The chord: from the edges' middle to the section point farthest from it.
+  const Vec te = 0.5 * (edges[0] + edges[1]);
+  const PlaneSection section(target, w.origin + middle * w.span, w.span);
+  double chord = 0.0;
+  for (Eigen::Index k = 0; k < section.points().rows(); ++k)
+    chord = std::max(chord, (section.points().row(k).transpose() - te).norm());
+  const double apart = (edges[0] - edges[1]).norm();
+  if (edges.size() > 2 || apart > 0.2 * chord) {
     throw InvalidInputError(
-        "the wing templates take one sharp trailing edge or a blunt one (two sharp edges close together): " +
+        "the wing templates take one sharp trailing edge or a blunt one (two sharp edges less than a "
+        "fifth of the chord apart): " +
         std::to_string(edges.size()) + " sharp spanwise curves cross the section half way along the span" +
-        (edges.size() == 2
-             ? " " + std::to_string((edges[0] - edges[1]).norm()) + " apart (a sharp leading edge?)"
-             : std::string()));
+        (edges.size() == 2 ? ", " + std::to_string(apart) + " apart on a chord of " + std::to_string(chord) +
+                                 " (a sharp leading edge?)"
+                           : std::string()));
   }
   return edges.size() == 2;
 }
@@ -538,7 +548,7 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
   const int stations = values.integer("spanwise");
   const bool half = values.choice("span") == "half";
   WingFrame w = wingFrame(target, curves, half, plane);
-  w.blunt = bluntTrailingEdge(w);
+  w.blunt = bluntTrailingEdge(target, w);
   used["trailing_edge"] = w.blunt ? "blunt" : "sharp";
   if (w.blunt && !half) {
     throw InvalidInputError(

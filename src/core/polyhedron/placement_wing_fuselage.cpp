@@ -117,7 +117,7 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
   // The wing: its trailing edge and, through the trailing edge's inner end, the intersection curve.
   std::optional<fit::SymmetryPlane> wingPlane;
   WingFrame w = wingFrame(target, curves, true, wingPlane);
-  if (bluntTrailingEdge(w)) {
+  if (bluntTrailingEdge(target, w)) {
     throw InvalidInputError(
         "the wing_fuselage template takes a sharp trailing edge; this wing's is blunt (half_wing takes "
         "blunt ones)");
