@@ -278,6 +278,15 @@ FeatureMapping mapFeatures(const ControlMesh& mesh, const target::Target& target
       const Candidate all = evaluate(sameKind);
       if (acceptable(all)) best = all;
     }
+    // A crease no sharp curve takes may lie along a kink (a blunt trailing edge's base folding by
+    // a few degrees where a swept wing's halves meet).
+    if (!best && chain.kind == FeatureCurveKind::Sharp) {
+      for (size_t k = 0; k < curves.size(); ++k) {
+        if (curves[k].kind != FeatureCurveKind::Kink) continue;
+        const Candidate candidate = evaluate({static_cast<int>(k)});
+        if (acceptable(candidate) && (!best || candidate.maxDistance < best->maxDistance)) best = candidate;
+      }
+    }
     // Figures of the mapped candidate, or of the nearest one for the report.
     const Candidate& shown = best ? *best : nearest;
     mapping.nearestCurve = shown.curves.empty() ? -1 : shown.curves.front();

@@ -251,8 +251,8 @@ void addWingStrips(Draft& draft, const std::vector<std::vector<int>>& rings, boo
 // thin wedge, with a corner angle of a few degrees), meeting at ridge vertex 0, which is the end
 // of the CAD's ridge crease when it has one. outward 1: the far tip, continuing the strips'
 // orientation; -1: a full wing's near tip, reversed. The trailing edge becomes a corner. A blunt
-// trailing edge's ring (2n + 1 vertices, the base's upper edge at 0, its lower edge at 2n; a half
-// wing's flat tip only) pairs ring vertices i and 2n - i; the cap's face at the base is the pentagon between
+// trailing edge's ring (2n + 1 vertices, the base's upper edge at 0, its lower edge at 2n; flat
+// tips only) pairs ring vertices i and 2n - i; the cap's face at the base is the pentagon between
 // the two base edges and the first ridge vertex, and both base edges' ends are corners.
 void addTipCap(Draft& draft, const target::Target& target, const WingFrame& w, const WingLayout& layout,
                int station, const std::vector<int>& ring, double outward, bool rounded);

@@ -375,10 +375,10 @@ void addWingStrips(Draft& draft, const std::vector<std::vector<int>>& rings, boo
   }
 }
 
-// addTipCap for a blunt trailing edge's ring (2n + 1 vertices) at a half wing's flat tip: ridge
-// vertex i (1 <= i < n) half way between ring vertices i and 2n - i, a pentagon between the base's
-// two edges and ridge vertex 1, the rim creased, the base's ends corners.
-void addBluntTipCap(Draft& draft, const WingLayout& layout, const std::vector<int>& ring) {
+// addTipCap for a blunt trailing edge's ring (2n + 1 vertices) at a flat tip: ridge vertex i
+// (1 <= i < n) half way between ring vertices i and 2n - i, a pentagon between the base's two
+// edges and ridge vertex 1, the rim creased, the base's ends corners.
+void addBluntTipCap(Draft& draft, const WingLayout& layout, const std::vector<int>& ring, double outward) {
   const int n = layout.leadingEdge();
   const int ringSize = 2 * n + 1;
   const auto r = [&](int k) { return ring[static_cast<size_t>((k + ringSize) % ringSize)]; };
@@ -395,7 +395,10 @@ void addBluntTipCap(Draft& draft, const WingLayout& layout, const std::vector<in
     faces.push_back({cv(i), cv(i + 1), r(2 * n - i - 1), r(2 * n - i)});
   }
   faces.push_back({r(n - 1), r(n), r(n + 1), cv(n - 1)});
-  for (std::vector<int>& face : faces) draft.faces.push_back(face);
+  for (std::vector<int>& face : faces) {
+    if (outward < 0.0) std::reverse(face.begin(), face.end());
+    draft.faces.push_back(face);
+  }
   for (int k = 0; k < ringSize; ++k) draft.creases.push_back({r(k), r(k + 1)});
   draft.corners.push_back(r(0));
   draft.corners.push_back(r(2 * n));
@@ -411,7 +414,7 @@ void addBluntTipCap(Draft& draft, const WingLayout& layout, const std::vector<in
 void addTipCap(Draft& draft, const target::Target& target, const WingFrame& w, const WingLayout& layout,
                int station, const std::vector<int>& ring, double outward, bool rounded) {
   if (w.blunt) {
-    addBluntTipCap(draft, layout, ring);
+    addBluntTipCap(draft, layout, ring, outward);
     return;
   }
   const int n = layout.leadingEdge();
@@ -550,11 +553,6 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
   WingFrame w = wingFrame(target, curves, half, plane);
   w.blunt = bluntTrailingEdge(target, w);
   used["trailing_edge"] = w.blunt ? "blunt" : "sharp";
-  if (w.blunt && !half) {
-    throw InvalidInputError(
-        "the wing template (full span) takes a sharp trailing edge; this wing's is blunt: place "
-        "half_wing on its half model (leave out one half and the faces in its plane of symmetry)");
-  }
   w.kinks = kinkSections(target, curves, w);
   const bool rounded = roundedTip(values, target, curves, w, w.high, used);
   if (w.blunt && rounded) {
@@ -615,6 +613,8 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
                                           kinkTolerance;
     }
     if (trailingEdgeEnds) draft.corners.push_back(ring[0]);
+    // A blunt edge's base folds there too (by a few degrees: a kink of the CAD).
+    if (trailingEdgeEnds && w.blunt) draft.creases.push_back({ring.back(), ring[0]});
   }
   planform = measurePlanform(w, rootSection, tipSection);
   addTipCap(draft, target, w, layout, tipStation, rings.back(), 1.0, rounded);

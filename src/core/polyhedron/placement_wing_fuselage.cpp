@@ -119,7 +119,8 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
   WingFrame w = wingFrame(target, curves, true, wingPlane);
   if (bluntTrailingEdge(target, w)) {
     throw InvalidInputError(
-        "the wing_fuselage template takes a sharp trailing edge; this wing's is blunt (half_wing takes "
+        "the wing_fuselage template takes a sharp trailing edge; this wing's is blunt (the wing templates "
+        "take "
         "blunt ones)");
   }
   // The junction: a closed sharp curve starting at an end vertex of a (spanwise, open) trailing-
