@@ -599,7 +599,8 @@ class Marcher {
   }
 
   // One far-field step by the hyperbolic equations, then the same local repair as marchOnce's
-  // along the step's own directions and lengths.
+  // along the step's own directions and lengths, which become `previous` (the smoothed step's
+  // memory, should a later layer fall back to it).
   RowMatrixX3d hyperbolicOnce(HyperbolicStepper& stepper, const RowMatrixX3d& below,
                               const RowMatrixX3d& points, double step, double progress, int layer,
                               RowMatrixX3d& previous) const {
