@@ -134,10 +134,11 @@ def wall_distance(grid_object):
 
 
 def _smoothed_layers(vm):
-    count = vm.FarfieldLayersSmoothed
-    if vm.FarfieldScheme != "hyperbolic" or count == 0:
+    count = vm.FarfieldLayersSmoothed  # 0 unless the scheme is hyperbolic
+    if count == 0:
         return ""
-    return " ({} layer{} by the smoothed step where the hyperbolic one would fold)".format(count, "" if count == 1 else "s")
+    return " ({} layer{} by the smoothed step where the hyperbolic one would fold)".format(
+        count, "" if count == 1 else "s")
 
 
 def _volume_report(vm, grid_object, quality, cgns, case, verdict, seconds):

@@ -5,10 +5,11 @@ polyhedron before fitting. Works in plain /usr/bin/python3 and in FreeCAD; no do
 
 ``place`` returns a dict: ``mesh`` (bvmesh.ControlMesh), ``feature_map`` (curves, edge_curve,
 vertex_cad_vertex: bvmesh.SurfaceFitter's ``features``), ``symmetry_plane`` ((point, normal) or
-None: SurfaceFitter's ``symmetry_plane`` option), ``planform`` (wings),
-``parameters`` (the values used, ``auto`` choices resolved; wings also report
-``trailing_edge``: ``sharp`` or ``blunt``, as found on the target), ``curves`` (the target's feature curves) and the mapping report
-(``chains``, ``corners``, ``unmapped_chains``, ``unmapped_corners``, ``complete``, ``report``).
+None: SurfaceFitter's ``symmetry_plane`` option), ``planform`` (wings), ``parameters`` (the
+values used, ``auto`` choices resolved; wings also report ``trailing_edge``: ``sharp`` or
+``blunt``, as found on the target), ``curves`` (the target's feature curves) and the mapping
+report (``chains``, ``corners``, ``unmapped_chains``, ``unmapped_corners``, ``complete``,
+``report``).
 """
 
 import os

@@ -119,9 +119,8 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
   WingFrame w = wingFrame(target, curves, true, wingPlane);
   if (bluntTrailingEdge(target, w)) {
     throw InvalidInputError(
-        "the wing_fuselage template takes a sharp trailing edge; this wing's is blunt (the wing templates "
-        "take "
-        "blunt ones)");
+        "the wing_fuselage template takes a sharp trailing edge; this wing's is blunt (the wing "
+        "templates take blunt ones)");
   }
   // The junction: a closed sharp curve starting at an end vertex of a (spanwise, open) trailing-
   // edge curve, the innermost one if several (a flat tip's rim also starts at the trailing edge).
