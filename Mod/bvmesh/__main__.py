@@ -38,7 +38,7 @@ def _openfoam_case(args):
         source = args.mesh
     else:
         print("building the M6 {} grid (level {}, {})".format(args.model, args.level, "{} edge points".format(
-            args.edge_points) if args.target_cells is None else "about {} cells".format(args.target_cells)))
+            args.edge_points) if args.edge_points is not None else "about {} cells".format(args.target_cells or 300000)))
         source = openfoam_case.m6_grid(args.model, level=args.level, edge_points=args.edge_points,
                                        normal_points=args.normal_points, target_cells=args.target_cells,
                                        reynolds_number=args.reynolds or 11.72e6)
@@ -100,10 +100,10 @@ def main(argv=None):
     cfd.add_argument("--write-interval", type=int, help="iterations between writes (default: --iterations)")
     cfd.add_argument("--max-courant", type=float, default=2.0, help="local time stepping Courant number")
     cfd.add_argument("--level", type=int, default=2, help="M6 grid: subdivision level of the fit (default 2)")
-    cfd.add_argument("--edge-points", type=int, default=17, help="M6 grid: points per block edge (default 17)")
-    cfd.add_argument("--normal-points", type=int, help="M6 grid: wall-normal points (default: the preset's)")
     cfd.add_argument("--target-cells", type=int,
-                     help="M6 grid: about this many cells, spaced as the wall needs (instead of --edge-points)")
+                     help="M6 grid: about this many cells, spaced as the wall needs (default 300000)")
+    cfd.add_argument("--edge-points", type=int, help="M6 grid: points on every block edge instead (no target cells)")
+    cfd.add_argument("--normal-points", type=int, help="M6 grid: wall-normal points (default: the preset's)")
     cfd.add_argument("--run", action="store_true", help="run the solver (nice -n 19)")
     cfd.add_argument("--cores", type=int, default=1, help="cores for the solver (default 1)")
     cfd.add_argument("--timeout", type=float, help="stop the solver after this many seconds, keeping its last write")

@@ -12,8 +12,10 @@ import unittest
 
 import numpy as np
 
+import bvmesh.grid
 import bvmesh.openfoam_case as ofc
 import bvmesh.openfoam_post as post
+from fixtures import check_mesh, failed_checks
 
 HAVE_OPENFOAM = shutil.which("rhoPimpleFoam") is not None and os.path.isdir(ofc.OPENFOAM_DIR)
 SEMISPAN = 1.1963
@@ -209,6 +211,44 @@ class Errors(unittest.TestCase):
     def test_not_a_bvmesh_case(self):
         with self.assertRaisesRegex(ValueError, "not a case written by bvmesh"):
             ofc.read_settings(self.folder.name)
+
+
+@unittest.skipUnless(HAVE_OPENFOAM, "OpenFOAM (rhoPimpleFoam, /usr/share/openfoam) is not installed")
+class DefaultM6Grid(unittest.TestCase):
+    """The grid `python3 -m bvmesh openfoam-case` and `scripts/setup.sh cfd` run on when given no
+    mesh: about 300 k cells spaced as the wall needs. (With 17 points on every block edge, the
+    earlier default, the wall's small blocks pass their spacing to the large ones: 1102 faces
+    above 70 degrees, and on the hyperbolic far field a face skew enough that checkMesh fails
+    and rhoPimpleFoam diverged at its fifth iteration.)"""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.folder = tempfile.TemporaryDirectory()
+        cls.grid = ofc.m6_grid()
+        cls.case = ofc.write_case(cls.grid, os.path.join(cls.folder.name, "m6"), iterations=1)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.folder.cleanup()
+
+    def test_about_300k_cells(self):
+        self.assertLess(abs(self.grid.grid.cell_count - 300000), 0.1 * 300000)
+
+    def test_no_face_above_70_degrees_and_checkmesh_finds_nothing_but_flat_cells(self):
+        quality = bvmesh.grid.quality(self.grid)
+        self.assertLess(quality["summary"]["non_orthogonality"]["max"], 70.0)
+        self.assertGreater(quality["summary"]["scaled_jacobian"]["min"], 0.0)
+        output = check_mesh(self.case)
+        self.assertIn("Max skewness", output)
+        # -allGeometry calls the wall's flat cells poor twice (determinant, decomposition tets);
+        # nothing else may fail: not the skewness, not the non-orthogonality.
+        failed = [line for line in failed_checks(output) if not any(
+            name in line for name in ("small determinant", "face tets"))]
+        self.assertEqual(failed, [])
+
+    def test_edge_points_or_target_cells_not_both(self):
+        with self.assertRaisesRegex(ValueError, "edge_points or target_cells, not both"):
+            ofc.m6_grid(edge_points=5, target_cells=5000)
 
 
 @unittest.skipUnless(HAVE_OPENFOAM, "OpenFOAM (rhoPimpleFoam, /usr/share/openfoam) is not installed")
