@@ -18,6 +18,7 @@ import time
 import numpy as np
 
 from bvmesh import api, load_core, paths
+from bvmesh.volume import WING_MARCHING_LEVEL
 
 
 def _root_chord(wing_shape, symmetry_face):
@@ -66,10 +67,6 @@ def _report_lines(fit, shell, chord, tolerance, seconds, files):
     return lines
 
 
-# The volume's layers are marched from the level-2 wall and carried onto the fit's own: marched
-# from level 3 the boundary layer folds at the corner where the trailing edge meets the tip (the
-# charts' corners there are degenerate; docs/volume.md).
-VOLUME_MARCHING_LEVEL = 2
 # Wind-tunnel case 2308 of the M6 (AGARD AR-138): Reynolds number on the mean aerodynamic chord.
 REYNOLDS_NUMBER = 11.72e6
 CUT_ETA = 0.44
@@ -187,7 +184,7 @@ def run_volume(fit, chord, files, log=print, grid_method="bspline", subdivision_
     blocks evaluated. Returns the volume objects by name."""
     started = time.time()
     stage = time.time()
-    marching_level = VOLUME_MARCHING_LEVEL if fit.Level > VOLUME_MARCHING_LEVEL else -1
+    marching_level = WING_MARCHING_LEVEL if fit.Level > WING_MARCHING_LEVEL else -1
     vm = api.make_volume_mesh(fit, marching_level=marching_level, reference_length=chord,
                               reynolds_number=REYNOLDS_NUMBER)
     log("volume mesh: {} blocks, {} control layers, far field {:.0f} ({:.1f} s)".format(

@@ -600,10 +600,10 @@ def write_case(grid_or_refined, case_directory, mach=0.8395, alpha_degrees=3.06,
 def m6_grid(preset="euler", level=2, edge_points=None, normal_points=None, reynolds_number=11.72e6, wing_file=None,
             target_cells=None):
     """A grid of the bundled ONERA M6 half wing (mm): the half_wing template fitted at `level`
-    (1e-5 root chord tolerance), the volume mesh (reference length 805 mm) and
-    bvmesh.grid.refine(..., preset, target_cells, normal_points; reynolds_number for 'rans'):
-    about target_cells cells (default 300 000), spaced as the wall needs, or with edge_points
-    points on every block edge instead.
+    (1e-5 root chord tolerance), the volume mesh (reference length 805 mm; above level 2 marched
+    from the level-2 wall, as the main job's) and bvmesh.grid.refine(..., preset, target_cells,
+    normal_points; reynolds_number for 'rans'): about target_cells cells (default 300 000),
+    spaced as the wall needs, or with edge_points points on every block edge instead.
     Euler at level 2 with the defaults is the 297 k-cell grid of docs/cfd.md (checkMesh "Mesh OK.",
     no face above 70 degrees). Equal edge counts give the wall's small blocks (the trailing
     edge's tip corner) the counts of the large ones, and their spacing travels through the shared
@@ -613,15 +613,21 @@ def m6_grid(preset="euler", level=2, edge_points=None, normal_points=None, reyno
     from . import grid as bvgrid
     from . import load_core, paths, polyhedra, volume
 
+    if edge_points is not None and target_cells is not None:
+        raise ValueError("m6_grid takes edge_points or target_cells, not both")
     core = load_core()
     wing, _, _ = polyhedra.half_model_target(core.read_cad_file_as_brep(wing_file or paths.EXAMPLE_WING))
     placed = polyhedra.place("half_wing", wing)
-    fitter = core.SurfaceFitter(wing, placed["mesh"], placed["feature_map"], symmetry_plane=placed["symmetry_plane"],
-                                max_level=level, tolerance=1e-5 * 805.0, check_samples_per_face=0)
-    fitter.run()
-    mesh = volume.offset_and_farfield(fitter, reference_length=805.0)
-    if edge_points is not None and target_cells is not None:
-        raise ValueError("m6_grid takes edge_points or target_cells, not both")
+
+    def fitted(max_level):
+        fitter = core.SurfaceFitter(wing, placed["mesh"], placed["feature_map"],
+                                    symmetry_plane=placed["symmetry_plane"], max_level=max_level,
+                                    tolerance=1e-5 * 805.0, check_samples_per_face=0)
+        fitter.run()
+        return fitter
+
+    marching_wall = fitted(volume.WING_MARCHING_LEVEL) if level > volume.WING_MARCHING_LEVEL else None
+    mesh = volume.offset_and_farfield(fitted(level), marching_wall=marching_wall, reference_length=805.0)
     options = dict(edge_points=edge_points) if edge_points is not None else dict(target_cells=target_cells or 300000)
     if normal_points is not None:
         options["normal_points"] = normal_points

@@ -10,6 +10,12 @@ Works in plain /usr/bin/python3 and in freecadcmd; the geometry is all in the co
 
 from . import load_core
 
+# The level of a wing's wall its layers are marched from when the fit is finer (then carried onto
+# the fit's own wall; offset_and_farfield's marching_wall): marched from the M6's level-3 wall the
+# boundary layer folds at the corner where the trailing edge meets the tip (the charts' corners
+# there are degenerate; docs/volume.md).
+WING_MARCHING_LEVEL = 2
+
 
 def offset_and_farfield(fit_or_mesh, symmetry_plane=None, marching_wall=None, **options):
     """The volume mesh around a fitted wall: boundary-layer control layers along the wall normals,

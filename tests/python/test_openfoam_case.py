@@ -246,6 +246,13 @@ class DefaultM6Grid(unittest.TestCase):
             name in line for name in ("small determinant", "face tets"))]
         self.assertEqual(failed, [])
 
+    def test_a_level_3_wall_is_marched_from_level_2(self):
+        # As the main job's: marched from its own level-3 wall, the boundary layer folds at the
+        # trailing edge's tip corner.
+        grid = ofc.m6_grid(level=3, target_cells=5000, normal_points=9)
+        quality = bvmesh.grid.quality(grid)
+        self.assertGreater(quality["summary"]["scaled_jacobian"]["min"], 0.0)
+
     def test_edge_points_or_target_cells_not_both(self):
         with self.assertRaisesRegex(ValueError, "edge_points or target_cells, not both"):
             ofc.m6_grid(edge_points=5, target_cells=5000)
