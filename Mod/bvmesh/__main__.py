@@ -41,6 +41,7 @@ def _openfoam_case(args):
             args.edge_points) if args.edge_points is not None else "about {} cells".format(args.target_cells or 300000)))
         source = openfoam_case.m6_grid(args.model, level=args.level, edge_points=args.edge_points,
                                        normal_points=args.normal_points, target_cells=args.target_cells,
+                                       leading_edge_spacing=args.leading_edge_spacing,
                                        reynolds_number=args.reynolds or 11.72e6)
         print("  {} cells".format(source.grid.cell_count))
     case = openfoam_case.write_case(
@@ -104,6 +105,8 @@ def main(argv=None):
                      help="M6 grid: about this many cells, spaced as the wall needs (default 300000)")
     cfd.add_argument("--edge-points", type=int, help="M6 grid: points on every block edge instead (no target cells)")
     cfd.add_argument("--normal-points", type=int, help="M6 grid: wall-normal points (default: the preset's)")
+    cfd.add_argument("--leading-edge-spacing", type=float, default=2.0,
+                     help="M6 grid: wall spacing in mm away from the leading edge (default 2; 0: none)")
     cfd.add_argument("--run", action="store_true", help="run the solver (nice -n 19)")
     cfd.add_argument("--cores", type=int, default=1, help="cores for the solver (default 1)")
     cfd.add_argument("--timeout", type=float, help="stop the solver after this many seconds, keeping its last write")

@@ -598,17 +598,20 @@ def write_case(grid_or_refined, case_directory, mach=0.8395, alpha_degrees=3.06,
 
 
 def m6_grid(preset="euler", level=2, edge_points=None, normal_points=None, reynolds_number=11.72e6, wing_file=None,
-            target_cells=None):
+            target_cells=None, leading_edge_spacing=2.0):
     """A grid of the bundled ONERA M6 half wing (mm): the half_wing template fitted at `level`
     (1e-5 root chord tolerance), the volume mesh (reference length 805 mm; above level 2 marched
     from the level-2 wall, as the main job's) and bvmesh.grid.refine(..., preset, target_cells,
     normal_points; reynolds_number for 'rans'): about target_cells cells (default 300 000),
     spaced as the wall needs, or with edge_points points on every block edge instead.
-    Euler at level 2 with the defaults is the 297 k-cell grid of docs/cfd.md (checkMesh "Mesh OK.",
-    no face above 70 degrees). Equal edge counts give the wall's small blocks (the trailing
-    edge's tip corner) the counts of the large ones, and their spacing travels through the shared
-    edges: 17 edge points make 1102 faces above 70 degrees, and with the hyperbolic far field a
-    face skew enough for checkMesh to fail and rhoPimpleFoam to diverge in its first iterations.
+    leading_edge_spacing (mm; 0 or None: none): the wall's spacing away from the leading edge, a
+    feature line along the measured leading-edge sweep from the root's nose (with counts from
+    the wall alone the nose gets about 8 cells).
+    Euler at level 2 with the defaults is the 300 k-cell grid of docs/cfd.md (checkMesh "Mesh
+    OK."; 32 faces above 70 degrees, all on the tip cap, where the nose's clustering runs out;
+    none without the leading-edge spacing). Equal edge counts give the wall's small blocks (the
+    trailing edge's tip corner) the counts of the large ones: 17 edge points make 1102 faces
+    above 70 degrees, and rhoPimpleFoam diverges on that grid in its first iterations.
     edge_points=5, normal_points=9 gives 3 k cells."""
     from . import grid as bvgrid
     from . import load_core, paths, polyhedra, volume
@@ -633,7 +636,25 @@ def m6_grid(preset="euler", level=2, edge_points=None, normal_points=None, reyno
         options["normal_points"] = normal_points
     if preset == "rans":
         options["reynolds_number"] = reynolds_number
+    if leading_edge_spacing:
+        options["feature_spacings"] = [{"points": _leading_edge(placed), "spacing": leading_edge_spacing,
+                                        "tolerance": 2.0}]
     return bvgrid.refine(mesh, preset, **options)
+
+
+def _leading_edge(placed):
+    """The half wing's leading edge as a straight polyline: from the root's nose (the placed root
+    ring's vertex farthest upstream) along the measured sweep to the tip's span."""
+    import numpy as np
+
+    planform = placed["planform"]
+    vertices = np.asarray(placed["mesh"].vertices)
+    span = np.asarray(planform["span_direction"])
+    root = vertices[np.abs(vertices @ span) < 1e-6 * planform["span"]]
+    nose = root[np.argmin(root[:, 0])]
+    s = np.linspace(0.0, planform["span"], 60)[:, None]
+    along = span + math.tan(math.radians(planform["leading_edge_sweep_deg"])) * np.array([1.0, 0.0, 0.0])
+    return nose + s * along
 
 
 def read_settings(case):
