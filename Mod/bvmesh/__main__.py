@@ -90,8 +90,9 @@ def main(argv=None):
     cfd.add_argument("--length-unit", type=float, default=0.001,
                      help="metres per grid unit (default 0.001: the grid is in mm)")
     cfd.add_argument("--model", choices=("euler", "rans"), default="euler")
-    cfd.add_argument("--solver", choices=("rhoPimpleFoam", "rhoSimpleFoam"), default="rhoPimpleFoam",
-                     help="rhoPimpleFoam with local time stepping (default) or rhoSimpleFoam")
+    cfd.add_argument("--solver", choices=("rhoPimpleFoam", "rhoSimpleFoam", "rhoCentralFoam"), default="rhoPimpleFoam",
+                     help="rhoPimpleFoam with local time stepping (default), rhoSimpleFoam, or rhoCentralFoam "
+                          "(density-based, explicit with local time stepping; euler only)")
     cfd.add_argument("--mach", type=float, default=0.8395)
     cfd.add_argument("--alpha", type=float, default=3.06, help="angle of attack in degrees")
     cfd.add_argument("--temperature", type=float, default=255.56, help="free-stream temperature in K")
@@ -99,7 +100,8 @@ def main(argv=None):
     cfd.add_argument("--reynolds", type=float, help="Reynolds number on the mean aerodynamic chord (0.64607 m)")
     cfd.add_argument("--iterations", type=int, default=2000)
     cfd.add_argument("--write-interval", type=int, help="iterations between writes (default: --iterations)")
-    cfd.add_argument("--max-courant", type=float, default=2.0, help="local time stepping Courant number")
+    cfd.add_argument("--max-courant", type=float,
+                     help="local time stepping Courant number (default 2; rhoCentralFoam 0.2)")
     cfd.add_argument("--level", type=int, default=2, help="M6 grid: subdivision level of the fit (default 2)")
     cfd.add_argument("--target-cells", type=int,
                      help="M6 grid: about this many cells, spaced as the wall needs (default 300000)")

@@ -42,7 +42,11 @@ PATCHES = {"wall": "wall", "symmetry": "symmetryPlane", "farfield": "patch", "in
 # sides): all get the free-stream conditions, which let the flow in or out by its own direction.
 OUTER_PATCHES = ("farfield", "inlet", "outlet", "side")
 MODELS = ("euler", "rans")
-SOLVERS = ("rhoSimpleFoam", "rhoPimpleFoam")
+SOLVERS = ("rhoSimpleFoam", "rhoPimpleFoam", "rhoCentralFoam")
+# Local time stepping's Courant number when none is given (docs/cfd.md: rhoPimpleFoam converges at
+# 2 and stalls at 5; rhoCentralFoam, explicit, diverged at 0.5 on a 59 k-cell M6 grid and runs at
+# 0.2). rhoSimpleFoam has no time step; its entry is only recorded in the case's settings.
+DEFAULT_COURANT = {"rhoPimpleFoam": 2.0, "rhoCentralFoam": 0.2, "rhoSimpleFoam": 2.0}
 SETTINGS_FILE = "bvmesh_case.json"
 
 HEADER = """/*--------------------------------*- C++ -*----------------------------------*\\
@@ -264,9 +268,49 @@ mixture
     _write(case, "constant", "turbulenceProperties", turbulence)
 
 
+def _residual_function_objects(solver, fields):
+    """The residual history's function objects. The pressure-based solvers report their linear
+    solvers' initial residuals; rhoCentralFoam's explicit update has no linear solve (its diagonal
+    'solvers' report 0), so its residual is the mean over the cells of |d(rho, rho U, rho E)/dt|:
+    with local time stepping that is the steady equations' flux imbalance per unit volume."""
+    if solver != "rhoCentralFoam":
+        solved = [f for f in ("p", "U", "e", "nuTilda") if f in fields or f == "e"]
+        return """    residuals
+    {{
+        type            solverInfo;
+        libs            ("libutilityFunctionObjects.so");
+        fields          ({});
+        writeControl    timeStep;
+        writeInterval   1;
+    }}
+""".format(" ".join(solved))
+    return """    conservedRates
+    {
+        type            ddt2;
+        libs            ("libfieldFunctionObjects.so");
+        fields          (rho rhoU rhoE);
+        mag             true;
+        result          mag(ddt(@@));
+        executeControl  timeStep;
+        writeControl    none;
+        log             false;
+    }
+    residuals
+    {
+        type            volFieldValue;
+        libs            ("libfieldFunctionObjects.so");
+        fields          (mag(ddt(rho)) mag(ddt(rhoU)) mag(ddt(rhoE)));
+        operation       average;
+        regionType      all;
+        writeFields     false;
+        writeControl    timeStep;
+        writeInterval   1;
+        log             false;
+    }
+"""
+
+
 def _system(case, flow, model, solver, iterations, write_interval, reference, fields, max_courant):
-    lts = solver == "rhoPimpleFoam"
-    solved = [f for f in ("p", "U", "e", "nuTilda") if f in fields or f == "e"]
     lift = (-math.sin(math.radians(flow["alpha_degrees"])), 0.0, math.cos(math.radians(flow["alpha_degrees"])))
     drag = (math.cos(math.radians(flow["alpha_degrees"])), 0.0, math.sin(math.radians(flow["alpha_degrees"])))
     _write(case, "system", "controlDict", """application     {solver};
@@ -284,18 +328,10 @@ writeCompression off;
 timeFormat      general;
 timePrecision   8;
 runTimeModifiable false;
-
+{central_time_control}
 functions
 {{
-    residuals
-    {{
-        type            solverInfo;
-        libs            ("libutilityFunctionObjects.so");
-        fields          ({solved});
-        writeControl    timeStep;
-        writeInterval   1;
-    }}
-    forceCoeffs
+{residuals}    forceCoeffs
     {{
         type            forceCoeffs;
         libs            ("libforces.so");
@@ -343,10 +379,37 @@ functions
         writeControl    writeTime;
     }}
 }}
-""".format(solver=solver, iterations=iterations, write_interval=write_interval, solved=" ".join(solved),
+""".format(solver=solver, iterations=iterations, write_interval=write_interval,
+           residuals=_residual_function_objects(solver, fields),
+           # rhoCentralFoam reads its local time step's Courant number here (rhoPimpleFoam: fvSolution's
+           # PIMPLE); smoothing 1 for the reason given there.
+           central_time_control="adjustTimeStep  no;\nmaxCo           {!r};\nmaxDeltaT       1;\n"
+                                "rDeltaTSmoothingCoeff 1;\n".format(max_courant) if solver == "rhoCentralFoam" else "",
            rho=flow["rho"], p=flow["p"], speed=flow["speed"], lref=reference["length"], aref=reference["area"],
            cofr=_vector(reference["moment_point"]), lift=_vector(lift), drag=_vector(drag)))
 
+    if solver == "rhoCentralFoam":
+        _central_schemes(case)
+    else:
+        _pressure_based_schemes(case, solver == "rhoPimpleFoam", max_courant)
+    fv_options = os.path.join(case, "system", "fvOptions")
+    if model == "rans":
+        # The RANS start on a y+ ~ 1 grid drove T negative at step 2 without this guard. Not for
+        # euler: there it would clip the tip's trailing-edge corner (925 K on the level-2 grid,
+        # docs/cfd.md) and hide the defect.
+        _write(case, "system", "fvOptions", """limitT
+{{
+    type            limitTemperature;
+    selectionMode   all;
+    min             {:.6g};
+    max             {:.6g};
+}}
+""".format(0.3 * flow["T"], 3.0 * flow["T"]))
+    elif os.path.exists(fv_options):
+        os.remove(fv_options)
+
+
+def _pressure_based_schemes(case, lts, max_courant):
     ddt = "localEuler" if lts else "steadyState"
     bounded = "" if lts else "bounded "
     _write(case, "system", "fvSchemes", """ddtSchemes
@@ -477,28 +540,72 @@ relaxationFactors
 }
 """
     _write(case, "system", "fvSolution", solvers + "\n" + algorithm)
-    fv_options = os.path.join(case, "system", "fvOptions")
-    if model == "rans":
-        # The RANS start on a y+ ~ 1 grid drove T negative at step 2 without this guard. Not for
-        # euler: there it would clip the tip's trailing-edge corner (925 K on the level-2 grid,
-        # docs/cfd.md) and hide the defect.
-        _write(case, "system", "fvOptions", """limitT
-{{
-    type            limitTemperature;
-    selectionMode   all;
-    min             {:.6g};
-    max             {:.6g};
-}}
-""".format(0.3 * flow["T"], 3.0 * flow["T"]))
-    elif os.path.exists(fv_options):
-        os.remove(fv_options)
+
+
+def _central_schemes(case):
+    # Kurganov & Tadmor's central-upwind fluxes from van Leer-limited reconstructions; the Laplacian
+    # and normal-gradient corrections limited as above for the tip's non-orthogonal faces (an
+    # inviscid case uses them only through the function objects).
+    _write(case, "system", "fvSchemes", """fluxScheme      Kurganov;
+
+ddtSchemes
+{
+    default         localEuler;
+}
+
+gradSchemes
+{
+    default         Gauss linear;
+}
+
+divSchemes
+{
+    default         none;
+    div(tauMC)      Gauss linear;
+}
+
+laplacianSchemes
+{
+    default         Gauss linear limited corrected 0.5;
+}
+
+interpolationSchemes
+{
+    default         linear;
+    reconstruct(rho) vanLeer;
+    reconstruct(U)  vanLeerV;
+    reconstruct(T)  vanLeer;
+}
+
+snGradSchemes
+{
+    default         limited corrected 0.5;
+}
+""")
+    # The conserved variables are updated explicitly; U and e are solved only with a viscosity.
+    _write(case, "system", "fvSolution", """solvers
+{
+    "(rho|rhoU|rhoE)"
+    {
+        solver          diagonal;
+    }
+    "(U|e)"
+    {
+        solver          smoothSolver;
+        smoother        GaussSeidel;
+        nSweeps         2;
+        tolerance       1e-12;
+        relTol          0.1;
+    }
+}
+""")
 
 
 def write_case(grid_or_refined, case_directory, mach=0.8395, alpha_degrees=3.06, pressure=None,
                temperature=255.56, reynolds_number=None, model="euler", length_unit=0.001,
                reference_length=M6_REFERENCE_LENGTH, reference_area=M6_REFERENCE_AREA,
                moment_point=M6_MOMENT_POINT, iterations=2000, solver="rhoPimpleFoam", write_interval=None,
-               semispan=M6_SEMISPAN, max_courant=2.0, startup_iterations=50, startup_courant=0.5,
+               semispan=M6_SEMISPAN, max_courant=None, startup_iterations=50, startup_courant=0.5,
                force=False):
     """Writes a complete OpenFOAM case and returns its directory.
 
@@ -510,11 +617,15 @@ def write_case(grid_or_refined, case_directory, mach=0.8395, alpha_degrees=3.06,
     Sutherland viscosity, noSlip wall; needs reynolds_number or a pressure). length_unit: metres
     per model unit of the grid. reference_length (m), reference_area (m^2), moment_point (m): the
     force coefficients' references. semispan (m): kept for the post-processing's span stations.
-    solver: 'rhoPimpleFoam' (local time stepping) or 'rhoSimpleFoam' (SIMPLE, transonic).
+    solver: 'rhoPimpleFoam' (pressure-based, local time stepping), 'rhoSimpleFoam' (SIMPLE,
+    transonic) or 'rhoCentralFoam' (density-based, Kurganov & Tadmor's central-upwind fluxes,
+    explicit with local time stepping; euler only).
     iterations: solver steps; write_interval: steps between writes (default iterations).
-    max_courant: the local time step's Courant number (rhoPimpleFoam); the first
-    startup_iterations run at startup_courant, since the impulsive start from the uniform free
-    stream diverged at Courant 2 on the 295 k-cell M6 grid (run_case runs the two stages).
+    max_courant: the local time step's Courant number (default 2 for rhoPimpleFoam, 0.2 for
+    rhoCentralFoam); rhoPimpleFoam runs its first startup_iterations at startup_courant, since
+    the impulsive start from the uniform free stream diverged at Courant 2 on the 295 k-cell M6
+    grid; rhoCentralFoam runs its last third (from the last write before two thirds of the
+    iterations) at half of max_courant, where its CL settles (run_case runs the stages).
     force: let the grid writer accept non-positive cells.
     """
     if model not in MODELS:
@@ -531,6 +642,10 @@ def write_case(grid_or_refined, case_directory, mach=0.8395, alpha_degrees=3.06,
     if not (reference_length > 0.0 and reference_area > 0.0):
         raise ValueError("reference_length and reference_area must be > 0, got {!r} and {!r}".format(
             reference_length, reference_area))
+    if solver == "rhoCentralFoam" and model != "euler":
+        raise ValueError("solver rhoCentralFoam is set up for model 'euler' only; use rhoPimpleFoam for {!r}".format(
+            model))
+    max_courant = DEFAULT_COURANT[solver] if max_courant is None else max_courant
     if not (max_courant > 0.0 and math.isfinite(max_courant)):
         raise ValueError("max_courant must be > 0, got {!r}".format(max_courant))
     if not (startup_courant > 0.0 and math.isfinite(startup_courant)):
@@ -587,6 +702,12 @@ def write_case(grid_or_refined, case_directory, mach=0.8395, alpha_degrees=3.06,
     if solver == "rhoPimpleFoam" and 0 < startup_iterations < iterations:
         stages.insert(0, dict(end=startup_iterations, max_courant=startup_courant,
                               write_interval=startup_iterations))
+    settling = (2 * iterations // 3) // write_interval * write_interval
+    if solver == "rhoCentralFoam" and settling > 0:
+        # The last third at half the Courant number: on the 300 k-cell M6 grid CL wandered by 2 %
+        # over thousands of steps at 0.2 and settled to 0.15 % at 0.1 (docs/cfd.md).
+        stages = [dict(end=settling, max_courant=max_courant, write_interval=write_interval),
+                  dict(end=iterations, max_courant=0.5 * max_courant, write_interval=write_interval)]
     settings = dict(model=model, solver=solver, iterations=iterations, stages=stages, max_courant=max_courant,
                     length_unit=length_unit,
                     semispan=semispan, reference=reference, freestream=flow,
@@ -763,6 +884,8 @@ def run_case(case, cores=1, nice=19, timeout=None, log_name=None):
                      endTime=stage["end"], writeInterval=stage["write_interval"])
         if solver == "rhoPimpleFoam":
             _set_entries(os.path.join(case, "system", "fvSolution"), False, maxCo=stage["max_courant"])
+        elif solver == "rhoCentralFoam":
+            _set_entries(os.path.join(case, "system", "controlDict"), True, maxCo=stage["max_courant"])
         limit = None if timeout is None else max(1.0, timeout - (time.monotonic() - start))
         mode = "w" if number == 0 else "a"
         if cores > 1:

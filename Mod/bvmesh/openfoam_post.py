@@ -64,9 +64,20 @@ def _read_table(folder, file_name):
 
 
 def read_residuals(case):
-    """Initial residuals per solved field from the residuals function object (vector fields: the
-    largest component): {'iteration': array, 'p': array, 'U': array, 'e': array, ...}."""
-    table = _read_table(os.path.join(case, "postProcessing", "residuals"), "solverInfo.dat")
+    """Residuals per field from the residuals function object: the pressure-based solvers' initial
+    residuals (vector fields: the largest component), {'iteration': array, 'p': array, 'U': array,
+    'e': array, ...}, or rhoCentralFoam's cell mean of |d/dt| per conserved variable,
+    {'iteration', 'rho', 'rhoU', 'rhoE'}."""
+    folder = os.path.join(case, "postProcessing", "residuals")
+    rates = _read_table(folder, "volFieldValue.dat")
+    if rates:
+        result = {"iteration": rates["Time"]}
+        for name, values in rates.items():
+            match = re.fullmatch(r"average\(mag\(ddt\((\w+)\)\)\)", name)
+            if match:
+                result[match.group(1)] = values
+        return result
+    table = _read_table(folder, "solverInfo.dat")
     if not table:
         return {}
     result = {"iteration": table["Time"]}
@@ -334,7 +345,8 @@ def residual_drop(residuals, orders=3.0):
     # Largest ratio from each iteration to the end: below the threshold means it stays there.
     ahead = np.maximum.accumulate(ratio[::-1])[::-1]
     reached = np.nonzero(ahead <= 10.0 ** -orders)[0]
-    return (int(residuals["iteration"][reached[0]]) if len(reached) else None), float(-np.log10(ratio[-1]))
+    # + 0.0: a last residual at its peak reads 0 decades, not -0.
+    return (int(residuals["iteration"][reached[0]]) if len(reached) else None), float(-np.log10(ratio[-1])) + 0.0
 
 
 def station_results(case, experiment_path=EXPERIMENT_FILE, time=None):
@@ -430,9 +442,11 @@ def plot_convergence(residuals, coefficients, path):
     import matplotlib.pyplot as plt
 
     figure, (top, bottom) = plt.subplots(2, 1, figsize=(6.4, 6.4), sharex=True)
+    # Each field over its own peak (rhoCentralFoam's rates differ by orders of magnitude between
+    # rho and rho E): the scale on which residual_drop counts decades.
     for field in [f for f in residuals if f != "iteration"]:
-        top.semilogy(residuals["iteration"], residuals[field], label=field)
-    top.set_ylabel("initial residual")
+        top.semilogy(residuals["iteration"], residuals[field] / residuals[field].max(), label=field)
+    top.set_ylabel("residual / its peak")
     top.grid(alpha=0.3)
     top.legend()
     if coefficients:
