@@ -605,7 +605,7 @@ def write_case(grid_or_refined, case_directory, mach=0.8395, alpha_degrees=3.06,
                temperature=255.56, reynolds_number=None, model="euler", length_unit=0.001,
                reference_length=M6_REFERENCE_LENGTH, reference_area=M6_REFERENCE_AREA,
                moment_point=M6_MOMENT_POINT, iterations=2000, solver="rhoPimpleFoam", write_interval=None,
-               semispan=M6_SEMISPAN, max_courant=None, startup_iterations=50, startup_courant=0.5,
+               semispan=M6_SEMISPAN, max_courant=None, startup_iterations=50, startup_courant=0.25,
                force=False):
     """Writes a complete OpenFOAM case and returns its directory.
 
@@ -624,7 +624,7 @@ def write_case(grid_or_refined, case_directory, mach=0.8395, alpha_degrees=3.06,
     max_courant: the local time step's Courant number (default 2 for rhoPimpleFoam, 0.2 for
     rhoCentralFoam); rhoPimpleFoam runs its first startup_iterations at startup_courant, since
     the impulsive start from the uniform free stream diverged at Courant 2 on the 295 k-cell M6
-    grid; rhoCentralFoam runs its last third (from the last write before two thirds of the
+    grid and at 0.5 on a 59 k-cell one; rhoCentralFoam runs its last third (from the last write before two thirds of the
     iterations) at half of max_courant, where its CL settles (run_case runs the stages).
     force: let the grid writer accept non-positive cells.
     """

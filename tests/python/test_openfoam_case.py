@@ -298,7 +298,7 @@ class DefaultM6Grid(unittest.TestCase):
 class CoarseM6Run(unittest.TestCase):
     """The euler case on a 3 k-cell M6 grid (level 2, 5 edge points, 9 normal points) run by
     rhoPimpleFoam (LTS, 5 start-up steps then Courant 2) for 20 steps, rhoSimpleFoam for 10 and
-    rhoCentralFoam for 400."""
+    rhoCentralFoam for 400; and rhoPimpleFoam's start-up on a 59 k-cell grid."""
 
     @classmethod
     def setUpClass(cls):
@@ -420,6 +420,14 @@ class CoarseM6Run(unittest.TestCase):
         self.assertGreater(result["iterations"], 5)
         self.assertLess(result["wall_time"], 40.0)
         post.wall_surface_file(case)  # a written time step is there
+
+    def test_default_start_up_runs_on_a_59k_grid(self):
+        # Spaced as the default grid, 59 k cells: the start-up at Courant 0.5 diverged at step 5.
+        grid = ofc.m6_grid("euler", level=2, target_cells=60000)
+        case = ofc.write_case(grid, os.path.join(self.folder.name, "start_up"), iterations=12, startup_iterations=10)
+        result = ofc.run_case(case)
+        self.assertEqual(result["iterations"], 12)
+        self.assertTrue(all(np.all(np.isfinite(values)) for values in result["residuals"].values()))
 
     def test_central_run_residuals_finite_and_falling(self):
         # rhoCentralFoam's residual is the cell mean of |d/dt| of the conserved variables; its
