@@ -582,20 +582,13 @@ snGradSchemes
     default         limited corrected 0.5;
 }
 """)
-    # The conserved variables are updated explicitly; U and e are solved only with a viscosity.
+    # The conserved variables are updated explicitly; U and e would be solved only with a viscosity,
+    # which an euler case (the only model written for this solver) does not have.
     _write(case, "system", "fvSolution", """solvers
 {
     "(rho|rhoU|rhoE)"
     {
         solver          diagonal;
-    }
-    "(U|e)"
-    {
-        solver          smoothSolver;
-        smoother        GaussSeidel;
-        nSweeps         2;
-        tolerance       1e-12;
-        relTol          0.1;
     }
 }
 """)
@@ -624,8 +617,9 @@ def write_case(grid_or_refined, case_directory, mach=0.8395, alpha_degrees=3.06,
     max_courant: the local time step's Courant number (default 2 for rhoPimpleFoam, 0.2 for
     rhoCentralFoam); rhoPimpleFoam runs its first startup_iterations at startup_courant, since
     the impulsive start from the uniform free stream diverged at Courant 2 on the 295 k-cell M6
-    grid and at 0.5 on a 59 k-cell one; rhoCentralFoam runs its last third (from the last write before two thirds of the
-    iterations) at half of max_courant, where its CL settles (run_case runs the stages).
+    grid and at 0.5 on a 59 k-cell one; rhoCentralFoam runs its last third (from the last write
+    before two thirds of the iterations) at half of max_courant, where its CL settles (run_case
+    runs the stages).
     force: let the grid writer accept non-positive cells.
     """
     if model not in MODELS:
@@ -702,12 +696,13 @@ def write_case(grid_or_refined, case_directory, mach=0.8395, alpha_degrees=3.06,
     if solver == "rhoPimpleFoam" and 0 < startup_iterations < iterations:
         stages.insert(0, dict(end=startup_iterations, max_courant=startup_courant,
                               write_interval=startup_iterations))
-    settling = (2 * iterations // 3) // write_interval * write_interval
-    if solver == "rhoCentralFoam" and settling > 0:
+    if solver == "rhoCentralFoam":
         # The last third at half the Courant number: on the 300 k-cell M6 grid CL wandered by 2 %
         # over thousands of steps at 0.2 and settled to 0.15 % at 0.1 (docs/cfd.md).
-        stages = [dict(end=settling, max_courant=max_courant, write_interval=write_interval),
-                  dict(end=iterations, max_courant=0.5 * max_courant, write_interval=write_interval)]
+        settling = (2 * iterations // 3) // write_interval * write_interval
+        if settling > 0:
+            stages = [dict(end=settling, max_courant=max_courant, write_interval=write_interval),
+                      dict(end=iterations, max_courant=0.5 * max_courant, write_interval=write_interval)]
     settings = dict(model=model, solver=solver, iterations=iterations, stages=stages, max_courant=max_courant,
                     length_unit=length_unit,
                     semispan=semispan, reference=reference, freestream=flow,
