@@ -779,22 +779,35 @@ def quality_report(quality_object):
     return quality_object.Proxy.report(quality_object)
 
 
-def export_grid(source, path, file_format=None, force=False, name="Export"):
-    """Writes a VolumeGrid (cgns, openfoam, plot3d, vtk) or the B-spline blocks (gismo, blocks; a
-    VolumeMesh or a VolumeGrid's mesh) to `path`, as an Export object that writes again on
-    recompute. file_format: from the path's ending when None (no ending: an OpenFOAM case
-    directory). A grid with a non-positive cell is refused unless force=True."""
+def export_grid(source, path, file_format=None, force=False, name="Export", **flow_case):
+    """Writes a VolumeGrid (cgns, openfoam, plot3d, vtk, or openfoam_case: a complete flow case)
+    or the B-spline blocks (gismo, blocks; a VolumeMesh or a VolumeGrid's mesh) to `path`, as an
+    Export object that writes again on recompute. file_format: from the path's ending when None
+    (no ending: an OpenFOAM case directory's polyMesh). A grid with a non-positive cell is refused
+    unless force=True. flow_case (openfoam_case only; the Export's "Flow case" properties): solver,
+    mach, alpha_degrees, temperature (K), pressure (Pa; 0: from the volume mesh's Reynolds number
+    on a rans grid, else 1e5), iterations, reference_length (mm), reference_area (mm^2),
+    moment_point (mm); defaults: the ONERA M6 wind-tunnel case."""
     import os
 
     from bvmesh.features import grid_export
 
     file_format = file_format or grid_export.format_of_path(path)
+    properties = {keyword: prop for prop, (keyword, _, _, _) in grid_export.FLOW_CASE_PROPERTIES.items()}
+    unknown = sorted(set(flow_case) - set(properties))
+    if unknown:
+        raise ValueError("unknown flow case option {!r}; known: {}".format(unknown[0], ", ".join(properties)))
+    if flow_case and file_format != "openfoam_case":
+        raise ValueError("flow case options ({}) need file_format 'openfoam_case', not {!r}".format(
+            ", ".join(sorted(flow_case)), file_format))
 
     def fill(obj):
         obj.Source = source
         obj.Format = file_format
         obj.Path = os.fspath(path)
         obj.Force = bool(force)
+        for keyword, value in flow_case.items():
+            setattr(obj, properties[keyword], 0.0 if keyword == "pressure" and value is None else value)
 
     return _new_object(grid_export.create, source.Document, name, fill)
 

@@ -185,6 +185,57 @@ class VolumeObjects(unittest.TestCase):
         read = grid_module.read_plot3d(written["plot3d"])
         self.assertTrue(np.array_equal(read[0], api.grid_of(self.grid).grid.points(0)))
 
+    def test_flow_case_takes_its_free_stream_solver_and_references_from_the_export(self):
+        import json
+
+        from bvmesh.features import grid_export
+
+        case = os.path.join(self.folder, "sphere_flow_central")
+        export = api.export_grid(self.grid, case, file_format="openfoam_case", name="FlowCase",
+                                 solver="rhoCentralFoam", mach=0.5, alpha_degrees=2.0, iterations=300,
+                                 reference_length=2000.0, reference_area=3.0e6, moment_point=(500.0, 0.0, 0.0))
+
+        def settings():
+            with open(os.path.join(case, "bvmesh_case.json")) as file:
+                return json.load(file)
+
+        written = settings()
+        self.assertEqual((written["solver"], written["model"], written["iterations"]), ("rhoCentralFoam", "euler", 300))
+        self.assertAlmostEqual(written["freestream"]["mach"], 0.5)
+        self.assertAlmostEqual(written["freestream"]["alpha_degrees"], 2.0)
+        self.assertAlmostEqual(written["freestream"]["p"], 1e5)  # euler, no pressure given
+        self.assertAlmostEqual(written["reference"]["length"], 2.0)  # mm -> m
+        self.assertAlmostEqual(written["reference"]["area"], 3.0)
+        self.assertEqual(written["reference"]["moment_point"], [0.5, 0.0, 0.0])
+        self.assertEqual(written["length_unit"], 1e-3)
+        with open(os.path.join(case, "system", "controlDict")) as file:
+            self.assertIn("application     rhoCentralFoam;", file.read())
+        # Shown for the flow case only.
+        self.assertEqual(export.getEditorMode("Solver"), [])
+        cgns_export = api.export_grid(self.grid, os.path.join(self.folder, "hidden.cgns"), name="Export")
+        for name in grid_export.FLOW_CASE_PROPERTIES:
+            self.assertEqual(cgns_export.getEditorMode(name), ["Hidden"], name)
+        # A changed property writes the case again on recompute.
+        export.Mach = 0.7
+        export.Pressure = 5e4
+        export.Solver = "rhoPimpleFoam"
+        self.doc.recompute()
+        self.assertNotIn("Invalid", export.State)
+        written = settings()
+        self.assertEqual(written["solver"], "rhoPimpleFoam")
+        self.assertAlmostEqual(written["freestream"]["mach"], 0.7)
+        self.assertAlmostEqual(written["freestream"]["p"], 5e4)
+
+        names = [o.Name for o in self.doc.Objects]
+        with self.assertRaisesRegex(ValueError, "unknown flow case option 'reynolds'"):
+            api.export_grid(self.grid, case, file_format="openfoam_case", reynolds=1e6)
+        with self.assertRaisesRegex(ValueError, r"flow case options \(mach\) need file_format 'openfoam_case', "
+                                                "not 'cgns'"):
+            api.export_grid(self.grid, os.path.join(self.folder, "other.cgns"), mach=0.5)
+        with self.assertRaisesRegex(RuntimeError, "mach must be a finite number > 0"):
+            api.export_grid(self.grid, case, file_format="openfoam_case", mach=-1.0)
+        self.assertEqual([o.Name for o in self.doc.Objects], names)
+
     def test_bad_options_leave_the_document_as_it_was(self):
         names = [o.Name for o in self.doc.Objects]
         with self.assertRaisesRegex(ValueError, "unknown volume mesh option 'farfield'"):

@@ -9,6 +9,7 @@
 # Exits 0 on success, 1 on any failure.
 import json
 import os
+import shutil
 import subprocess
 import sys
 import time
@@ -24,6 +25,8 @@ MACRO_NAME = "bvmesh_gui_volume_recorded"
 MACRO = os.path.join(OUTPUT_DIR, MACRO_NAME + ".FCMacro")
 SAVED = os.path.join(OUTPUT_DIR, "gui_m6_volume.FCStd")
 CGNS = os.path.join(OUTPUT_DIR, "gui_m6.cgns")
+FLOW_CASE_PARENT = os.path.join(OUTPUT_DIR, "gui_flow_case")
+FLOW_CASE_PICTURE = os.path.join(OUTPUT_DIR, "gui_flow_case_properties.png")
 BLOCKS_PICTURE = os.path.join(OUTPUT_DIR, "gui_volume_blocks.png")
 WALL_BLOCKS_PICTURE = os.path.join(OUTPUT_DIR, "gui_volume_wall_blocks.png")
 CUT_PICTURE = os.path.join(OUTPUT_DIR, "gui_volume_cut.png")
@@ -274,6 +277,7 @@ def run():
     click_toolbar("BVMesh_ExportGrid")
     timer.stop()
     check(os.path.getsize(CGNS) > 100000, "the grid was exported to " + CGNS)
+    flow_case_with_the_chosen_solver(grid)
     FreeCADGui.runCommand("Std_MacroStopRecord")
     settle()
 
@@ -298,12 +302,45 @@ def run():
     main_job_document_shows_its_grid()
 
 
+def flow_case_with_the_chosen_solver(grid):
+    """The OpenFOAM case command asks for the solver (euler grid: all three), then the parent folder."""
+    import FreeCADGui
+
+    shutil.rmtree(FLOW_CASE_PARENT, ignore_errors=True)
+    os.makedirs(FLOW_CASE_PARENT)
+    offered = []
+
+    def choose(dialog):
+        offered.extend(dialog.comboBoxItems())
+        dialog.setTextValue("rhoCentralFoam")
+        dialog.accept()
+
+    chooser = when_shown(lambda: next((w for w in QtGui.QApplication.topLevelWidgets()
+                                       if isinstance(w, QtGui.QInputDialog) and w.isVisible()), None), choose)
+    timer = answer_file_dialog(FLOW_CASE_PARENT)
+    click_toolbar("BVMesh_OpenFoamCase")
+    timer.stop()
+    chooser.stop()
+    check(offered == ["rhoSimpleFoam", "rhoPimpleFoam", "rhoCentralFoam"], "the solvers offered: {}".format(offered))
+    settings = os.path.join(FLOW_CASE_PARENT, grid.Name + "_case", "bvmesh_case.json")
+    check(os.path.isfile(settings) and json.load(open(settings))["solver"] == "rhoCentralFoam",
+          "the flow case was written for rhoCentralFoam: " + settings)
+    export = grid.Document.getObject("OpenFoamCase")
+    check(export is not None and export.Solver == "rhoCentralFoam" and export.getEditorMode("Mach") == [],
+          "the export shows its flow case properties with the solver chosen")
+    FreeCADGui.Selection.clearSelection()
+    FreeCADGui.Selection.addSelection(export)  # the property editor shows its Flow case group
+    settle(300)
+    check(main_window().grab().save(FLOW_CASE_PICTURE), "flow case properties saved to " + FLOW_CASE_PICTURE)
+    FreeCADGui.Selection.clearSelection()
+
+
 def replay_recorded_macro(grid):
     text = open(MACRO).read()
     for call in ("bvmesh.api.make_surface_fit(", "bvmesh.api.fit_to_tolerance(", "bvmesh.api.make_volume_mesh(",
                  "bvmesh.api.make_volume_grid(", "bvmesh.api.make_grid_cut(", "bvmesh.api.make_mesh_quality(",
                  "bvmesh.api.export_grid(", "feature_edges=[(App.ActiveDocument.getObject('CAD'), ('Edge21',))]",
-                 "farfield_scheme='hyperbolic'"):
+                 "farfield_scheme='hyperbolic'", "solver='rhoCentralFoam'"):
         check(call in text, "the recorded macro holds " + call)
     # The cancelled marching is not in it (replayed, it would make the VolumeMesh the later lines
     # do not mean).

@@ -1,13 +1,13 @@
 """Export of a volume grid (or of the B-spline blocks themselves) to the files solvers read:
 CGNS, an OpenFOAM case's polyMesh or a complete OpenFOAM flow case, Plot3D, VTK, G+Smo XML, or
-BVMesh's block file. Recompute
-writes the file (each writer writes a temporary file and renames it, so a failed export leaves no
-partial file under the name)."""
+BVMesh's block file. Recompute writes the file (each writer writes a temporary file and renames
+it, so a failed export leaves no partial file under the name). A flow case takes its free stream,
+solver and force references from the object's "Flow case" properties, shown for that format only."""
 
 import os
 
 from bvmesh.features import volume_grid, volume_mesh
-from bvmesh.features.common import READ_ONLY, Proxy, add_property, is_type
+from bvmesh.features.common import HIDDEN, READ_ONLY, Proxy, add_property, is_type
 
 TYPE = "BVMesh::Export"
 # format -> (file name endings that select it, needs the grid (else the blocks))
@@ -20,6 +20,46 @@ FORMATS = {
     "gismo": ((".xml",), False),
     "blocks": ((".blocks", ".txt"), False),
 }
+FLOW_CASE_GROUP = "Flow case"
+# property -> (openfoam_case.write_case keyword, property type, default, tooltip). Defaults: the
+# ONERA M6 wind-tunnel case (openfoam_case's); lengths in the document's millimetres.
+FLOW_CASE_PROPERTIES = {
+    "Solver": ("solver", "App::PropertyEnumeration", "rhoPimpleFoam",
+               "rhoPimpleFoam (pressure-based, local time stepping), rhoSimpleFoam, or rhoCentralFoam "
+               "(density-based, explicit; euler grids only)"),
+    "Mach": ("mach", "App::PropertyFloat", 0.8395, "Free-stream Mach number"),
+    "AngleOfAttack": ("alpha_degrees", "App::PropertyAngle", 3.06,
+                      "Angle of attack in the x-z plane (y the span direction)"),
+    "Temperature": ("temperature", "App::PropertyFloat", 255.56, "Free-stream temperature (K)"),
+    "Pressure": ("pressure", "App::PropertyFloat", 0.0,
+                 "Free-stream pressure (Pa); 0: set from the volume mesh's Reynolds number on the reference "
+                 "length for a rans grid, 1e5 Pa for an euler one"),
+    "Iterations": ("iterations", "App::PropertyInteger", 2000, "Solver steps the case runs"),
+    "ReferenceLength": ("reference_length", "App::PropertyLength", 646.07,
+                        "Force coefficients' reference length (and the Reynolds number's)"),
+    "ReferenceArea": ("reference_area", "App::PropertyArea", 753200.0, "Force coefficients' reference area"),
+    "MomentPoint": ("moment_point", "App::PropertyVector", (474.59, 0.0, 0.0),
+                    "Point the moment coefficient is taken about"),
+}
+METRES_PER_MM = 1e-3
+
+
+def flow_case_options(obj):
+    """openfoam_case.write_case's keywords from the object's flow-case properties (in metres)."""
+    options = {}
+    for name, (keyword, _, _, _) in FLOW_CASE_PROPERTIES.items():
+        value = getattr(obj, name)
+        value = getattr(value, "Value", value)  # quantities in mm, mm^2, degrees
+        if name == "ReferenceLength":
+            value *= METRES_PER_MM
+        elif name == "ReferenceArea":
+            value *= METRES_PER_MM**2
+        elif name == "MomentPoint":
+            value = tuple(METRES_PER_MM * c for c in value)
+        options[keyword] = value
+    if options["pressure"] == 0.0:
+        options["pressure"] = None
+    return options
 
 
 def format_of_path(path):
@@ -34,8 +74,9 @@ def format_of_path(path):
     return "openfoam"
 
 
-def write(source, file_format, path, force=False):
-    """Writes a VolumeGrid (or, for gismo / blocks, a VolumeMesh or the mesh of a VolumeGrid)."""
+def write(source, file_format, path, force=False, flow_case=None):
+    """Writes a VolumeGrid (or, for gismo / blocks, a VolumeMesh or the mesh of a VolumeGrid).
+    flow_case: openfoam_case.write_case's keywords for the openfoam_case format."""
     from bvmesh import grid
 
     if file_format not in FORMATS:
@@ -50,11 +91,10 @@ def write(source, file_format, path, force=False):
         if file_format == "openfoam_case":
             from bvmesh import openfoam_case
 
-            # Free stream and references are openfoam_case's defaults (the M6's wind-tunnel case);
-            # scripts set them with bvmesh.api.write_openfoam_case.
-            openfoam_case.write_case(refined, path, model="rans" if source.Preset == "rans" else "euler",
-                                     reynolds_number=source.VolumeMesh.ReynoldsNumber if source.Preset == "rans" else None,
-                                     force=force)
+            rans = source.Preset == "rans"
+            openfoam_case.write_case(refined, path, model="rans" if rans else "euler",
+                                     reynolds_number=source.VolumeMesh.ReynoldsNumber if rans else None,
+                                     length_unit=METRES_PER_MM, force=force, **(flow_case or {}))
             return
         writers = {"cgns": grid.write_cgns, "openfoam": grid.write_openfoam, "plot3d": grid.write_plot3d,
                    "vtk": grid.write_vtk}
@@ -85,11 +125,33 @@ class ExportProxy(Proxy):
                      "Write even a grid with non-positive cells (refused otherwise)", False)
         add_property(obj, "App::PropertyString", "Written", "Result", "Digest of the grid last written",
                      mode=READ_ONLY)
+        from bvmesh import openfoam_case
+
+        for name, (_, type_name, default, tooltip) in FLOW_CASE_PROPERTIES.items():
+            if name in obj.PropertiesList:
+                continue  # a restored document keeps its values
+            obj.addProperty(type_name, name, FLOW_CASE_GROUP, tooltip)
+            if type_name == "App::PropertyEnumeration":
+                setattr(obj, name, list(openfoam_case.SOLVERS))
+            setattr(obj, name, default)
+        self.show_flow_case(obj)
+
+    @staticmethod
+    def show_flow_case(obj):
+        mode = 0 if obj.Format == "openfoam_case" else HIDDEN
+        for name in FLOW_CASE_PROPERTIES:
+            if name in obj.PropertiesList:
+                obj.setEditorMode(name, mode)
+
+    def onChanged(self, obj, prop):
+        if prop == "Format":
+            self.show_flow_case(obj)
 
     def compute(self, obj):
         if obj.Source is None:
             raise ValueError("the export needs a source")
-        write(obj.Source, obj.Format, obj.Path, obj.Force)
+        flow_case = flow_case_options(obj) if obj.Format == "openfoam_case" else None
+        write(obj.Source, obj.Format, obj.Path, obj.Force, flow_case)
         obj.Written = obj.Source.Digest
 
 

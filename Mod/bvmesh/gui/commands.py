@@ -580,29 +580,37 @@ class ExportGrid:
 class OpenFoamCase:
     def GetResources(self):
         return _resources("BVMesh_Export", "OpenFOAM flow case",
-                          "Write a complete OpenFOAM case on the grid (compressible, local time stepping; free "
-                          "stream and references: the ONERA M6 wind-tunnel case, change them in the case or with "
-                          "bvmesh.api.write_openfoam_case); run it with bvmesh.openfoam_case.run_case")
+                          "Write a complete OpenFOAM case on the grid with the solver you choose (compressible; "
+                          "free stream and force references: the ONERA M6 wind-tunnel case, changed in the "
+                          "export's Flow case properties); run it with bvmesh.openfoam_case.run_case")
 
     def IsActive(self):
         return find_object(volume_grid.TYPE) is not None
 
     def Activated(self):
+        import os
+
         from PySide import QtGui
 
+        from bvmesh import openfoam_case
         from bvmesh.gui import plots, progress
 
         grid = find_object(volume_grid.TYPE)
-        path = QtGui.QFileDialog.getExistingDirectory(FreeCADGui.getMainWindow(), "OpenFOAM case: parent folder",
-                                                      plots.output_dir())
+        window = FreeCADGui.getMainWindow()
+        # rhoCentralFoam is set up for inviscid grids only.
+        solvers = [s for s in openfoam_case.SOLVERS if grid.Preset != "rans" or s != "rhoCentralFoam"]
+        solver, ok = QtGui.QInputDialog.getItem(window, "OpenFOAM case", "Solver:", solvers,
+                                                solvers.index("rhoPimpleFoam"), False)
+        if not ok:
+            return
+        path = QtGui.QFileDialog.getExistingDirectory(window, "OpenFOAM case: parent folder", plots.output_dir())
         if not path:
             return
-        import os
-
         case = os.path.join(path, "{}_case".format(grid.Name))
         with progress.work_runner_in_gui("OpenFOAM case"):
             run_in_transaction("BVMesh OpenFOAM case", ["bvmesh.api.export_grid({}, {!r}, file_format='openfoam_case', "
-                                                        "name='OpenFoamCase')".format(_object_ref(grid), case)])
+                                                        "name='OpenFoamCase', solver={!r})".format(
+                                                            _object_ref(grid), case, solver)])
 
 
 STEP_COMMANDS = (
