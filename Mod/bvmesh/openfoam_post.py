@@ -311,6 +311,61 @@ def rms_difference(computed, measured):
     return float(np.sqrt(np.mean(differences ** 2))), len(differences)
 
 
+# An upper-surface shock: a compression of at least SHOCK_MIN_RISE in Cp whose every segment rises
+# by at least SHOCK_MIN_SLOPE per chord. On the wind-tunnel taps this finds the lambda's two
+# shocks at eta 0.20-0.80 and the merged one outboard (their rises 0.18-0.78); a smeared
+# recompression (rhoPimpleFoam's, about 1-2 per chord) and the recovery to the trailing edge
+# (about 1.5) are not shocks.
+SHOCK_MIN_SLOPE = 3.0
+SHOCK_MIN_RISE = 0.15
+
+
+def shock_positions(x, cp, min_slope=SHOCK_MIN_SLOPE, min_rise=SHOCK_MIN_RISE):
+    """The shocks of an upper-surface Cp distribution aft of its suction peak (its lowest Cp):
+    each run of consecutive segments rising by at least min_slope per unit x whose whole rise is
+    at least min_rise, placed where Cp crosses half its rise (the same point on a resolved jump,
+    a smeared one and the coarse taps of a measurement). x: x/c (any order; repeated x dropped).
+    Returns the positions in x order."""
+    x, cp = np.asarray(x, dtype=float), np.asarray(cp, dtype=float)
+    if x.shape != cp.shape or x.ndim != 1:
+        raise ValueError("x and cp must be 1-d arrays of one length, got shapes {} and {}".format(x.shape, cp.shape))
+    order = np.argsort(x, kind="stable")
+    x, cp = x[order], cp[order]
+    distinct = np.concatenate([[True], np.diff(x) > 0.0])
+    x, cp = x[distinct], cp[distinct]
+    if len(x) < 2 or not np.all(np.isfinite(cp)):
+        return []
+    steep = np.diff(cp) / np.diff(x) >= min_slope
+    positions, segment = [], int(np.argmin(cp))
+    while segment < len(steep):
+        if not steep[segment]:
+            segment += 1
+            continue
+        last = segment
+        while last + 1 < len(steep) and steep[last + 1]:
+            last += 1
+        low, high = cp[segment], cp[last + 1]
+        if high - low >= min_rise:
+            half = 0.5 * (low + high)
+            k = segment + int(np.argmax(cp[segment + 1:last + 2] >= half))  # Cp rises through the run
+            positions.append(float(x[k] + (half - cp[k]) / (cp[k + 1] - cp[k]) * (x[k + 1] - x[k])))
+        segment = last + 1
+    return positions
+
+
+def shock_offsets(computed, measured):
+    """Per measured shock, the offset (computed - measured, x/c) of the computed shock paired with
+    it, or None: pairs are taken closest first, each shock in at most one, so one computed shock
+    where the measurement has a lambda's two answers for one of them only."""
+    pairs = sorted((abs(c - m), i, j) for i, m in enumerate(measured) for j, c in enumerate(computed))
+    offsets, used = [None] * len(measured), set()
+    for _, i, j in pairs:
+        if offsets[i] is None and j not in used:
+            offsets[i] = computed[j] - measured[i]
+            used.add(j)
+    return offsets
+
+
 def read_log(path):
     """Solver wall time (s, summed over restarts: ClockTime starts again at each) and the
     number of time steps in a solver log."""
@@ -351,7 +406,9 @@ def residual_drop(residuals, orders=3.0):
 
 def station_results(case, experiment_path=EXPERIMENT_FILE, time=None):
     """Cp of the latest (or given) wall surface at every measured station, with the RMS
-    difference to the measurement: a list of {eta, y, section, measured, rms, taps}."""
+    difference to the measurement and the upper surface's shocks (shock_positions) computed and
+    measured: a list of {eta, y, section, measured, rms, taps, shocks: {computed, measured,
+    offsets}}."""
     from .openfoam_case import read_settings
 
     settings = read_settings(case)
@@ -364,7 +421,10 @@ def station_results(case, experiment_path=EXPERIMENT_FILE, time=None):
         y = measured["eta"] * settings["semispan"]
         computed = section(surface["points"], surface["faces"], cp, y)
         rms, taps = rms_difference(computed, measured)
-        results.append(dict(eta=measured["eta"], y=y, section=computed, measured=measured, rms=rms, taps=taps))
+        shocks = dict(computed=shock_positions(*computed["upper"]), measured=shock_positions(*measured["upper"]))
+        shocks["offsets"] = shock_offsets(shocks["computed"], shocks["measured"])
+        results.append(dict(eta=measured["eta"], y=y, section=computed, measured=measured, rms=rms, taps=taps,
+                            shocks=shocks))
     return results
 
 
@@ -380,6 +440,11 @@ def plot_station(result, path, title=""):
         tap_x, tap_cp = result["measured"][name]
         axis.plot(tap_x, tap_cp, "o" if name == "upper" else "s", mfc="none", color=colour,
                   label="measured, {}".format(name))
+    shocks = result.get("shocks", {})
+    for kind, style in (("computed", "--"), ("measured", ":")):
+        for k, position in enumerate(shocks.get(kind, [])):
+            axis.axvline(position, linestyle=style, color="0.35", linewidth=0.9,
+                         label="upper-surface shock, {}".format(kind) if k == 0 else None)
     axis.invert_yaxis()
     axis.set_xlabel("x / c")
     axis.set_ylabel("Cp")
@@ -461,6 +526,29 @@ def plot_convergence(residuals, coefficients, path):
     plt.close(figure)
 
 
+def _positions(values):
+    return ", ".join("{:.3f}".format(v) for v in values) or "none"
+
+
+def _shock_verdict(stations, up_to_eta=0.90, within=0.05):
+    """The flow-run goal of issue 17 in one line: every measured shock up to eta 0.90 has a
+    computed one within 5 % of the chord."""
+    offsets = [(r["eta"], o) for r in stations if r["eta"] <= up_to_eta + 1e-9 for o in r["shocks"]["offsets"]]
+    if not offsets:
+        return "No measured shock up to eta {:.2f}.".format(up_to_eta)
+    missing = sorted({eta for eta, o in offsets if o is None})
+    matched = [(abs(o), eta) for eta, o in offsets if o is not None]
+    inside = sum(1 for miss, _ in matched if miss <= within)
+    text = "Up to eta {:.2f}: {} of {} measured shocks have a computed shock within {:g} of the chord".format(
+        up_to_eta, inside, len(offsets), within)
+    if matched:
+        text += "; the largest offset of a paired shock is {:.3f} (eta {:.2f})".format(*max(matched))
+    if missing:
+        text += "; {} without a computed shock (at eta {})".format(
+            sum(1 for _, o in offsets if o is None), ", ".join("{:.2f}".format(e) for e in missing))
+    return text + "."
+
+
 def write_report(case, output_directory, experiment_path=EXPERIMENT_FILE, title="ONERA M6"):
     """Plots (cp_eta_<eta>.png per station, convergence.png), report.md and summary.json of a
     finished (or stopped) run in output_directory. Returns the summary dict."""
@@ -502,8 +590,8 @@ def write_report(case, output_directory, experiment_path=EXPERIMENT_FILE, title=
         CL_range_last_tenth=float(np.ptp(coefficients["Cl"][-max(1, len(coefficients["Cl"]) // 10):]))
         if coefficients else None,
         mach=flow["mach"], alpha_degrees=flow["alpha_degrees"],
-        stations=[dict(eta=r["eta"], y=r["y"], chord=float(r["section"]["chord"]), rms=r["rms"], taps=r["taps"])
-                  for r in stations])
+        stations=[dict(eta=r["eta"], y=r["y"], chord=float(r["section"]["chord"]), rms=r["rms"], taps=r["taps"],
+                       shocks=r["shocks"]) for r in stations])
     with open(os.path.join(output_directory, "summary.json"), "w") as file:
         json.dump(summary, file, indent=2)
     lines = ["# {}: {} ({}), Mach {:g}, alpha {:g} deg".format(title, settings["model"], settings["solver"],
@@ -531,6 +619,16 @@ def write_report(case, output_directory, experiment_path=EXPERIMENT_FILE, title=
     for r in stations:
         lines.append("| {:.2f} | {:.4f} | {:.4f} | {} | {:.3f} | cp_eta_{:.2f}.png |".format(
             r["eta"], r["y"], r["section"]["chord"], r["taps"], r["rms"], r["eta"]))
+    lines += ["", "Upper-surface shocks (x/c where Cp crosses half a compression of at least {:g} rising by "
+              "{:g} per chord or more, aft of the suction peak; `openfoam_post.shock_positions`) and, per measured "
+              "shock, the nearest computed one's offset:".format(SHOCK_MIN_RISE, SHOCK_MIN_SLOPE), "",
+              "| eta | computed | measured | offset (computed - measured) |", "|---|---|---|---|"]
+    for r in stations:
+        shocks = r["shocks"]
+        lines.append("| {:.2f} | {} | {} | {} |".format(
+            r["eta"], _positions(shocks["computed"]), _positions(shocks["measured"]),
+            ", ".join("none" if o is None else "{:+.3f}".format(o) for o in shocks["offsets"]) or "-"))
+    lines += ["", _shock_verdict(stations)]
     lines += ["", "![convergence](convergence.png)", "", "![upper surface Cp](upper_surface_cp.png)", ""] + [
         "![eta {0:.2f}](cp_eta_{0:.2f}.png)".format(r["eta"]) for r in stations]
     with open(os.path.join(output_directory, "report.md"), "w") as file:

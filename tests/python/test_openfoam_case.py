@@ -129,6 +129,64 @@ class CpExtraction(unittest.TestCase):
         self.assertAlmostEqual(flow["p"], flow["rho"] * ofc.GAS_CONSTANT * 255.56, places=6)
 
 
+class ShockPositions(unittest.TestCase):
+    X = np.linspace(0.0, 1.0, 1001)
+
+    @staticmethod
+    def jump(x, at, rise, width=0.01):
+        return 0.5 * rise * (1.0 + np.tanh((x - at) / width))
+
+    def test_a_jump_is_placed_where_cp_crosses_half_its_rise(self):
+        cp = -1.0 + self.jump(self.X, 0.4, 0.6)  # suction peak at the leading edge, one shock
+        found = post.shock_positions(self.X, cp)
+        self.assertEqual(len(found), 1)
+        self.assertAlmostEqual(found[0], 0.4, delta=1e-4)
+        # A smeared one (width 0.04: slope 7.5 per chord) is placed alike; order does not matter.
+        shuffled = np.random.default_rng(3).permutation(len(self.X))
+        smeared = -1.0 + self.jump(self.X, 0.4, 0.6, width=0.04)
+        self.assertAlmostEqual(post.shock_positions(self.X[shuffled], smeared[shuffled])[0], 0.4, delta=1e-4)
+
+    def test_a_lambda_gives_two_shocks_and_what_is_not_a_shock_gives_none(self):
+        lambda_cp = -1.2 + self.jump(self.X, 0.15, 0.4) + self.jump(self.X, 0.5, 0.5)
+        found = post.shock_positions(self.X, lambda_cp)
+        self.assertEqual(len(found), 2)
+        np.testing.assert_allclose(found, [0.15, 0.5], atol=1e-4)
+        recovery = -0.8 + 1.0 * self.X  # slope 1 per chord: a recompression, not a shock
+        self.assertEqual(post.shock_positions(self.X, recovery), [])
+        small = -0.8 + self.jump(self.X, 0.5, 0.1)  # steep but a rise of 0.1 only
+        self.assertEqual(post.shock_positions(self.X, small), [])
+        # A compression ahead of the suction peak (the stagnation point's side) is not searched.
+        ahead = np.where(self.X < 0.1, -0.5 + 10.0 * self.X, -1.2) + self.jump(self.X, 0.6, 0.5)
+        found = post.shock_positions(self.X, ahead)
+        self.assertEqual(len(found), 1)
+        self.assertAlmostEqual(found[0], 0.6, delta=1e-4)
+
+    def test_the_wind_tunnel_taps(self):
+        sections = {s["eta"]: s for s in post.read_experiment()}
+        x, cp = sections[0.44]["upper"]
+        found = post.shock_positions(x, cp)
+        self.assertEqual(len(found), 2)  # the lambda's forward and rear shocks
+        # The rear one between taps 0.499 (Cp -0.70) and 0.549 (-0.37): half the rise by hand.
+        i = int(np.argmin(np.abs(x - 0.499)))
+        half = 0.5 * (cp[i] + cp[i + 1])
+        self.assertAlmostEqual(found[1], x[i] + (half - cp[i]) / (cp[i + 1] - cp[i]) * (x[i + 1] - x[i]), places=12)
+        self.assertEqual(len(post.shock_positions(*sections[0.90]["upper"])), 1)  # merged outboard
+
+    def test_pairing_and_bad_input(self):
+        # One computed shock where the measurement has a lambda: paired with the nearer one only.
+        offsets = post.shock_offsets([0.6], [0.1, 0.52])
+        self.assertIsNone(offsets[0])
+        self.assertAlmostEqual(offsets[1], 0.08, places=12)
+        offsets = post.shock_offsets([0.2, 0.5], [0.22])
+        self.assertEqual(len(offsets), 1)
+        self.assertAlmostEqual(offsets[0], -0.02, places=12)
+        self.assertEqual(post.shock_offsets([], [0.3]), [None])
+        self.assertEqual(post.shock_positions([0.5], [0.0]), [])
+        self.assertEqual(post.shock_positions(self.X, np.full_like(self.X, np.nan)), [])
+        with self.assertRaisesRegex(ValueError, "x and cp must be 1-d arrays of one length"):
+            post.shock_positions(self.X, self.X[:-1])
+
+
 class Histories(unittest.TestCase):
     def test_residual_drop_counts_from_where_the_residuals_stay_down(self):
         residuals = dict(iteration=np.arange(1.0, 7.0), p=np.array([1.0, 1e-4, 1e-2, 5e-4, 1e-4, 1e-5]),
@@ -375,7 +433,11 @@ class CoarseM6Run(unittest.TestCase):
                 self.assertGreater(os.path.getsize(os.path.join(folder, name)), 1000, name)
             self.assertEqual(summary["iterations"], 20)
             with open(os.path.join(folder, "report.md")) as file:
-                self.assertIn("| cells | 3072 |", file.read())
+                report = file.read()
+            self.assertIn("| cells | 3072 |", report)
+            self.assertIn("| eta | computed | measured | offset (computed - measured) |", report)
+            self.assertRegex(report, r"Up to eta 0.90: \d+ of 9 measured shocks have a computed shock within 0.05")
+            self.assertEqual([len(s["shocks"]["measured"]) for s in summary["stations"]], [2, 2, 2, 2, 1, 1, 1])
 
     def test_command_line_writes_a_case_from_a_polymesh_directory(self):
         from bvmesh.__main__ import main
