@@ -64,6 +64,8 @@ def _openfoam_case(args):
 
 
 def main(argv=None):
+    from bvmesh import openfoam_case  # the flow case's defaults (plain Python, no numpy)
+
     parser = argparse.ArgumentParser(prog="bvmesh", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     commands = parser.add_subparsers(dest="command", required=True)
@@ -89,16 +91,17 @@ def main(argv=None):
                                     "(default: build the bundled M6 grid)")
     cfd.add_argument("--length-unit", type=float, default=0.001,
                      help="metres per grid unit (default 0.001: the grid is in mm)")
-    cfd.add_argument("--model", choices=("euler", "rans"), default="euler")
-    cfd.add_argument("--solver", choices=("rhoPimpleFoam", "rhoSimpleFoam", "rhoCentralFoam"), default="rhoPimpleFoam",
+    cfd.add_argument("--model", choices=openfoam_case.MODELS, default="euler")
+    cfd.add_argument("--solver", choices=openfoam_case.SOLVERS, default=openfoam_case.DEFAULT_SOLVER,
                      help="rhoPimpleFoam with local time stepping (default), rhoSimpleFoam, or rhoCentralFoam "
                           "(density-based, explicit with local time stepping; euler only)")
-    cfd.add_argument("--mach", type=float, default=0.8395)
-    cfd.add_argument("--alpha", type=float, default=3.06, help="angle of attack in degrees")
-    cfd.add_argument("--temperature", type=float, default=255.56, help="free-stream temperature in K")
+    cfd.add_argument("--mach", type=float, default=openfoam_case.M6_MACH)
+    cfd.add_argument("--alpha", type=float, default=openfoam_case.M6_ALPHA_DEGREES, help="angle of attack in degrees")
+    cfd.add_argument("--temperature", type=float, default=openfoam_case.M6_TEMPERATURE,
+                     help="free-stream temperature in K")
     cfd.add_argument("--pressure", type=float, help="free-stream pressure in Pa (default: from --reynolds, else 1e5)")
     cfd.add_argument("--reynolds", type=float, help="Reynolds number on the mean aerodynamic chord (0.64607 m)")
-    cfd.add_argument("--iterations", type=int, default=2000)
+    cfd.add_argument("--iterations", type=int, default=openfoam_case.DEFAULT_ITERATIONS)
     cfd.add_argument("--write-interval", type=int, help="iterations between writes (default: --iterations)")
     cfd.add_argument("--max-courant", type=float,
                      help="local time stepping Courant number (default 2; rhoCentralFoam 0.2)")

@@ -35,6 +35,10 @@ M6_REFERENCE_LENGTH = 0.64607
 M6_REFERENCE_AREA = 0.7532
 M6_MOMENT_POINT = (0.47459, 0.0, 0.0)
 M6_SEMISPAN = 1.1963
+# The wind-tunnel case compared with (test 2308): the defaults of write_case and the workbench.
+M6_MACH, M6_ALPHA_DEGREES, M6_TEMPERATURE = 0.8395, 3.06, 255.56
+DEFAULT_ITERATIONS = 2000
+DEFAULT_SOLVER = "rhoPimpleFoam"
 
 PATCHES = {"wall": "wall", "symmetry": "symmetryPlane", "farfield": "patch", "inlet": "patch", "outlet": "patch",
            "side": "patch"}
@@ -594,10 +598,11 @@ snGradSchemes
 """)
 
 
-def write_case(grid_or_refined, case_directory, mach=0.8395, alpha_degrees=3.06, pressure=None,
-               temperature=255.56, reynolds_number=None, model="euler", length_unit=0.001,
+def write_case(grid_or_refined, case_directory, mach=M6_MACH, alpha_degrees=M6_ALPHA_DEGREES, pressure=None,
+               temperature=M6_TEMPERATURE, reynolds_number=None, model="euler", length_unit=0.001,
                reference_length=M6_REFERENCE_LENGTH, reference_area=M6_REFERENCE_AREA,
-               moment_point=M6_MOMENT_POINT, iterations=2000, solver="rhoPimpleFoam", write_interval=None,
+               moment_point=M6_MOMENT_POINT, iterations=DEFAULT_ITERATIONS, solver=DEFAULT_SOLVER,
+               write_interval=None,
                semispan=M6_SEMISPAN, max_courant=None, startup_iterations=50, startup_courant=0.25,
                force=False):
     """Writes a complete OpenFOAM case and returns its directory.

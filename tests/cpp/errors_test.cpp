@@ -4,6 +4,7 @@
 
 #include <Standard_DomainError.hxx>
 
+#include "core/common/number_text.h"
 #include "core/common/occt_errors.h"
 
 namespace bvmesh {
@@ -29,6 +30,15 @@ TEST(Errors, OcctFailureBecomesSolverErrorWithContext) {
 
 TEST(Errors, TranslateOcctErrorsPassesResultsThrough) {
   EXPECT_EQ(translateOcctErrors("adding", [] { return 2 + 3; }), 5);
+}
+
+TEST(NumberText, SixSignificantDigitsAtEveryScale) {
+  EXPECT_EQ(numberText(1e-9), "1e-09");
+  EXPECT_EQ(numberText(0.05), "0.05");
+  EXPECT_EQ(numberText(-2.5), "-2.5");
+  EXPECT_EQ(numberText(1234567.0), "1.23457e+06");
+  EXPECT_EQ(numberText(1e300), "1e+300");
+  EXPECT_EQ(coordinatesText(Eigen::Vector3d(1e-7, 0.0, 3.0)), "1e-07, 0, 3");
 }
 
 }  // namespace

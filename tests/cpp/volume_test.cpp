@@ -135,12 +135,18 @@ TEST(BlockMesh, ValidatesConnectionsAndSharedPoles) {
   EXPECT_EQ(control.boundaryFaces.size(), 2u * 5u * 16u);
 
   std::vector<Block> moved = twoBlocks();
-  moved[1].volume.setPole(moved[1].volume.poleIndex(0, 2, 3), Vector3d(1.0, 0.5, 0.75 + 1e-9));
+  const Eigen::Index shared = moved[1].volume.poleIndex(0, 2, 3);
+  moved[1].volume.setPole(shared, moved[1].volume.poles().row(shared).transpose() + Vector3d(0.0, 0.0, 1e-9));
   try {
     BlockMesh bad(moved);
     FAIL();
   } catch (const InvalidInputError& error) {
-    EXPECT_NE(std::string(error.what()).find("block 0 face u_max pole (2, 3) differs"), std::string::npos) << error.what();
+    // The gap in significant digits (std::to_string printed "0.000000").
+    EXPECT_NE(std::string(error.what())
+                  .find("block 0 face u_max pole (2, 3) differs from its neighbour's in block 1 face u_min "
+                        "by 1e-09 "),
+              std::string::npos)
+        << error.what();
   }
   std::vector<Block> oneWay = twoBlocks();
   oneWay[1].faces[static_cast<size_t>(BlockFaceSide::UMin)].condition = BoundaryCondition::Farfield;

@@ -229,7 +229,7 @@ class ControlVolumeOfTheSphereFit(unittest.TestCase):
     def test_errors_name_the_problem(self):
         with self.assertRaisesRegex(TypeError, "control_volume takes a bvmesh.SurfaceFitter or a bvmesh.ControlMesh"):
             bvmesh.volume.control_volume(self.volume)
-        with self.assertRaisesRegex(bvmesh.InvalidInputError, "far-field distance 0.010000 is not beyond"):
+        with self.assertRaisesRegex(bvmesh.InvalidInputError, "far-field distance 0.01 is not beyond"):
             bvmesh.volume.control_volume(self.fitter, boundary_layer_thickness=0.05, farfield_distance=0.01)
 
 

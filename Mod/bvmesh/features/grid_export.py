@@ -6,6 +6,7 @@ solver and force references from the object's "Flow case" properties, shown for 
 
 import os
 
+from bvmesh import openfoam_case
 from bvmesh.features import volume_grid, volume_mesh
 from bvmesh.features.common import HIDDEN, READ_ONLY, Proxy, add_property, is_type
 
@@ -21,27 +22,30 @@ FORMATS = {
     "blocks": ((".blocks", ".txt"), False),
 }
 FLOW_CASE_GROUP = "Flow case"
-# property -> (openfoam_case.write_case keyword, property type, default, tooltip). Defaults: the
-# ONERA M6 wind-tunnel case (openfoam_case's); lengths in the document's millimetres.
+METRES_PER_MM = 1e-3
+# property -> (openfoam_case.write_case keyword, property type, default, tooltip). Defaults:
+# openfoam_case's (the ONERA M6 wind-tunnel case), lengths in the document's millimetres.
 FLOW_CASE_PROPERTIES = {
-    "Solver": ("solver", "App::PropertyEnumeration", "rhoPimpleFoam",
+    "Solver": ("solver", "App::PropertyEnumeration", openfoam_case.DEFAULT_SOLVER,
                "rhoPimpleFoam (pressure-based, local time stepping), rhoSimpleFoam, or rhoCentralFoam "
                "(density-based, explicit; euler grids only)"),
-    "Mach": ("mach", "App::PropertyFloat", 0.8395, "Free-stream Mach number"),
-    "AngleOfAttack": ("alpha_degrees", "App::PropertyAngle", 3.06,
+    "Mach": ("mach", "App::PropertyFloat", openfoam_case.M6_MACH, "Free-stream Mach number"),
+    "AngleOfAttack": ("alpha_degrees", "App::PropertyAngle", openfoam_case.M6_ALPHA_DEGREES,
                       "Angle of attack in the x-z plane (y the span direction)"),
-    "Temperature": ("temperature", "App::PropertyFloat", 255.56, "Free-stream temperature (K)"),
+    "Temperature": ("temperature", "App::PropertyFloat", openfoam_case.M6_TEMPERATURE, "Free-stream temperature (K)"),
     "Pressure": ("pressure", "App::PropertyFloat", 0.0,
                  "Free-stream pressure (Pa); 0: set from the volume mesh's Reynolds number on the reference "
                  "length for a rans grid, 1e5 Pa for an euler one"),
-    "Iterations": ("iterations", "App::PropertyInteger", 2000, "Solver steps the case runs"),
-    "ReferenceLength": ("reference_length", "App::PropertyLength", 646.07,
+    "Iterations": ("iterations", "App::PropertyInteger", openfoam_case.DEFAULT_ITERATIONS,
+                   "Solver steps the case runs"),
+    "ReferenceLength": ("reference_length", "App::PropertyLength", openfoam_case.M6_REFERENCE_LENGTH / METRES_PER_MM,
                         "Force coefficients' reference length (and the Reynolds number's)"),
-    "ReferenceArea": ("reference_area", "App::PropertyArea", 753200.0, "Force coefficients' reference area"),
-    "MomentPoint": ("moment_point", "App::PropertyVector", (474.59, 0.0, 0.0),
+    "ReferenceArea": ("reference_area", "App::PropertyArea", openfoam_case.M6_REFERENCE_AREA / METRES_PER_MM**2,
+                      "Force coefficients' reference area"),
+    "MomentPoint": ("moment_point", "App::PropertyVector",
+                    tuple(c / METRES_PER_MM for c in openfoam_case.M6_MOMENT_POINT),
                     "Point the moment coefficient is taken about"),
 }
-METRES_PER_MM = 1e-3
 
 
 def flow_case_options(obj):
@@ -89,8 +93,6 @@ def write(source, file_format, path, force=False, flow_case=None):
             raise ValueError("{} export needs a volume grid, got {}".format(file_format, source.Label))
         refined = volume_grid.refined_grid(source)
         if file_format == "openfoam_case":
-            from bvmesh import openfoam_case
-
             rans = source.Preset == "rans"
             openfoam_case.write_case(refined, path, model="rans" if rans else "euler",
                                      reynolds_number=source.VolumeMesh.ReynoldsNumber if rans else None,
@@ -125,8 +127,6 @@ class ExportProxy(Proxy):
                      "Write even a grid with non-positive cells (refused otherwise)", False)
         add_property(obj, "App::PropertyString", "Written", "Result", "Digest of the grid last written",
                      mode=READ_ONLY)
-        from bvmesh import openfoam_case
-
         for name, (_, type_name, default, tooltip) in FLOW_CASE_PROPERTIES.items():
             if name in obj.PropertiesList:
                 continue  # a restored document keeps its values

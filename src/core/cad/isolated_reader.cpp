@@ -21,6 +21,7 @@
 
 #include "core/cad/shape_io.h"
 #include "core/common/errors.h"
+#include "core/common/number_text.h"
 
 extern char** environ;
 
@@ -31,7 +32,8 @@ void checkLimits(const ReaderLimits& limits) {
   if (!(limits.seconds > 0.0 && std::isfinite(limits.seconds)) ||
       !(limits.memoryMegabytes >= 64.0 && std::isfinite(limits.memoryMegabytes))) {
     throw InvalidInputError("CAD reader limits must be a positive time and at least 64 MB of memory (got " +
-                            std::to_string(limits.seconds) + " s, " + std::to_string(limits.memoryMegabytes) + " MB)");
+                            numberText(limits.seconds) + " s, " + std::to_string(limits.memoryMegabytes) +
+                            " MB)");
   }
 }
 
@@ -164,14 +166,15 @@ std::string crashCause(const std::string& path) {
 std::string outcome(const ChildResult& result, const std::string& path, const std::string& what,
                     const ReaderLimits& limits) {
   if (result.timedOut) {
-    throw InvalidInputError("reading " + what + " took longer than the limit of " + std::to_string(limits.seconds) +
-                            " s and was stopped (the file may be corrupt; OCCT's readers loop on some broken input)");
+    throw InvalidInputError(
+        "reading " + what + " took longer than the limit of " + numberText(limits.seconds) +
+        " s and was stopped (the file may be corrupt; OCCT's readers loop on some broken input)");
   }
   if (WIFSIGNALED(result.status)) {
     const int signal = WTERMSIG(result.status);
     if (signal == SIGXCPU || signal == SIGKILL) {
-      throw InvalidInputError("reading " + what + " used up the CPU-time limit of " + std::to_string(limits.seconds) +
-                              " s and was stopped (the file may be corrupt)");
+      throw InvalidInputError("reading " + what + " used up the CPU-time limit of " +
+                              numberText(limits.seconds) + " s and was stopped (the file may be corrupt)");
     }
     throw InvalidInputError("reading " + what + " crashed OpenCASCADE's reader (" + strsignal(signal) + "); " +
                             crashCause(path) +
@@ -253,7 +256,7 @@ std::string runRepairing(const std::string& argument, const std::string& input, 
 void checkRepair(const RepairOptions& repair) {
   if (!(repair.tolerance >= 0.0) || !std::isfinite(repair.tolerance))
     throw InvalidInputError("the sewing tolerance must be 0 (automatic) or positive, got " +
-                            std::to_string(repair.tolerance));
+                            numberText(repair.tolerance));
 }
 
 }  // namespace

@@ -46,6 +46,7 @@
 
 #include "core/common/closest_point.h"
 #include "core/common/errors.h"
+#include "core/common/number_text.h"
 #include "core/common/occt_errors.h"
 
 namespace bvmesh::cad {
@@ -492,7 +493,7 @@ RepairedShape repairShape(const TopoDS_Shape& shape, const RepairOptions& option
   if (shape.IsNull()) throw InvalidInputError("cannot repair a null shape");
   if (!(options.tolerance >= 0.0) || !std::isfinite(options.tolerance))
     throw InvalidInputError("the sewing tolerance must be 0 (automatic) or positive, got " +
-                            std::to_string(options.tolerance));
+                            numberText(options.tolerance));
   return translateOcctErrors("repairing the shape", [&] {
     RepairedShape result{shape, {}};
     RepairReport& report = result.report;

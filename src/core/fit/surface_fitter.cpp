@@ -12,6 +12,7 @@
 
 #include "core/common/errors.h"
 #include "core/common/input_checks.h"
+#include "core/common/number_text.h"
 #include "core/fit/limit_target_distance.h"
 
 namespace bvmesh::fit {
@@ -742,7 +743,7 @@ FitSummary SurfaceFitter::run(const ProgressCallback& progress, const std::atomi
   const double modelSize = s.target->report().diagonal;
   if (distance > 0.5 * modelSize) {
     throw InvalidInputError("the control polyhedron lies far from the target: its limit surface is up to " +
-                            std::to_string(distance) + " away, for a target of size " + std::to_string(modelSize) +
+                            numberText(distance) + " away, for a target of size " + numberText(modelSize) +
                             "; place the polyhedron around the target first");
   }
   double previousLevelBest = distance;

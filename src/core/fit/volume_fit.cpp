@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "core/common/errors.h"
+#include "core/common/number_text.h"
 
 namespace bvmesh::fit {
 namespace {
@@ -65,8 +66,8 @@ RowMatrixX3d harmonicDisplacement(const HexMesh& mesh, const std::vector<char>& 
     solved.col(d) = solver.solve(rhs.col(d));
     if (solver.info() != Eigen::Success) {
       throw SolverError("continued fitting: the interior displacement did not converge (" +
-                        std::to_string(solver.iterations()) + " iterations, residual " + std::to_string(solver.error()) +
-                        "; an interior region without a boundary point?)");
+                        std::to_string(solver.iterations()) + " iterations, residual " +
+                        numberText(solver.error()) + "; an interior region without a boundary point?)");
     }
   }
   for (size_t p = 0; p < count; ++p) {
@@ -106,9 +107,8 @@ VolumeFitResult subdivideAndFitVolume(const HexMesh& mesh, std::shared_ptr<const
       Eigen::RowVector3d centre = Eigen::RowVector3d::Zero();
       for (int p : result.cells[c]) centre += result.points.row(p) / 8.0;
       throw SolverError("continued fitting: refined cell " + std::to_string(c) + " (child of cell " +
-                        std::to_string(c / 8) + ") at (" + std::to_string(centre.x()) + ", " +
-                        std::to_string(centre.y()) + ", " + std::to_string(centre.z()) +
-                        ") turned over (scaled corner Jacobian " + std::to_string(scaled) +
+                        std::to_string(c / 8) + ") at (" + coordinatesText(centre.transpose()) +
+                        ") turned over (scaled corner Jacobian " + numberText(scaled) +
                         ") with the fitted wall and the interior following it");
     }
     out.minScaledJacobian = std::min(out.minScaledJacobian, scaled);

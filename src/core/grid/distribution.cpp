@@ -9,6 +9,7 @@
 #include <type_traits>
 
 #include "core/common/errors.h"
+#include "core/common/number_text.h"
 
 namespace bvmesh::grid {
 namespace {
@@ -94,7 +95,7 @@ std::vector<double> vinokurFormula(int points, double firstSpacing, double lastS
 std::vector<double> vinokurFractions(int points, double firstSpacing, double lastSpacing) {
   checkPoints(points, "a stretched distribution");
   if (!(firstSpacing >= 0.0 && firstSpacing < 1.0 && lastSpacing >= 0.0 && lastSpacing < 1.0)) {
-    throw InvalidInputError("end spacings " + std::to_string(firstSpacing) + ", " + std::to_string(lastSpacing) +
+    throw InvalidInputError("end spacings " + numberText(firstSpacing) + ", " + numberText(lastSpacing) +
                             " are not fractions in [0, 1) of the line's length");
   }
   // The formula meets the end spacings to first order only: rescale its inputs until the
@@ -117,8 +118,9 @@ std::vector<double> tanhWallFractions(int points, double firstSpacing) {
   checkPoints(points, "a wall distribution");
   const int intervals = points - 1;
   if (!(firstSpacing > 0.0 && firstSpacing < 1.0 / intervals)) {
-    throw InvalidInputError("a first spacing of " + std::to_string(firstSpacing) + " of the line's length with " +
-                            std::to_string(points) + " points cannot cluster at the wall (it must be below 1/" +
+    throw InvalidInputError("a first spacing of " + numberText(firstSpacing) + " of the line's length with " +
+                            std::to_string(points) +
+                            " points cannot cluster at the wall (it must be below 1/" +
                             std::to_string(intervals) + ")");
   }
   // x(xi) = 1 - tanh(d (1 - xi) / 2) / tanh(d / 2), written without cancellation for large d.
@@ -139,12 +141,12 @@ double geometricGrowth(int points, double firstSpacing, double length) {
   const int intervals = points - 1;
   if (!(firstSpacing > 0.0) || !(length > 0.0)) {
     throw InvalidInputError("a geometric distribution needs a positive first spacing and length (got " +
-                            std::to_string(firstSpacing) + " and " + std::to_string(length) + ")");
+                            numberText(firstSpacing) + " and " + numberText(length) + ")");
   }
   if (firstSpacing * intervals >= length) {
-    throw InvalidInputError("a first spacing of " + std::to_string(firstSpacing) + " times " +
+    throw InvalidInputError("a first spacing of " + numberText(firstSpacing) + " times " +
                             std::to_string(intervals) + " intervals already exceeds the line's length " +
-                            std::to_string(length) + ": use fewer points or a smaller first spacing");
+                            numberText(length) + ": use fewer points or a smaller first spacing");
   }
   // f(r) = h S(r) - L is increasing and convex for r > 1: Newton from r0 = (L / h)^(1 / (n - 2)),
   // where f > 0 (S(r) > r^(n - 2)), descends monotonically onto the root.
@@ -183,8 +185,8 @@ int geometricPointsNeeded(double firstSpacing, double maxGrowth, double length) 
 double flatPlateFirstCellHeight(double yPlus, double reynoldsNumber, double referenceLength) {
   if (!(yPlus > 0.0) || !(reynoldsNumber > 0.0) || !(referenceLength > 0.0)) {
     throw InvalidInputError("a y+ target needs a positive y+, Reynolds number and reference length (got " +
-                            std::to_string(yPlus) + ", " + std::to_string(reynoldsNumber) + ", " +
-                            std::to_string(referenceLength) + ")");
+                            numberText(yPlus) + ", " + numberText(reynoldsNumber) + ", " +
+                            numberText(referenceLength) + ")");
   }
   const double skinFriction = 0.026 * std::pow(reynoldsNumber, -1.0 / 7.0);
   return yPlus * referenceLength / (reynoldsNumber * std::sqrt(0.5 * skinFriction));

@@ -3,7 +3,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <cstdio>
 #include <future>
 #include <limits>
 #include <string>
@@ -11,6 +10,7 @@
 
 #include "core/common/errors.h"
 #include "core/common/input_checks.h"
+#include "core/common/number_text.h"
 #include "core/common/parallel.h"
 #include "core/grid/block_plan.h"
 #include "core/grid/direction_sets.h"
@@ -33,12 +33,12 @@ void checkOptions(const RefinementOptions& options) {
   if (!std::isfinite(options.maxTurningDegrees) || options.maxTurningDegrees < 0.0 ||
       options.maxTurningDegrees > 90.0) {
     throw InvalidInputError("max_turning_angle must be 0 (none) or a number of degrees up to 90 (got " +
-                            std::to_string(options.maxTurningDegrees) + ")");
+                            numberText(options.maxTurningDegrees) + ")");
   }
   if (!std::isfinite(options.maxSpacingJump) ||
       (options.maxSpacingJump != 0.0 && options.maxSpacingJump < 1.0)) {
     throw InvalidInputError("max_spacing_jump must be 0 (none) or a ratio >= 1 (got " +
-                            std::to_string(options.maxSpacingJump) + ")");
+                            numberText(options.maxSpacingJump) + ")");
   }
   for (size_t f = 0; f < options.featureSpacings.size(); ++f) {
     const FeatureSpacing& feature = options.featureSpacings[f];
@@ -55,7 +55,7 @@ void checkOptions(const RefinementOptions& options) {
     }
   }
   if (!std::isfinite(options.growth) || options.growth <= 1.0 || options.growth > 3.0) {
-    throw InvalidInputError("growth must be in (1, 3] (got " + std::to_string(options.growth) + ")");
+    throw InvalidInputError("growth must be in (1, 3] (got " + numberText(options.growth) + ")");
   }
   if (options.normalPoints != 0 && (options.normalPoints < 2 || options.normalPoints > 100000)) {
     throw InvalidInputError("normal_points must be 0 (automatic) or 2 .. 100000 (got " +
@@ -73,13 +73,6 @@ void checkOptions(const RefinementOptions& options) {
   if (options.normalPoints == 0 && options.firstCellHeight == 0.0 && options.yPlus == 0.0) {
     throw InvalidInputError("automatic normal_points (0) needs a first cell height or a y+ target");
   }
-}
-
-// Three significant digits at any scale (std::to_string prints 0.000000 below 1e-6).
-std::string shortNumber(double value) {
-  char text[32];
-  std::snprintf(text, sizeof text, "%.3g", value);
-  return text;
 }
 
 // The first cell height asked: absolute, or from y+ by the flat-plate estimate; 0: none.
@@ -191,7 +184,7 @@ void makeSharedPointsIdentical(const std::vector<Eigen::Index>& roots, double to
   const auto [rb, rrow] = locate(roots[static_cast<size_t>(firstApart.load())]);
   const double gap = (grids[b].points.row(row) - grids[rb].points.row(rrow)).norm();
   throw SolverError(blockText(b) + " point " + std::to_string(row) + " and " + blockText(rb) + " point " +
-                    std::to_string(rrow) + " are shared but " + shortNumber(gap) +
+                    std::to_string(rrow) + " are shared but " + numberText(gap) +
                     " apart: the distributions disagree across a shared face (block layout not supported)");
 }
 

@@ -5,6 +5,7 @@
 
 #include "core/common/errors.h"
 #include "core/common/input_checks.h"
+#include "core/common/number_text.h"
 #include "core/common/parallel.h"
 
 namespace bvmesh::grid {
@@ -80,11 +81,11 @@ void StructuredGrid::checkPointMatching(size_t b, int f) const {
       const auto p = mine.points.row(here.at(a, c));
       const auto q = theirs.points.row(there.at(a, c));
       if (p != q) {
-        throw InvalidInputError("grid block " + std::to_string(b) + " face " + volume::blockFaceName(f) + " point (" +
-                                std::to_string(a) + ", " + std::to_string(c) + ") differs from its neighbour's in block " +
-                                std::to_string(face.neighbour.block) + " face " +
-                                volume::blockFaceName(face.neighbour.face) + " by " + std::to_string((p - q).norm()) +
-                                " (shared faces must be point-matched)");
+        throw InvalidInputError(
+            "grid block " + std::to_string(b) + " face " + volume::blockFaceName(f) + " point (" +
+            std::to_string(a) + ", " + std::to_string(c) + ") differs from its neighbour's in block " +
+            std::to_string(face.neighbour.block) + " face " + volume::blockFaceName(face.neighbour.face) +
+            " by " + numberText((p - q).norm()) + " (shared faces must be point-matched)");
       }
     }
   }

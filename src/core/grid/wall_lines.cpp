@@ -10,6 +10,7 @@
 
 #include "core/common/bspline_basis.h"
 #include "core/common/errors.h"
+#include "core/common/number_text.h"
 #include "core/common/parallel.h"
 #include "core/grid/distribution.h"
 
@@ -336,10 +337,10 @@ class LinePlacement {
     if (firstHeight_ > 0.0 && law.growth > options_.growth * (1.0 + 1e-12)) {
       tabulateLine(b, base, line);
       const double length = line.arc.length();
-      throw InvalidInputError(blockText(b) + ": a first cell height of " + std::to_string(firstHeight_) +
-                              " over " + std::to_string(length) + " with " + std::to_string(points_) +
-                              " wall-normal points needs a growth ratio of " + std::to_string(law.growth) +
-                              ", above the maximum " + std::to_string(options_.growth) + "; at least " +
+      throw InvalidInputError(blockText(b) + ": a first cell height of " + numberText(firstHeight_) +
+                              " over " + numberText(length) + " with " + std::to_string(points_) +
+                              " wall-normal points needs a growth ratio of " + numberText(law.growth) +
+                              ", above the maximum " + numberText(options_.growth) + "; at least " +
                               std::to_string(geometricPointsNeeded(firstHeight_, options_.growth, length)) +
                               " points are needed (normal_points = 0 picks them)");
     }

@@ -12,6 +12,7 @@
 
 #include "core/common/errors.h"
 #include "core/common/input_checks.h"
+#include "core/common/number_text.h"
 
 namespace bvmesh {
 namespace {
@@ -279,8 +280,7 @@ void ControlMesh::validateCreases() {
     }
     const double sharpness = creaseSharpness_(c);
     if (!(sharpness > 0.0)) {
-      throw InvalidInputError(name + " has sharpness " + std::to_string(sharpness) +
-                              " (must be > 0)");
+      throw InvalidInputError(name + " has sharpness " + numberText(sharpness) + " (must be > 0)");
     }
     const int edge = findEdge(a, b);
     if (edge < 0) throw TopologyError(name + " is not an edge of the mesh");
@@ -309,8 +309,7 @@ void ControlMesh::validateCorners() {
       throw InvalidInputError(name + " is outside 0.." + std::to_string(numVertices() - 1));
     }
     if (!(cornerSharpness_(c) > 0.0)) {
-      throw InvalidInputError(name + " has sharpness " + std::to_string(cornerSharpness_(c)) +
-                              " (must be > 0)");
+      throw InvalidInputError(name + " has sharpness " + numberText(cornerSharpness_(c)) + " (must be > 0)");
     }
     if (seen[at(v)]) throw InvalidInputError(name + " is listed twice");
     seen[at(v)] = true;

@@ -24,6 +24,7 @@
 #include <string>
 
 #include "core/common/errors.h"
+#include "core/common/number_text.h"
 #include "core/common/occt_errors.h"
 
 namespace bvmesh::polyhedron {
@@ -233,8 +234,9 @@ FlowDomain splitFlowDomain(const TopoDS_Shape& shape) {
                                 "): only box and sphere domains are recognised");
       }
       if (sphere && (std::abs(mine->radius - sphere->radius) > tolerance || (mine->centre - sphere->centre).norm() > tolerance)) {
-        throw InvalidInputError("splitFlowDomain: the domain's spheres differ (" + faceText(f) + " has radius " +
-                                std::to_string(mine->radius) + ", another " + std::to_string(sphere->radius) + ")");
+        throw InvalidInputError("splitFlowDomain: the domain's spheres differ (" + faceText(f) +
+                                " has radius " + numberText(mine->radius) + ", another " +
+                                numberText(sphere->radius) + ")");
       }
       sphere = mine;
     }

@@ -11,6 +11,7 @@
 
 #include "core/common/closest_point.h"
 #include "core/common/errors.h"
+#include "core/common/number_text.h"
 #include "core/polyhedron/draft_check.h"
 #include "core/polyhedron/placement_parts.h"
 #include "core/polyhedron/target_analysis.h"
@@ -347,7 +348,7 @@ Draft buildNacelle(const TemplateValues& values, const target::Target& target,
     if (profile.empty())
       throw InvalidInputError(
           "nacelle placement: the target does not surround its axis (no section at angle " +
-          std::to_string(phi * 180.0 / kPi) + " deg)");
+          numberText(phi * 180.0 / kPi) + " deg)");
     // Distances along a line in the meridian plane to the profile on this side of the axis.
     const auto hitsOnThisSide = [&](const Vec& origin, const Vec& direction) {
       std::vector<double> hits;

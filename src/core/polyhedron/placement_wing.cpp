@@ -10,6 +10,7 @@
 
 #include "core/common/closest_point.h"
 #include "core/common/errors.h"
+#include "core/common/number_text.h"
 #include "core/polyhedron/draft_check.h"
 #include "core/polyhedron/placement_parts.h"
 #include "core/polyhedron/target_analysis.h"
@@ -52,7 +53,7 @@ bool bluntTrailingEdge(const target::Target& target, const WingFrame& w) {
         "the wing templates take one sharp trailing edge or a blunt one (two sharp edges less than a "
         "fifth of the chord apart): " +
         std::to_string(edges.size()) + " sharp spanwise curves cross the section half way along the span" +
-        (edges.size() == 2 ? ", " + std::to_string(apart) + " apart on a chord of " + std::to_string(chord) +
+        (edges.size() == 2 ? ", " + numberText(apart) + " apart on a chord of " + numberText(chord) +
                                  " (a sharp leading edge?)"
                            : std::string()));
   }

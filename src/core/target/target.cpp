@@ -32,6 +32,7 @@
 
 #include "core/common/errors.h"
 #include "core/common/input_checks.h"
+#include "core/common/number_text.h"
 #include "core/common/occt_errors.h"
 #include "core/target/target_data.h"
 
@@ -689,7 +690,8 @@ Target::Target(const TopoDS_Shape& shape, const TargetOptions& options) : data_(
   checkFiniteAtLeast(options.relativeTolerance, 0.0, "Target: relative_tolerance", true);
   checkFiniteAtLeast(options.relativeGapSearch, 0.0, "Target: relative_gap_search");
   if (!(options.sharpAngleDeg >= 0.0 && options.sharpAngleDeg <= 180.0))
-    throw InvalidInputError("Target: sharp_angle_deg must be 0 .. 180, got " + std::to_string(options.sharpAngleDeg));
+    throw InvalidInputError("Target: sharp_angle_deg must be 0 .. 180, got " +
+                            numberText(options.sharpAngleDeg));
   if (options.threads < 0)
     throw InvalidInputError("Target: threads must be 0 (every hardware thread) or more, got " +
                             std::to_string(options.threads));

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/common/errors.h"
+#include "core/common/number_text.h"
 
 namespace bvmesh::volume {
 namespace {
@@ -216,9 +217,10 @@ BlockMesh::BlockMesh(std::vector<Block> blocks) : blocks_(std::move(blocks)) {
           const auto p = mine.poles().row(facePole(mine, f, a, c));
           const auto q = theirs.poles().row(facePole(theirs, link.face, there[0], there[1]));
           if (p != q) {
-            throw InvalidInputError(faceText(b, f) + " pole (" + std::to_string(a) + ", " + std::to_string(c) +
-                                    ") differs from its neighbour's in " + faceText(link.block, link.face) +
-                                    " by " + std::to_string((p - q).norm()) + " (shared faces must be identical)");
+            throw InvalidInputError(faceText(b, f) + " pole (" + std::to_string(a) + ", " +
+                                    std::to_string(c) + ") differs from its neighbour's in " +
+                                    faceText(link.block, link.face) + " by " + numberText((p - q).norm()) +
+                                    " (shared faces must be identical)");
           }
         }
       }

@@ -6,6 +6,7 @@
 
 #include "core/common/bspline_basis.h"
 #include "core/common/errors.h"
+#include "core/common/number_text.h"
 #include "core/common/parallel.h"
 
 namespace bvmesh::volume {
@@ -23,9 +24,9 @@ int basisAt(const std::vector<double>& knots, int degree, double x, const char* 
   const double hi = knots.back();
   const double slack = 1e-12 * std::max(1.0, hi - lo);
   if (!std::isfinite(x) || x < lo - slack || x > hi + slack) {
-    throw InvalidInputError(std::string("parameter ") + name + " = " + std::to_string(x) + " (entry " +
-                            std::to_string(entry) + ") is outside the knot range [" + std::to_string(lo) + ", " +
-                            std::to_string(hi) + "]");
+    throw InvalidInputError(std::string("parameter ") + name + " = " + numberText(x) + " (entry " +
+                            std::to_string(entry) + ") is outside the knot range [" + numberText(lo) + ", " +
+                            numberText(hi) + "]");
   }
   const double clamped = std::min(hi, std::max(lo, x));
   const int span = findKnotSpan(knots, degree, clamped);
@@ -72,7 +73,7 @@ void validateClampedKnots(const std::vector<double>& knots, int degree, int pole
   for (size_t k = 0; k < knots.size(); ++k) {
     if (!std::isfinite(knots[k])) throw InvalidInputError(what + ": knot " + std::to_string(k) + " is not finite");
     if (k > 0 && knots[k] < knots[k - 1]) {
-      throw InvalidInputError(what + ": knot " + std::to_string(k) + " (" + std::to_string(knots[k]) +
+      throw InvalidInputError(what + ": knot " + std::to_string(k) + " (" + numberText(knots[k]) +
                               ") is below the one before it");
     }
   }
@@ -88,8 +89,9 @@ void validateClampedKnots(const std::vector<double>& knots, int degree, int pole
     size_t run = 1;
     while (k + run + order <= knots.size() - 1 && knots[k + run] == knots[k]) ++run;
     if (run > static_cast<size_t>(degree)) {
-      throw InvalidInputError(what + ": interior knot " + std::to_string(knots[k]) + " repeated " +
-                              std::to_string(run) + " times (at most the degree, " + std::to_string(degree) + ")");
+      throw InvalidInputError(what + ": interior knot " + numberText(knots[k]) + " repeated " +
+                              std::to_string(run) + " times (at most the degree, " + std::to_string(degree) +
+                              ")");
     }
   }
 }

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "core/common/errors.h"
+#include "core/common/number_text.h"
 #include "core/subdiv/limit_evaluator.h"
 #include "core/surface/limit_points.h"
 #include "core/volume/wall_patches.h"
@@ -46,9 +47,8 @@ RowMatrixX3d meanLimitNormals(const surface::QuadControlMesh& wall, const Contro
     const double length = normals.row(v).norm();
     if (!(length > 1e-12)) {
       const Vector3d x = wall.vertices.row(v);
-      throw SolverError("the wall has no normal at control vertex " + std::to_string(v) + " (" + std::to_string(x.x()) +
-                        ", " + std::to_string(x.y()) + ", " + std::to_string(x.z()) +
-                        "): its faces' normals cancel (a folded wall)");
+      throw SolverError("the wall has no normal at control vertex " + std::to_string(v) + " (" +
+                        coordinatesText(x) + "): its faces' normals cancel (a folded wall)");
     }
     normals.row(v) /= length;
   }
@@ -90,7 +90,7 @@ ControlVolume controlVolumeMesh(const surface::QuadControlMesh& wall, const Volu
       const double off = (front.points.row(v).transpose() - options.planePoint).dot(planeNormal);
       if (std::abs(off) > 1e-6 * size) {
         throw InvalidInputError("the wall's open boundary at control vertex " + std::to_string(v) + " lies " +
-                                std::to_string(std::abs(off)) + " off the symmetry plane");
+                                numberText(std::abs(off)) + " off the symmetry plane");
       }
       front.points.row(v) -= off * planeNormal.transpose();
       front.onSymmetryPlane[static_cast<size_t>(v)] = 1;

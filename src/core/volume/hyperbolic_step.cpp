@@ -11,6 +11,7 @@
 #include <string>
 
 #include "core/common/errors.h"
+#include "core/common/number_text.h"
 
 namespace bvmesh::volume {
 namespace {
@@ -253,8 +254,7 @@ RowMatrixX3d HyperbolicStepper::pseudoStep(const RowMatrixX3d& before, const Row
     const Vector3d sigma = rXi.cross(rEta);
     if (!(sigma.norm() > 1e-14 * rXi.norm() * rEta.norm()) || !(area[p] > 0.0)) {
       throw SolverError("hyperbolic marching: the front is degenerate at point " + std::to_string(p) + " (" +
-                        std::to_string(x.x()) + ", " + std::to_string(x.y()) + ", " + std::to_string(x.z()) +
-                        ")");
+                        coordinatesText(x) + ")");
     }
     const Vector3d rZeta = (volume[p] / area[p]) * sigma.normalized();
     Matrix3d pMatrix, q1, q2;

@@ -15,6 +15,7 @@
 
 #include "core/common/errors.h"
 #include "core/common/input_checks.h"
+#include "core/common/number_text.h"
 
 namespace bvmesh::volume {
 namespace {
@@ -114,15 +115,16 @@ class Marcher {
     const double remaining = options_.farfieldDistance - meanRadius;
     const double first = h * options_.farfieldGrowth;
     if (remaining < 4 * first) {
-      throw InvalidInputError("far-field distance " + std::to_string(options_.farfieldDistance) +
-                              " leaves no room outside the boundary layer (its top lies at a mean distance of " +
-                              std::to_string(meanRadius) + " from the domain centre)");
+      throw InvalidInputError(
+          "far-field distance " + numberText(options_.farfieldDistance) +
+          " leaves no room outside the boundary layer (its top lies at a mean distance of " +
+          numberText(meanRadius) + " from the domain centre)");
     }
     const double g = options_.farfieldGrowth;
     const int nFar = std::max(2, static_cast<int>(std::ceil(std::log(1.0 + remaining * (g - 1.0) / first) / std::log(g))));
     if (nBl + nFar > options_.maxLayers) {
       throw InvalidInputError("the far field needs " + std::to_string(nFar) + " layers at growth " +
-                              std::to_string(g) + ", more than maxLayers (" + std::to_string(options_.maxLayers) +
+                              numberText(g) + ", more than maxLayers (" + std::to_string(options_.maxLayers) +
                               "): raise the growth or maxLayers");
     }
     const double scale = remaining * (g - 1.0) / (first * (std::pow(g, nFar) - 1.0));
@@ -176,20 +178,23 @@ class Marcher {
       throw InvalidInputError("boundary-layer layers must be in 1..100, got " + std::to_string(options_.boundaryLayerLayers));
     }
     if (!(options_.boundaryLayerGrowth >= 1.0 && options_.boundaryLayerGrowth <= 3.0)) {
-      throw InvalidInputError("boundary-layer growth must be in [1, 3], got " + std::to_string(options_.boundaryLayerGrowth));
+      throw InvalidInputError("boundary-layer growth must be in [1, 3], got " +
+                              numberText(options_.boundaryLayerGrowth));
     }
     if (!(options_.farfieldGrowth > 1.0 && options_.farfieldGrowth <= 3.0)) {
-      throw InvalidInputError("far-field growth must be in (1, 3], got " + std::to_string(options_.farfieldGrowth));
+      throw InvalidInputError("far-field growth must be in (1, 3], got " +
+                              numberText(options_.farfieldGrowth));
     }
     if (!(options_.smoothing >= 0.0 && options_.smoothing <= 10.0)) {
-      throw InvalidInputError("smoothing must be in [0, 10], got " + std::to_string(options_.smoothing));
+      throw InvalidInputError("smoothing must be in [0, 10], got " + numberText(options_.smoothing));
     }
     if (!(options_.sharpEdgeSplay >= 0.0 && options_.sharpEdgeSplay <= 20.0)) {
       throw InvalidInputError("sharp-edge splay must be in [0, 20] boundary-layer thicknesses, got " +
-                              std::to_string(options_.sharpEdgeSplay));
+                              numberText(options_.sharpEdgeSplay));
     }
     if (!(options_.minScaledJacobian >= 0.0 && options_.minScaledJacobian < 1.0)) {
-      throw InvalidInputError("minimum scaled Jacobian must be in [0, 1), got " + std::to_string(options_.minScaledJacobian));
+      throw InvalidInputError("minimum scaled Jacobian must be in [0, 1), got " +
+                              numberText(options_.minScaledJacobian));
     }
     options_.domain.validate();
     if (front_.points.rows() == 0 || front_.quads.empty()) throw InvalidInputError("the wall to march has no cells");
@@ -642,8 +647,7 @@ class Marcher {
     const Vector3d at = quad >= 0 ? Vector3d(points.row(front_.quads[static_cast<size_t>(quad)][0]).transpose())
                                   : Vector3d::Zero();
     throw SolverError("marching folds at layer " + std::to_string(layer) + " above " + where + " at (" +
-                      std::to_string(at.x()) + ", " + std::to_string(at.y()) + ", " + std::to_string(at.z()) +
-                      ") (scaled Jacobian " + std::to_string(worst) + " " + hint + ")");
+                      coordinatesText(at) + ") (scaled Jacobian " + numberText(worst) + " " + hint + ")");
   }
 
   // Moves the outer layers onto the domain boundary: the last layer is projected onto it along the

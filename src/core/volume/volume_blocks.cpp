@@ -11,6 +11,7 @@
 
 #include "core/common/bspline_basis.h"
 #include "core/common/errors.h"
+#include "core/common/number_text.h"
 #include "core/surface/limit_bsplines.h"
 #include "core/volume/wall_patches.h"
 
@@ -158,9 +159,8 @@ WallGrid wallGrid(const std::vector<WallPatch>& patches) {
     grid.front.points.row(k) = points[static_cast<size_t>(k)].transpose();
     const Vector3d n = normals[static_cast<size_t>(k)];
     if (!(n.norm() > 1e-12)) {
-      throw SolverError("the wall has no normal at point " + std::to_string(k) + " (" + std::to_string(points[static_cast<size_t>(k)].x()) +
-                        ", " + std::to_string(points[static_cast<size_t>(k)].y()) + ", " +
-                        std::to_string(points[static_cast<size_t>(k)].z()) + "): a degenerate or folded patch");
+      throw SolverError("the wall has no normal at point " + std::to_string(k) + " (" +
+                        coordinatesText(points[static_cast<size_t>(k)]) + "): a degenerate or folded patch");
     }
     grid.front.normals.row(k) = n.normalized().transpose();
   }
@@ -216,7 +216,7 @@ void markSymmetryPoints(const std::vector<WallPatch>& patches, WallGrid& grid, c
         const int id = grid.pointOf[p][static_cast<size_t>(i * patch.surface.vPoles + j)];
         const double off = std::abs((grid.front.points.row(id).transpose() - options.planePoint).dot(planeNormal));
         if (off > 1e-6 * grid.size) {
-          throw InvalidInputError("the wall's open boundary at " + where + " lies " + std::to_string(off) +
+          throw InvalidInputError("the wall's open boundary at " + where + " lies " + numberText(off) +
                                   " off the symmetry plane");
         }
         grid.front.onSymmetryPlane[static_cast<size_t>(id)] = 1;
@@ -435,9 +435,9 @@ MarchingResult transferLayers(const MarchingResult& coarse, const std::vector<Wa
         const Vector3d wall = grid.front.points.row(id).transpose();
         const Vector3d shift = wall - layers[0].point(u, v);
         if (!(shift.norm() < 0.5 * firstLayer)) {
-          throw InvalidInputError("the wall lies " + std::to_string(shift.norm()) + " from the marching wall at (" +
-                                  std::to_string(wall.x()) + ", " + std::to_string(wall.y()) + ", " + std::to_string(wall.z()) +
-                                  "), more than half the first control layer (" + std::to_string(firstLayer) +
+          throw InvalidInputError("the wall lies " + numberText(shift.norm()) +
+                                  " from the marching wall at (" + coordinatesText(wall) +
+                                  "), more than half the first control layer (" + numberText(firstLayer) +
                                   "): march a finer wall");
         }
         for (int k = 1; k < layerCount; ++k) {

@@ -8,6 +8,7 @@
 
 #include "core/common/errors.h"
 #include "core/common/input_checks.h"
+#include "core/common/number_text.h"
 
 namespace bvmesh::volume {
 namespace {
@@ -53,7 +54,8 @@ ResolvedVolumeOptions resolveVolumeOptions(const VolumeMeshOptions& options, con
   checkFiniteAtLeast(options.boundaryLayerThickness, 0.0, "boundary-layer thickness (0: the default)");
   checkFiniteAtLeast(options.farfieldDistance, 0.0, "far-field distance (0: the default)");
   if (!(options.reynoldsNumber >= 1e3 && options.reynoldsNumber <= 1e10)) {
-    throw InvalidInputError("Reynolds number must be in [1e3, 1e10], got " + std::to_string(options.reynoldsNumber));
+    throw InvalidInputError("Reynolds number must be in [1e3, 1e10], got " +
+                            numberText(options.reynoldsNumber));
   }
   result.referenceLength = options.referenceLength > 0 ? options.referenceLength : extent.maxCoeff();
   result.boundaryLayerThickness = options.boundaryLayerThickness > 0
@@ -65,14 +67,15 @@ ResolvedVolumeOptions resolveVolumeOptions(const VolumeMeshOptions& options, con
     if (!asked.allFinite()) throw InvalidInputError("the domain centre must be a finite point");
     if (options.hasSymmetryPlane && std::abs((asked - options.planePoint).dot(planeNormal)) > 1e-9 * (extent.norm() + asked.norm())) {
       throw InvalidInputError("the domain centre must lie on the symmetry plane (it is " +
-                              std::to_string((asked - options.planePoint).dot(planeNormal)) + " off it)");
+                              numberText((asked - options.planePoint).dot(planeNormal)) + " off it)");
     }
     centre = asked;
   }
   result.domainCentre = centre;
   if (result.farfieldDistance <= result.boundaryLayerThickness) {
-    throw InvalidInputError("far-field distance " + std::to_string(result.farfieldDistance) +
-                            " is not beyond the boundary-layer thickness " + std::to_string(result.boundaryLayerThickness));
+    throw InvalidInputError("far-field distance " + numberText(result.farfieldDistance) +
+                            " is not beyond the boundary-layer thickness " +
+                            numberText(result.boundaryLayerThickness));
   }
 
   MarchingOptions& marching = result.marching;
@@ -89,7 +92,7 @@ ResolvedVolumeOptions resolveVolumeOptions(const VolumeMeshOptions& options, con
     const double half = options.boxHalfExtent[axis];
     if (!(half >= 0.0) || !std::isfinite(half)) {
       throw InvalidInputError("box half sizes must be positive (or 0 for the far-field distance), got " +
-                              std::to_string(half));
+                              numberText(half));
     }
     marching.domain.halfExtent[axis] = half > 0.0 ? half : result.farfieldDistance;
     if (options.domain == DomainShape::Box && marching.domain.halfExtent[axis] > 1e4 * result.referenceLength) {
@@ -110,7 +113,7 @@ ResolvedVolumeOptions resolveVolumeOptions(const VolumeMeshOptions& options, con
   marching.domain.validate();
   if (options.domain == DomainShape::Box && marching.domain.halfExtent.minCoeff() <= result.boundaryLayerThickness) {
     throw InvalidInputError("the box's half sizes must be beyond the boundary-layer thickness " +
-                            std::to_string(result.boundaryLayerThickness));
+                            numberText(result.boundaryLayerThickness));
   }
   // A domain around a centre of the user's must still hold the wall, a boundary-layer thickness
   // inside it along each ray (around the wall's own centre the marching's set-up checks the room).
