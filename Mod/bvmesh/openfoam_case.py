@@ -47,6 +47,7 @@ PATCHES = {"wall": "wall", "symmetry": "symmetryPlane", "farfield": "patch", "in
 OUTER_PATCHES = ("farfield", "inlet", "outlet", "side")
 MODELS = ("euler", "rans")
 SOLVERS = ("rhoSimpleFoam", "rhoPimpleFoam", "rhoCentralFoam")
+EULER_ONLY_SOLVERS = ("rhoCentralFoam",)  # written without viscous terms or a turbulence model
 # Local time stepping's Courant number when none is given (docs/cfd.md: rhoPimpleFoam converges at
 # 2 and stalls at 5; rhoCentralFoam, explicit, diverged at 0.5 on a 59 k-cell M6 grid and runs at
 # 0.2). rhoSimpleFoam has no time step; its entry is only recorded in the case's settings.
@@ -641,9 +642,9 @@ def write_case(grid_or_refined, case_directory, mach=M6_MACH, alpha_degrees=M6_A
     if not (reference_length > 0.0 and reference_area > 0.0):
         raise ValueError("reference_length and reference_area must be > 0, got {!r} and {!r}".format(
             reference_length, reference_area))
-    if solver == "rhoCentralFoam" and model != "euler":
-        raise ValueError("solver rhoCentralFoam is set up for model 'euler' only; use rhoPimpleFoam for {!r}".format(
-            model))
+    if solver in EULER_ONLY_SOLVERS and model != "euler":
+        raise ValueError("solver {} is set up for model 'euler' only; use rhoPimpleFoam for {!r}".format(
+            solver, model))
     max_courant = DEFAULT_COURANT[solver] if max_courant is None else max_courant
     if not (max_courant > 0.0 and math.isfinite(max_courant)):
         raise ValueError("max_courant must be > 0, got {!r}".format(max_courant))

@@ -597,10 +597,10 @@ class OpenFoamCase:
 
         grid = find_object(volume_grid.TYPE)
         window = FreeCADGui.getMainWindow()
-        # rhoCentralFoam is set up for inviscid grids only.
-        solvers = [s for s in openfoam_case.SOLVERS if grid.Preset != "rans" or s != "rhoCentralFoam"]
+        solvers = [s for s in openfoam_case.SOLVERS
+                   if grid.Preset != "rans" or s not in openfoam_case.EULER_ONLY_SOLVERS]
         solver, ok = QtGui.QInputDialog.getItem(window, "OpenFOAM case", "Solver:", solvers,
-                                                solvers.index("rhoPimpleFoam"), False)
+                                                solvers.index(openfoam_case.DEFAULT_SOLVER), False)
         if not ok:
             return
         path = QtGui.QFileDialog.getExistingDirectory(window, "OpenFOAM case: parent folder", plots.output_dir())
