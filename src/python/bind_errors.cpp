@@ -1,6 +1,8 @@
 // Maps the core's exception hierarchy to Python classes:
 //   InvalidInputError(ValueError), TopologyError(InvalidInputError),
 //   SolverError(RuntimeError), CancelledError(RuntimeError).
+#include <cstring>
+
 #include "core/common/errors.h"
 
 #include "bindings.h"
@@ -8,6 +10,18 @@
 namespace py = pybind11;
 
 namespace bvmesh::python {
+namespace {
+
+// Messages may quote a file's bytes or a path that are not UTF-8: those are escaped, so the
+// message is never lost (PyErr_SetString would leave the exception without text).
+void raise(const py::object& type, const char* message) {
+  PyObject* text = PyUnicode_DecodeUTF8(message, static_cast<Py_ssize_t>(std::strlen(message)), "backslashreplace");
+  if (text == nullptr) return;  // out of memory: that error stands
+  PyErr_SetObject(type.ptr(), text);
+  Py_DECREF(text);
+}
+
+}  // namespace
 
 void bindErrors(py::module_& module) {
   static py::exception<InvalidInputError> invalidInput(module, "InvalidInputError", PyExc_ValueError);
@@ -19,13 +33,13 @@ void bindErrors(py::module_& module) {
     try {
       if (pending) std::rethrow_exception(pending);
     } catch (const TopologyError& error) {
-      topology(error.what());
+      raise(topology, error.what());
     } catch (const InvalidInputError& error) {
-      invalidInput(error.what());
+      raise(invalidInput, error.what());
     } catch (const SolverError& error) {
-      solver(error.what());
+      raise(solver, error.what());
     } catch (const CancelledError& error) {
-      cancelled(error.what());
+      raise(cancelled, error.what());
     }
   });
 }

@@ -449,5 +449,77 @@ class ExtremeScales(unittest.TestCase):
         self.assertLess(time.time() - start, 5.0)
 
 
+class VolumeStageInput(unittest.TestCase):
+    """Input to the volume stage and its writers that ran away, gave a wrong mesh silently or lost
+    its message (each case here did before its check)."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.fitter = bvmesh.SurfaceFitter(sphere_target(), bvmesh.ControlMesh(CUBE_VERTICES, CUBE_FACES), max_level=1)
+        cls.fitter.run()
+        cls.volume = bvmesh.volume.offset_and_farfield(cls.fitter, boundary_layer_thickness=0.05, farfield_distance=20.0)
+        cls.folder = tempfile.TemporaryDirectory()
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.folder.cleanup()
+
+    def test_a_layer_count_beyond_the_bound_is_refused_before_marching(self):
+        # 10**9 marched for ever (30 MB/s, the GIL released: no Ctrl-C) at a growth of 1 + 1e-7.
+        start = time.time()
+        for bad in (10 ** 9, 2001, 1, 0, -1):
+            with self.assertRaisesRegex(bvmesh.InvalidInputError, r"max_layers must be in \[2, 2000\], got {}".format(bad)):
+                bvmesh.volume.offset_and_farfield(self.fitter, boundary_layer_thickness=0.05, farfield_distance=1e10,
+                                                  farfield_growth=1.0000001, max_layers=bad)
+        self.assertLess(time.time() - start, 5.0)
+        with self.assertRaisesRegex(bvmesh.InvalidInputError, r"more than max_layers \(2000\): raise the far-field growth"):
+            bvmesh.volume.offset_and_farfield(self.fitter, boundary_layer_thickness=0.05, farfield_distance=1e10,
+                                              farfield_growth=1.0000001, max_layers=2000)
+
+    def test_a_spacing_beyond_the_edge_point_bound_is_named(self):
+        # Counts past int wrapped round to the 2-point minimum: the coarsest grid, silently.
+        for options in (dict(tangential_spacing=1e-10), dict(tangential_spacing=1e-300),
+                        dict(tangential_spacing=0.5, max_turning_angle=1e-9), dict(tangential_spacing=1e-5)):
+            with self.assertRaisesRegex(bvmesh.InvalidInputError, r"asks for .* cells on a block edge, more than 99999"):
+                bvmesh.grid.refine(self.volume, "euler", normal_points=5, **options)
+
+    def test_a_wall_of_two_bodies_is_refused(self):
+        # Each body's mesh filled the whole domain: twice its volume, every cell positive.
+        vertices = np.array(CUBE_VERTICES, dtype=float)
+        faces = CUBE_FACES + [[i + 8 for i in face] for face in CUBE_FACES]
+        for second in (vertices + 5.0, 0.5 * vertices):
+            wall = bvmesh.ControlMesh(np.vstack([vertices, second]), faces)
+            with self.assertRaisesRegex(bvmesh.InvalidInputError, r"the wall has 2 separate bodies \(control vertices 0 and 8"):
+                bvmesh.volume.offset_and_farfield(wall, boundary_layer_thickness=0.05, farfield_distance=20.0)
+
+    def test_a_symmetry_plane_that_a_closed_wall_does_not_end_on_is_refused(self):
+        with self.assertRaisesRegex(bvmesh.InvalidInputError, r"the wall reaches across the symmetry plane"):
+            bvmesh.volume.offset_and_farfield(self.fitter, symmetry_plane=((0, 0, 0), (0, 1, 0)),
+                                              boundary_layer_thickness=0.05, farfield_distance=20.0)
+        with self.assertRaisesRegex(bvmesh.InvalidInputError, r"the wall is closed and does not end on it"):
+            bvmesh.volume.offset_and_farfield(self.fitter, symmetry_plane=((0, 5, 0), (0, 1, 0)),
+                                              boundary_layer_thickness=0.05, farfield_distance=20.0)
+
+    def test_messages_quoting_bytes_that_are_not_utf8_keep_their_text(self):
+        # They reached Python as an InvalidInputError with no text at all.
+        path = os.path.join(self.folder.name, "garbage.blocks")
+        with open(path, "wb") as out:
+            out.write(b"bvmesh-blocks \xff\n")
+        with self.assertRaisesRegex(bvmesh.InvalidInputError, r"garbage.blocks\", line 1: .*got '\\xff'"):
+            bvmesh.read_block_mesh(path)
+        with self.assertRaisesRegex(bvmesh.InvalidInputError, r"cannot open the block mesh file .*missing\\xff"):
+            bvmesh.read_block_mesh(os.path.join(self.folder.name, "missing\udcff.blocks"))
+
+    def test_an_empty_path_is_refused_by_every_writer(self):
+        # write_openfoam("") wrote constant/ and system/ into the current folder.
+        grid = bvmesh.grid.refine(self.volume, "euler", edge_points=5, normal_points=9)
+        before = sorted(os.listdir("."))
+        for write in (bvmesh.grid.write_openfoam, bvmesh.grid.write_cgns, bvmesh.grid.write_plot3d,
+                      bvmesh.grid.write_gismo):
+            with self.assertRaisesRegex(bvmesh.InvalidInputError, r"no (file name|folder) given"):
+                write(self.volume if write is bvmesh.grid.write_gismo else grid, "")
+        self.assertEqual(sorted(os.listdir(".")), before)
+
+
 if __name__ == "__main__":
     unittest.main()

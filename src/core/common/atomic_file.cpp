@@ -19,6 +19,7 @@ void moveIntoPlace(const std::string& temporary, const std::string& path, const 
 
 void writeFileAtomicallyByPath(const std::string& path, const std::string& what,
                                const std::function<void(const std::string&)>& write) {
+  if (path.empty()) throw InvalidInputError("no file name given for " + what);
   const std::string temporary = path + ".partial";
   try {
     write(temporary);

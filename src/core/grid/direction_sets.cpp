@@ -10,6 +10,7 @@
 #include <tuple>
 
 #include "core/common/errors.h"
+#include "core/common/number_text.h"
 #include "core/grid/distribution.h"
 #include "core/grid/feature_spacing.h"
 
@@ -266,6 +267,12 @@ struct PointCounts {
         if (featureLength > 0.0) {
           cells = std::max(cells, static_cast<double>(gradedCells(featureLength, demand.spacing[0],
                                                                   demand.spacing[1], spacing, growth)));
+        }
+        // Checked before the conversion: a count beyond int wrapped round to the 2-point minimum.
+        if (!(cells < kMaxEdgePoints)) {
+          throw InvalidInputError("the tangential spacing " + numberText(spacing) + " (or the turning limit) asks for " +
+                                  numberText(cells) + " cells on a block edge, more than " +
+                                  std::to_string(kMaxEdgePoints - 1) + ": give a coarser spacing");
         }
         // An edge a whole number of spacings long (to the rounding of its arc length) takes no extra point.
         count[node] = std::max(2, static_cast<int>(std::ceil(cells * (1.0 - 1e-12))) + 1);

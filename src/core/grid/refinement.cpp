@@ -61,8 +61,8 @@ void checkOptions(const RefinementOptions& options) {
     throw InvalidInputError("normal_points must be 0 (automatic) or 2 .. 100000 (got " +
                             std::to_string(options.normalPoints) + ")");
   }
-  if (options.edgePoints < 2 || options.edgePoints > 100000) {
-    throw InvalidInputError("edge_points must be 2 .. 100000 (got " + std::to_string(options.edgePoints) +
+  if (options.edgePoints < 2 || options.edgePoints > kMaxEdgePoints) {
+    throw InvalidInputError("edge_points must be 2 .. " + std::to_string(kMaxEdgePoints) + " (got " + std::to_string(options.edgePoints) +
                             ")");
   }
   // 2e9 cells are 100 GB of points and topology: beyond any machine this runs on.

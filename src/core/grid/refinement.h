@@ -27,6 +27,9 @@ struct FeatureSpacing {
   double tolerance = 0.0;
 };
 
+// The most points a block edge takes (edge_points, or counts from a spacing).
+constexpr int kMaxEdgePoints = 100000;
+
 struct RefinementOptions {
   // Wall-normal lines (the direction whose end face is a wall, and every direction a connected
   // face links to it): `normalPoints` points (0: the fewest that keep the growth ratio at most

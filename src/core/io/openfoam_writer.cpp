@@ -106,6 +106,8 @@ void writeOpenFoamCase(const grid::HexTopology& topology, const std::string& cas
   if (faceCount * 4 > std::numeric_limits<int>::max() || points.rows() > std::numeric_limits<int>::max()) {
     throw InvalidInputError("the grid is too large for OpenFOAM's 32-bit labels (" + std::to_string(faceCount) + " faces)");
   }
+  // An empty name would write into the current folder.
+  if (caseDirectory.empty()) throw InvalidInputError("no folder given for the OpenFOAM case");
   const fs::path root(caseDirectory);
   const fs::path mesh = root / "constant" / "polyMesh";
   createDirectory(mesh);

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numeric>
 #include <string>
 
 #include "core/common/bspline_basis.h"
@@ -195,10 +196,39 @@ BoundaryCondition outerCondition(const Domain& domain, const Eigen::MatrixXd& ou
   return domain.conditionAt(outerPoles.row(middle).transpose());
 }
 
+// A wall of several bodies would give one volume mesh per body, each filling the whole domain:
+// they overlap. Throws InvalidInputError naming a vertex of two of them.
+void requireOneBody(const surface::QuadControlMesh& wall) {
+  std::vector<int> parent(static_cast<size_t>(wall.vertices.rows()));
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto root = [&](int v) {
+    while (parent[static_cast<size_t>(v)] != v) v = parent[static_cast<size_t>(v)] = parent[static_cast<size_t>(parent[static_cast<size_t>(v)])];
+    return v;
+  };
+  for (Eigen::Index f = 0; f < wall.faces.rows(); ++f) {
+    for (int k = 1; k < 4; ++k) parent[static_cast<size_t>(root(wall.faces(f, k)))] = root(wall.faces(f, 0));
+  }
+  std::map<int, int> bodies;  // root -> a vertex of that body
+  for (Eigen::Index f = 0; f < wall.faces.rows(); ++f) bodies.emplace(root(wall.faces(f, 0)), wall.faces(f, 0));
+  if (bodies.size() > 1) {
+    throw InvalidInputError("the wall has " + std::to_string(bodies.size()) + " separate bodies (control vertices " +
+                            std::to_string(bodies.begin()->second) + " and " + std::to_string(std::next(bodies.begin())->second) +
+                            " lie on different ones): their volume meshes would overlap; mesh one body, or join them");
+  }
+}
+
 // Marks the wall grid's points on open patch sides as symmetry-plane points; throws when the wall
-// is open without a symmetry plane or an open side lies off it.
+// is open without a symmetry plane or an open side lies off it, and when a symmetry plane is given
+// but the wall does not end on it or reaches across it.
 void markSymmetryPoints(const std::vector<WallPatch>& patches, WallGrid& grid, const VolumeMeshOptions& options) {
   const Vector3d planeNormal = symmetryPlaneNormal(options);
+  if (options.hasSymmetryPlane) {
+    const Eigen::VectorXd side = (grid.front.points.rowwise() - options.planePoint.transpose()) * planeNormal;
+    if (side.minCoeff() < -1e-6 * grid.size && side.maxCoeff() > 1e-6 * grid.size) {
+      throw InvalidInputError("the wall reaches across the symmetry plane (from " + numberText(side.minCoeff()) + " to " +
+                              numberText(side.maxCoeff()) + " along its normal): a half model lies on one side of it");
+    }
+  }
   for (size_t p = 0; p < patches.size(); ++p) {
     for (int s = 0; s < 4; ++s) {
       const WallPatch& patch = patches[p];
@@ -222,6 +252,11 @@ void markSymmetryPoints(const std::vector<WallPatch>& patches, WallGrid& grid, c
         grid.front.onSymmetryPlane[static_cast<size_t>(id)] = 1;
       }
     }
+  }
+  if (options.hasSymmetryPlane &&
+      std::none_of(grid.front.onSymmetryPlane.begin(), grid.front.onSymmetryPlane.end(), [](char on) { return on != 0; })) {
+    throw InvalidInputError("a symmetry plane is given, but the wall is closed and does not end on it: a closed body "
+                            "needs no symmetry plane (a half model is open on it)");
   }
 }
 
@@ -468,6 +503,7 @@ int refinementSteps(const surface::QuadControlMesh& coarse, const surface::QuadC
 VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const VolumeMeshOptions& options,
                               const surface::QuadControlMesh* marchingWall) {
   surface::validateQuadControlMesh(wall);
+  requireOneBody(wall);
   const surface::LimitBSplines bsplines = surface::limitSurfaceToBSplines(wall);
   const std::vector<WallPatch> patches = conformingWallPatches(bsplines, wall);
   WallGrid grid = wallGrid(patches);

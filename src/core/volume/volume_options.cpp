@@ -53,6 +53,12 @@ ResolvedVolumeOptions resolveVolumeOptions(const VolumeMeshOptions& options, con
   checkFiniteAtLeast(options.referenceLength, 0.0, "reference length (0: the default)");
   checkFiniteAtLeast(options.boundaryLayerThickness, 0.0, "boundary-layer thickness (0: the default)");
   checkFiniteAtLeast(options.farfieldDistance, 0.0, "far-field distance (0: the default)");
+  // Every layer keeps a copy of the front: the bound keeps a mistyped count from marching for
+  // hours into all of memory (the M6 takes 31 layers).
+  if (options.maxLayers < 2 || options.maxLayers > kMaxControlLayers) {
+    throw InvalidInputError("max_layers must be in [2, " + std::to_string(kMaxControlLayers) + "], got " +
+                            std::to_string(options.maxLayers));
+  }
   if (!(options.reynoldsNumber >= 1e3 && options.reynoldsNumber <= 1e10)) {
     throw InvalidInputError("Reynolds number must be in [1e3, 1e10], got " +
                             numberText(options.reynoldsNumber));

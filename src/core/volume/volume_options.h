@@ -13,6 +13,9 @@
 
 namespace bvmesh::volume {
 
+// The largest max_layers accepted.
+constexpr int kMaxControlLayers = 2000;
+
 struct VolumeMeshOptions {
   // Reference length (root chord of a wing, length of a body); 0: the wall's largest extent.
   double referenceLength = 0.0;
@@ -35,7 +38,7 @@ struct VolumeMeshOptions {
   double smoothing = 1.0;
   FarfieldScheme farfieldScheme = FarfieldScheme::Hyperbolic;  // MarchingOptions::farfieldScheme
   double minScaledJacobian = 0.05;
-  int maxLayers = 400;
+  int maxLayers = 400;  // at most kMaxControlLayers
   // The domain's centre when given (a flow domain's CAD: bvmesh's splitFlowDomain), else the
   // wall's bounding-box centre; on the symmetry plane of a half model.
   std::optional<Eigen::Vector3d> domainCentre;
