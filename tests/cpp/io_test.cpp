@@ -870,15 +870,23 @@ TEST(IoFiles, UnwritablePathsNameThePathAndLeaveNothing) {
 TEST(IoFiles, AWriteFailingMidwayLeavesNoFileUnderTheFinalName) {
   const StructuredGrid grid = boxGrid();
   const volume::BlockMesh mesh = boxBlockMesh();
-  // VTK: block 2's file cannot be written (a folder is in the way of its temporary), so the
-  // multiblock file that would list it must not appear.
+  // VTK: the blocks are written, the multiblock file cannot be (a folder is in the way of its
+  // temporary): the earlier write's files stay as they were, none of the new ones is left.
   const std::string vtm = outputPath("io_midway.vtm");
-  fs::remove(vtm);
-  fs::remove_all(outputPath("io_midway_blocks"));
-  fs::create_directories(outputPath("io_midway_blocks/block_0002.vts.partial/keep"));
+  const fs::path firstBlock = outputPath("io_midway_blocks/block_0001.vts");
+  fs::remove_all(vtm + ".partial");
+  writeVtk(grid, vtm);
+  const fs::file_time_type written = fs::last_write_time(firstBlock);
+  fs::create_directories(vtm + ".partial/keep");
   EXPECT_THROW(writeVtk(grid, vtm), InvalidInputError);
-  EXPECT_TRUE(fs::exists(outputPath("io_midway_blocks/block_0001.vts")));
-  EXPECT_FALSE(fs::exists(vtm));
+  EXPECT_EQ(fs::last_write_time(firstBlock), written);
+  EXPECT_TRUE(fs::is_regular_file(vtm));
+  EXPECT_FALSE(fs::exists(outputPath("io_midway_blocks.partial")));
+  fs::remove_all(vtm + ".partial");
+  // A new write replaces the blocks whole.
+  writeVtk(grid, vtm);
+  EXPECT_NE(fs::last_write_time(firstBlock), written);
+  EXPECT_FALSE(fs::exists(outputPath("io_midway_blocks.partial")));
   // CGNS: libcgns cannot create its file.
   const std::string cgns = outputPath("io_midway.cgns");
   fs::remove(cgns);

@@ -1,5 +1,9 @@
 #include "core/common/atomic_file.h"
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
 #include <cstdio>
 #include <fstream>
 
@@ -15,12 +19,27 @@ void moveIntoPlace(const std::string& temporary, const std::string& path, const 
   }
 }
 
+// The temporary is made afresh and exclusively under its predictable name: a stale one (from a
+// write that crashed) or a link planted there is removed, never followed (the link's target would
+// be overwritten); a folder in the way stays, and the write fails.
+void createTemporary(const std::string& temporary, const std::string& path, const std::string& what) {
+  struct stat status {};
+  if (::lstat(temporary.c_str(), &status) == 0 && !S_ISDIR(status.st_mode)) ::unlink(temporary.c_str());
+  const int descriptor = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+  if (descriptor < 0) {
+    throw InvalidInputError("cannot write " + what + " \"" + path + "\" (its folder is missing or not writable, or \"" +
+                            temporary + "\" is in the way)");
+  }
+  ::close(descriptor);
+}
+
 }  // namespace
 
 void writeFileAtomicallyByPath(const std::string& path, const std::string& what,
                                const std::function<void(const std::string&)>& write) {
   if (path.empty()) throw InvalidInputError("no file name given for " + what);
   const std::string temporary = path + ".partial";
+  createTemporary(temporary, path, what);
   try {
     write(temporary);
   } catch (...) {

@@ -1,6 +1,7 @@
 #include "core/io/vtk_writer.h"
 
 #include <filesystem>
+#include <fstream>
 #include <ostream>
 #include <set>
 
@@ -111,6 +112,9 @@ void writeIndex(std::ostream& out, const grid::StructuredGrid& grid, const std::
 
 }  // namespace
 
+// The blocks go to a fresh "<stem>_blocks.partial" folder and the index to its temporary; only
+// when both are complete does that folder replace the old one and the index move into place, so
+// that a failed write leaves the earlier files (or none) under the final names.
 void writeVtk(const grid::StructuredGrid& grid, const std::string& path, const std::vector<CellField>& cellFields) {
   const fs::path file(path);
   if (file.extension() != ".vtm") {
@@ -119,18 +123,39 @@ void writeVtk(const grid::StructuredGrid& grid, const std::string& path, const s
   checkFields(grid, cellFields, path);
   const std::string folder = file.stem().string() + "_blocks";
   const fs::path folderPath = file.parent_path() / folder;
+  const fs::path staging = folderPath.string() + ".partial";
   std::error_code error;
-  fs::create_directory(folderPath, error);
-  if (error || !fs::is_directory(folderPath)) {
+  if (fs::is_directory(file) || (fs::exists(folderPath) && !fs::is_directory(folderPath))) {
+    throw InvalidInputError("cannot write the VTK file \"" + path + "\": \"" +
+                            (fs::is_directory(file) ? file : folderPath).string() + "\" is in the way");
+  }
+  fs::remove_all(staging, error);  // a crashed write's (a link there is removed, not followed)
+  fs::create_directory(staging, error);
+  if (error || !fs::is_directory(staging)) {
     throw InvalidInputError("cannot write the VTK file \"" + path + "\": cannot create the folder \"" +
-                            folderPath.string() + "\" (is the folder of the file missing or not writable?)");
+                            staging.string() + "\" (is the folder of the file missing or not writable?)");
   }
-  for (size_t b = 0; b < grid.blocks().size(); ++b) {
-    const std::string blockPath = (folderPath / (blockName(static_cast<int>(b)) + ".vts")).string();
-    writeFileAtomically(blockPath, "the VTK block file",
-                        [&](std::ostream& out) { writeBlock(out, grid, b, cellFields); });
+  try {
+    for (size_t b = 0; b < grid.blocks().size(); ++b) {
+      const std::string blockPath = (staging / (blockName(static_cast<int>(b)) + ".vts")).string();
+      writeFileAtomically(blockPath, "the VTK block file",
+                          [&](std::ostream& out) { writeBlock(out, grid, b, cellFields); });
+    }
+    writeFileAtomicallyByPath(path, "the VTK multiblock file", [&](const std::string& temporary) {
+      std::ofstream out(temporary, std::ios::binary);
+      writeIndex(out, grid, folder);
+      out.close();
+      if (!out) throw InvalidInputError("writing the VTK multiblock file \"" + path + "\" failed (disk full?)");
+      fs::remove_all(folderPath);
+      fs::rename(staging, folderPath);
+    });
+  } catch (const fs::filesystem_error& failure) {
+    fs::remove_all(staging, error);
+    throw InvalidInputError("cannot write the VTK file \"" + path + "\": " + failure.what());
+  } catch (...) {
+    fs::remove_all(staging, error);
+    throw;
   }
-  writeFileAtomically(path, "the VTK multiblock file", [&](std::ostream& out) { writeIndex(out, grid, folder); });
 }
 
 }  // namespace bvmesh::io
