@@ -36,6 +36,17 @@ inline RowMatrixXd rowsOf(const pybind11::object& object, const char* name, pybi
   return Eigen::Map<const RowMatrixXd>(array.data(), array.shape(0), columns);
 }
 
+// A point or direction: any sequence or array of three numbers; another length or a non-number
+// is an error naming the argument (numpy's own reshape message names nothing).
+inline Eigen::Vector3d vector3Of(const pybind11::object& object, const char* name) {
+  const DoubleArray array = DoubleArray::ensure(object);
+  if (!array || array.size() != 3) {
+    throw pybind11::value_error(std::string(name) + " must be 3 numbers (x, y, z), got " +
+                                (array ? "shape " + shapeText(array) : std::string(pybind11::repr(object))));
+  }
+  return Eigen::Vector3d(array.data()[0], array.data()[1], array.data()[2]);
+}
+
 // A 1-D sequence of integer ids, copied. Only integer data is taken (Python ints, numpy integer
 // arrays and scalars); floats, strings and bools are refused rather than truncated or parsed, and
 // values outside the core's 32-bit ids are an error naming the argument, never wrapped.

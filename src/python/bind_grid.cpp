@@ -383,12 +383,12 @@ Returns a RefinedGrid.)doc");
   module.def(
       "grid_plane_cut",
       [](const StructuredGrid& g, const py::object& point, const py::object& normal) {
-        const RowMatrixXd p = rowsOf(py::array::ensure(point).reshape({1, 3}), "point", 3);
-        const RowMatrixXd n = rowsOf(py::array::ensure(normal).reshape({1, 3}), "normal", 3);
+        const Eigen::Vector3d p = vector3Of(point, "point");
+        const Eigen::Vector3d n = vector3Of(normal, "normal");
         grid::PlaneCut cut;
         {
           py::gil_scoped_release release;
-          cut = grid::cutByPlane(g, p.row(0).transpose(), n.row(0).transpose());
+          cut = grid::cutByPlane(g, p, n);
         }
         py::dict result;
         result["start"] = rowsArray(cut.start);

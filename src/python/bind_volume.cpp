@@ -47,13 +47,14 @@ std::vector<double> parametersOf(const py::object& object, const char* name) {
 
 void setSymmetryPlane(const py::object& symmetryPlane, volume::VolumeMeshOptions& options) {
   if (symmetryPlane.is_none()) return;
+  if (!py::isinstance<py::sequence>(symmetryPlane) || py::isinstance<py::str>(symmetryPlane) ||
+      py::len(symmetryPlane) != 2) {
+    throw py::value_error("symmetry_plane must be (point, normal) or None, got " + std::string(py::repr(symmetryPlane)));
+  }
   const py::sequence plane = symmetryPlane.cast<py::sequence>();
-  if (plane.size() != 2) throw py::value_error("symmetry_plane must be (point, normal) or None");
-  const RowMatrixXd point = rowsOf(py::array::ensure(plane[0]).reshape({1, 3}), "symmetry_plane point", 3);
-  const RowMatrixXd normal = rowsOf(py::array::ensure(plane[1]).reshape({1, 3}), "symmetry_plane normal", 3);
+  options.planePoint = vector3Of(plane[0], "symmetry_plane point");
+  options.planeNormal = vector3Of(plane[1], "symmetry_plane normal");
   options.hasSymmetryPlane = true;
-  options.planePoint = point.row(0).transpose();
-  options.planeNormal = normal.row(0).transpose();
 }
 
 // generate_volume_mesh and control_volume_mesh take the same marching options: one signature,
@@ -71,13 +72,13 @@ void defineMarchingFunction(py::module_& module, const char* name, Make make, co
         volume::VolumeMeshOptions options;
         setSymmetryPlane(symmetryPlane, options);
         if (!domainCentre.is_none()) {
-          options.domainCentre = rowsOf(py::array::ensure(domainCentre).reshape({1, 3}), "domain_centre", 3).row(0).transpose();
+          options.domainCentre = vector3Of(domainCentre, "domain_centre");
         }
         options.domain = volume::domainShapeOf(domain);
         if (!boxHalfExtent.is_none()) {
-          options.boxHalfExtent = rowsOf(py::array::ensure(boxHalfExtent).reshape({1, 3}), "box_half_extent", 3).row(0).transpose();
+          options.boxHalfExtent = vector3Of(boxHalfExtent, "box_half_extent");
         }
-        options.flowDirection = rowsOf(py::array::ensure(flowDirection).reshape({1, 3}), "flow_direction", 3).row(0).transpose();
+        options.flowDirection = vector3Of(flowDirection, "flow_direction");
         options.referenceLength = referenceLength;
         options.reynoldsNumber = reynoldsNumber;
         options.boundaryLayerThickness = boundaryLayerThickness;

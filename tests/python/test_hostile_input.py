@@ -478,8 +478,8 @@ class VolumeStageInput(unittest.TestCase):
 
     def test_a_spacing_beyond_the_edge_point_bound_is_named(self):
         # Counts past int wrapped round to the 2-point minimum: the coarsest grid, silently.
-        for options in (dict(tangential_spacing=1e-10), dict(tangential_spacing=1e-300),
-                        dict(tangential_spacing=0.5, max_turning_angle=1e-9), dict(tangential_spacing=1e-5)):
+        for options in (dict(tangential_spacing=1e-8), dict(tangential_spacing=0.5, max_turning_angle=1e-9),
+                        dict(tangential_spacing=1e-5)):
             with self.assertRaisesRegex(bvmesh.InvalidInputError, r"asks for .* cells on a block edge, more than 99999"):
                 bvmesh.grid.refine(self.volume, "euler", normal_points=5, **options)
 
@@ -509,6 +509,89 @@ class VolumeStageInput(unittest.TestCase):
             bvmesh.read_block_mesh(path)
         with self.assertRaisesRegex(bvmesh.InvalidInputError, r"cannot open the block mesh file .*missing\\xff"):
             bvmesh.read_block_mesh(os.path.join(self.folder.name, "missing\udcff.blocks"))
+
+    def test_a_link_planted_under_the_temporary_name_is_not_followed(self):
+        # Its target was overwritten by the block file (and by Plot3D files the same way).
+        victim = os.path.join(self.folder.name, "someone_elses_file.txt")
+        with open(victim, "w") as out:
+            out.write("precious\n")
+        for name, write in (("body.blocks", self.volume.blocks.write),
+                            ("body.xyz", lambda path: bvmesh.grid.write_plot3d(
+                                bvmesh.grid.refine(self.volume, "euler", edge_points=5, normal_points=9), path))):
+            path = os.path.join(self.folder.name, name)
+            os.symlink(victim, path + ".partial")
+            write(path)
+            with open(victim) as file:
+                self.assertEqual(file.read(), "precious\n")
+            self.assertFalse(os.path.lexists(path + ".partial"))
+            self.assertGreater(os.path.getsize(path), 100)
+        bvmesh.read_block_mesh(os.path.join(self.folder.name, "body.blocks"))
+
+    def block_file(self, poles, counts="4 4 4"):
+        knots = "knots {} 3 8 0 0 0 0 1 1 1 1\n"
+        lines = ["bvmesh-blocks 1", "blocks 1", "block 0", knots.format("u") + knots.format("v") + knots.format("w") +
+                 "poles " + counts] + ["%r %r %r" % tuple(p) for p in poles]
+        lines += ["face %s farfield" % f for f in ("u_min", "u_max", "v_min", "v_max")]
+        lines += ["face w_min wall", "face w_max farfield", "end"]
+        path = os.path.join(self.folder.name, "hand_made.blocks")
+        with open(path, "w") as out:
+            out.write("\n".join(lines) + "\n")
+        return path
+
+    def test_block_file_pole_counts_are_checked_against_the_knots_before_reading_poles(self):
+        # A 150-byte file made the reader reserve 1.2 GB (1000 x 1000 x 50 poles) before it found
+        # the file too short.
+        path = self.block_file([(0.0, 0.0, 0.0)], counts="1000 1000 50")
+        with self.assertRaisesRegex(bvmesh.InvalidInputError, r"line 7: block 0 lists 1000 poles along u, its knots give 4"):
+            bvmesh.read_block_mesh(path)
+
+    def test_blocks_too_large_for_the_quality_measures_are_refused(self):
+        # A block 1e80 across gave NaN cell volumes (and a minimum scaled Jacobian of 1) that every
+        # writer took; 1e40 across is still fine.
+        cube = [(i / 3.0, j / 3.0, k / 3.0) for k in range(4) for j in range(4) for i in range(4)]
+        for scale in (1e80, 1e51):
+            with self.assertRaisesRegex(bvmesh.InvalidInputError, r"pole \(1, 0, 0\) has a coordinate beyond 1e50"):
+                bvmesh.read_block_mesh(self.block_file([tuple(scale * x for x in p) for p in cube]))
+        grid = bvmesh.grid.refine(bvmesh.read_block_mesh(self.block_file([tuple(1e40 * x for x in p) for p in cube])),
+                                  "euler", edge_points=5, normal_points=5)
+        report = bvmesh.grid.quality(grid)
+        self.assertTrue(np.all(np.isfinite(report["volume"])) and np.all(report["volume"] > 0.0))
+
+    def test_points_and_directions_of_the_wrong_length_are_named(self):
+        # numpy's "cannot reshape array of size 2 into shape (1,3)" named no option.
+        for options, message in ((dict(domain="box", box_half_extent=(1, 2)), r"box_half_extent must be 3 numbers"),
+                                 (dict(domain="box", flow_direction=(1, 0)), r"flow_direction must be 3 numbers"),
+                                 (dict(domain_centre=(0, 0)), r"domain_centre must be 3 numbers \(x, y, z\), got shape \(2,\)"),
+                                 (dict(symmetry_plane=(1, 2)), r"symmetry_plane point must be 3 numbers"),
+                                 (dict(symmetry_plane=((0, 0, 0), "y")), r"symmetry_plane normal must be 3 numbers"),
+                                 (dict(symmetry_plane="xy"), r"symmetry_plane must be \(point, normal\) or None")):
+            with self.assertRaisesRegex(ValueError, message):
+                bvmesh.volume.offset_and_farfield(self.fitter, boundary_layer_thickness=0.05, farfield_distance=20.0,
+                                                  **options)
+        grid = bvmesh.grid.refine(self.volume, "euler", edge_points=5, normal_points=9)
+        with self.assertRaisesRegex(ValueError, r"normal must be 3 numbers"):
+            bvmesh.grid.plane_cut(grid, (0, 0, 0), (0, 1))
+        with self.assertRaisesRegex(ValueError, r"point must be 3 numbers"):
+            bvmesh.grid.plane_cut(grid, "origin", (0, 1, 0))
+        self.assertGreater(len(bvmesh.grid.plane_cut(grid, np.zeros((1, 3)), [0, 1, 0])["start"]), 0)
+
+    def test_spacings_below_what_the_blocks_can_resolve_are_named(self):
+        # first_cell_height=1e-300 gave "takes no geometric law ... (does it fold back?)", or with
+        # tanh first points 1e-16 off the wall; a feature spacing of 1e-9 ended in "the
+        # distributions disagree across a shared face (block layout not supported)".
+        for options, what in ((dict(first_cell_height=1e-300), "first_cell_height"),
+                              (dict(distribution="tanh", first_cell_height=1e-300), "first_cell_height"),
+                              (dict(y_plus=1e-300, reynolds_number=1e6), "the first cell height from y_plus"),
+                              (dict(first_cell_height=1e-3, edge_end_spacing=1e-13), "edge_end_spacing"),
+                              (dict(first_cell_height=1e-3, feature_spacings=[
+                                  dict(points=[[-1, -1, -1], [1, 1, 1]], spacing=1e-9, tolerance=2.0)]),
+                               "feature spacing 0: the spacing")):
+            with self.assertRaisesRegex(bvmesh.InvalidInputError, what + r" \S+ is below 1e-10 of the blocks' size"):
+                bvmesh.grid.refine(self.volume, None, edge_points=5, normal_points=9, **options)
+        with self.assertRaisesRegex(bvmesh.InvalidInputError, r"tangential_spacing 1e-300 is below"):
+            bvmesh.grid.refine(self.volume, "euler", normal_points=5, tangential_spacing=1e-300)
+        fine = bvmesh.grid.refine(self.volume, None, edge_points=5, normal_points=0, first_cell_height=1e-7)
+        self.assertAlmostEqual(fine.first_cell_height_min / 1e-7, 1.0, places=3)
 
     def test_an_empty_path_is_refused_by_every_writer(self):
         # write_openfoam("") wrote constant/ and system/ into the current folder.

@@ -153,6 +153,16 @@ BlockMesh readBlockMesh(std::istream& in, const std::string& name) {
     reader.expect("poles");
     std::array<long, 3> counts{};
     for (long& c : counts) c = reader.integer(1, 100000, "a pole count");
+    // Checked against the knots before the poles are allocated: a short file could otherwise
+    // reserve gigabytes by its header alone.
+    for (int d = 0; d < 3; ++d) {
+      const long fromKnots = static_cast<long>(knots[static_cast<size_t>(d)].size()) - degrees[static_cast<size_t>(d)] - 1;
+      if (counts[static_cast<size_t>(d)] != fromKnots) {
+        throw InvalidInputError(reader.where() + ": block " + std::to_string(b) + " lists " +
+                                std::to_string(counts[static_cast<size_t>(d)]) + " poles along " + "uvw"[d] +
+                                ", its knots give " + std::to_string(fromKnots));
+      }
+    }
     const long total = counts[0] * counts[1] * counts[2];
     if (total > 50000000) throw InvalidInputError(reader.where() + ": " + std::to_string(total) + " poles in one block is too many");
     RowMatrixX3d poles(total, 3);
@@ -161,13 +171,6 @@ BlockMesh readBlockMesh(std::istream& in, const std::string& name) {
     }
     Block block;
     block.volume = BsplineVolume(degrees, std::move(knots), std::move(poles), name + ", block " + std::to_string(b));
-    for (int d = 0; d < 3; ++d) {
-      if (block.volume.poleCount(d) != counts[static_cast<size_t>(d)]) {
-        throw InvalidInputError(reader.where() + ": block " + std::to_string(b) + " lists " +
-                                std::to_string(counts[static_cast<size_t>(d)]) + " poles along " + "uvw"[d] +
-                                ", its knots give " + std::to_string(block.volume.poleCount(d)));
-      }
-    }
     for (int f = 0; f < 6; ++f) {
       reader.expect("face");
       reader.expect(blockFaceName(f));

@@ -12,6 +12,10 @@
 namespace bvmesh::volume {
 namespace {
 
+// Cell volumes and quality measures multiply up to six lengths: beyond this they overflow a double
+// (blocks 1e80 across gave NaN volumes that the writers took).
+constexpr double kMaxPoleCoordinate = 1e50;
+
 const char* directionName(int direction) { return direction == 0 ? "u" : direction == 1 ? "v" : "w"; }
 
 constexpr int kMaxOrder = 8;  // degree 7
@@ -112,12 +116,15 @@ BsplineVolume::BsplineVolume(std::array<int, 3> degrees, std::array<std::vector<
                             std::to_string(counts_[2]) + " = " + std::to_string(expected));
   }
   for (Eigen::Index r = 0; r < poles_.rows(); ++r) {
-    if (!poles_.row(r).allFinite()) {
+    const bool finite = poles_.row(r).allFinite();
+    if (!finite || poles_.row(r).cwiseAbs().maxCoeff() > kMaxPoleCoordinate) {
       const int i = static_cast<int>(r % counts_[0]);
       const int j = static_cast<int>((r / counts_[0]) % counts_[1]);
       const int k = static_cast<int>(r / (static_cast<Eigen::Index>(counts_[0]) * counts_[1]));
-      throw InvalidInputError(name + ": pole (" + std::to_string(i) + ", " + std::to_string(j) + ", " +
-                              std::to_string(k) + ") is not finite");
+      const std::string pole = name + ": pole (" + std::to_string(i) + ", " + std::to_string(j) + ", " + std::to_string(k) + ")";
+      if (!finite) throw InvalidInputError(pole + " is not finite");
+      throw InvalidInputError(pole + " has a coordinate beyond 1e50 (" + coordinatesText(poles_.row(r).transpose()) +
+                              "): cell volumes and angles multiply up to six lengths and would overflow; rescale the model");
     }
   }
 }
