@@ -18,6 +18,7 @@ steps of the blocks' control mesh.
 """
 
 from . import load_core
+from .options import check_options
 
 PRESETS = {
     "euler": dict(normal_points=49, growth=1.2, max_spacing_jump=4.0),
@@ -104,6 +105,7 @@ def refine(blocks, preset="euler", method="bspline", steps=None, **options):
         raise ValueError("method must be 'bspline' or 'subdivision', got {!r}".format(method))
     if steps is not None:
         raise ValueError("steps applies to method='subdivision' only")
+    check_options(core.refine_blocks, "refine", options)
     settings = {}
     if preset is not None:
         if preset not in PRESETS:

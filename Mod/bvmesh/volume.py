@@ -9,6 +9,7 @@ Works in plain /usr/bin/python3 and in freecadcmd; the geometry is all in the co
 """
 
 from . import load_core
+from .options import check_options
 
 # The level of a wing's wall its layers are marched from when the fit is finer (then carried onto
 # the fit's own wall; offset_and_farfield's marching_wall): marched from the M6's level-3 wall the
@@ -37,7 +38,9 @@ def offset_and_farfield(fit_or_mesh, symmetry_plane=None, marching_wall=None, **
     wall, symmetry_plane = _wall_of(fit_or_mesh, symmetry_plane, "offset_and_farfield")
     if marching_wall is not None:
         marching_wall, _ = _wall_of(marching_wall, symmetry_plane, "offset_and_farfield's marching_wall")
-    return load_core().generate_volume_mesh(wall, symmetry_plane=symmetry_plane, marching_wall=marching_wall, **options)
+    core = load_core()
+    check_options(core.generate_volume_mesh, "offset_and_farfield", options)
+    return core.generate_volume_mesh(wall, symmetry_plane=symmetry_plane, marching_wall=marching_wall, **options)
 
 
 def control_volume(fit_or_mesh, symmetry_plane=None, **options):
@@ -53,7 +56,9 @@ def control_volume(fit_or_mesh, symmetry_plane=None, **options):
     bvmesh.ControlVolume (.hex_mesh(), .block_count, .cell_count, .layer_distance, ...).
     """
     wall, symmetry_plane = _wall_of(fit_or_mesh, symmetry_plane, "control_volume")
-    return load_core().control_volume_mesh(wall, symmetry_plane=symmetry_plane, **options)
+    core = load_core()
+    check_options(core.control_volume_mesh, "control_volume", options)
+    return core.control_volume_mesh(wall, symmetry_plane=symmetry_plane, **options)
 
 
 def _wall_of(fit_or_mesh, symmetry_plane, caller):

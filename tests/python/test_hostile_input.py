@@ -593,6 +593,27 @@ class VolumeStageInput(unittest.TestCase):
         fine = bvmesh.grid.refine(self.volume, None, edge_points=5, normal_points=0, first_cell_height=1e-7)
         self.assertAlmostEqual(fine.first_cell_height_min / 1e-7, 1.0, places=3)
 
+    def test_misspelt_options_and_values_of_the_wrong_kind_are_named(self):
+        # pybind11 answered each with its whole signature ("incompatible function arguments"), and
+        # took True as a layer count.
+        march = bvmesh.volume.offset_and_farfield
+        for call, message in (
+                (lambda: march(self.fitter, boundary_layers=3), r"offset_and_farfield has no option 'boundary_layers' "
+                                                               r"\(did you mean 'boundary_layer_layers'\?\)"),
+                (lambda: march(self.fitter, farfield_distance="20"), r"farfield_distance must be a number, got '20'"),
+                (lambda: march(self.fitter, boundary_layer_layers=2.5), r"boundary_layer_layers must be an integer"),
+                (lambda: march(self.fitter, boundary_layer_layers=True), r"boundary_layer_layers must be a number, got True"),
+                (lambda: march(self.fitter, domain=None), r"domain must be a name \(text\), got None"),
+                (lambda: bvmesh.volume.control_volume(self.fitter, reynolds=1e6), r"control_volume has no option 'reynolds'"),
+                (lambda: bvmesh.grid.refine(self.volume, "euler", edge_point=5), r"refine has no option 'edge_point' "
+                                                                                  r"\(did you mean 'edge_points'\?\)"),
+                (lambda: bvmesh.grid.refine(self.volume, "euler", edge_points=True), r"edge_points must be a number")):
+            with self.assertRaisesRegex(TypeError, message):
+                call()
+        # numpy numbers are numbers.
+        grid = bvmesh.grid.refine(self.volume, "euler", edge_points=np.int64(5), normal_points=9, growth=np.float64(1.2))
+        self.assertEqual(grid.normal_points, 9)
+
     def test_an_empty_path_is_refused_by_every_writer(self):
         # write_openfoam("") wrote constant/ and system/ into the current folder.
         grid = bvmesh.grid.refine(self.volume, "euler", edge_points=5, normal_points=9)
