@@ -656,6 +656,28 @@ def volume_mesh_of(volume_mesh_object):
     return volume_mesh.volume_mesh(volume_mesh_object)
 
 
+def _feature_edge_links(feature_edges, document):
+    """feature_edges as a PropertyLinkSubList value, each object checked to be alive in
+    `document`: FreeCAD 0.20 keeps a dangling pointer for a link to a deleted object (or one of a
+    closed document), and the next read of the property kills the process with the document."""
+    links = []
+    for entry in feature_edges:
+        try:
+            shape_object, names = entry
+        except (TypeError, ValueError):
+            raise ValueError("feature_edges takes (object, edge name or names) pairs, got {!r}".format(entry)) from None
+        try:
+            alive = shape_object.Document is document and document.getObject(shape_object.Name) is shape_object
+            what = repr(shape_object)
+        except (ReferenceError, AttributeError):
+            alive, what = False, "a deleted object"
+        if not alive:
+            raise ValueError("feature_edges: {} is no object of document {!r} (deleted, or of another document)".format(
+                what, document.Name))
+        links.append((shape_object, names))
+    return links
+
+
 def make_volume_grid(volume_mesh_object, preset="euler", name="VolumeGrid", show=None, distribution="geometric",
                      method="bspline", feature_edges=None, feature_spacing=0.0, **options):
     """The B-spline blocks of a VolumeMesh evaluated on a stretched, point-matched grid. preset:
@@ -678,7 +700,7 @@ def make_volume_grid(volume_mesh_object, preset="euler", name="VolumeGrid", show
         obj.Distribution = distribution
         obj.Method = method
         _set_options(obj, volume_grid.OPTIONS + volume_grid.SUBDIVISION_OPTIONS, options, "volume grid")
-        obj.FeatureEdges = list(feature_edges or [])
+        obj.FeatureEdges = _feature_edge_links(feature_edges or [], volume_mesh_object.Document)
         obj.FeatureSpacing = feature_spacing
         _set_display(obj, volume_grid.DISPLAY, show)
 
@@ -694,7 +716,8 @@ def set_grid_options(grid_object, preset=None, distribution=None, method=None, s
     return _set_and_recompute(grid_object, volume_grid.OPTIONS + volume_grid.SUBDIVISION_OPTIONS, volume_grid.DISPLAY,
                               options, show, "volume grid",
                               {"Preset": preset, "Distribution": distribution, "Method": method,
-                               "FeatureEdges": None if feature_edges is None else list(feature_edges),
+                               "FeatureEdges": None if feature_edges is None else _feature_edge_links(
+                                   feature_edges, grid_object.Document),
                                "FeatureSpacing": feature_spacing})
 
 

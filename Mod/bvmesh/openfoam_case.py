@@ -53,6 +53,9 @@ EULER_ONLY_SOLVERS = ("rhoCentralFoam",)  # written without viscous terms or a t
 # 0.2). rhoSimpleFoam has no time step; its entry is only recorded in the case's settings.
 DEFAULT_COURANT = {"rhoPimpleFoam": 2.0, "rhoCentralFoam": 0.2, "rhoSimpleFoam": 2.0}
 SETTINGS_FILE = "bvmesh_case.json"
+# Written first into a case folder: a write that fails before its settings file still leaves a
+# folder that the next write_case may clear.
+OWNER_MARK = ".bvmesh_case"
 
 HEADER = """/*--------------------------------*- C++ -*----------------------------------*\\
   Written by BVMesh (openfoam_case.py)
@@ -599,6 +602,42 @@ snGradSchemes
 """)
 
 
+# Fields a solver run writes into each of its time folders (any one marks a folder as one).
+_TIME_FOLDER_MARKS = ("p", "U", "T", "rho", "phi", "uniform")
+
+
+def _is_time_folder(path):
+    return os.path.isdir(path) and any(
+        os.path.exists(os.path.join(path, mark)) or os.path.exists(os.path.join(path, mark + ".gz"))
+        for mark in _TIME_FOLDER_MARKS)
+
+
+def _clear_earlier_case(case):
+    """Clears what an earlier write_case and its solver runs wrote into `case` (0/, system/,
+    postProcessing/, the time folders) before the case is written again. A folder without the
+    case's settings file may hold an OpenFOAM mesh alone (constant/, and system/ from
+    bvmesh.grid.write_openfoam, whose files are then overwritten by name); anything else in a
+    folder, or a number-named folder that is no time folder, is refused: nothing is deleted that
+    write_case did not write (a user's folders beside their mesh, their document)."""
+    entries = os.listdir(case)
+    ours = any(os.path.isfile(os.path.join(case, name)) for name in (SETTINGS_FILE, OWNER_MARK))
+    if ours:
+        numbered = [e for e in entries if re.fullmatch(r"[0-9.e+-]+", e) and os.path.isdir(os.path.join(case, e))]
+        foreign = [e for e in numbered if e != "0" and not _is_time_folder(os.path.join(case, e))]
+    else:
+        numbered = []
+        foreign = [e for e in entries if e not in ("constant", "system")]
+    if foreign:
+        shown = ", ".join(sorted(foreign)[:5]) + (" ..." if len(foreign) > 5 else "")
+        raise ValueError("{} holds {}, which write_case did not write: write the case into an empty or new folder "
+                         "(nothing was deleted)".format(case, shown))
+    open(os.path.join(case, OWNER_MARK), "w").close()
+    if not ours:
+        return
+    for stale in ["0", "system", "postProcessing"] + numbered:
+        shutil.rmtree(os.path.join(case, stale), ignore_errors=True)
+
+
 def write_case(grid_or_refined, case_directory, mach=M6_MACH, alpha_degrees=M6_ALPHA_DEGREES, pressure=None,
                temperature=M6_TEMPERATURE, reynolds_number=None, model="euler", length_unit=0.001,
                reference_length=M6_REFERENCE_LENGTH, reference_area=M6_REFERENCE_AREA,
@@ -670,11 +709,7 @@ def write_case(grid_or_refined, case_directory, mach=M6_MACH, alpha_degrees=M6_A
         os.remove(probe)
     except OSError as error:
         raise ValueError("cannot write the case directory {}: {}".format(case, error)) from None
-    for stale in ("0", "system", "postProcessing"):
-        shutil.rmtree(os.path.join(case, stale), ignore_errors=True)
-    for entry in os.listdir(case):
-        if re.fullmatch(r"[0-9.e+-]+", entry) and os.path.isdir(os.path.join(case, entry)):
-            shutil.rmtree(os.path.join(case, entry))  # old time directories
+    _clear_earlier_case(case)
 
     if isinstance(grid_or_refined, (str, os.PathLike)):
         source = os.path.abspath(os.fspath(grid_or_refined))

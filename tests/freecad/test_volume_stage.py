@@ -137,6 +137,22 @@ class VolumeObjects(unittest.TestCase):
                 api.set_grid_options(grid, feature_edges=[(line, "Vertex1")])
             with self.assertRaisesRegex(Exception, "needs FeatureEdges"):
                 api.set_grid_options(grid, feature_edges=[])
+            # A link to a deleted object, or to one of a closed document, killed FreeCAD at the
+            # next read of FeatureEdges (FreeCAD 0.20 keeps a dangling pointer): refused first.
+            gone = self.doc.addObject("Part::Feature", "GoneLine")
+            gone.Shape = line.Shape
+            self.doc.removeObject("GoneLine")
+            other = FreeCAD.newDocument("OtherDocument")
+            elsewhere = other.addObject("Part::Feature", "Elsewhere")
+            elsewhere.Shape = line.Shape
+            for bad in (gone, elsewhere):
+                with self.assertRaisesRegex(ValueError, r"feature_edges: .* is no object of document"):
+                    api.set_grid_options(grid, feature_edges=[(bad, "Edge1")])
+            FreeCAD.closeDocument("OtherDocument")
+            with self.assertRaisesRegex(ValueError, r"is no object of document"):
+                api.make_volume_grid(self.volume, "euler", feature_edges=[(elsewhere, "Edge1")], feature_spacing=0.1)
+            with self.assertRaisesRegex(ValueError, r"takes \(object, edge name or names\) pairs"):
+                api.set_grid_options(grid, feature_edges=[line])
             self.assertEqual(([o.Name for o in self.doc.Objects], grid.Digest), (names, digest))
             self.assertEqual(len(grid.FeatureEdges), 1)
             # A grid restored from a document saved before the properties existed is unchanged.

@@ -255,6 +255,41 @@ class Errors(unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "cannot read the patches"):
             ofc.write_case(os.path.join(self.folder.name, "nothing"), os.path.join(self.folder.name, "case3"))
 
+    def test_a_folder_holding_what_write_case_did_not_write_is_left_alone(self):
+        # write_case cleared 0/, system/ and every number-named folder of any folder it was given:
+        # a project folder lost its document in 2024/ and the notes in system/.
+        case = self.fake_case([("wall", "wall"), ("symmetry", "symmetryPlane"), ("farfield", "patch")])
+
+        def put(*parts):
+            os.makedirs(os.path.join(*parts[:-1]), exist_ok=True)
+            with open(os.path.join(*parts), "w") as file:
+                file.write("the user's\n")
+            return os.path.join(*parts)
+
+        project = os.path.join(self.folder.name, "project")
+        kept = [put(project, "2024", "wing.FCStd"), put(project, "system", "notes.txt")]
+        with self.assertRaisesRegex(ValueError, r"holds 2024, which write_case did not write: .*nothing was deleted"):
+            ofc.write_case(case, project, length_unit=1.0)
+        self.assertTrue(all(os.path.isfile(path) for path in kept))
+        # In a case of its own it clears the time folders, not a number-named folder without fields.
+        ours = ofc.write_case(case, os.path.join(self.folder.name, "ours"), length_unit=1.0)
+        document = put(ours, "2024", "wing.FCStd")
+        with self.assertRaisesRegex(ValueError, r"holds 2024, which write_case did not write"):
+            ofc.write_case(case, ours, length_unit=1.0)
+        self.assertTrue(os.path.isfile(document))
+        os.remove(document)
+        os.rmdir(os.path.dirname(document))
+        put(ours, "100", "p")
+        ofc.write_case(case, ours, length_unit=1.0)
+        self.assertFalse(os.path.exists(os.path.join(ours, "100")))
+        # A mesh folder alone (constant/, system/) takes a case in place.
+        mesh_only = os.path.join(self.folder.name, "mesh_only")
+        shutil.copytree(os.path.join(case, "constant"), os.path.join(mesh_only, "constant"))
+        notes = put(mesh_only, "system", "notes.txt")
+        ofc.write_case(mesh_only, mesh_only, length_unit=1.0)
+        self.assertTrue(os.path.isfile(notes))
+        self.assertTrue(os.path.isfile(os.path.join(mesh_only, "system", "controlDict")))
+
     def test_unwritable_directory(self):
         case = self.fake_case([("wall", "wall"), ("symmetry", "symmetryPlane"), ("farfield", "patch")])
         blocker = os.path.join(self.folder.name, "a_file")
