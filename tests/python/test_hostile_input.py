@@ -625,5 +625,28 @@ class VolumeStageInput(unittest.TestCase):
         self.assertEqual(sorted(os.listdir(".")), before)
 
 
+class FitStepBounds(unittest.TestCase):
+    """Step counts that held the caller for days (the workbench's Parameter correction and Smooth
+    run on its main thread: 10**9 passes) and a Subdivide clicked on past max_level (4 times the
+    memory a level) are refused by name, the fit left as it was."""
+
+    def test_step_counts_and_levels_are_bounded(self):
+        fitter = bvmesh.SurfaceFitter(sphere_target(), bvmesh.ControlMesh(CUBE_VERTICES, CUBE_FACES), max_level=1)
+        fitter.subdivide()
+        before = fitter.mesh.vertices.copy()
+        start = time.time()
+        with self.assertRaisesRegex(bvmesh.InvalidInputError, r"parameter-correction passes must be 0 .. 100, got 1000000000"):
+            fitter.correct_parameters(10 ** 9)
+        with self.assertRaisesRegex(bvmesh.InvalidInputError, r"smoothing iterations must be 0 .. 10000, got 1000000000"):
+            fitter.smooth(10 ** 9, 0.6307, -0.6732)
+        with self.assertRaisesRegex(bvmesh.InvalidInputError, r"the fit is at its max_level 1: raise max_level"):
+            fitter.subdivide()
+        self.assertLess(time.time() - start, 5.0)
+        self.assertEqual(fitter.level, 1)
+        np.testing.assert_array_equal(fitter.mesh.vertices, before)
+        fitter.correct_parameters(100)
+        fitter.smooth(10, 0.6307, -0.6732)
+
+
 if __name__ == "__main__":
     unittest.main()

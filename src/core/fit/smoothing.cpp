@@ -31,8 +31,13 @@ RowMatrixX3d taubinSmooth(const RowMatrixX3d& points, const std::vector<std::vec
     throw InvalidInputError("got neighbour lists for " + std::to_string(neighbours.size()) + " points, expected " +
                             std::to_string(points.rows()));
   }
-  if (!std::isfinite(options.lambda) || !std::isfinite(options.mu) || options.iterations < 0) {
-    throw InvalidInputError("Taubin smoothing needs finite lambda and mu and a non-negative iteration count");
+  if (!std::isfinite(options.lambda) || !std::isfinite(options.mu)) {
+    throw InvalidInputError("Taubin smoothing needs finite lambda and mu");
+  }
+  // A count past the bound is a typo that would hold the caller (a workbench's main thread) for days.
+  if (options.iterations < 0 || options.iterations > kMaxTaubinIterations) {
+    throw InvalidInputError("Taubin smoothing iterations must be 0 .. " + std::to_string(kMaxTaubinIterations) +
+                            ", got " + std::to_string(options.iterations));
   }
   for (size_t point = 0; point < neighbours.size(); ++point) {
     for (int neighbour : neighbours[point]) {

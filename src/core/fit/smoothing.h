@@ -13,6 +13,8 @@
 
 namespace bvmesh::fit {
 
+constexpr int kMaxTaubinIterations = 10000;
+
 struct TaubinOptions {
   int iterations = 10;   // each iteration is one lambda step and one mu step
   double lambda = 0.6307;

@@ -447,8 +447,9 @@ void checkOptions(const FitOptions& options, int vertexCount) {
     throw InvalidInputError("max_level must be 0 .. 10 (each level has 4 times the faces), got " +
                             std::to_string(options.maxLevel));
   }
-  if (options.maxCorrections < 0 || options.maxCorrections > 100) {
-    throw InvalidInputError("max_corrections must be 0 .. 100, got " + std::to_string(options.maxCorrections));
+  if (options.maxCorrections < 0 || options.maxCorrections > kMaxCorrectionPasses) {
+    throw InvalidInputError("max_corrections must be 0 .. " + std::to_string(kMaxCorrectionPasses) + ", got " +
+                            std::to_string(options.maxCorrections));
   }
   checkFiniteAtLeast(options.tolerance, 0.0, "tolerance");
   checkFiniteAtLeast(options.relativeTolerance, 0.0, "relative_tolerance");
@@ -531,6 +532,12 @@ void SurfaceFitter::setVertices(const RowMatrixX3d& vertices) {
 
 void SurfaceFitter::subdivide() {
   State& s = *state_;
+  // Each level has 4 times the faces: a workbench's Subdivide clicked on past the fit's own
+  // bound would run the document's process out of memory.
+  if (s.level >= s.options.maxLevel) {
+    throw InvalidInputError("the fit is at its max_level " + std::to_string(s.options.maxLevel) +
+                            ": raise max_level (at most 10) to subdivide further");
+  }
   SubdivisionResult refined = bvmesh::subdivide(s.mesh, s.options.subdivision);
   FeatureMap features = propagateFeatures(s.features, s.mesh, refined.mesh);
   const bool parentHints = s.haveHints;
@@ -574,7 +581,10 @@ void SurfaceFitter::approximate() {
 }
 
 void SurfaceFitter::correctParameters(int passes) {
-  if (passes < 0) throw InvalidInputError("the number of parameter-correction passes must not be negative");
+  if (passes < 0 || passes > kMaxCorrectionPasses) {
+    throw InvalidInputError("parameter-correction passes must be 0 .. " + std::to_string(kMaxCorrectionPasses) +
+                            ", got " + std::to_string(passes));
+  }
   for (int pass = 0; pass < passes; ++pass) approximate();
 }
 

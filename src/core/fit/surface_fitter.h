@@ -46,6 +46,9 @@ struct SymmetryPlane {
   Eigen::Vector3d normal = Eigen::Vector3d::UnitY();
 };
 
+// The most approximation passes one parameter correction takes (each is a solve).
+constexpr int kMaxCorrectionPasses = 100;
+
 struct FitOptions {
   double tolerance = 0.0;           // absolute max sample distance to reach; 0: relativeTolerance
   double relativeTolerance = 1e-5;  // of the target's bounding-box diagonal
