@@ -142,13 +142,36 @@ def _attach_view_provider(obj):
         view_providers.attach(obj)
 
 
+def _error_of(obj):
+    return getattr(getattr(obj, "Proxy", None), "error", "") or "see the Report view"
+
+
 def _recompute(obj):
-    """Recomputes obj's document; raises RuntimeError with the object's error if obj failed."""
+    """Recomputes obj's document; raises RuntimeError with the object's error if obj failed, or
+    naming the object it depends on that failed: FreeCAD then skips obj and leaves it touched,
+    which isValid() does not tell (the call returned as if done, the result stale)."""
     obj.Document.recompute()
-    if obj.isValid():
-        return
-    message = getattr(obj.Proxy, "error", "") or "see the Report view"
-    raise RuntimeError("{} failed: {}".format(obj.Label, message))
+    if not obj.isValid():
+        raise RuntimeError("{} failed: {}".format(obj.Label, _error_of(obj)))
+    if "Touched" in obj.State:
+        failed = [o for o in obj.OutListRecursive if not o.isValid()]
+        cause = "{} failed: {}".format(failed[0].Label, _error_of(failed[0])) if failed else "its inputs did not compute"
+        raise RuntimeError("{} was not computed: {}".format(obj.Label, cause))
+
+
+def _change_and_recompute(obj, names, change):
+    """change(), then a recompute; on a failure the properties `names` of obj get their values
+    back and the document is recomputed, so that a failed call leaves it as it was."""
+    saved = {name: getattr(obj, name) for name in names}
+    try:
+        change()
+        _recompute(obj)
+    except Exception:
+        for name, value in saved.items():
+            setattr(obj, name, value)
+        obj.Document.recompute()
+        raise
+    return obj
 
 
 def _new_object(create, doc, name, fill):
@@ -232,11 +255,14 @@ def make_polyhedron(doc, vertices, faces, creases=(), corners=(), features=None,
     return _new_object(polyhedron.create, doc, name, fill)
 
 
+_POLYHEDRON_DATA = ("Vertices", "FaceSizes", "FaceIndices", "Creases", "Corners")
+
+
 def set_polyhedron(polyhedron, vertices, faces, creases=(), corners=()):
-    """Replaces the data of a ControlPolyhedron (and recomputes what depends on it)."""
-    _set_polyhedron_data(polyhedron, vertices, faces, creases, corners)
-    _recompute(polyhedron)
-    return polyhedron
+    """Replaces the data of a ControlPolyhedron (and recomputes what depends on it); on a failure
+    the polyhedron keeps its data."""
+    return _change_and_recompute(polyhedron, _POLYHEDRON_DATA,
+                                 lambda: _set_polyhedron_data(polyhedron, vertices, faces, creases, corners))
 
 
 def make_polyhedron_from_mesh(doc, mesh_object, name="ControlPolyhedron"):
@@ -294,19 +320,22 @@ def make_polyhedron_from_template(doc, target, template, name="ControlPolyhedron
 
 
 def mark_features(polyhedron, creases=(), corners=(), unmark=False):
-    """Marks (or with unmark, clears) crease edges (vertex pairs) and corner vertices."""
+    """Marks (or with unmark, clears) crease edges (vertex pairs) and corner vertices; on a
+    failure (an edge or vertex the polyhedron does not have) it keeps its marks."""
     from bvmesh.features.polyhedron import pairs
 
     current = {tuple(sorted(p)) for p in pairs(polyhedron.Creases)}
     chosen = {tuple(sorted(int(i) for i in p)) for p in creases}
     current = current - chosen if unmark else current | chosen
-    polyhedron.Creases = [i for pair in sorted(current) for i in pair]
     corner_set = set(polyhedron.Corners)
     chosen_corners = {int(i) for i in corners}
     corner_set = corner_set - chosen_corners if unmark else corner_set | chosen_corners
-    polyhedron.Corners = sorted(corner_set)
-    _recompute(polyhedron)
-    return polyhedron
+
+    def change():
+        polyhedron.Creases = [i for pair in sorted(current) for i in pair]
+        polyhedron.Corners = sorted(corner_set)
+
+    return _change_and_recompute(polyhedron, ("Creases", "Corners"), change)
 
 
 def find_creases(polyhedron, target, relative_distance=0.01):
@@ -352,14 +381,17 @@ _FIT_PARAMETERS = {
 }
 
 
+_FIT_WEIGHTS = ("smooth", "crease", "boundary", "corner")
+
+
 def _set_fit_parameters(fit, parameters):
     import FreeCAD
 
     for key, value in parameters.items():
         if key == "weights":
             for kind, weight in value.items():
-                if kind not in ("smooth", "crease", "boundary", "corner"):
-                    raise ValueError("unknown weight '{}'; known: smooth, crease, boundary, corner".format(kind))
+                if kind not in _FIT_WEIGHTS:
+                    raise ValueError("unknown weight '{}'; known: {}".format(kind, ", ".join(_FIT_WEIGHTS)))
                 setattr(fit, "Weight" + kind.capitalize(), float(weight))
         elif key == "symmetry_plane":
             fit.UseSymmetryPlane = value is not None
@@ -404,10 +436,11 @@ def set_fit_parameters(fit, **parameters):
     stagnation_ratio, solver ('cholesky' | 'cgls'), weights {smooth, crease, boundary, corner},
     symmetry_plane ((point), (normal)) or None, project_along_normals, check_samples_per_face,
     check_target_subdivisions,
-    correction_passes, smooth_iterations, smooth_lambda, smooth_mu; then recomputes."""
-    _set_fit_parameters(fit, parameters)
-    _recompute(fit)
-    return fit
+    correction_passes, smooth_iterations, smooth_lambda, smooth_mu; then recomputes. On a failure
+    (a bad value, one the fit refuses) the fit keeps every parameter it had."""
+    names = list(_FIT_PARAMETERS.values()) + ["Weight" + kind.capitalize() for kind in _FIT_WEIGHTS]
+    names += ["UseSymmetryPlane", "SymmetryPoint", "SymmetryNormal"]
+    return _change_and_recompute(fit, names, lambda: _set_fit_parameters(fit, parameters))
 
 
 def _add_step(fit, line):
@@ -631,22 +664,16 @@ def _volume_option_table():
 
 
 def _set_and_recompute(obj, table, display, options, show, what, extra):
-    saved = {row[0]: getattr(obj, row[0]) for row in table}
-    saved.update({prop: getattr(obj, prop) for prop, _, _ in display})
-    saved.update({prop: getattr(obj, prop) for prop in extra})
-    try:
+    names = [row[0] for row in table] + [prop for prop, _, _ in display] + list(extra)
+
+    def change():
         for prop, value in extra.items():
             if value is not None:
                 setattr(obj, prop, value)
         _set_options(obj, table, options, what)
         _set_display(obj, display, show)
-        _recompute(obj)
-    except Exception:
-        for prop, value in saved.items():
-            setattr(obj, prop, value)
-        obj.Document.recompute()
-        raise
-    return obj
+
+    return _change_and_recompute(obj, names, change)
 
 
 def volume_mesh_of(volume_mesh_object):

@@ -168,6 +168,32 @@ class VolumeObjects(unittest.TestCase):
             self.doc.removeObject(grid.Name)
             self.doc.removeObject(line.Name)
 
+    def test_failed_calls_leave_their_objects_as_they_were(self):
+        # Each of these raised but kept its bad values (the fit's max_level 3 even made the next,
+        # unrelated call refit), and a call on an object whose input had failed returned as if
+        # done: FreeCAD skips such an object and leaves it touched.
+        fit, poly = self.fit, self.fit.Polyhedron
+        state = lambda: (list(poly.Creases), list(poly.Corners), len(poly.Vertices), fit.MaxLevel, fit.Solver,
+                         fit.UseSymmetryPlane, tuple(fit.SymmetryNormal), self.volume.Digest, self.grid.Digest)
+        before = state()
+        for call in (lambda: api.mark_features(poly, creases=[(0, 99)]),
+                     lambda: api.set_polyhedron(poly, [(0, 0, 0)] * 3, [[0, 1, 2]]),
+                     lambda: api.set_fit_parameters(fit, max_level=3, solver="bogus"),
+                     lambda: api.set_fit_parameters(fit, symmetry_plane=((0, 0, 0), (0, 0, 0)))):
+            with self.assertRaises(Exception):
+                call()
+            self.assertEqual(state(), before)
+            self.assertTrue(all(o.isValid() and "Touched" not in o.State for o in (poly, fit, self.volume, self.grid)))
+        fit.MaxLevel = -1  # set by hand: the fit fails on recompute
+        try:
+            with self.assertRaisesRegex(RuntimeError, r"VolumeMesh was not computed: SurfaceFit failed: .*max_level"):
+                api.set_volume_options(self.volume, farfield_distance=25.0)
+            self.assertEqual(self.volume.FarfieldDistance, 20.0)
+        finally:
+            fit.MaxLevel = before[3]
+            self.doc.recompute()
+        self.assertEqual(state(), before)
+
     def test_span_station_cut_of_a_body_without_symmetry_plane(self):
         point, normal = api.span_station(self.grid, 0.5)
         self.assertAlmostEqual(point.y, 0.0, delta=1e-2)
