@@ -15,7 +15,8 @@ namespace {
 // Messages may quote a file's bytes or a path that are not UTF-8: those are escaped, so the
 // message is never lost (PyErr_SetString would leave the exception without text).
 void raise(const py::object& type, const char* message) {
-  PyObject* text = PyUnicode_DecodeUTF8(message, static_cast<Py_ssize_t>(std::strlen(message)), "backslashreplace");
+  PyObject* text =
+      PyUnicode_DecodeUTF8(message, static_cast<Py_ssize_t>(std::strlen(message)), "backslashreplace");
   if (text == nullptr) return;  // out of memory: that error stands
   PyErr_SetObject(type.ptr(), text);
   Py_DECREF(text);

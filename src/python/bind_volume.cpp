@@ -49,7 +49,8 @@ void setSymmetryPlane(const py::object& symmetryPlane, volume::VolumeMeshOptions
   if (symmetryPlane.is_none()) return;
   if (!py::isinstance<py::sequence>(symmetryPlane) || py::isinstance<py::str>(symmetryPlane) ||
       py::len(symmetryPlane) != 2) {
-    throw py::value_error("symmetry_plane must be (point, normal) or None, got " + std::string(py::repr(symmetryPlane)));
+    throw py::value_error("symmetry_plane must be (point, normal) or None, got " +
+                          std::string(py::repr(symmetryPlane)));
   }
   const py::sequence plane = symmetryPlane.cast<py::sequence>();
   options.planePoint = vector3Of(plane[0], "symmetry_plane point");

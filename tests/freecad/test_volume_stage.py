@@ -173,8 +173,11 @@ class VolumeObjects(unittest.TestCase):
         # unrelated call refit), and a call on an object whose input had failed returned as if
         # done: FreeCAD skips such an object and leaves it touched.
         fit, poly = self.fit, self.fit.Polyhedron
-        state = lambda: (list(poly.Creases), list(poly.Corners), len(poly.Vertices), fit.MaxLevel, fit.Solver,
-                         fit.UseSymmetryPlane, tuple(fit.SymmetryNormal), self.volume.Digest, self.grid.Digest)
+
+        def state():
+            return (list(poly.Creases), list(poly.Corners), len(poly.Vertices), fit.MaxLevel, fit.Solver,
+                    fit.UseSymmetryPlane, tuple(fit.SymmetryNormal), self.volume.Digest, self.grid.Digest)
+
         before = state()
         for call in (lambda: api.mark_features(poly, creases=[(0, 99)]),
                      lambda: api.set_polyhedron(poly, [(0, 0, 0)] * 3, [[0, 1, 2]]),

@@ -25,10 +25,12 @@ void moveIntoPlace(const std::string& temporary, const std::string& path, const 
 void createTemporary(const std::string& temporary, const std::string& path, const std::string& what) {
   struct stat status {};
   if (::lstat(temporary.c_str(), &status) == 0 && !S_ISDIR(status.st_mode)) ::unlink(temporary.c_str());
-  const int descriptor = ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
+  const int descriptor =
+      ::open(temporary.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0666);
   if (descriptor < 0) {
-    throw InvalidInputError("cannot write " + what + " \"" + path + "\" (its folder is missing or not writable, or \"" +
-                            temporary + "\" is in the way)");
+    throw InvalidInputError("cannot write " + what + " \"" + path +
+                            "\" (its folder is missing or not writable, or \"" + temporary +
+                            "\" is in the way)");
   }
   ::close(descriptor);
 }

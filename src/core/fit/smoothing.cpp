@@ -36,8 +36,9 @@ RowMatrixX3d taubinSmooth(const RowMatrixX3d& points, const std::vector<std::vec
   }
   // A count past the bound is a typo that would hold the caller (a workbench's main thread) for days.
   if (options.iterations < 0 || options.iterations > kMaxTaubinIterations) {
-    throw InvalidInputError("Taubin smoothing iterations must be 0 .. " + std::to_string(kMaxTaubinIterations) +
-                            ", got " + std::to_string(options.iterations));
+    throw InvalidInputError("Taubin smoothing iterations must be 0 .. " +
+                            std::to_string(kMaxTaubinIterations) + ", got " +
+                            std::to_string(options.iterations));
   }
   for (size_t point = 0; point < neighbours.size(); ++point) {
     for (int neighbour : neighbours[point]) {

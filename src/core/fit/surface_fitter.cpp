@@ -448,8 +448,8 @@ void checkOptions(const FitOptions& options, int vertexCount) {
                             std::to_string(options.maxLevel));
   }
   if (options.maxCorrections < 0 || options.maxCorrections > kMaxCorrectionPasses) {
-    throw InvalidInputError("max_corrections must be 0 .. " + std::to_string(kMaxCorrectionPasses) + ", got " +
-                            std::to_string(options.maxCorrections));
+    throw InvalidInputError("max_corrections must be 0 .. " + std::to_string(kMaxCorrectionPasses) +
+                            ", got " + std::to_string(options.maxCorrections));
   }
   checkFiniteAtLeast(options.tolerance, 0.0, "tolerance");
   checkFiniteAtLeast(options.relativeTolerance, 0.0, "relative_tolerance");
@@ -582,8 +582,8 @@ void SurfaceFitter::approximate() {
 
 void SurfaceFitter::correctParameters(int passes) {
   if (passes < 0 || passes > kMaxCorrectionPasses) {
-    throw InvalidInputError("parameter-correction passes must be 0 .. " + std::to_string(kMaxCorrectionPasses) +
-                            ", got " + std::to_string(passes));
+    throw InvalidInputError("parameter-correction passes must be 0 .. " +
+                            std::to_string(kMaxCorrectionPasses) + ", got " + std::to_string(passes));
   }
   for (int pass = 0; pass < passes; ++pass) approximate();
 }

@@ -270,9 +270,10 @@ struct PointCounts {
         }
         // Checked before the conversion: a count beyond int wrapped round to the 2-point minimum.
         if (!(cells < kMaxEdgePoints)) {
-          throw InvalidInputError("the tangential spacing " + numberText(spacing) + " (or the turning limit) asks for " +
-                                  numberText(cells) + " cells on a block edge, more than " +
-                                  std::to_string(kMaxEdgePoints - 1) + ": give a coarser spacing");
+          throw InvalidInputError("the tangential spacing " + numberText(spacing) +
+                                  " (or the turning limit) asks for " + numberText(cells) +
+                                  " cells on a block edge, more than " + std::to_string(kMaxEdgePoints - 1) +
+                                  ": give a coarser spacing");
         }
         // An edge a whole number of spacings long (to the rounding of its arc length) takes no extra point.
         count[node] = std::max(2, static_cast<int>(std::ceil(cells * (1.0 - 1e-12))) + 1);

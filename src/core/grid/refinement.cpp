@@ -62,8 +62,8 @@ void checkOptions(const RefinementOptions& options) {
                             std::to_string(options.normalPoints) + ")");
   }
   if (options.edgePoints < 2 || options.edgePoints > kMaxEdgePoints) {
-    throw InvalidInputError("edge_points must be 2 .. " + std::to_string(kMaxEdgePoints) + " (got " + std::to_string(options.edgePoints) +
-                            ")");
+    throw InvalidInputError("edge_points must be 2 .. " + std::to_string(kMaxEdgePoints) + " (got " +
+                            std::to_string(options.edgePoints) + ")");
   }
   // 2e9 cells are 100 GB of points and topology: beyond any machine this runs on.
   if (options.targetCells < 0 || options.targetCells > 2000000000LL) {
@@ -166,7 +166,8 @@ void checkSpacingsResolvable(const std::vector<volume::Block>& blocks, const Ref
                               numberText(finest) + "): points that close cannot be told apart across blocks");
     }
   };
-  check(firstHeight, options.firstCellHeight > 0.0 ? "first_cell_height" : "the first cell height from y_plus");
+  check(firstHeight,
+        options.firstCellHeight > 0.0 ? "first_cell_height" : "the first cell height from y_plus");
   check(options.tangentialSpacing, "tangential_spacing");
   check(options.edgeEndSpacing, "edge_end_spacing");
   for (size_t f = 0; f < options.featureSpacings.size(); ++f) {

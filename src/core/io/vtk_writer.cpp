@@ -145,7 +145,8 @@ void writeVtk(const grid::StructuredGrid& grid, const std::string& path, const s
       std::ofstream out(temporary, std::ios::binary);
       writeIndex(out, grid, folder);
       out.close();
-      if (!out) throw InvalidInputError("writing the VTK multiblock file \"" + path + "\" failed (disk full?)");
+      if (!out)
+        throw InvalidInputError("writing the VTK multiblock file \"" + path + "\" failed (disk full?)");
       fs::remove_all(folderPath);
       fs::rename(staging, folderPath);
     });

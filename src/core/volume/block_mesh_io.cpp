@@ -156,7 +156,8 @@ BlockMesh readBlockMesh(std::istream& in, const std::string& name) {
     // Checked against the knots before the poles are allocated: a short file could otherwise
     // reserve gigabytes by its header alone.
     for (int d = 0; d < 3; ++d) {
-      const long fromKnots = static_cast<long>(knots[static_cast<size_t>(d)].size()) - degrees[static_cast<size_t>(d)] - 1;
+      const long fromKnots =
+          static_cast<long>(knots[static_cast<size_t>(d)].size()) - degrees[static_cast<size_t>(d)] - 1;
       if (counts[static_cast<size_t>(d)] != fromKnots) {
         throw InvalidInputError(reader.where() + ": block " + std::to_string(b) + " lists " +
                                 std::to_string(counts[static_cast<size_t>(d)]) + " poles along " + "uvw"[d] +
@@ -170,7 +171,8 @@ BlockMesh readBlockMesh(std::istream& in, const std::string& name) {
       for (int x = 0; x < 3; ++x) poles(r, x) = reader.number("a pole coordinate");
     }
     Block block;
-    block.volume = BsplineVolume(degrees, std::move(knots), std::move(poles), name + ", block " + std::to_string(b));
+    block.volume =
+        BsplineVolume(degrees, std::move(knots), std::move(poles), name + ", block " + std::to_string(b));
     for (int f = 0; f < 6; ++f) {
       reader.expect("face");
       reader.expect(blockFaceName(f));

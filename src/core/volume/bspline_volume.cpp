@@ -121,10 +121,12 @@ BsplineVolume::BsplineVolume(std::array<int, 3> degrees, std::array<std::vector<
       const int i = static_cast<int>(r % counts_[0]);
       const int j = static_cast<int>((r / counts_[0]) % counts_[1]);
       const int k = static_cast<int>(r / (static_cast<Eigen::Index>(counts_[0]) * counts_[1]));
-      const std::string pole = name + ": pole (" + std::to_string(i) + ", " + std::to_string(j) + ", " + std::to_string(k) + ")";
+      const std::string pole =
+          name + ": pole (" + std::to_string(i) + ", " + std::to_string(j) + ", " + std::to_string(k) + ")";
       if (!finite) throw InvalidInputError(pole + " is not finite");
-      throw InvalidInputError(pole + " has a coordinate beyond 1e50 (" + coordinatesText(poles_.row(r).transpose()) +
-                              "): cell volumes and angles multiply up to six lengths and would overflow; rescale the model");
+      throw InvalidInputError(
+          pole + " has a coordinate beyond 1e50 (" + coordinatesText(poles_.row(r).transpose()) +
+          "): cell volumes and angles multiply up to six lengths and would overflow; rescale the model");
     }
   }
 }

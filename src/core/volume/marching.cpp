@@ -124,7 +124,8 @@ class Marcher {
     const int nFar = std::max(2, static_cast<int>(std::ceil(std::log(1.0 + remaining * (g - 1.0) / first) / std::log(g))));
     if (nBl + nFar > options_.maxLayers) {
       throw InvalidInputError("the far field needs " + std::to_string(nFar) + " layers at growth " +
-                              numberText(g) + ", more than max_layers (" + std::to_string(options_.maxLayers) +
+                              numberText(g) + ", more than max_layers (" +
+                              std::to_string(options_.maxLayers) +
                               "): raise the far-field growth or max_layers");
     }
     const double scale = remaining * (g - 1.0) / (first * (std::pow(g, nFar) - 1.0));

@@ -202,18 +202,21 @@ void requireOneBody(const surface::QuadControlMesh& wall) {
   std::vector<int> parent(static_cast<size_t>(wall.vertices.rows()));
   std::iota(parent.begin(), parent.end(), 0);
   const auto root = [&](int v) {
-    while (parent[static_cast<size_t>(v)] != v) v = parent[static_cast<size_t>(v)] = parent[static_cast<size_t>(parent[static_cast<size_t>(v)])];
+    while (parent[static_cast<size_t>(v)] != v)
+      v = parent[static_cast<size_t>(v)] = parent[static_cast<size_t>(parent[static_cast<size_t>(v)])];
     return v;
   };
   for (Eigen::Index f = 0; f < wall.faces.rows(); ++f) {
     for (int k = 1; k < 4; ++k) parent[static_cast<size_t>(root(wall.faces(f, k)))] = root(wall.faces(f, 0));
   }
   std::map<int, int> bodies;  // root -> a vertex of that body
-  for (Eigen::Index f = 0; f < wall.faces.rows(); ++f) bodies.emplace(root(wall.faces(f, 0)), wall.faces(f, 0));
+  for (Eigen::Index f = 0; f < wall.faces.rows(); ++f)
+    bodies.emplace(root(wall.faces(f, 0)), wall.faces(f, 0));
   if (bodies.size() > 1) {
-    throw InvalidInputError("the wall has " + std::to_string(bodies.size()) + " separate bodies (control vertices " +
-                            std::to_string(bodies.begin()->second) + " and " + std::to_string(std::next(bodies.begin())->second) +
-                            " lie on different ones): their volume meshes would overlap; mesh one body, or join them");
+    throw InvalidInputError(
+        "the wall has " + std::to_string(bodies.size()) + " separate bodies (control vertices " +
+        std::to_string(bodies.begin()->second) + " and " + std::to_string(std::next(bodies.begin())->second) +
+        " lie on different ones): their volume meshes would overlap; mesh one body, or join them");
   }
 }
 
@@ -225,8 +228,9 @@ void markSymmetryPoints(const std::vector<WallPatch>& patches, WallGrid& grid, c
   if (options.hasSymmetryPlane) {
     const Eigen::VectorXd side = (grid.front.points.rowwise() - options.planePoint.transpose()) * planeNormal;
     if (side.minCoeff() < -1e-6 * grid.size && side.maxCoeff() > 1e-6 * grid.size) {
-      throw InvalidInputError("the wall reaches across the symmetry plane (from " + numberText(side.minCoeff()) + " to " +
-                              numberText(side.maxCoeff()) + " along its normal): a half model lies on one side of it");
+      throw InvalidInputError("the wall reaches across the symmetry plane (from " +
+                              numberText(side.minCoeff()) + " to " + numberText(side.maxCoeff()) +
+                              " along its normal): a half model lies on one side of it");
     }
   }
   for (size_t p = 0; p < patches.size(); ++p) {
@@ -254,9 +258,11 @@ void markSymmetryPoints(const std::vector<WallPatch>& patches, WallGrid& grid, c
     }
   }
   if (options.hasSymmetryPlane &&
-      std::none_of(grid.front.onSymmetryPlane.begin(), grid.front.onSymmetryPlane.end(), [](char on) { return on != 0; })) {
-    throw InvalidInputError("a symmetry plane is given, but the wall is closed and does not end on it: a closed body "
-                            "needs no symmetry plane (a half model is open on it)");
+      std::none_of(grid.front.onSymmetryPlane.begin(), grid.front.onSymmetryPlane.end(),
+                   [](char on) { return on != 0; })) {
+    throw InvalidInputError(
+        "a symmetry plane is given, but the wall is closed and does not end on it: a closed body "
+        "needs no symmetry plane (a half model is open on it)");
   }
 }
 
