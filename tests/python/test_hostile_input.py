@@ -458,6 +458,7 @@ class VolumeStageInput(unittest.TestCase):
         cls.fitter = bvmesh.SurfaceFitter(sphere_target(), bvmesh.ControlMesh(CUBE_VERTICES, CUBE_FACES), max_level=1)
         cls.fitter.run()
         cls.volume = bvmesh.volume.offset_and_farfield(cls.fitter, boundary_layer_thickness=0.05, farfield_distance=20.0)
+        cls.grid = bvmesh.grid.refine(cls.volume, "euler", edge_points=5, normal_points=9)
         cls.folder = tempfile.TemporaryDirectory()
 
     @classmethod
@@ -516,8 +517,7 @@ class VolumeStageInput(unittest.TestCase):
         with open(victim, "w") as out:
             out.write("precious\n")
         for name, write in (("body.blocks", self.volume.blocks.write),
-                            ("body.xyz", lambda path: bvmesh.grid.write_plot3d(
-                                bvmesh.grid.refine(self.volume, "euler", edge_points=5, normal_points=9), path))):
+                            ("body.xyz", lambda path: bvmesh.grid.write_plot3d(self.grid, path))):
             path = os.path.join(self.folder.name, name)
             os.symlink(victim, path + ".partial")
             write(path)
@@ -568,7 +568,7 @@ class VolumeStageInput(unittest.TestCase):
             with self.assertRaisesRegex(ValueError, message):
                 bvmesh.volume.offset_and_farfield(self.fitter, boundary_layer_thickness=0.05, farfield_distance=20.0,
                                                   **options)
-        grid = bvmesh.grid.refine(self.volume, "euler", edge_points=5, normal_points=9)
+        grid = self.grid
         with self.assertRaisesRegex(ValueError, r"normal must be 3 numbers"):
             bvmesh.grid.plane_cut(grid, (0, 0, 0), (0, 1))
         with self.assertRaisesRegex(ValueError, r"point must be 3 numbers"):
@@ -616,7 +616,7 @@ class VolumeStageInput(unittest.TestCase):
 
     def test_an_empty_path_is_refused_by_every_writer(self):
         # write_openfoam("") wrote constant/ and system/ into the current folder.
-        grid = bvmesh.grid.refine(self.volume, "euler", edge_points=5, normal_points=9)
+        grid = self.grid
         before = sorted(os.listdir("."))
         for write in (bvmesh.grid.write_openfoam, bvmesh.grid.write_cgns, bvmesh.grid.write_plot3d,
                       bvmesh.grid.write_gismo):

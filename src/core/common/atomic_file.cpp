@@ -52,13 +52,15 @@ void writeFileAtomicallyByPath(const std::string& path, const std::string& what,
 }
 
 void writeFileAtomically(const std::string& path, const std::string& what,
-                         const std::function<void(std::ostream&)>& write) {
+                         const std::function<void(std::ostream&)>& write,
+                         const std::function<void()>& complete) {
   writeFileAtomicallyByPath(path, what, [&](const std::string& temporary) {
     std::ofstream out(temporary, std::ios::binary);
     if (!out) throw InvalidInputError("cannot write " + what + " \"" + path + "\" (its folder is missing or not writable)");
     write(out);
     out.flush();
     if (!out) throw InvalidInputError("writing " + what + " \"" + path + "\" failed (disk full?)");
+    if (complete) complete();
   });
 }
 

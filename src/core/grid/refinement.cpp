@@ -134,32 +134,37 @@ void evaluateBlocksWithoutWall(const std::vector<volume::Block>& blocks, const s
   }
 }
 
-// How far shared points may lie apart: 1e-9 of the model (the largest block's pole box, which
-// holds its points), or what their coordinates resolve where that is coarser (a model far from
-// the origin).
-// The largest block's pole-box diagonal and the largest coordinate.
-std::pair<double, double> blocksExtent(const std::vector<volume::Block>& blocks) {
-  double extent = 0.0, coordinateScale = 0.0;
+// The largest block's pole box (which holds its points): its diagonal, and the largest coordinate.
+struct BlocksExtent {
+  double diagonal = 0.0;
+  double coordinateScale = 0.0;
+};
+
+BlocksExtent blocksExtent(const std::vector<volume::Block>& blocks) {
+  BlocksExtent extent;
   for (const volume::Block& block : blocks) {
     const RowMatrixX3d& poles = block.volume.poles();
-    extent = std::max(extent, (poles.colwise().maxCoeff() - poles.colwise().minCoeff()).norm());
-    coordinateScale = std::max(coordinateScale, poles.cwiseAbs().maxCoeff());
+    extent.diagonal =
+        std::max(extent.diagonal, (poles.colwise().maxCoeff() - poles.colwise().minCoeff()).norm());
+    extent.coordinateScale = std::max(extent.coordinateScale, poles.cwiseAbs().maxCoeff());
   }
-  return {extent, coordinateScale};
+  return extent;
 }
 
-double sharedTolerance(const std::vector<volume::Block>& blocks) {
-  const auto [extent, coordinateScale] = blocksExtent(blocks);
-  return std::max(1e-9 * extent, 64.0 * std::numeric_limits<double>::epsilon() * coordinateScale);
+// How far shared points may lie apart: 1e-9 of the model, or what their coordinates resolve where
+// that is coarser (a model far from the origin).
+double sharedTolerance(const BlocksExtent& extent) {
+  return std::max(1e-9 * extent.diagonal,
+                  64.0 * std::numeric_limits<double>::epsilon() * extent.coordinateScale);
 }
 
 // Spacings asked for (or, for the first cell, computed from y+) must stay well above the
 // shared-point tolerance (1e-9 of the blocks' extent): 1e-10 of it still takes a y+ of 1 at a
 // Reynolds number of 1e9 in a far field of 20 lengths. Finer ones ended in "does it fold back?"
 // or in points matched across the wrong blocks.
-void checkSpacingsResolvable(const std::vector<volume::Block>& blocks, const RefinementOptions& options,
+void checkSpacingsResolvable(const BlocksExtent& extent, const RefinementOptions& options,
                              double firstHeight) {
-  const double finest = 1e-10 * blocksExtent(blocks).first;
+  const double finest = 1e-10 * extent.diagonal;
   const auto check = [&](double spacing, const std::string& what) {
     if (spacing > 0.0 && spacing < finest) {
       throw InvalidInputError(what + " " + numberText(spacing) + " is below 1e-10 of the blocks' size (" +
@@ -223,7 +228,8 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
   const auto& blocks = mesh.blocks();
   if (blocks.empty()) throw InvalidInputError("the block mesh has no blocks to refine");
   const double firstHeight = firstCellHeight(options);
-  checkSpacingsResolvable(blocks, options, firstHeight);
+  const BlocksExtent extent = blocksExtent(blocks);
+  checkSpacingsResolvable(extent, options, firstHeight);
 
   const std::vector<BlockPlan> plans = planDirectionSets(blocks, options, firstHeight);
   // Automatic: the edges' estimate served the cell target; the wall-normal lines themselves decide.
@@ -234,7 +240,7 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
   std::future<std::vector<Eigen::Index>> sharedRoots = findSharedPoints(grids);
   evaluateBlocksWithoutWall(blocks, plans, grids);
   const LineMeasures measured = placeWallLines(blocks, plans, options, firstHeight, normalPoints, grids);
-  makeSharedPointsIdentical(sharedRoots.get(), sharedTolerance(blocks), grids);
+  makeSharedPointsIdentical(sharedRoots.get(), sharedTolerance(extent), grids);
 
   RefinedGrid result;
   result.normalPoints = normalPoints;

@@ -1,7 +1,6 @@
 #include "core/io/vtk_writer.h"
 
 #include <filesystem>
-#include <fstream>
 #include <ostream>
 #include <set>
 
@@ -141,15 +140,12 @@ void writeVtk(const grid::StructuredGrid& grid, const std::string& path, const s
       writeFileAtomically(blockPath, "the VTK block file",
                           [&](std::ostream& out) { writeBlock(out, grid, b, cellFields); });
     }
-    writeFileAtomicallyByPath(path, "the VTK multiblock file", [&](const std::string& temporary) {
-      std::ofstream out(temporary, std::ios::binary);
-      writeIndex(out, grid, folder);
-      out.close();
-      if (!out)
-        throw InvalidInputError("writing the VTK multiblock file \"" + path + "\" failed (disk full?)");
-      fs::remove_all(folderPath);
-      fs::rename(staging, folderPath);
-    });
+    writeFileAtomically(
+        path, "the VTK multiblock file", [&](std::ostream& out) { writeIndex(out, grid, folder); },
+        [&] {
+          fs::remove_all(folderPath);
+          fs::rename(staging, folderPath);
+        });
   } catch (const fs::filesystem_error& failure) {
     fs::remove_all(staging, error);
     throw InvalidInputError("cannot write the VTK file \"" + path + "\": " + failure.what());
