@@ -150,11 +150,14 @@ def _recompute(obj):
     """Recomputes obj's document; raises RuntimeError with the object's error if obj failed, or
     naming the object it depends on that failed: FreeCAD then skips obj and leaves it touched,
     which isValid() does not tell (the call returned as if done, the result stale)."""
+    from bvmesh.features.common import upstream
+
     obj.Document.recompute()
     if not obj.isValid():
         raise RuntimeError("{} failed: {}".format(obj.Label, _error_of(obj)))
     if "Touched" in obj.State:
-        failed = [o for o in obj.OutListRecursive if not o.isValid()]
+        # Not OutListRecursive: it raises on a dependency cycle, naming nothing.
+        failed = [o for o, _ in upstream(obj) if not o.isValid()]
         cause = "{} failed: {}".format(failed[0].Label, _error_of(failed[0])) if failed else "its inputs did not compute"
         raise RuntimeError("{} was not computed: {}".format(obj.Label, cause))
 
@@ -683,10 +686,13 @@ def volume_mesh_of(volume_mesh_object):
     return volume_mesh.volume_mesh(volume_mesh_object)
 
 
-def _feature_edge_links(feature_edges, document):
+def _feature_edge_links(feature_edges, document, grid=None):
     """feature_edges as a PropertyLinkSubList value, each object checked to be alive in
     `document`: FreeCAD 0.20 keeps a dangling pointer for a link to a deleted object (or one of a
-    closed document), and the next read of the property kills the process with the document."""
+    closed document), and the next read of the property kills the process with the document. For
+    an existing grid, no object may depend on it (a dependency cycle)."""
+    from bvmesh.features.common import describe_path, link_path
+
     links = []
     for entry in feature_edges:
         try:
@@ -701,6 +707,10 @@ def _feature_edge_links(feature_edges, document):
         if not alive:
             raise ValueError("feature_edges: {} is no object of document {!r} (deleted, or of another document)".format(
                 what, document.Name))
+        cycle = None if grid is None else link_path(shape_object, grid)
+        if cycle is not None:
+            raise ValueError("feature_edges: {} depends on {} ({}): a dependency cycle".format(
+                shape_object.Label, grid.Label, describe_path(cycle)))
         links.append((shape_object, names))
     return links
 
@@ -744,7 +754,7 @@ def set_grid_options(grid_object, preset=None, distribution=None, method=None, s
                               options, show, "volume grid",
                               {"Preset": preset, "Distribution": distribution, "Method": method,
                                "FeatureEdges": None if feature_edges is None else _feature_edge_links(
-                                   feature_edges, grid_object.Document),
+                                   feature_edges, grid_object.Document, grid_object),
                                "FeatureSpacing": feature_spacing})
 
 

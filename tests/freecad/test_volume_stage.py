@@ -2,6 +2,7 @@
 quality and exports through bvmesh.api; the closed forms of the sphere; bad options leave the
 document as it was; save, reopen and recompute give identical blocks and points."""
 
+import contextlib
 import os
 import tempfile
 import unittest
@@ -24,6 +25,23 @@ def sphere_fit(doc):
     polyhedron = api.make_polyhedron_from_template(doc, target, "sphere")
     fit = api.make_surface_fit(doc, target, polyhedron, relative_tolerance=1e-4, max_level=3)
     return api.fit_to_tolerance(fit)
+
+
+@contextlib.contextmanager
+def console_errors():
+    """Collects what FreeCAD's console prints as errors (to the process's stderr) while the block
+    runs: the list yielded holds the text after it."""
+    text = []
+    with tempfile.TemporaryFile(mode="w+") as caught:
+        saved = os.dup(2)
+        os.dup2(caught.fileno(), 2)
+        try:
+            yield text
+        finally:
+            os.dup2(saved, 2)
+            os.close(saved)
+            caught.seek(0)
+            text.append(caught.read())
 
 
 class VolumeObjects(unittest.TestCase):
@@ -196,6 +214,55 @@ class VolumeObjects(unittest.TestCase):
             fit.MaxLevel = before[3]
             self.doc.recompute()
         self.assertEqual(state(), before)
+
+    def test_links_that_would_make_a_dependency_cycle_are_refused(self):
+        # FreeCAD 0.20 takes a Target whose Source is the volume mesh made from it: every recompute
+        # then ran the target, the fit and the volume mesh again in two passes (the target turned
+        # into the volume's wall, the fit refitted to it) and left one touched, with no error.
+        target = self.fit.Target
+        ball = target.Source
+        results = (target.BrepHash, self.fit.MaxDistance, self.volume.Digest, self.grid.Digest)
+        with console_errors() as errors:
+            target.Source = self.volume
+        self.assertEqual(target.Source.Name, ball.Name)
+        self.assertIn("Target.Source cannot link VolumeMesh, which depends on it (VolumeMesh -> SurfaceFit -> Target): "
+                      "a dependency cycle; Ball is kept", "".join(errors))
+        self.doc.recompute()
+        self.assertEqual((target.BrepHash, self.fit.MaxDistance, self.volume.Digest, self.grid.Digest), results)
+        # Closed by a link of an object that is not BVMesh's (a Part Refine of the volume mesh, the
+        # target's Source already), the cycle fails on recompute, named, and nothing on it runs.
+        refined = self.doc.addObject("Part::Refine", "Refined")
+        cycle = (target, self.fit, self.volume)
+        try:
+            target.Source = refined
+            refined.Source = self.volume
+            for _ in range(2):
+                self.doc.recompute()
+                failed = [o for o in cycle if not o.isValid()]
+                self.assertTrue(failed)
+                self.assertRegex(failed[0].Proxy.error, r"ValueError: a dependency cycle: \w+( -> \w+){4} \(each uses")
+                for obj in cycle + (refined,):
+                    self.assertIn(obj.Label, failed[0].Proxy.error)
+                self.assertEqual((target.BrepHash, self.fit.MaxDistance, self.volume.Digest, self.grid.Digest),
+                                 results)
+            with self.assertRaisesRegex(RuntimeError, "a dependency cycle"):
+                api.set_volume_options(self.volume, farfield_distance=25.0)
+        finally:
+            target.Source = ball
+            self.doc.removeObject(refined.Name)
+            self.doc.recompute()
+        self.assertEqual((target.BrepHash, self.fit.MaxDistance, self.volume.Digest, self.grid.Digest), results)
+        self.assertEqual(self.volume.FarfieldDistance, 20.0)
+        # A grid's feature edge on an object made from the grid is refused by the API.
+        cut = api.make_grid_cut(self.grid, point=(0.0, 0.3, 0.0), normal=(0.0, 1.0, 0.0))
+        try:
+            with self.assertRaisesRegex(ValueError, r"feature_edges: GridCut depends on VolumeGrid \(GridCut -> "
+                                                    r"VolumeGrid\): a dependency cycle"):
+                api.set_grid_options(self.grid, feature_edges=[(cut, "Edge1")], feature_spacing=0.1)
+            self.assertEqual((len(self.grid.FeatureEdges), self.grid.Digest), (0, results[3]))
+        finally:
+            self.doc.removeObject(cut.Name)
+        self.assertTrue(all(o.isValid() and "Touched" not in o.State for o in self.doc.Objects))
 
     def test_span_station_cut_of_a_body_without_symmetry_plane(self):
         point, normal = api.span_station(self.grid, 0.5)

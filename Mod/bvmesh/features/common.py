@@ -3,6 +3,7 @@ creation and again in onDocumentRestored, so files written by older versions gai
 properties), a proxy base that persists nothing of its own, and the hook through which long
 computations run (in the GUI: a worker thread with progress and Cancel)."""
 
+import collections
 import contextlib
 
 # Document.Meta key: names of the objects a document written headless shows when opened in the GUI.
@@ -24,9 +25,43 @@ def add_property(obj, type_name, name, group, doc, default=None, mode=None):
         obj.setEditorMode(name, mode)
 
 
+def upstream(start):
+    """(object, the object linking it) for every object `start` depends on (its OutList, theirs,
+    ...), nearest first, each once: start itself too when it is on a dependency cycle."""
+    seen = set()
+    queue = collections.deque([start])
+    while queue:
+        current = queue.popleft()
+        for linked in current.OutList:
+            if linked.FullName not in seen:
+                seen.add(linked.FullName)
+                queue.append(linked)
+                yield linked, current
+
+
+def link_path(start, goal):
+    """The shortest chain of links from `start` to `goal` as a list of objects, both ends
+    included, or None; with start == goal, a dependency cycle through it."""
+    linker = {}
+    for obj, by in upstream(start):
+        linker[obj.FullName] = by
+        if obj.FullName == goal.FullName:
+            path = [obj, by]
+            while path[-1].FullName != start.FullName:
+                path.append(linker[path[-1].FullName])
+            return path[::-1]
+    return None
+
+
+def describe_path(path):
+    return " -> ".join(obj.Label for obj in path)
+
+
 class Proxy:
     """Base of the feature proxies. The document stores only the type name: everything else
-    is a property, and caches are rebuilt after loading."""
+    is a property, and caches are rebuilt after loading. A link that would make a dependency
+    cycle is refused (FreeCAD 0.20 takes one, and every recompute then runs the objects on it
+    again in two passes and leaves one touched, without an error)."""
 
     Type = None
 
@@ -58,10 +93,40 @@ class Proxy:
                 obj.ViewObject.Visibility = obj.Name in shown.split()
                 view_providers.fit_view_once(obj.Document)
 
+    def onBeforeChange(self, obj, prop):
+        # The value onChanged puts back. PropertyLink only: reading a PropertyLinkSubList that
+        # holds a deleted object kills FreeCAD 0.20 (those are checked by the API and on recompute).
+        if not getattr(self, "_putting_back", False) and obj.getTypeIdOfProperty(prop) == "App::PropertyLink":
+            self._link_before = (prop, getattr(obj, prop))
+
+    def onChanged(self, obj, prop):
+        before, self._link_before = getattr(self, "_link_before", None), None
+        if before is None or before[0] != prop or obj.Document.Restoring:
+            return
+        linked = getattr(obj, prop)
+        path = None if linked is None else link_path(linked, obj)
+        if path is None:
+            return
+        previous = before[1]
+        self._putting_back = True
+        try:
+            setattr(obj, prop, previous)
+        finally:
+            self._putting_back = False
+        import FreeCAD
+
+        FreeCAD.Console.PrintError(
+            "BVMesh: {}.{} cannot link {}, which depends on it ({}): a dependency cycle; {} is kept\n".format(
+                obj.Label, prop, linked.Label, describe_path(path), previous.Label if previous else "no link"))
+
     def execute(self, obj):
         # FreeCAD only prints a failed recompute; keep the message for the API to raise.
         self.error = ""
         try:
+            cycle = link_path(obj, obj)
+            if cycle is not None:
+                raise ValueError("a dependency cycle: {} (each uses the next); link one of them to an object that "
+                                 "does not depend on {}".format(describe_path(cycle), obj.Label))
             self.compute(obj)
         except Exception as error:
             self.error = "{}: {}".format(type(error).__name__, error)

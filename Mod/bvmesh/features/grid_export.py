@@ -144,6 +144,7 @@ class ExportProxy(Proxy):
                 obj.setEditorMode(name, mode)
 
     def onChanged(self, obj, prop):
+        super().onChanged(obj, prop)
         if prop == "Format":
             self.show_flow_case(obj)
 
