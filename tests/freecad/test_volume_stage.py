@@ -369,6 +369,28 @@ class VolumeObjects(unittest.TestCase):
         with self.assertRaisesRegex(RuntimeError, "no wall at level 9"):
             api.set_volume_options(self.volume, wall_level=9)
         self.assertEqual(self.volume.WallLevel, -1)
+        # Levels below -1 were taken as -1.
+        for options, message in (({"wall_level": -2}, r"WallLevel -2 must be 0 or more, up to the fit's level 3 "
+                                                      r"\(or -1: the fit's own level\)"),
+                                 ({"marching_level": -5}, r"MarchingLevel -5 must be below the wall's level 3 and 0 "
+                                                          r"or more \(or -1: march the wall itself\)")):
+            with self.assertRaisesRegex(RuntimeError, message):
+                api.set_volume_options(self.volume, **options)
+            self.assertEqual((self.volume.WallLevel, self.volume.MarchingLevel, self.volume.Digest), (-1, -1, digest))
+            with self.assertRaisesRegex(RuntimeError, message):
+                api.make_volume_mesh(self.fit, boundary_layer_thickness=0.05, farfield_distance=20.0, **options)
+            self.assertEqual([o.Name for o in self.doc.Objects], names)
+        # Set on the object itself: its recompute fails, naming the property.
+        self.volume.MarchingLevel = -2
+        try:
+            self.doc.recompute()
+            self.assertFalse(self.volume.isValid())
+            self.assertIn("MarchingLevel -2 must be below the wall's level", self.volume.Proxy.error)
+        finally:
+            self.volume.MarchingLevel = -1
+            self.doc.recompute()
+        self.assertTrue(self.volume.isValid())
+        self.assertEqual(self.volume.Digest, digest)
 
     def test_box_domain_through_the_document(self):
         vm = api.make_volume_mesh(self.fit, boundary_layer_thickness=0.05, farfield_distance=20.0, domain="box",

@@ -85,6 +85,9 @@ def marching_inputs(obj):
     fit = obj.Fit
     if fit is None or not fit.ControlVertices:
         raise ValueError("the volume mesh needs a computed surface fit")
+    if obj.WallLevel < -1:
+        raise ValueError("WallLevel {} must be 0 or more, up to the fit's level {} (or -1: the fit's own level)".format(
+            obj.WallLevel, fit.Level))
     wall, _ = surface_fit.wall_at_level(fit, obj.WallLevel)
     return wall, symmetry_plane(fit), options(obj)
 
@@ -92,12 +95,12 @@ def marching_inputs(obj):
 def marching_wall(obj):
     """A function giving the control mesh the blocks' layers are marched from when the object's
     MarchingLevel is below its wall's level (the same fit refitted to that level), else None."""
-    if obj.MarchingLevel < 0:
+    if obj.MarchingLevel == -1:
         return None
     wall_level = obj.Fit.Level if obj.WallLevel < 0 else obj.WallLevel
-    if obj.MarchingLevel >= wall_level:
-        raise ValueError("MarchingLevel {} must be below the wall's level {} (or -1: march the wall itself)".format(
-            obj.MarchingLevel, wall_level))
+    if not 0 <= obj.MarchingLevel < wall_level:
+        raise ValueError("MarchingLevel {} must be below the wall's level {} and 0 or more (or -1: march the wall "
+                         "itself)".format(obj.MarchingLevel, wall_level))
     wall, _ = surface_fit.wall_at_level(obj.Fit, obj.MarchingLevel)
     return wall
 
