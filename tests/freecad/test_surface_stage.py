@@ -16,6 +16,7 @@ import Part
 import bvmesh
 from bvmesh import api, extensions, preferences
 from bvmesh.features import polyhedron, surface_fit
+from console_capture import console_errors
 
 DATA = os.environ.get("BVMESH_TEST_DATA_DIR", os.path.join(os.path.dirname(__file__), "..", "data"))
 OUTPUT_DIR = os.environ.get("BVMESH_TEST_OUTPUT_DIR", tempfile.gettempdir())
@@ -242,6 +243,21 @@ class Fitting(DocumentTest):
         self.assertAlmostEqual(point[1], 0.0, places=9)
         self.assertEqual(len(target.Shape.Faces), 10)
         self.assertTrue(any("4 free" in line for line in target.Report))
+
+    def test_unreadable_kept_geometry_is_rebuilt_from_the_source(self):
+        # Garbage in the Target's hidden Geometry failed every recompute ("the core returned BREP
+        # text that FreeCAD reads as a null shape") until it was cleared, and the wing's text cut at
+        # 99 % made OpenCASCADE's reader loop in FreeCAD's own process: a hang.
+        target = api.make_target(self.doc, api.import_cad(self.doc, os.path.join(DATA, "AileM6_with_sharp_TE.stp")))
+        kept = (target.Geometry, target.BrepHash, list(target.Report))
+        for garbage, reason in (("garbage", "corrupt or truncated"), (kept[0][:int(len(kept[0]) * 0.99)], "limit")):
+            target.Geometry = garbage
+            with console_errors() as errors:
+                self.doc.recompute()
+            self.assertTrue(target.isValid(), target.Proxy.error)
+            self.assertEqual((target.Geometry, target.BrepHash, list(target.Report)), kept)
+            self.assertRegex("".join(errors), r"BVMesh: Target's hidden Geometry is no shape \(.*{}.*\); rebuilt "
+                                              r"from its Source AileM6_with_sharp_TE".format(reason))
 
 
 class LaterStages(DocumentTest):

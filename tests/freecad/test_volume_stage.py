@@ -2,7 +2,6 @@
 quality and exports through bvmesh.api; the closed forms of the sphere; bad options leave the
 document as it was; save, reopen and recompute give identical blocks and points."""
 
-import contextlib
 import os
 import tempfile
 import unittest
@@ -14,6 +13,7 @@ import Part
 
 from bvmesh import api, grid as grid_module
 from bvmesh.features.common import is_type
+from console_capture import console_errors
 
 RADIUS = 1.0
 
@@ -25,23 +25,6 @@ def sphere_fit(doc):
     polyhedron = api.make_polyhedron_from_template(doc, target, "sphere")
     fit = api.make_surface_fit(doc, target, polyhedron, relative_tolerance=1e-4, max_level=3)
     return api.fit_to_tolerance(fit)
-
-
-@contextlib.contextmanager
-def console_errors():
-    """Collects what FreeCAD's console prints as errors (to the process's stderr) while the block
-    runs: the list yielded holds the text after it."""
-    text = []
-    with tempfile.TemporaryFile(mode="w+") as caught:
-        saved = os.dup(2)
-        os.dup2(caught.fileno(), 2)
-        try:
-            yield text
-        finally:
-            os.dup2(saved, 2)
-            os.close(saved)
-            caught.seek(0)
-            text.append(caught.read())
 
 
 class VolumeObjects(unittest.TestCase):

@@ -63,7 +63,6 @@ class TargetProxy(Proxy):
 
     def compute(self, obj):
         from bvmesh import api
-        from bvmesh.adapters.shapes import brep_to_shape
 
         if obj.Source is None or not hasattr(obj.Source, "Shape") or obj.Source.Shape.isNull():
             raise ValueError("the target needs a Source object with a shape")
@@ -77,11 +76,32 @@ class TargetProxy(Proxy):
         # Saving a document rounds shapes in the last digits. The target keeps the exact geometry
         # it was made from unless the source really changed, so a reopened document recomputes
         # to identical results.
-        if not obj.Geometry or not same_geometry(fresh, brep_to_shape(obj.Geometry)):
+        kept = self.kept_geometry(obj)
+        if kept is None or not same_geometry(fresh, kept):
             obj.Geometry = fresh.exportBrepToString()
             obj.BrepHash = hashlib.sha1(obj.Geometry.encode()).hexdigest()
         obj.Shape = fresh
         obj.Report = api.format_target_report(self.core_target(obj).report())
+
+    @staticmethod
+    def kept_geometry(obj):
+        """The shape of obj.Geometry, or None when there is none or it is unreadable (then rebuilt
+        from Source, with a warning). Read through the core's child process: Geometry is document
+        text, and BREP text cut near its end makes OpenCASCADE's reader loop, in FreeCAD's own
+        process a hang."""
+        from bvmesh import load_core
+        from bvmesh.adapters.shapes import brep_to_shape
+
+        if not obj.Geometry:
+            return None
+        try:
+            return brep_to_shape(load_core().check_brep_text(obj.Geometry))
+        except ValueError as error:
+            import FreeCAD
+
+            FreeCAD.Console.PrintWarning("BVMesh: {}'s hidden Geometry is no shape ({}); rebuilt from its Source "
+                                         "{}\n".format(obj.Label, error, obj.Source.Label))
+            return None
 
     @staticmethod
     def set_flow_domain(obj, domain):
