@@ -224,6 +224,71 @@ class Fitting(DocumentTest):
         self.assertTrue(all(obj.isValid() for obj in self.doc.Objects))
         self.assertEqual((vectors(fit.ControlVertices), list(fit.HistoryMax), list(fit.SampleDistances)), expected)
 
+    def test_a_damaged_file_reports_what_came_back_lost(self):
+        # FreeCAD opens a .FCStd missing the member file of a list property with the list empty
+        # and no word, and one whose Document.xml is cut off with the object's last properties
+        # at their defaults (its "Invalid Document.xml" names no object): the fit then showed no
+        # control mesh, the polyhedron no vertices, the fit's Steps were gone.
+        import zipfile
+
+        fit = self.sphere_fit(max_level=2)
+        api.fit_to_tolerance(fit)
+        saved = (vectors(fit.ControlVertices), list(fit.HistoryMax), vectors(fit.Polyhedron.Vertices))
+        folder = tempfile.mkdtemp()
+        path = os.path.join(folder, "intact.FCStd")
+        self.doc.saveAs(path)
+        FreeCAD.closeDocument(self.doc.Name)
+        with zipfile.ZipFile(path) as intact:
+            members = {name: intact.read(name) for name in intact.namelist()}
+        xml = members["Document.xml"].decode()
+        fit_proxy = xml.index('class="SurfaceFitProxy"/>', xml.index('<Object name="SurfaceFit">'))
+        damaged = {"no_control_vertices": dict(members, ControlVertices=None),
+                   "no_vertices": dict(members, Vertices=None),
+                   "cut_xml": dict(members, **{"Document.xml": xml[:fit_proxy + 200].encode()})}
+        for name, content in damaged.items():
+            with zipfile.ZipFile(os.path.join(folder, name + ".FCStd"), "w") as file:
+                for member, data in content.items():
+                    if data is not None:
+                        file.writestr(member, data)
+
+        def reopen(name):
+            with console_errors() as errors:
+                self.doc = FreeCAD.openDocument(os.path.join(folder, name + ".FCStd"))
+            return self.doc.getObject("SurfaceFit"), "".join(errors)
+
+        # A result lost: said, and made again by the next recompute.
+        fit, errors = reopen("no_control_vertices")
+        self.assertIn("BVMesh: SurfaceFit came back from the file without ControlVertices (0 of its {} values) (the "
+                      "file is truncated or damaged); a recompute makes them again".format(len(saved[0])), errors)
+        self.doc.recompute()
+        self.assertEqual((vectors(fit.ControlVertices), list(fit.HistoryMax)), saved[:2])
+        FreeCAD.closeDocument(self.doc.Name)
+        # An input lost: said, and the recompute refuses until it is set again.
+        fit, errors = reopen("no_vertices")
+        self.assertIn("BVMesh: ControlPolyhedron came back from the file without Vertices (0 of its 8 values) (the "
+                      "file is truncated or damaged); set Vertices again or open an intact copy", errors)
+        self.doc.recompute()
+        self.assertFalse(fit.Polyhedron.isValid())
+        self.assertIn("Vertices of ControlPolyhedron came back from the file lost", fit.Polyhedron.Proxy.error)
+        self.assertEqual(vectors(fit.ControlVertices), saved[0])
+        fit.Polyhedron.Vertices = [FreeCAD.Vector(*v) for v in saved[2]]
+        self.doc.recompute()
+        self.assertTrue(fit.Polyhedron.isValid() and fit.isValid())
+        self.assertEqual((vectors(fit.ControlVertices), list(fit.HistoryMax)), saved[:2])
+        FreeCAD.closeDocument(self.doc.Name)
+        fit, errors = reopen("cut_xml")
+        self.assertRegex(errors, r"BVMesh: SurfaceFit came back from the file without .*Steps \(missing\).*set .*Steps")
+        self.doc.recompute()
+        self.assertFalse(fit.isValid())
+        self.assertRegex(fit.Proxy.error, r"Steps.* of SurfaceFit came back from the file lost")
+        # An intact file says nothing.
+        FreeCAD.closeDocument(self.doc.Name)
+        with console_errors() as errors:
+            self.doc = FreeCAD.openDocument(path)
+        self.assertNotIn("BVMesh", "".join(errors))
+        self.doc.recompute()
+        self.assertTrue(all(o.isValid() for o in self.doc.Objects))
+
     def test_objects_of_older_files_gain_new_properties(self):
         fit = self.sphere_fit()
         values = {name: getattr(fit, name) for name in ("MaxLevel", "Solver", "SymmetryNormal")}

@@ -57,15 +57,39 @@ def describe_path(path):
     return " -> ".join(obj.Label for obj in path)
 
 
+def property_sizes(obj):
+    """{property: size} of obj: the length of a list or string, 0 or 1 for a null or other shape,
+    None for the rest (links too: reading a PropertyLinkSubList that holds a deleted object kills
+    FreeCAD 0.20). Not the labels, made unique when objects are imported into another document."""
+    sizes = {}
+    for name in set(obj.PropertiesList) - {"Label", "Label2"}:
+        type_id = obj.getTypeIdOfProperty(name)
+        if type_id.startswith("App::PropertyLink"):
+            sizes[name] = None
+        elif type_id == "Part::PropertyPartShape":
+            sizes[name] = 0 if getattr(obj, name).isNull() else 1
+        elif type_id.endswith("List") or type_id == "App::PropertyString":
+            sizes[name] = len(getattr(obj, name))
+        else:
+            sizes[name] = None
+    return sizes
+
+
 class Proxy:
-    """Base of the feature proxies. The document stores only the type name: everything else
-    is a property, and caches are rebuilt after loading. A link that would make a dependency
-    cycle is refused (FreeCAD 0.20 takes one, and every recompute then runs the objects on it
-    again in two passes and leaves one touched, without an error)."""
+    """Base of the feature proxies. The document stores the type name and the size of each
+    property (property_sizes); everything else is a property, and caches are rebuilt after
+    loading. A property that comes back from the file missing or of another size is reported: a
+    list FreeCAD keeps in a member file of its own comes back empty, without an error, when the
+    member is missing from the .FCStd, and an object cut off in Document.xml without its last
+    properties. The recompute makes lost results again and refuses to run while an input is lost.
+    A link that would make a dependency cycle is refused (FreeCAD 0.20 takes one, and every
+    recompute then runs the objects on it again in two passes and leaves one touched, without an
+    error)."""
 
     Type = None
 
     def __init__(self, obj):
+        self._object = obj
         obj.Proxy = self
         self.setup(obj)
 
@@ -73,8 +97,40 @@ class Proxy:
         raise NotImplementedError
 
     def onDocumentRestored(self, obj):
+        self._object = obj
+        saved = getattr(self, "_saved_sizes", None) or {}
+        restored = property_sizes(obj)
+        lost = {name: size for name, size in saved.items() if name not in restored or restored[name] != size}
         self.setup(obj)
         self.attach_view_provider(obj)
+        if lost:
+            self.report_losses(obj, lost, restored)
+
+    def report_losses(self, obj, lost, restored):
+        """Says what came back from the file lost and keeps the names for mustExecute and execute."""
+        import FreeCAD
+
+        def loss(name):
+            if name not in restored:
+                return "{} (missing)".format(name)
+            if obj.getTypeIdOfProperty(name) == "Part::PropertyPartShape":
+                return "{} (empty)".format(name)
+            return "{} ({} of its {} values)".format(name, restored[name], lost[name])
+
+        self._lost = set(lost)
+        inputs = self.lost_inputs(obj)
+        advice = ("set {} again or open an intact copy: {} does not recompute until then".format(
+            ", ".join(inputs), obj.Label) if inputs else "a recompute makes them again")
+        FreeCAD.Console.PrintError("BVMesh: {} came back from the file without {} (the file is truncated or damaged); "
+                                   "{}\n".format(obj.Label, ", ".join(loss(name) for name in sorted(lost)), advice))
+
+    def lost_inputs(self, obj):
+        return sorted(name for name in getattr(self, "_lost", ()) if name != "Shape"
+                      and obj.getGroupOfProperty(name) != "Result" and "ReadOnly" not in obj.getEditorMode(name))
+
+    def mustExecute(self, obj):
+        # What a restore lost: FreeCAD purges a touch made while restoring.
+        return bool(getattr(self, "_lost", None))
 
     @staticmethod
     def attach_view_provider(obj):
@@ -100,6 +156,7 @@ class Proxy:
             self._link_before = (prop, getattr(obj, prop))
 
     def onChanged(self, obj, prop):
+        getattr(self, "_lost", set()).discard(prop)
         before, self._link_before = getattr(self, "_link_before", None), None
         if before is None or before[0] != prop or obj.Document.Restoring:
             return
@@ -123,11 +180,16 @@ class Proxy:
         # FreeCAD only prints a failed recompute; keep the message for the API to raise.
         self.error = ""
         try:
+            lost = self.lost_inputs(obj)
+            if lost:
+                raise ValueError("{} of {} came back from the file lost (the file is truncated or damaged): set them "
+                                 "again or open an intact copy".format(", ".join(lost), obj.Label))
             cycle = link_path(obj, obj)
             if cycle is not None:
                 raise ValueError("a dependency cycle: {} (each uses the next); link one of them to an object that "
                                  "does not depend on {}".format(describe_path(cycle), obj.Label))
             self.compute(obj)
+            self._lost = set()
         except Exception as error:
             self.error = "{}: {}".format(type(error).__name__, error)
             raise
@@ -136,9 +198,14 @@ class Proxy:
         raise NotImplementedError
 
     def __getstate__(self):
-        return self.Type
+        try:
+            return {"type": self.Type, "sizes": property_sizes(self._object)}
+        except (AttributeError, ReferenceError):  # no object yet, or a deleted one
+            return self.Type
 
     def __setstate__(self, state):
+        # A document saved before the sizes were kept stores the type name alone.
+        self._saved_sizes = state.get("sizes") if isinstance(state, dict) else None
         return None
 
     # FreeCAD 0.20 looks for these names.
