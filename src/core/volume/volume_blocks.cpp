@@ -21,6 +21,8 @@ namespace {
 
 using Eigen::Vector3d;
 
+constexpr double kPi = 3.14159265358979323846;
+
 const char* sideName(ChartSide side) {
   static const char* names[] = {"v_min", "u_max", "v_max", "u_min"};
   return names[static_cast<int>(side)];
@@ -73,10 +75,16 @@ struct GrevilleInterpolation {
   Eigen::PartialPivLU<Eigen::MatrixXd> lu;
 };
 
+// Patch normals more than this apart at a shared point are different faces of the wall.
+constexpr double kFaceAngleDegrees = 30.0;
+
 // The marching surface grid: every patch's Greville points, merged where patches meet.
 struct WallGrid {
   MarchingFront front;
   std::vector<std::vector<int>> pointOf;  // per patch: (i, j) -> front point, at i * vPoles + j
+  // Per point: three or more faces of the wall meet there (their normals kFaceAngleDegrees apart),
+  // a corner without a normal to leave the wall along (a tip's trailing-edge corner).
+  std::vector<char> corner;
   double size = 0.0;                      // bounding-box diagonal
   Vector3d lo, hi;
 };
@@ -98,6 +106,8 @@ WallGrid wallGrid(const std::vector<WallPatch>& patches) {
   WallGrid grid;
   std::vector<Vector3d> points, normals;
   std::vector<int> normalCount;
+  std::vector<std::vector<Vector3d>> faceNormals;  // per point, one normal per wall face there
+  const double sameFace = std::cos(kFaceAngleDegrees * kPi / 180.0);
   std::map<int, int> cornerPoint;                               // control vertex -> point
   std::map<std::pair<std::vector<int>, int>, int> sidePoint;     // (canonical chain, entry) -> point
   for (size_t p = 0; p < patches.size(); ++p) {
@@ -137,9 +147,15 @@ WallGrid wallGrid(const std::vector<WallPatch>& patches) {
           points.push_back(x);
           normals.push_back(Vector3d::Zero());
           normalCount.push_back(0);
+          faceNormals.emplace_back();
         }
         normals[static_cast<size_t>(id)] += normal;
         ++normalCount[static_cast<size_t>(id)];
+        std::vector<Vector3d>& faces = faceNormals[static_cast<size_t>(id)];
+        const Vector3d unit = normal.normalized();
+        if (std::none_of(faces.begin(), faces.end(),
+                         [&](const Vector3d& n) { return n.dot(unit) > sameFace; }))
+          faces.push_back(unit);
         ids[static_cast<size_t>(i * nv + j)] = id;
       }
     }
@@ -156,7 +172,9 @@ WallGrid wallGrid(const std::vector<WallPatch>& patches) {
   grid.front.points.resize(count, 3);
   grid.front.normals.resize(count, 3);
   grid.front.onSymmetryPlane.assign(static_cast<size_t>(count), 0);
+  grid.corner.assign(static_cast<size_t>(count), 0);
   for (Eigen::Index k = 0; k < count; ++k) {
+    grid.corner[static_cast<size_t>(k)] = faceNormals[static_cast<size_t>(k)].size() >= 3;
     grid.front.points.row(k) = points[static_cast<size_t>(k)].transpose();
     const Vector3d n = normals[static_cast<size_t>(k)];
     if (!(n.norm() > 1e-12)) {
@@ -494,6 +512,124 @@ MarchingResult transferLayers(const MarchingResult& coarse, const std::vector<Wa
   return result;
 }
 
+// The blocks' second pole layer in w, set so that the wall-normal grid lines leave the wall along
+// its normal: at every Greville point of the wall, where the columns' wall-normal derivative
+// (their poles' offsets from the wall, blended by the patch basis) is turned onto the wall normal
+// at its own length; the new offsets interpolate those (shared sides and corners once, as the
+// layers'). Above the wall the lines bend into the marched ones within the first layer. Those are
+// tilted by design in the splay band of a sharp edge, so that its cells fan out without folding;
+// interpolated as they are, they left 5 % of the M6's wall cells more than 4 degrees off the normal.
+// Where the marched lines are the normals the offsets are unchanged (turning them would move a
+// sphere's layers off their radii by more than 1e-6: the offsets' interpolation carries some of
+// the far field's lines too), and a corner of three or more wall faces, without a normal, keeps its own. At a
+// sharp edge the normal is the mean of both sides', the bisector its line runs along.
+void leaveAlongNormals(const std::vector<WallPatch>& patches, const WallGrid& grid,
+                       const RowMatrixX3d& firstLayer, const Vector3d& planeNormal,
+                       std::vector<RowMatrixX3d>& blockPoles) {
+  // A marched line this far off the normal or more is turned fully, one closer by its share; the
+  // lines outside the band are the normals and keep the offsets exactly as interpolated.
+  constexpr double kFullTurnDegrees = 1.0;
+  const Eigen::Index count = grid.front.points.rows();
+  RowMatrixX3d leaving = grid.front.points;  // per wall point: itself plus the turned offset
+  std::vector<char> done(static_cast<size_t>(count), 0);
+  for (size_t p = 0; p < patches.size(); ++p) {
+    PatchSurface offsets = patches[p].surface;
+    const int nu = offsets.uPoles, nv = offsets.vPoles;
+    const RowMatrixX3d& poles = blockPoles[p];
+    for (int i = 0; i < nu; ++i) {
+      for (int j = 0; j < nv; ++j) {
+        const Eigen::Index wall = i + static_cast<Eigen::Index>(nu) * j;
+        offsets.poles[static_cast<size_t>(i * nv + j)] =
+            (poles.row(wall + nu * nv) - poles.row(wall)).transpose();
+      }
+    }
+    const std::vector<double> gu = grevilleAbscissae(offsets.uKnots, 3),
+                              gv = grevilleAbscissae(offsets.vKnots, 3);
+    for (int i = 0; i < nu; ++i) {
+      for (int j = 0; j < nv; ++j) {
+        const int id = grid.pointOf[p][static_cast<size_t>(i * nv + j)];
+        if (done[static_cast<size_t>(id)] != 0) continue;
+        done[static_cast<size_t>(id)] = 1;
+        const Vector3d offset = offsets.point(gu[static_cast<size_t>(i)], gv[static_cast<size_t>(j)]);
+        Vector3d normal = grid.front.normals.row(id).transpose();
+        if (grid.front.onSymmetryPlane[static_cast<size_t>(id)] !=
+            0)  // the wall meets the plane at a right angle
+          normal = (normal - normal.dot(planeNormal) * planeNormal).normalized();
+        const Vector3d line = (firstLayer.row(id) - grid.front.points.row(id)).transpose().normalized();
+        const double tilt = std::acos(std::clamp(line.dot(normal), -1.0, 1.0)) * 180.0 / kPi;
+        const double share =
+            grid.corner[static_cast<size_t>(id)] != 0 ? 0.0 : std::min(1.0, tilt / kFullTurnDegrees);
+        leaving.row(id) += (offset + share * (offset.norm() * normal - offset)).transpose();
+      }
+    }
+  }
+  const std::vector<std::vector<Eigen::MatrixXd>> leavingPoles =
+      layerPatchPoles(patches, grid, {grid.front.points, leaving});
+  // Next to a sharp edge the turn can invert a control cell of the first two layers (its line
+  // along the bisector beside lines along the sides' normals), which volumetric subdivision of the
+  // blocks' control mesh refuses or turns into inverted cells: there the turn is halved until no
+  // corner of the cell is flatter than kFairControlCell (or than the marched cell's), per wall
+  // point, so that shared poles stay shared.
+  constexpr double kFairControlCell = 1e-3;
+  constexpr int kHalvings = 4;
+  std::vector<RowMatrixX3d> marched;  // per patch the second pole layer as interpolated, row i + nu j
+  std::vector<RowMatrixX3d> turned;
+  for (size_t p = 0; p < patches.size(); ++p) {
+    const int nu = patches[p].surface.uPoles, nv = patches[p].surface.vPoles;
+    marched.push_back(
+        blockPoles[p].middleRows(static_cast<Eigen::Index>(nu) * nv, static_cast<Eigen::Index>(nu) * nv));
+    RowMatrixX3d& row = turned.emplace_back(static_cast<Eigen::Index>(nu) * nv, 3);
+    for (int i = 0; i < nu; ++i) {
+      for (int j = 0; j < nv; ++j) {
+        const Eigen::Index wall = i + static_cast<Eigen::Index>(nu) * j;
+        row.row(wall) = blockPoles[p].row(wall) +
+                        (leavingPoles[p][1].row(i * nv + j) - leavingPoles[p][0].row(i * nv + j));
+      }
+    }
+  }
+  std::vector<double> share(static_cast<size_t>(count), 1.0);
+  for (bool halved = true; halved;) {  // ends: a cell whose four shares are 0 is the marched one
+    halved = false;
+    for (size_t p = 0; p < patches.size(); ++p) {
+      const int nu = patches[p].surface.uPoles, nv = patches[p].surface.vPoles;
+      const Eigen::Index layer = static_cast<Eigen::Index>(nu) * nv;
+      RowMatrixX3d& poles = blockPoles[p];
+      const auto id = [&](int i, int j) {
+        return static_cast<size_t>(grid.pointOf[p][static_cast<size_t>(i * nv + j)]);
+      };
+      for (int i = 0; i < nu; ++i) {
+        for (int j = 0; j < nv; ++j) {
+          const Eigen::Index wall = i + static_cast<Eigen::Index>(nu) * j;
+          poles.row(layer + wall) =
+              marched[p].row(wall) + share[id(i, j)] * (turned[p].row(wall) - marched[p].row(wall));
+        }
+      }
+      const auto cell = [&](int i, int j, int k, bool asMarched) {
+        std::array<Vector3d, 8> corners;  // 000 100 110 010 001 101 111 011
+        const int di[4] = {0, 1, 1, 0}, dj[4] = {0, 0, 1, 1};
+        for (int c = 0; c < 8; ++c) {
+          const int a = i + di[c % 4], b = j + dj[c % 4], level = k + c / 4;
+          const Eigen::Index wall = a + static_cast<Eigen::Index>(nu) * b;
+          corners[static_cast<size_t>(c)] =
+              (level == 1 && asMarched ? marched[p].row(wall) : poles.row(layer * level + wall)).transpose();
+        }
+        return hexScaledJacobian(corners);
+      };
+      for (int i = 0; i + 1 < nu; ++i) {
+        for (int j = 0; j + 1 < nv; ++j) {
+          for (int k = 0; k < 2; ++k) {
+            if (cell(i, j, k, false) >= std::min(cell(i, j, k, true), kFairControlCell)) continue;
+            for (const auto& [a, b] : {std::pair<int, int>{i, j}, {i + 1, j}, {i + 1, j + 1}, {i, j + 1}}) {
+              share[id(a, b)] = share[id(a, b)] > std::ldexp(1.0, -kHalvings) ? 0.5 * share[id(a, b)] : 0.0;
+            }
+            halved = true;
+          }
+        }
+      }
+    }
+  }
+}
+
 // How many times `coarse` must be refined to have `fine`'s face count (-1: never).
 int refinementSteps(const surface::QuadControlMesh& coarse, const surface::QuadControlMesh& fine) {
   Eigen::Index faces = coarse.faces.rows();
@@ -559,11 +695,10 @@ VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const Volume
   const Eigen::PartialPivLU<Eigen::MatrixXd> wSolver(collocationMatrix(wKnots, w));
   const std::vector<std::vector<Eigen::MatrixXd>> layerPoles = layerPatchPoles(patches, grid, layers.layers);
 
-  std::vector<Block> blocks;
+  std::vector<RowMatrixX3d> blockPoles;  // per patch, pole (i, j, k) at i + nu (j + nv k)
   for (size_t p = 0; p < patches.size(); ++p) {
-    const WallPatch& patch = patches[p];
-    const int nu = patch.surface.uPoles, nv = patch.surface.vPoles;
-    RowMatrixX3d poles(static_cast<Eigen::Index>(nu) * nv * layerCount, 3);
+    const int nu = patches[p].surface.uPoles, nv = patches[p].surface.vPoles;
+    RowMatrixX3d& poles = blockPoles.emplace_back(static_cast<Eigen::Index>(nu) * nv * layerCount, 3);
     Eigen::MatrixXd column(layerCount, 3);
     for (int i = 0; i < nu; ++i) {
       for (int j = 0; j < nv; ++j) {
@@ -576,9 +711,14 @@ VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const Volume
         }
       }
     }
+  }
+  leaveAlongNormals(patches, grid, layers.layers[1], symmetryPlaneNormal(options), blockPoles);
+  std::vector<Block> blocks;
+  for (size_t p = 0; p < patches.size(); ++p) {
+    const WallPatch& patch = patches[p];
     Block block;
-    block.volume = BsplineVolume({3, 3, 3}, {patch.surface.uKnots, patch.surface.vKnots, wKnots}, std::move(poles),
-                                 "block " + std::to_string(p));
+    block.volume = BsplineVolume({3, 3, 3}, {patch.surface.uKnots, patch.surface.vKnots, wKnots},
+                                 std::move(blockPoles[p]), "block " + std::to_string(p));
     block.faces[static_cast<size_t>(BlockFaceSide::WMin)].condition = BoundaryCondition::Wall;
     block.faces[static_cast<size_t>(BlockFaceSide::WMax)].condition =
         outerCondition(result.domain, layerPoles[p].back(), result.farfieldFacesAcrossDomainEdges);
