@@ -23,12 +23,11 @@
 #include <utility>
 
 #include "core/common/errors.h"
+#include "core/common/math_constants.h"
 #include "core/common/occt_errors.h"
 
 namespace bvmesh::cad {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 // Outward normal of `face` at the point of `edge` with edge parameter t; false where the surface
 // is singular there (e.g. a pole).

@@ -7,10 +7,10 @@
 #include <cmath>
 #include <deque>
 
+#include "core/common/math_constants.h"
+
 namespace bvmesh::polyhedron {
 namespace {
-
-constexpr double kPi = 3.14159265358979323846;
 
 struct EdgeGeometry {
   std::array<int, 2> vertices{-1, -1};

@@ -11,11 +11,11 @@
 #include <sstream>
 
 #include "core/common/errors.h"
+#include "core/common/math_constants.h"
 
 namespace bvmesh::polyhedron {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kInfinity = std::numeric_limits<double>::infinity();
 
 enum class EdgeRole { None, Crease, Boundary };

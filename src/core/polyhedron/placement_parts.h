@@ -12,12 +12,11 @@
 #include <string>
 #include <vector>
 
+#include "core/common/math_constants.h"
 #include "core/polyhedron/placement.h"
 #include "core/polyhedron/target_analysis.h"
 
 namespace bvmesh::polyhedron::placement_detail {
-
-constexpr double kPi = 3.14159265358979323846;
 
 using Vec = Eigen::Vector3d;
 

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "core/common/errors.h"
+#include "core/common/math_constants.h"
 #include "core/common/number_text.h"
 
 namespace bvmesh::volume {
@@ -19,7 +20,6 @@ namespace {
 using Eigen::Matrix3d;
 using Eigen::Vector3d;
 
-constexpr double kPi = 3.14159265358979323846;
 // Exponent of the explicit smoothing's growth with the marched share (Chan & Steger's S_l).
 constexpr double kSmoothingGrowthExponent = 0.15;
 // GMRES's budget of iterations for a step's linear system.

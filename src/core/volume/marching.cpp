@@ -15,6 +15,7 @@
 
 #include "core/common/errors.h"
 #include "core/common/input_checks.h"
+#include "core/common/math_constants.h"
 #include "core/common/number_text.h"
 
 namespace bvmesh::volume {
@@ -41,7 +42,6 @@ std::vector<std::vector<int>> neighbours(const MarchingFront& front) {
 
 // Rounds of local smoothing before a poor cell is accepted (if positive) or reported.
 constexpr int kRepairs = 30;
-constexpr double kPi = 3.14159265358979323846;
 // A wall cell turned further than this from a point's normal (or from another cell at the point)
 // makes the point sharp.
 constexpr double kSharpAngle = kPi / 6.0;

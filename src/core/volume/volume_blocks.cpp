@@ -12,6 +12,7 @@
 
 #include "core/common/bspline_basis.h"
 #include "core/common/errors.h"
+#include "core/common/math_constants.h"
 #include "core/common/number_text.h"
 #include "core/surface/limit_bsplines.h"
 #include "core/volume/wall_patches.h"
@@ -20,8 +21,6 @@ namespace bvmesh::volume {
 namespace {
 
 using Eigen::Vector3d;
-
-constexpr double kPi = 3.14159265358979323846;
 
 const char* sideName(ChartSide side) {
   static const char* names[] = {"v_min", "u_max", "v_max", "u_min"};
