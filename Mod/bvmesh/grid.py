@@ -25,7 +25,7 @@ PRESETS = {
     "rans": dict(normal_points=0, y_plus=1.0, growth=1.2, max_spacing_jump=4.0),
 }
 
-METRICS = ("scaled_jacobian", "non_orthogonality", "skewness", "aspect_ratio", "growth_ratio",
+METRICS = ("scaled_jacobian", "non_orthogonality", "skewness", "aspect_ratio", "growth_ratio", "determinant",
            "wall_angle", "first_cell_height")
 
 
@@ -124,8 +124,10 @@ def refine(blocks, preset="euler", method="bspline", steps=None, **options):
 
 def quality(grid):
     """Cell quality of a grid: per-cell numpy arrays (scaled_jacobian, non_orthogonality, skewness,
-    aspect_ratio, growth_ratio, volume, cell_block), wall_angle per wall cell, first_cell_height per
-    wall point, and 'summary' / 'block_summary' (count, min, p01, median, p99, max per metric)."""
+    aspect_ratio, growth_ratio, determinant, volume, cell_block), wall_angle per wall cell,
+    first_cell_height per wall point, and 'summary' / 'block_summary' (count, min, p01, median,
+    p99, max per metric). determinant is OpenFOAM's cell determinant, which checkMesh
+    -allGeometry fails below 1e-3 (thin cells: about 729 (h / a)^4 for an h x a x a cell)."""
     return load_core().grid_quality(_grid_of(grid))
 
 
@@ -160,8 +162,10 @@ def write_histograms(report, path):
     figure, axes = plt.subplots(rows, columns, figsize=(4.2 * columns, 3.2 * rows), squeeze=False)
     for axis, name in zip(axes.flat, names):
         values = np.asarray(report[name])
-        logarithmic = name in ("aspect_ratio", "first_cell_height") and values.min() > 0
-        bins = np.geomspace(values.min(), values.max(), 40) if logarithmic and values.max() > values.min() else 40
+        # Log axes where the values span decades (a rans grid's first heights are all one value).
+        logarithmic = (name in ("aspect_ratio", "determinant", "first_cell_height") and values.min() > 0
+                       and values.max() > 10.0 * values.min())
+        bins = np.geomspace(values.min(), values.max(), 40) if logarithmic else 40
         axis.hist(values, bins=bins, color="#3a6ea5")
         axis.set_yscale("log")
         if logarithmic:
@@ -207,7 +211,7 @@ def write_vtk(grid, path, report=None, force=False):
     if report is None:
         report = load_core().grid_quality(grid)
     fields = {name: report[name] for name in ("scaled_jacobian", "non_orthogonality", "skewness", "aspect_ratio",
-                                               "growth_ratio", "volume")}
+                                               "growth_ratio", "determinant", "volume")}
     fields["block"] = np.asarray(report["cell_block"], dtype=float)
     load_core().write_vtk(grid, str(path), fields, force)
 

@@ -276,7 +276,8 @@ Returns a RefinedGrid.)doc");
           topology.emplace(g);
           cells = quality::measureCellQuality(*topology);
           overall = quality::summarizeQuality(*topology, cells);
-          for (int b = 0; b < g.blockCount(); ++b) blockSummaries.push_back(quality::summarizeQuality(*topology, cells, b));
+          for (int b = 0; b < g.blockCount(); ++b)
+            blockSummaries.push_back(quality::summarizeQuality(*topology, cells, b));
         }
         py::dict result;
         result["scaled_jacobian"] = valuesArray(cells.scaledJacobian);
@@ -284,6 +285,7 @@ Returns a RefinedGrid.)doc");
         result["skewness"] = valuesArray(cells.skewness);
         result["aspect_ratio"] = valuesArray(cells.aspectRatio);
         result["growth_ratio"] = valuesArray(cells.growthRatio);
+        result["determinant"] = valuesArray(cells.determinant);
         result["volume"] = valuesArray(cells.volume);
         result["wall_angle"] = valuesArray(cells.wallAngle);
         result["first_cell_height"] = valuesArray(cells.firstCellHeight);
@@ -300,7 +302,9 @@ Returns a RefinedGrid.)doc");
       },
       py::arg("grid"),
       "Cell quality: per cell (block by block, i fastest) scaled_jacobian, non_orthogonality (degrees, "
-      "OpenFOAM's), skewness (OpenFOAM's), aspect_ratio, growth_ratio, volume; per wall point wall_angle "
+      "OpenFOAM's), skewness (OpenFOAM's), aspect_ratio, growth_ratio, determinant (OpenFOAM's cell "
+      "determinant: "
+      "checkMesh -allGeometry fails a cell below 1e-3), volume; per wall point wall_angle "
       "(degrees) and first_cell_height; 'summary' and 'block_summary' (min / p01 / median / p99 / max).");
 
   module.def(

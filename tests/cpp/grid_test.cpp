@@ -812,6 +812,30 @@ TEST(CellQuality, UnitCubesAndShearedCellsAgainstHandValues) {
   EXPECT_NEAR(summary[1].max, lean, 1e-9);
 }
 
+// OpenFOAM's cell determinant on 3 x 3 x 3 cells of 1 x 1 x h: the middle cell has six internal
+// faces, sum of a a^T = diag(2 h^2, 2 h^2, 2) over mean |a| = (2 + 4 h) / 6 squared; a corner cell
+// has one internal face per direction (half of that sum); a one-cell stack sees one direction only.
+TEST(CellQuality, CellDeterminantIsOpenFoamsOnThinAndCubicCells) {
+  for (const double h : {1.0, 0.1}) {
+    std::vector<Vector3d> points;
+    for (int k = 0; k < 4; ++k) {
+      for (int j = 0; j < 4; ++j) {
+        for (int i = 0; i < 4; ++i) points.emplace_back(i, j, h * k);
+      }
+    }
+    const StructuredGrid grid = cellGrid(points, {4, 4, 4});
+    const HexTopology topology(grid);
+    const quality::CellQuality q = quality::measureCellQuality(topology);
+    const double mean = (2.0 + 4.0 * h) / 6.0;
+    const double middle = std::pow(h, 4) / std::pow(mean, 6);
+    EXPECT_NEAR(q.determinant[1 + 3 * (1 + 3 * 1)], middle, 1e-12 * middle);
+    EXPECT_NEAR(q.determinant[0], middle / 8.0, 1e-12 * middle);
+  }
+  const StructuredGrid stack = cellGrid(shearedStack(0.0, 2), {2, 2, 3});
+  const HexTopology stackTopology(stack);
+  for (double d : quality::measureCellQuality(stackTopology).determinant) EXPECT_NEAR(d, 0.0, 1e-15);
+}
+
 TEST(CellQuality, InvertedCellIsRefusedWithItsPlace) {
   std::vector<Vector3d> points = shearedStack(0.0, 2);
   points[9] = Vector3d(0.5, 0.0, -0.5);  // corner (1, 0, 2) pulled down through the first cell's top

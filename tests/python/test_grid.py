@@ -117,6 +117,23 @@ class SphereGrids(unittest.TestCase):
         self.assertIn("Face pyramids OK.", output)
         self.assertIn("Non-orthogonality check OK.", output)
 
+    def test_cell_determinant_is_checkmeshs(self):
+        # The rans grid's thin wall cells are what checkMesh -allGeometry fails as small
+        # determinants: its minimum, mean and count below 1e-3 are ours.
+        case = os.path.join(self.folder.name, "rans_determinant")
+        bvmesh.grid.write_openfoam(self.rans, case)
+        output = check_mesh(case)
+        found = re.search(r"Cell determinant \(wellposedness\) : minimum: ([0-9.eE+-]+) average: ([0-9.eE+-]+)", output)
+        self.assertIsNotNone(found, output)
+        determinant = bvmesh.grid.quality(self.rans)["determinant"]
+        # (The minimum, 3e-13, is a determinant of near-singular tensors of entries about 1: both
+        # sides carry rounding of about 1e-16 there.)
+        self.assertAlmostEqual(determinant.min(), float(found.group(1)), delta=1e-15)
+        self.assertAlmostEqual(determinant.mean() / float(found.group(2)), 1.0, delta=1e-9)
+        small = re.search(r"Cells with small determinant \(< 0.001\) found, number of cells: (\d+)", output)
+        self.assertIsNotNone(small, output)
+        self.assertEqual(int((determinant < 1e-3).sum()), int(small.group(1)))
+
     def test_quality_report_and_histograms(self):
         report = bvmesh.grid.quality(self.euler)
         summary = report["summary"]
@@ -127,6 +144,7 @@ class SphereGrids(unittest.TestCase):
         self.assertEqual(len(report["block_summary"]), self.euler.grid.block_count)
         table = bvmesh.grid.quality_table(report)
         self.assertIn("| scaled_jacobian |", table)
+        self.assertIn("| determinant |", table)
         path = os.path.join(self.folder.name, "quality.png")
         bvmesh.grid.write_histograms(report, path)
         with open(path, "rb") as image:
@@ -205,6 +223,8 @@ class SphereGrids(unittest.TestCase):
             cells = block.GetNumberOfCells()
             jacobian = vtk_to_numpy(block.GetCellData().GetArray("scaled_jacobian"))
             np.testing.assert_array_equal(jacobian, report["scaled_jacobian"][start:start + cells])
+            determinant = vtk_to_numpy(block.GetCellData().GetArray("determinant"))
+            np.testing.assert_array_equal(determinant, report["determinant"][start:start + cells])
             self.assertTrue(np.all(vtk_to_numpy(block.GetCellData().GetArray("block")) == b))
             start += cells
         self.assertEqual(start, grid.cell_count)

@@ -3,6 +3,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -137,8 +138,14 @@ CellQuality measureCellQuality(const grid::HexTopology& topology) {
     }
   });
   auto worsen = [](double& slot, double value) { slot = std::max(slot, value); };
+  // Per cell over its internal faces: the sum of a a^T (xx, yy, zz, xy, xz, yz) and of |a| (area
+  // vectors a), and their count.
+  std::vector<std::array<double, 6>> areaTensor(static_cast<size_t>(cells), std::array<double, 6>{});
+  std::vector<double> areaSum(static_cast<size_t>(cells), 0.0);
+  std::vector<int> internalFaces(static_cast<size_t>(cells), 0);
   topology.forEachInternalFace([&](const grid::HexFace& face) {
     const FaceGeometry geometry = faceGeometry(points, face.points);
+    const Vector3d& a = geometry.area;
     const Vector3d& own = centres[static_cast<size_t>(face.owner)];
     const Vector3d d = centres[static_cast<size_t>(face.neighbour)] - own;
     const double cosine = geometry.area.dot(d) / (geometry.area.norm() * d.norm() + kRootVSmall);
@@ -151,8 +158,22 @@ CellQuality measureCellQuality(const grid::HexTopology& topology) {
       worsen(quality.nonOrthogonality[static_cast<size_t>(cell)], angle);
       worsen(quality.skewness[static_cast<size_t>(cell)], skew);
       worsen(quality.growthRatio[static_cast<size_t>(cell)], growth);
+      std::array<double, 6>& t = areaTensor[static_cast<size_t>(cell)];
+      t[0] += a.x() * a.x(), t[1] += a.y() * a.y(), t[2] += a.z() * a.z();
+      t[3] += a.x() * a.y(), t[4] += a.x() * a.z(), t[5] += a.y() * a.z();
+      areaSum[static_cast<size_t>(cell)] += a.norm();
+      ++internalFaces[static_cast<size_t>(cell)];
     }
   });
+  quality.determinant.assign(static_cast<size_t>(cells), 0.0);
+  for (size_t c = 0; c < quality.determinant.size(); ++c) {
+    if (internalFaces[c] == 0 || !(areaSum[c] > 0.0)) continue;
+    const double meanArea = areaSum[c] / internalFaces[c];
+    const std::array<double, 6>& t = areaTensor[c];
+    Eigen::Matrix3d tensor;
+    tensor << t[0], t[3], t[4], t[3], t[1], t[5], t[4], t[5], t[2];
+    quality.determinant[c] = std::abs((tensor / (meanArea * meanArea)).determinant()) / 8.0;
+  }
   topology.forEachBoundaryFace([&](size_t, const grid::HexFace& face) {
     const FaceGeometry geometry = faceGeometry(points, face.points);
     const Vector3d& own = centres[static_cast<size_t>(face.owner)];
@@ -206,7 +227,8 @@ std::vector<MetricSummary> summarizeQuality(const grid::HexTopology& topology, c
                                     summary("non_orthogonality", slice(quality.nonOrthogonality)),
                                     summary("skewness", slice(quality.skewness)),
                                     summary("aspect_ratio", slice(quality.aspectRatio)),
-                                    summary("growth_ratio", slice(quality.growthRatio))};
+                                    summary("growth_ratio", slice(quality.growthRatio)),
+                                    summary("determinant", slice(quality.determinant))};
   if (all && !quality.wallAngle.empty()) {
     result.push_back(summary("wall_angle", quality.wallAngle));
     result.push_back(summary("first_cell_height", quality.firstCellHeight));
