@@ -162,12 +162,26 @@ def _recompute(obj):
         raise RuntimeError("{} was not computed: {}".format(obj.Label, cause))
 
 
+def _refusing(obj, change):
+    """change(), raising ValueError with the first change obj's proxy refused (it puts back a list
+    given for an enumeration, which in FreeCAD replaces its choices, and says so in the Report view
+    only)."""
+    proxy = obj.Proxy
+    proxy.refused = []
+    try:
+        change()
+    finally:
+        refused, proxy.refused = proxy.refused, None
+    if refused:
+        raise ValueError(refused[0])
+
+
 def _change_and_recompute(obj, names, change):
     """change(), then a recompute; on a failure the properties `names` of obj get their values
     back and the document is recomputed, so that a failed call leaves it as it was."""
     saved = {name: getattr(obj, name) for name in names}
     try:
-        change()
+        _refusing(obj, change)
         _recompute(obj)
     except Exception:
         for name, value in saved.items():
@@ -180,7 +194,7 @@ def _change_and_recompute(obj, names, change):
 def _new_object(create, doc, name, fill):
     obj = create(doc, name)
     try:
-        fill(obj)
+        _refusing(obj, lambda: fill(obj))
         _attach_view_provider(obj)
         _recompute(obj)
     except Exception:

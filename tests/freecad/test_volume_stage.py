@@ -18,6 +18,12 @@ from console_capture import console_errors
 RADIUS = 1.0
 
 
+def enumerations(objects):
+    """{(object name, property): (choices, value)} of the objects' enumeration properties."""
+    return {(obj.Name, prop): (obj.getEnumerationsOfProperty(prop), getattr(obj, prop)) for obj in objects
+            for prop in obj.PropertiesList if obj.getTypeIdOfProperty(prop) == "App::PropertyEnumeration"}
+
+
 def sphere_fit(doc):
     ball = doc.addObject("Part::Feature", "Ball")
     ball.Shape = Part.makeSphere(RADIUS)
@@ -246,6 +252,161 @@ class VolumeObjects(unittest.TestCase):
         finally:
             self.doc.removeObject(cut.Name)
         self.assertTrue(all(o.isValid() and "Touched" not in o.State for o in self.doc.Objects))
+
+    def enumerated_objects(self):
+        """A cut and an export beside the fit, volume mesh and grid: every BVMesh feature with an
+        enumeration, and {(object, property): (choices, value)} of those enumerations."""
+        cut = api.make_grid_cut(self.grid, point=(0.0, 0.3, 0.0), normal=(0.0, 1.0, 0.0), metric="skewness")
+        export = api.export_grid(self.grid, os.path.join(self.folder, "choices.cgns"), name="Export")
+        objects = (self.fit, self.volume, self.grid, cut, export)
+        return objects, enumerations(objects)
+
+    def test_a_list_assigned_to_an_enumeration_is_refused(self):
+        # In FreeCAD, assigning a list to an enumeration replaces its choices instead of setting
+        # its value: a typo (grid.Preset = ["rans"]) or a macro changed what the property offered
+        # and what the recompute read (the first of the new choices), without a word.
+        objects, before = self.enumerated_objects()
+        cut, export = objects[3:]
+        results = (self.fit.MaxDistance, self.volume.Digest, self.grid.Digest, cut.SegmentCount, export.Written)
+        names = [o.Name for o in self.doc.Objects]
+        try:
+            self.assertEqual(sorted(before), [("Export", "Format"), ("Export", "Solver"), ("GridCut", "Metric"),
+                                              ("SurfaceFit", "Solver"), ("VolumeGrid", "Distribution"),
+                                              ("VolumeGrid", "Method"), ("VolumeGrid", "Preset"),
+                                              ("VolumeMesh", "Domain"), ("VolumeMesh", "FarfieldScheme")])
+            for (name, prop), (choices, value) in before.items():
+                obj = self.doc.getObject(name)
+                other = next(choice for choice in choices if choice != value)
+                for given in ([other], [value, "typo"], list(reversed(choices)), []):
+                    with console_errors() as errors:
+                        setattr(obj, prop, given)
+                    self.assertEqual((obj.getEnumerationsOfProperty(prop), getattr(obj, prop)), (choices, value))
+                    self.assertIn("BVMesh: {}.{} takes one of {} as its value; a list would replace these choices "
+                                  "(given: [{}]), refused: its choices are kept and its value stays {}\n".format(
+                                      name, prop, ", ".join(choices), ", ".join(given), value), "".join(errors))
+                # A value is still set by name.
+                with console_errors() as errors:
+                    setattr(obj, prop, other)
+                    setattr(obj, prop, value)
+                self.assertNotIn("BVMesh", "".join(errors))
+            # Through the API: raised, the object as it was, no object added.
+            with self.assertRaisesRegex(ValueError, r"VolumeGrid.Preset takes one of euler, rans as its value; a list "
+                                                    r"would replace these choices \(given: \[rans\]\), refused"):
+                api.set_grid_options(self.grid, preset=["rans"])
+            with self.assertRaisesRegex(ValueError, r"GridCut\d*.Metric takes one of block, .* \(given: \[block\]\)"):
+                api.make_grid_cut(self.grid, point=(0.0, 0.3, 0.0), normal=(0.0, 1.0, 0.0), metric=["block"])
+            self.assertEqual([o.Name for o in self.doc.Objects], names)
+            self.assertEqual(enumerations(objects), before)
+            self.doc.recompute()
+            self.assertEqual((self.fit.MaxDistance, self.volume.Digest, self.grid.Digest, cut.SegmentCount,
+                              export.Written), results)
+            self.assertTrue(all(o.isValid() and "Touched" not in o.State for o in self.doc.Objects))
+        finally:
+            for obj in (cut, export):
+                self.doc.removeObject(obj.Name)
+
+    def test_a_file_with_changed_choices_comes_back_with_the_features_own(self):
+        # FreeCAD keeps an enumeration's choices in the file and its value as an index into them:
+        # a damaged or edited Document.xml gave the object other choices and, through the index,
+        # another value. The value is now saved by name with the proxy as well.
+        import base64
+        import json
+        import re
+        import zipfile
+
+        objects, before = self.enumerated_objects()
+        try:
+            self.assertEqual(before[("VolumeMesh", "FarfieldScheme")], (["smoothed", "hyperbolic"], "hyperbolic"))
+            self.assertEqual(before[("GridCut", "Metric")][1], "skewness")
+            with console_errors():  # refused, as above
+                for (name, prop), (_, value) in before.items():
+                    setattr(self.doc.getObject(name), prop, [value, "typo"])
+            self.doc.recompute()
+            path = os.path.join(self.folder, "choices.FCStd")
+            self.doc.saveCopy(path)
+        finally:
+            for obj in objects[3:]:
+                self.doc.removeObject(obj.Name)
+        with zipfile.ZipFile(path) as intact:
+            members = {name: intact.read(name) for name in intact.namelist()}
+        xml = members["Document.xml"].decode()
+
+        def edit(xml, name, prop, change):
+            data = xml.index('<Object name="{}">'.format(name), xml.index("<ObjectData"))
+            start = xml.index('<Property name="{}"'.format(prop), data)
+            end = xml.index("</Property>", start)
+            return xml[:start] + change(xml[start:end]) + xml[end:]
+
+        def without_saved_values(text):  # as a file written before the values were saved
+            def strip(match):
+                state = json.loads(base64.b64decode(match.group(1)))
+                del state["enumerations"]
+                return 'value="{}"'.format(base64.b64encode(json.dumps(state).encode()).decode())
+
+            return re.sub(r'value="([^"]+)"', strip, text)
+
+        for name, prop, change in (
+                ("SurfaceFit", "Solver", lambda text: re.sub(r"<CustomEnumList.*</CustomEnumList>", "", text,
+                                                             flags=re.S).replace(' CustomEnum="true"', "")),
+                ("VolumeMesh", "Domain", lambda text: text.replace('"sphere"', '"zz"')),
+                # An older version's choices, fewer than the feature's: put back without a word.
+                ("VolumeMesh", "FarfieldScheme", lambda text: text.replace('<Enum value="smoothed"/>', "").replace(
+                    'count="2"', 'count="1"').replace('Integer value="1"', 'Integer value="0"')),
+                ("VolumeGrid", "Method", lambda text: text.replace('"bspline"', '"swap"').replace(
+                    '"subdivision"', '"bspline"').replace('"swap"', '"subdivision"')),
+                ("Export", "Format", lambda text: text.replace('Integer value="0"', 'Integer value="3"')),
+                ("GridCut", "Metric", lambda text: re.sub(r'<Enum value="(\w+)"/>', r'<Enum value="\1_"/>', text)),
+                ("GridCut", "Proxy", without_saved_values)):
+            xml = edit(xml, name, prop, change)
+        damaged = os.path.join(self.folder, "choices_damaged.FCStd")
+        with zipfile.ZipFile(damaged, "w") as file:
+            for member, data in dict(members, **{"Document.xml": xml.encode()}).items():
+                file.writestr(member, data)
+
+        def reopen(file_path):
+            with console_errors() as errors:
+                doc = FreeCAD.openDocument(file_path)
+            return doc, "".join(errors)
+
+        doc, errors = reopen(path)
+        try:
+            self.assertNotIn("BVMesh", errors)
+            self.assertEqual(enumerations([doc.getObject(name) for name, _ in before]), before)
+        finally:
+            FreeCAD.closeDocument(doc.Name)
+        doc, errors = reopen(damaged)
+        try:
+            self.assertEqual(enumerations([doc.getObject(name) for name, _ in before]),
+                             {**before, ("GridCut", "Metric"): (before[("GridCut", "Metric")][0], "block")})
+            came_back = "BVMesh: {} came back from the file with {} (the file is damaged or was edited): its own " \
+                        "choices {} are put back, {}\n"
+            for name, prop, what, value in (
+                    ("SurfaceFit", "Solver", "the choices [] and no value",
+                     "with the value cholesky saved with the object"),
+                    ("VolumeMesh", "Domain", "the choices [zz, box, cylinder, cad] and the value zz",
+                     "with the value sphere saved with the object"),
+                    ("VolumeGrid", "Method", "the choices [subdivision, bspline] and the value subdivision",
+                     "with the value bspline saved with the object"),
+                    ("Export", "Format", "the value plot3d", "with the value cgns saved with the object"),
+                    ("GridCut", "Metric", "the choices [{}] and the value skewness_".format(
+                        ", ".join(choice + "_" for choice in before[("GridCut", "Metric")][0])),
+                     "but the value it held is lost: it is block until it is set again, and GridCut does not "
+                     "recompute until then")):
+                self.assertIn(came_back.format(name + "." + prop, what, ", ".join(before[(name, prop)][0]), value),
+                              errors)
+            self.assertEqual(errors.count("BVMesh"), 5)
+            # The cut, whose value is lost, refuses to recompute until it is set again; the rest is
+            # as it was saved.
+            doc.recompute()
+            cut = doc.getObject("GridCut")
+            self.assertFalse(cut.isValid())
+            self.assertIn("Metric of GridCut came back from the file lost", cut.Proxy.error)
+            self.assertEqual([o.Name for o in doc.Objects if not o.isValid() or "Touched" in o.State], ["GridCut"])
+            cut.Metric = "skewness"
+            doc.recompute()
+            self.assertTrue(all(o.isValid() and "Touched" not in o.State for o in doc.Objects))
+        finally:
+            FreeCAD.closeDocument(doc.Name)
 
     def test_span_station_cut_of_a_body_without_symmetry_plane(self):
         point, normal = api.span_station(self.grid, 0.5)

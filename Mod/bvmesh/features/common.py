@@ -57,6 +57,10 @@ def describe_path(path):
     return " -> ".join(obj.Label for obj in path)
 
 
+def describe_choices(choices):
+    return "[{}]".format(", ".join(choices))
+
+
 def property_sizes(obj):
     """{property: size} of obj: the length of a list or string, 0 or 1 for a null or other shape,
     None for the rest (links too: reading a PropertyLinkSubList that holds a deleted object kills
@@ -84,7 +88,7 @@ class Proxy:
     properties. The recompute makes lost results again and refuses to run while an input is lost.
     A link that would make a dependency cycle is refused (FreeCAD 0.20 takes one, and every
     recompute then runs the objects on it again in two passes and leaves one touched, without an
-    error)."""
+    error), and so is a list assigned to an enumeration (add_enumeration)."""
 
     Type = None
 
@@ -101,7 +105,8 @@ class Proxy:
         saved = getattr(self, "_saved_sizes", None) or {}
         restored = property_sizes(obj)
         lost = {name: size for name, size in saved.items() if name not in restored or restored[name] != size}
-        self.setup(obj)
+        self.setup(obj)  # add_enumeration puts back choices the file changed
+        self._saved_enumerations = None
         self.attach_view_provider(obj)
         if lost:
             self.report_losses(obj, lost, restored)
@@ -117,7 +122,7 @@ class Proxy:
                 return "{} (empty)".format(name)
             return "{} ({} of its {} values)".format(name, restored[name], lost[name])
 
-        self._lost = set(lost)
+        self._lost = getattr(self, "_lost", set()) | set(lost)
         inputs = self.lost_inputs(obj)
         advice = ("set {} again or open an intact copy: {} does not recompute until then".format(
             ", ".join(inputs), obj.Label) if inputs else "a recompute makes them again")
@@ -149,13 +154,74 @@ class Proxy:
                 obj.ViewObject.Visibility = obj.Name in shown.split()
                 view_providers.fit_view_once(obj.Document)
 
+    def add_enumeration(self, obj, name, group, doc, choices, default):
+        """Adds enumeration property `name` with the feature's own `choices`, set to `default`,
+        unless it exists, and keeps those choices. In FreeCAD, assigning a list to an enumeration
+        (`obj.Method = ["bspline"]`) replaces its choices instead of setting its value; onChanged
+        puts them back, with the value the property had, and says so in the Report view. On a
+        restored object (setup from onDocumentRestored), choices the file changed are put back,
+        with the value saved with the proxy (by name, FreeCAD keeps an index into the choices), else
+        the restored one if it is one of them: an error names what came back. Choices that are
+        some of the feature's own are those of an older version, put back without a word. A value
+        that cannot be told is set to `default` and the object refuses to recompute until it is
+        set again, as an input lost from the file."""
+        choices = list(choices)
+        if not hasattr(self, "_choices"):
+            self._choices = {}
+        if name not in obj.PropertiesList:
+            obj.addProperty("App::PropertyEnumeration", name, group, doc)
+            setattr(obj, name, choices)
+            setattr(obj, name, default)
+            self._choices[name] = (choices, default)
+            return
+        self._choices[name] = (choices, default)
+        given, value = list(obj.getEnumerationsOfProperty(name)), getattr(obj, name)
+        saved = (getattr(self, "_saved_enumerations", None) or {}).get(name)
+        kept = saved if saved in choices else value if value in choices else None
+        if given == choices and kept is not None and value == kept:
+            return
+        self._put_back_choices(obj, name, choices, default if kept is None else kept)
+        if kept is not None and value == kept and set(given) <= set(choices):
+            return
+        import FreeCAD
+
+        told = ["the choices " + describe_choices(given)] if given != choices else []
+        if value != kept:
+            told.append("no value" if value is None else "the value {}".format(value))
+        message = "BVMesh: {}.{} came back from the file with {} (the file is damaged or was edited): its own " \
+            "choices {} are put back".format(obj.Label, name, " and ".join(told), ", ".join(choices))
+        if kept is None:
+            self._lost = getattr(self, "_lost", set()) | {name}
+            message += (", but the value it held is lost: it is {} until it is set again, and {} does not recompute "
+                        "until then".format(default, obj.Label))
+        else:
+            message += ", with the value {}{}".format(kept, " saved with the object" if kept != value else "")
+        FreeCAD.Console.PrintError(message + "\n")
+
+    def _put_back_choices(self, obj, name, choices, value):
+        putting_back, self._putting_back = getattr(self, "_putting_back", False), True
+        try:
+            setattr(obj, name, choices)
+            setattr(obj, name, value)
+        finally:
+            self._putting_back = putting_back
+
     def onBeforeChange(self, obj, prop):
-        # The value onChanged puts back. PropertyLink only: reading a PropertyLinkSubList that
-        # holds a deleted object kills FreeCAD 0.20 (those are checked by the API and on recompute).
-        if not getattr(self, "_putting_back", False) and obj.getTypeIdOfProperty(prop) == "App::PropertyLink":
+        # The value onChanged puts back: an enumeration's, a link's. PropertyLink only: reading a
+        # PropertyLinkSubList that holds a deleted object kills FreeCAD 0.20 (those are checked by
+        # the API and on recompute).
+        if getattr(self, "_putting_back", False):
+            return
+        if prop in getattr(self, "_choices", {}):
+            self._choice_before = (prop, getattr(obj, prop))
+        elif obj.getTypeIdOfProperty(prop) == "App::PropertyLink":
             self._link_before = (prop, getattr(obj, prop))
 
     def onChanged(self, obj, prop):
+        if getattr(self, "_putting_back", False):
+            return
+        if prop in getattr(self, "_choices", {}) and self._refuse_new_choices(obj, prop):
+            return
         getattr(self, "_lost", set()).discard(prop)
         before, self._link_before = getattr(self, "_link_before", None), None
         if before is None or before[0] != prop or obj.Document.Restoring:
@@ -175,6 +241,30 @@ class Proxy:
         FreeCAD.Console.PrintError(
             "BVMesh: {}.{} cannot link {}, which depends on it ({}): a dependency cycle; {} is kept\n".format(
                 obj.Label, prop, linked.Label, describe_path(path), previous.Label if previous else "no link"))
+
+    def _refuse_new_choices(self, obj, prop):
+        """Puts back the feature's own choices of enumeration `prop` when a change replaced them,
+        with its value before the change (else the one it has now, or the default)."""
+        before, self._choice_before = getattr(self, "_choice_before", None), None
+        if obj.Document.Restoring:
+            return False
+        choices, default = self._choices[prop]
+        given = list(obj.getEnumerationsOfProperty(prop))
+        if given == choices:
+            return False
+        previous = before[1] if before is not None and before[0] == prop else None
+        current = getattr(obj, prop)
+        value = previous if previous in choices else current if current in choices else default
+        self._put_back_choices(obj, prop, choices, value)
+        import FreeCAD
+
+        message = ("{}.{} takes one of {} as its value; a list would replace these choices (given: {}), refused: its "
+                   "choices are kept and its value stays {}".format(obj.Label, prop, ", ".join(choices),
+                                                                     describe_choices(given), value))
+        FreeCAD.Console.PrintError("BVMesh: {}\n".format(message))
+        if getattr(self, "refused", None) is not None:  # the API raises it (bvmesh.api._refusing)
+            self.refused.append(message)
+        return True
 
     def execute(self, obj):
         # FreeCAD only prints a failed recompute; keep the message for the API to raise.
@@ -199,13 +289,18 @@ class Proxy:
 
     def __getstate__(self):
         try:
-            return {"type": self.Type, "sizes": property_sizes(self._object)}
+            obj = self._object
+            # The enumerations' values by name: the file keeps an index into their choices.
+            return {"type": self.Type, "sizes": property_sizes(obj),
+                    "enumerations": {name: getattr(obj, name) for name in getattr(self, "_choices", {})
+                                     if name in obj.PropertiesList}}
         except (AttributeError, ReferenceError):  # no object yet, or a deleted one
             return self.Type
 
     def __setstate__(self, state):
         # A document saved before the sizes were kept stores the type name alone.
         self._saved_sizes = state.get("sizes") if isinstance(state, dict) else None
+        self._saved_enumerations = state.get("enumerations") if isinstance(state, dict) else None
         return None
 
     # FreeCAD 0.20 looks for these names.

@@ -33,10 +33,7 @@ class GridCutProxy(Proxy):
         if "Normal" not in obj.PropertiesList:
             add_property(obj, "App::PropertyVector", "Normal", "Cut", "Normal of the cut plane")
             obj.Normal = FreeCAD.Vector(0, 1, 0)
-        if "Metric" not in obj.PropertiesList:
-            obj.addProperty("App::PropertyEnumeration", "Metric", "Cut", "What colours the grid lines")
-            obj.Metric = METRICS
-            obj.Metric = "block"
+        self.add_enumeration(obj, "Metric", "Cut", "What colours the grid lines", METRICS, "block")
         r = "Result"
         add_property(obj, "App::PropertyInteger", "SegmentCount", r, "Grid-line segments in the cut", mode=READ_ONLY)
         add_property(obj, "App::PropertyFloatList", "SegmentValues", r,

@@ -117,10 +117,7 @@ class ExportProxy(Proxy):
 
     def setup(self, obj):
         add_property(obj, "App::PropertyLink", "Source", "Export", "The volume grid (or volume mesh) to write")
-        if "Format" not in obj.PropertiesList:
-            obj.addProperty("App::PropertyEnumeration", "Format", "Export", "File format")
-            obj.Format = list(FORMATS)
-            obj.Format = "cgns"
+        self.add_enumeration(obj, "Format", "Export", "File format", FORMATS, "cgns")
         add_property(obj, "App::PropertyString", "Path", "Export",
                      "File (or OpenFOAM case directory) written on recompute")
         add_property(obj, "App::PropertyBool", "Force", "Export",
@@ -128,12 +125,11 @@ class ExportProxy(Proxy):
         add_property(obj, "App::PropertyString", "Written", "Result", "Digest of the grid last written",
                      mode=READ_ONLY)
         for name, (_, type_name, default, tooltip) in FLOW_CASE_PROPERTIES.items():
-            if name in obj.PropertiesList:
-                continue  # a restored document keeps its values
-            obj.addProperty(type_name, name, FLOW_CASE_GROUP, tooltip)
-            if type_name == "App::PropertyEnumeration":
-                setattr(obj, name, list(openfoam_case.SOLVERS))
-            setattr(obj, name, default)
+            if type_name == "App::PropertyEnumeration":  # the solver
+                self.add_enumeration(obj, name, FLOW_CASE_GROUP, tooltip, openfoam_case.SOLVERS, default)
+            elif name not in obj.PropertiesList:  # a restored document keeps its values
+                obj.addProperty(type_name, name, FLOW_CASE_GROUP, tooltip)
+                setattr(obj, name, default)
         self.show_flow_case(obj)
 
     @staticmethod

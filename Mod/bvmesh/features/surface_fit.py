@@ -79,10 +79,7 @@ class SurfaceFitProxy(Proxy):
                      "Parameter-correction passes per level at most", 4)
         add_property(obj, "App::PropertyFloat", "StagnationRatio", p,
                      "A pass not below this fraction of the previous max distance ends the level", 0.9)
-        if "Solver" not in obj.PropertiesList:
-            obj.addProperty("App::PropertyEnumeration", "Solver", p, "Least-squares solver")
-            obj.Solver = SOLVERS
-            obj.Solver = "cholesky"
+        self.add_enumeration(obj, "Solver", p, "Least-squares solver", SOLVERS, "cholesky")
         for kind in ("Smooth", "Crease", "Boundary", "Corner"):
             add_property(obj, "App::PropertyFloat", "Weight" + kind, p,
                          "Least-squares weight of {} samples".format(kind.lower()), 1.0)

@@ -127,24 +127,17 @@ class VolumeGridProxy(RecomputedProxy):
 
     def setup(self, obj):
         add_property(obj, "App::PropertyLink", "VolumeMesh", "Inputs", "The volume mesh whose blocks are evaluated")
-        if "Preset" not in obj.PropertiesList:
-            obj.addProperty("App::PropertyEnumeration", "Preset", "Refinement",
-                            "euler: no wall clustering; rans: first cell for y+ ~ 1 (flat-plate estimate)")
-            obj.Preset = PRESETS
-            obj.Preset = "euler"
-        if "Method" not in obj.PropertiesList:
-            obj.addProperty("App::PropertyEnumeration", "Method", "Refinement",
-                            "bspline: the blocks evaluated with the wall law; subdivision: volumetric "
-                            "Catmull-Clark of the fit's control mesh marched (wall on the fitted surface, "
-                            "no wall clustering)")
-            obj.Method = METHODS
-            obj.Method = "bspline"
+        self.add_enumeration(obj, "Preset", "Refinement",
+                             "euler: no wall clustering; rans: first cell for y+ ~ 1 (flat-plate estimate)",
+                             PRESETS, "euler")
+        self.add_enumeration(obj, "Method", "Refinement",
+                             "bspline: the blocks evaluated with the wall law; subdivision: volumetric "
+                             "Catmull-Clark of the fit's control mesh marched (wall on the fitted surface, "
+                             "no wall clustering)", METHODS, "bspline")
         for prop, _, type_name, default, doc in SUBDIVISION_OPTIONS:
             add_property(obj, type_name, prop, "Refinement", doc, default)
-        if "Distribution" not in obj.PropertiesList:
-            obj.addProperty("App::PropertyEnumeration", "Distribution", "Refinement", "Wall-normal point distribution")
-            obj.Distribution = DISTRIBUTIONS
-            obj.Distribution = "geometric"
+        self.add_enumeration(obj, "Distribution", "Refinement", "Wall-normal point distribution", DISTRIBUTIONS,
+                             "geometric")
         restored = "Digest" in obj.PropertiesList  # an object of a saved document, or a new one
         for prop, _, type_name, default, doc in OPTIONS:
             add_property(obj, type_name, prop, "Refinement", doc, RESTORED_WITHOUT.get(prop, default) if restored else default)

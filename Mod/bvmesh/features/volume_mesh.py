@@ -164,23 +164,15 @@ class VolumeMeshProxy(RecomputedProxy):
                      "wall faces)", -1)
         for prop, _, type_name, default, doc in OPTIONS:
             add_property(obj, type_name, prop, "Marching", doc, default)
-        if "Domain" not in obj.PropertiesList:
-            obj.addProperty("App::PropertyEnumeration", "Domain", "Marching",
-                            "Outer boundary: sphere (half sphere on a symmetry plane), box or cylinder along the "
-                            "flow, or cad: the flow domain the target's CAD holds")
-            obj.Domain = DOMAINS
-            obj.Domain = "sphere"
-        elif obj.getEnumerationsOfProperty("Domain") != DOMAINS:  # a document saved before 'cad'
-            kept = obj.Domain
-            obj.Domain = DOMAINS
-            obj.Domain = kept
-        if "FarfieldScheme" not in obj.PropertiesList:
-            obj.addProperty("App::PropertyEnumeration", "FarfieldScheme", "Marching",
-                            "Far-field marching: hyperbolic, Chan & Steger's orthogonality and cell-volume "
-                            "equations, or smoothed directions (2-5 times faster, poorer far-field cells)")
-            obj.FarfieldScheme = FARFIELD_SCHEMES
-            # The scheme of documents saved before the property (create() gives new meshes the default).
-            obj.FarfieldScheme = "smoothed"
+        # A document saved before 'cad' gains it.
+        self.add_enumeration(obj, "Domain", "Marching",
+                             "Outer boundary: sphere (half sphere on a symmetry plane), box or cylinder along the "
+                             "flow, or cad: the flow domain the target's CAD holds", DOMAINS, "sphere")
+        # "smoothed": the scheme of documents saved before the property (create() gives new meshes the default).
+        self.add_enumeration(obj, "FarfieldScheme", "Marching",
+                             "Far-field marching: hyperbolic, Chan & Steger's orthogonality and cell-volume "
+                             "equations, or smoothed directions (2-5 times faster, poorer far-field cells)",
+                             FARFIELD_SCHEMES, "smoothed")
         for prop, _, default, doc in VECTORS:
             if prop not in obj.PropertiesList:
                 import FreeCAD
