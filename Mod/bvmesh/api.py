@@ -812,7 +812,7 @@ def make_grid_cut(grid_object, point=None, normal=None, eta=None, span=None, met
     """A cut plane through a VolumeGrid showing the grid lines around the section: through
     `point` with `normal`, or at span fraction `eta` of `span` (see span_station). metric colours the lines:
     'block' or a quality metric (scaled_jacobian, non_orthogonality, skewness, aspect_ratio,
-    growth_ratio)."""
+    growth_ratio, determinant)."""
     import FreeCAD
 
     from bvmesh.features import grid_cut

@@ -154,7 +154,8 @@ def _volume_report(vm, grid_object, quality, cgns, case, verdict, seconds):
             vm.FarfieldScheme, _smoothed_layers(vm)),
         _grid_line(grid_object),
         "Cells with a non-positive scaled Jacobian: {}; with a face above 70 degrees of non-orthogonality: "
-        "{}.".format(quality.NonPositiveCells, quality.CellsAbove70Degrees),
+        "{}; with a determinant below 1e-3 (which checkMesh -allGeometry fails): {}.".format(
+            quality.NonPositiveCells, quality.CellsAbove70Degrees, quality.SmallDeterminantCells),
         "checkMesh on {}: {}".format(os.path.basename(case), verdict),
         "",
         quality.Table.rstrip(),

@@ -420,6 +420,10 @@ class VolumeObjects(unittest.TestCase):
         self.assertEqual(quality.NonPositiveCells, 0)
         self.assertGreater(quality.MinScaledJacobian, 0.5)
         self.assertIn("| scaled_jacobian |", quality.Table)
+        determinant = quality.Proxy.report(quality)["determinant"]
+        self.assertEqual(quality.SmallDeterminantCells, int((determinant < 1e-3).sum()))
+        self.assertEqual(quality.MinDeterminant, determinant.min())
+        self.assertIn("| determinant |", quality.Table)
         with open(histogram, "rb") as image:
             self.assertEqual(image.read(8), b"\x89PNG\r\n\x1a\n")
         written = {}

@@ -8,7 +8,7 @@ from bvmesh.features import volume_grid
 from bvmesh.features.common import READ_ONLY, Proxy, add_property
 
 TYPE = "BVMesh::GridCut"
-METRICS = ["block", "scaled_jacobian", "non_orthogonality", "skewness", "aspect_ratio", "growth_ratio"]
+METRICS = ["block", "scaled_jacobian", "non_orthogonality", "skewness", "aspect_ratio", "growth_ratio", "determinant"]
 
 
 def cell_values(refined, metric):

@@ -15,6 +15,7 @@ FIGURES = (
     ("MaxSkewness", "skewness", "max", "Largest skewness (OpenFOAM's)"),
     ("MaxAspectRatio", "aspect_ratio", "max", "Largest aspect ratio"),
     ("MaxGrowthRatio", "growth_ratio", "max", "Largest volume ratio of neighbouring cells"),
+    ("MinDeterminant", "determinant", "min", "Smallest cell determinant (OpenFOAM's; 1 for a cube)"),
     ("WallAngleP99", "wall_angle", "p99", "Wall grid lines off the wall normal, 99th percentile (degrees)"),
     ("WallAngleMax", "wall_angle", "max", "Wall grid lines off the wall normal, worst (degrees)"),
     ("FirstCellHeightMin", "first_cell_height", "min", "Smallest first cell height at the wall"),
@@ -22,10 +23,16 @@ FIGURES = (
 )
 
 
+# checkMesh -allGeometry fails cells whose determinant is below this.
+SMALL_DETERMINANT = 1e-3
+
+
 def counts(report):
-    """Cells with a non-positive scaled Jacobian and with a face above 70 degrees of non-orthogonality."""
+    """Cells with a non-positive scaled Jacobian, with a face above 70 degrees of non-orthogonality,
+    and with a determinant that checkMesh -allGeometry calls small."""
     return (int(np.count_nonzero(np.asarray(report["scaled_jacobian"]) <= 0.0)),
-            int(np.count_nonzero(np.asarray(report["non_orthogonality"]) > 70.0)))
+            int(np.count_nonzero(np.asarray(report["non_orthogonality"]) > 70.0)),
+            int(np.count_nonzero(np.asarray(report["determinant"]) < SMALL_DETERMINANT)))
 
 
 class MeshQualityProxy(Proxy):
@@ -42,6 +49,9 @@ class MeshQualityProxy(Proxy):
                      "Cells with a scaled Jacobian <= 0 (a solver cannot use the grid)", mode=READ_ONLY)
         add_property(obj, "App::PropertyInteger", "CellsAbove70Degrees", r,
                      "Cells with a face above 70 degrees of non-orthogonality", mode=READ_ONLY)
+        add_property(obj, "App::PropertyInteger", "SmallDeterminantCells", r,
+                     "Cells with a determinant below 1e-3, which checkMesh -allGeometry fails (thin cells)",
+                     mode=READ_ONLY)
         for prop, _, _, doc in FIGURES:
             add_property(obj, "App::PropertyFloat", prop, r, doc, mode=READ_ONLY)
 
@@ -63,7 +73,7 @@ class MeshQualityProxy(Proxy):
         report = self.report(obj)
         obj.Table = grid.quality_table(report)
         obj.Cells = len(report["scaled_jacobian"])
-        obj.NonPositiveCells, obj.CellsAbove70Degrees = counts(report)
+        obj.NonPositiveCells, obj.CellsAbove70Degrees, obj.SmallDeterminantCells = counts(report)
         summary = report["summary"]
         for prop, metric, statistic, _ in FIGURES:
             setattr(obj, prop, float(summary[metric][statistic]) if summary[metric]["count"] else 0.0)
