@@ -1,19 +1,17 @@
-// The volume grid: distributions against closed forms, refinement of hand-made block meshes (every
-// connection orientation, a mirrored block) against the affine map they represent, point matching,
-// quality metrics of hand-computed cells, and the OpenFOAM numbering checked on the files.
+// The volume grid: distributions against closed forms, and refinement of hand-made block meshes
+// (every connection orientation, a mirrored block) against the affine map they represent, point
+// matching, counts and clustering. Cell quality: quality_test.cpp; the OpenFOAM writer:
+// openfoam_writer_test.cpp.
 #include <gtest/gtest.h>
 
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
-#include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <limits>
-#include <map>
-#include <regex>
-#include <sstream>
+#include <string>
+#include <vector>
 
 #include "block_fixtures.h"
 #include "core/common/errors.h"
@@ -21,8 +19,6 @@
 #include "core/grid/hex_topology.h"
 #include "core/grid/plane_cut.h"
 #include "core/grid/refinement.h"
-#include "core/io/openfoam_writer.h"
-#include "core/quality/cell_quality.h"
 
 namespace bvmesh::grid {
 namespace {
@@ -752,261 +748,6 @@ TEST(GridRefinement, BadOptionsAreNamed) {
     } catch (const InvalidInputError& error) {
       EXPECT_NE(std::string(error.what()).find("max_turning_angle"), std::string::npos);
     }
-  }
-}
-
-// A single-block grid from corner points (2 x 2 x 2 points, or a stack of cells along k).
-StructuredGrid cellGrid(const std::vector<Vector3d>& points, std::array<int, 3> size) {
-  GridBlock block;
-  block.size = size;
-  block.points.resize(static_cast<Eigen::Index>(points.size()), 3);
-  for (size_t p = 0; p < points.size(); ++p) block.points.row(static_cast<Eigen::Index>(p)) = points[p].transpose();
-  for (auto& face : block.faces) face.condition = volume::BoundaryCondition::Farfield;
-  block.faces[4].condition = volume::BoundaryCondition::Wall;
-  return StructuredGrid({block});
-}
-
-// Points i fastest of the unit cells [0,1]^2 x [0, cells] with x += shear * z.
-std::vector<Vector3d> shearedStack(double shear, int cells) {
-  std::vector<Vector3d> points;
-  for (int k = 0; k <= cells; ++k) {
-    for (int j = 0; j < 2; ++j) {
-      for (int i = 0; i < 2; ++i) points.emplace_back(i + shear * k, j, k);
-    }
-  }
-  return points;
-}
-
-TEST(CellQuality, UnitCubesAndShearedCellsAgainstHandValues) {
-  const StructuredGrid cubes = cellGrid(shearedStack(0.0, 2), {2, 2, 3});
-  const HexTopology cubeTopology(cubes);
-  const quality::CellQuality cube = quality::measureCellQuality(cubeTopology);
-  for (int c = 0; c < 2; ++c) {
-    EXPECT_NEAR(cube.scaledJacobian[static_cast<size_t>(c)], 1.0, 1e-15);
-    EXPECT_NEAR(cube.aspectRatio[static_cast<size_t>(c)], 1.0, 1e-15);
-    EXPECT_NEAR(cube.nonOrthogonality[static_cast<size_t>(c)], 0.0, 1e-6);
-    EXPECT_NEAR(cube.skewness[static_cast<size_t>(c)], 0.0, 1e-12);
-    EXPECT_NEAR(cube.volume[static_cast<size_t>(c)], 1.0, 1e-15);
-    EXPECT_NEAR(cube.growthRatio[static_cast<size_t>(c)], 1.0, 1e-15);
-  }
-  ASSERT_EQ(cube.wallAngle.size(), 1u);
-  EXPECT_NEAR(cube.wallAngle[0], 0.0, 1e-6);
-  for (double h : cube.firstCellHeight) EXPECT_NEAR(h, 1.0, 1e-15);
-
-  // Shear x += s z: every corner's unit edges span 1 / sqrt(1 + s^2); the centres of the two
-  // stacked cells are joined by (s, 0, 1), atan(s) off the face normal; the wall cell's edges lean
-  // by the same angle.
-  const double s = 0.4;
-  const StructuredGrid sheared = cellGrid(shearedStack(s, 2), {2, 2, 3});
-  const HexTopology shearedTopology(sheared);
-  const quality::CellQuality q = quality::measureCellQuality(shearedTopology);
-  const double lean = std::atan(s) * 180.0 / M_PI;
-  for (int c = 0; c < 2; ++c) {
-    EXPECT_NEAR(q.scaledJacobian[static_cast<size_t>(c)], 1.0 / std::sqrt(1.0 + s * s), 1e-14);
-    EXPECT_NEAR(q.nonOrthogonality[static_cast<size_t>(c)], lean, 1e-9);
-    EXPECT_NEAR(q.aspectRatio[static_cast<size_t>(c)], std::sqrt(1.0 + s * s), 1e-14);
-  }
-  EXPECT_NEAR(q.wallAngle[0], lean, 1e-9);
-  const auto summary = quality::summarizeQuality(shearedTopology, q);
-  EXPECT_EQ(summary[0].name, "scaled_jacobian");
-  EXPECT_NEAR(summary[1].max, lean, 1e-9);
-}
-
-// OpenFOAM's cell determinant on 3 x 3 x 3 cells of 1 x 1 x h: the middle cell has six internal
-// faces, sum of a a^T = diag(2 h^2, 2 h^2, 2) over mean |a| = (2 + 4 h) / 6 squared; a corner cell
-// has one internal face per direction (half of that sum); a one-cell stack sees one direction only.
-TEST(CellQuality, CellDeterminantIsOpenFoamsOnThinAndCubicCells) {
-  for (const double h : {1.0, 0.1}) {
-    std::vector<Vector3d> points;
-    for (int k = 0; k < 4; ++k) {
-      for (int j = 0; j < 4; ++j) {
-        for (int i = 0; i < 4; ++i) points.emplace_back(i, j, h * k);
-      }
-    }
-    const StructuredGrid grid = cellGrid(points, {4, 4, 4});
-    const HexTopology topology(grid);
-    const quality::CellQuality q = quality::measureCellQuality(topology);
-    const double mean = (2.0 + 4.0 * h) / 6.0;
-    const double middle = std::pow(h, 4) / std::pow(mean, 6);
-    EXPECT_NEAR(q.determinant[1 + 3 * (1 + 3 * 1)], middle, 1e-12 * middle);
-    EXPECT_NEAR(q.determinant[0], middle / 8.0, 1e-12 * middle);
-  }
-  const StructuredGrid stack = cellGrid(shearedStack(0.0, 2), {2, 2, 3});
-  const HexTopology stackTopology(stack);
-  for (double d : quality::measureCellQuality(stackTopology).determinant) EXPECT_NEAR(d, 0.0, 1e-15);
-}
-
-TEST(CellQuality, InvertedCellIsRefusedWithItsPlace) {
-  std::vector<Vector3d> points = shearedStack(0.0, 2);
-  points[9] = Vector3d(0.5, 0.0, -0.5);  // corner (1, 0, 2) pulled down through the first cell's top
-  const StructuredGrid grid = cellGrid(points, {2, 2, 3});
-  const HexTopology topology(grid);
-  try {
-    quality::requirePositiveCells(topology);
-    FAIL() << "an inverted cell was accepted";
-  } catch (const InvalidInputError& error) {
-    EXPECT_NE(std::string(error.what()).find("block 0 at cell (0, 0, 1)"), std::string::npos) << error.what();
-  }
-  // A consistently mirrored block is not inverted: its cells are taken with i reversed.
-  std::vector<Vector3d> mirrored = shearedStack(0.0, 2);
-  for (Vector3d& x : mirrored) x.x() = -x.x();
-  const StructuredGrid mirror = cellGrid(mirrored, {2, 2, 3});
-  const HexTopology mirrorTopology(mirror);
-  EXPECT_TRUE(mirrorTopology.mirrored(0));
-  EXPECT_NO_THROW(quality::requirePositiveCells(mirrorTopology));
-  EXPECT_NEAR(quality::measureCellQuality(mirrorTopology).volume[0], 1.0, 1e-15);
-}
-
-std::string readText(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-}
-
-std::vector<long> readLabels(const std::filesystem::path& path) {
-  const std::string text = readText(path);
-  const size_t body = text.find('(', text.find("}"));
-  std::istringstream numbers(text.substr(body + 1));
-  std::vector<long> labels;
-  long value;
-  while (numbers >> value) labels.push_back(value);
-  return labels;
-}
-
-std::string checkMesh(const std::filesystem::path& root) {
-  const std::string command = "WM_PROJECT_DIR=/usr/share/openfoam checkMesh -allGeometry -allTopology -case '" +
-                              root.string() + "' 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return "";
-  std::string output;
-  char buffer[4096];
-  while (fgets(buffer, sizeof(buffer), pipe) != nullptr) output += buffer;
-  pclose(pipe);
-  return output;
-}
-
-bool haveCheckMesh() { return std::system("command -v checkMesh > /dev/null 2>&1") == 0; }
-
-TEST(OpenFoamWriter, MirroredAndTurnedBlocksPassCheckMesh) {
-  const test::BoxBlocks box = test::boxBlocks(0.08, false, 2);
-  RefinementOptions options;
-  options.edgePoints = 6;
-  const RefinedGrid refined = refineBlockMesh(box.mesh, options);
-  const HexTopology topology(refined.grid);
-  EXPECT_TRUE(topology.mirrored(5));
-  const std::filesystem::path root = std::filesystem::path(BVMESH_TEST_OUTPUT_DIR) / "grid_openfoam_turned";
-  std::filesystem::remove_all(root);
-  io::writeOpenFoamCase(topology, root.string());
-  if (!haveCheckMesh()) GTEST_SKIP() << "checkMesh is not installed";
-  const std::string output = checkMesh(root);
-  EXPECT_NE(output.find("Mesh OK."), std::string::npos) << output;
-  EXPECT_NE(output.find("cells:            1000"), std::string::npos) << output;
-}
-
-TEST(OpenFoamWriter, BoxDomainOuterFacesArePatchedQuadByQuad) {
-  // The one-layer box in a box domain whose edges its top and bottom faces reach over. Each quad
-  // goes to the patch its centre lies on (worked out by the fixture on its own); without the
-  // domain the faces keep the part their middle lies on, which puts inlet and outlet quads into
-  // the side patch.
-  const volume::BlockMesh mesh = test::boxInBoxDomain();
-  RefinementOptions options;
-  options.edgePoints = 9;
-  const RefinedGrid byMiddles = refineBlockMesh(mesh, options);
-  EXPECT_EQ(byMiddles.outerFacesSplit, 0);
-  options.outerDomain = test::boxDomain();
-  const RefinedGrid refined = refineBlockMesh(mesh, options);
-  std::map<volume::BoundaryCondition, Eigen::Index> expected;
-  int split = 0;
-  for (const GridBlock& block : refined.grid.blocks()) {
-    for (int f = 0; f < 6; ++f) {
-      if (block.faces[static_cast<size_t>(f)].condition == volume::BoundaryCondition::Connected) continue;
-      const std::array<int, 2> counts = volume::faceGridCounts(block.size, f);
-      bool mixed = false;
-      for (int b = 0; b + 1 < counts[1]; ++b) {
-        for (int a = 0; a + 1 < counts[0]; ++a) {
-          Vector3d centre = Vector3d::Zero();
-          for (const auto& [da, db] : {std::pair{0, 0}, {1, 0}, {0, 1}, {1, 1}}) {
-            centre += 0.25 * block.points.row(block.facePoint(f, a + da, b + db)).transpose();
-          }
-          const volume::BoundaryCondition truth = test::boxDomainPart(centre);
-          EXPECT_EQ(block.quadCondition(f, a, b), truth) << centre.transpose();
-          mixed |= truth != block.faces[static_cast<size_t>(f)].condition;
-          ++expected[truth];
-        }
-      }
-      split += mixed;
-    }
-  }
-  EXPECT_EQ(refined.outerFacesSplit, split);
-  EXPECT_EQ(split, 8);  // the top and bottom faces of the four blocks
-  const HexTopology topology(refined.grid);
-  ASSERT_EQ(topology.patches().size(), 3u);
-  for (const BoundaryPatch& patch : topology.patches()) EXPECT_EQ(patch.size, expected[patch.condition]) << patch.name;
-  const HexTopology plain(byMiddles.grid);
-  bool differs = false;
-  for (const BoundaryPatch& patch : plain.patches()) differs |= patch.size != expected[patch.condition];
-  EXPECT_TRUE(differs);
-  const std::filesystem::path root = std::filesystem::path(BVMESH_TEST_OUTPUT_DIR) / "grid_openfoam_box_domain";
-  std::filesystem::remove_all(root);
-  io::writeOpenFoamCase(topology, root.string());
-  const std::string boundary = readText(root / "constant" / "polyMesh" / "boundary");
-  for (const auto& [condition, faces] : expected) {
-    const std::string name = volume::boundaryConditionName(condition);
-    const std::regex patch(name + "\\s*\\{[^}]*nFaces\\s+" + std::to_string(faces) + ";");
-    EXPECT_TRUE(std::regex_search(boundary, patch)) << name << " " << faces << "\n" << boundary;
-  }
-  if (!haveCheckMesh()) GTEST_SKIP() << "checkMesh is not installed";
-  const std::string output = checkMesh(root);
-  EXPECT_NE(output.find("Mesh OK."), std::string::npos) << output;
-}
-
-TEST(OpenFoamWriter, BoxCaseIsUpperTriangularAndPassesCheckMesh) {
-  const test::BoxBlocks box = test::boxBlocks(0.08, true, 1);
-  RefinementOptions options;
-  options.edgePoints = 6;
-  options.normalPoints = 7;
-  const RefinedGrid refined = refineBlockMesh(box.mesh, options);
-  const HexTopology topology(refined.grid);
-  // The box: 10 x 10 x 6 cells.
-  EXPECT_EQ(topology.cellCount(), 10 * 10 * 6);
-  EXPECT_EQ(topology.internalFaceCount(), 9 * 10 * 6 + 10 * 9 * 6 + 10 * 10 * 5);
-  ASSERT_EQ(topology.patches().size(), 3u);
-  EXPECT_EQ(topology.patches()[0].name, "wall");
-  EXPECT_EQ(topology.patches()[0].size, 100);
-  EXPECT_EQ(topology.patches()[1].name, "symmetry");
-  EXPECT_EQ(topology.patches()[1].size, 60);
-  const std::filesystem::path root = std::filesystem::path(BVMESH_TEST_OUTPUT_DIR) / "grid_openfoam_box";
-  std::filesystem::remove_all(root);
-  io::writeOpenFoamCase(topology, root.string());
-  const std::vector<long> owner = readLabels(root / "constant/polyMesh/owner");
-  const std::vector<long> neighbour = readLabels(root / "constant/polyMesh/neighbour");
-  ASSERT_EQ(static_cast<Eigen::Index>(neighbour.size()), topology.internalFaceCount());
-  for (size_t f = 0; f < neighbour.size(); ++f) {
-    EXPECT_LT(owner[f], neighbour[f]);
-    if (f > 0) {
-      EXPECT_TRUE(owner[f - 1] < owner[f] || (owner[f - 1] == owner[f] && neighbour[f - 1] < neighbour[f]));
-    }
-  }
-  EXPECT_FALSE(std::filesystem::exists(root / "constant/polyMesh/owner.partial"));
-  if (!haveCheckMesh()) GTEST_SKIP() << "checkMesh is not installed";
-  const std::string output = checkMesh(root);
-  EXPECT_NE(output.find("Mesh OK."), std::string::npos) << output;
-  EXPECT_NE(output.find("cells:            600"), std::string::npos) << output;
-}
-
-TEST(OpenFoamWriter, UnwritablePathIsNamed) {
-  const test::BoxBlocks box = test::boxBlocks(0.0, true, 1);
-  RefinementOptions options;
-  options.edgePoints = 3;
-  options.normalPoints = 3;
-  const RefinedGrid refined = refineBlockMesh(box.mesh, options);
-  const HexTopology topology(refined.grid);
-  const std::filesystem::path blocker = std::filesystem::path(BVMESH_TEST_OUTPUT_DIR) / "grid_openfoam_blocker";
-  std::ofstream(blocker.string()) << "a file, not a folder";
-  try {
-    io::writeOpenFoamCase(topology, (blocker / "case").string());
-    FAIL();
-  } catch (const InvalidInputError& error) {
-    EXPECT_NE(std::string(error.what()).find("grid_openfoam_blocker"), std::string::npos);
   }
 }
 
