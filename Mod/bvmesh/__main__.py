@@ -42,13 +42,13 @@ def _openfoam_case(args):
         source = openfoam_case.m6_grid(args.model, level=args.level, edge_points=args.edge_points,
                                        normal_points=args.normal_points, target_cells=args.target_cells,
                                        leading_edge_spacing=args.leading_edge_spacing,
-                                       reynolds_number=args.reynolds or 11.72e6)
+                                       reynolds_number=args.reynolds or 11.72e6, y_plus=args.y_plus)
         print("  {} cells".format(source.grid.cell_count))
     case = openfoam_case.write_case(
         source, args.case, mach=args.mach, alpha_degrees=args.alpha, pressure=args.pressure,
         temperature=args.temperature, reynolds_number=args.reynolds, model=args.model,
         length_unit=args.length_unit, iterations=args.iterations, write_interval=args.write_interval,
-        solver=args.solver, max_courant=args.max_courant)
+        solver=args.solver, max_courant=args.max_courant, initial_solution=args.initial_solution)
     print("case written: {}".format(case))
     if args.run:
         result = openfoam_case.run_case(case, cores=args.cores, timeout=args.timeout)
@@ -104,12 +104,15 @@ def main(argv=None):
     cfd.add_argument("--iterations", type=int, default=openfoam_case.DEFAULT_ITERATIONS)
     cfd.add_argument("--write-interval", type=int, help="iterations between writes (default: --iterations)")
     cfd.add_argument("--max-courant", type=float,
-                     help="local time stepping Courant number (default 2; rhoCentralFoam 0.2)")
+                     help="local time stepping Courant number (default 2; rans 0.5; rhoCentralFoam 0.2)")
+    cfd.add_argument("--initial-solution", help="a case written and run before (an euler solution of the same "
+                                                "wing): its latest fields mapped onto this grid as the start")
     cfd.add_argument("--level", type=int, default=2, help="M6 grid: subdivision level of the fit (default 2)")
     cfd.add_argument("--target-cells", type=int,
                      help="M6 grid: about this many cells, spaced as the wall needs (default 300000)")
     cfd.add_argument("--edge-points", type=int, help="M6 grid: points on every block edge instead (no target cells)")
     cfd.add_argument("--normal-points", type=int, help="M6 grid: wall-normal points (default: the preset's)")
+    cfd.add_argument("--y-plus", type=float, help="M6 rans grid: the first cell's flat-plate y+ (default 1)")
     cfd.add_argument("--leading-edge-spacing", type=float, default=2.0,
                      help="M6 grid: wall spacing in mm away from the leading edge (default 2; 0: none)")
     cfd.add_argument("--run", action="store_true", help="run the solver (nice -n 19)")

@@ -52,6 +52,10 @@ EULER_ONLY_SOLVERS = ("rhoCentralFoam",)  # written without viscous terms or a t
 # 2 and stalls at 5; rhoCentralFoam, explicit, diverged at 0.5 on a 59 k-cell M6 grid and runs at
 # 0.2). rhoSimpleFoam has no time step; its entry is only recorded in the case's settings.
 DEFAULT_COURANT = {"rhoPimpleFoam": 2.0, "rhoCentralFoam": 0.2, "rhoSimpleFoam": 2.0}
+# A rans case's rhoPimpleFoam Courant number after the start-up (docs/cfd.md, RANS): on a 59 k-cell
+# M6 rans grid at y+ 30, 2 put p on pressureControl's bounds from its first steps at 2 and diverged,
+# 0.5 ran 400 steps inside them.
+DEFAULT_RANS_COURANT = 0.5
 SETTINGS_FILE = "bvmesh_case.json"
 # Written first into a case folder: a write that fails before its settings file still leaves a
 # folder that the next write_case may clear.
@@ -70,6 +74,15 @@ FoamFile
 }}
 
 """
+
+
+def flat_plate_boundary_layer_thickness(reynolds_number, length):
+    """The turbulent flat-plate boundary-layer thickness 0.37 L Re^-0.2 at L (the estimate the core
+    uses for a volume mesh's boundary-layer thickness when none is given, VolumeMeshOptions)."""
+    if not (reynolds_number > 0.0 and math.isfinite(reynolds_number) and length > 0.0 and math.isfinite(length)):
+        raise ValueError("the boundary-layer estimate needs a Reynolds number and a length > 0, got {!r} and {!r}".format(
+            reynolds_number, length))
+    return 0.37 * length * reynolds_number ** -0.2
 
 
 def sutherland_viscosity(temperature):
@@ -638,13 +651,96 @@ def _clear_earlier_case(case):
         shutil.rmtree(os.path.join(case, stale), ignore_errors=True)
 
 
+def _time_folders(case):
+    """The case's written time folders other than 0, in time order."""
+    found = []
+    for name in os.listdir(case):
+        try:
+            value = float(name)
+        except ValueError:
+            continue
+        if name != "0" and value > 0.0 and _is_time_folder(os.path.join(case, name)):
+            found.append((value, name))
+    return [name for _, name in sorted(found)]
+
+
+def _check_initial_solution(path):
+    source = os.path.abspath(os.fspath(path))
+    if not os.path.isfile(os.path.join(source, SETTINGS_FILE)):
+        raise ValueError("initial_solution {} is not a case written by write_case (no {})".format(source, SETTINGS_FILE))
+    written = _time_folders(source)
+    if not written or not os.path.exists(os.path.join(source, written[-1], "U")):
+        raise ValueError("initial_solution {} has no solution written (no time folder after 0 with U): run it "
+                         "first".format(source))
+    return source
+
+
+START_MARK = ".bvmesh_start"  # in 0/: the start is done (write_case writes 0/ again)
+
+
+def start_case(case, nice=19):
+    """The case's start before its first solver step (write_case's initial_solution and
+    wall_damped_start): the initial solution's latest fields mapped onto the grid (mapFields,
+    log.mapFields), then U damped near the wall (applyBoundaryLayer, log.applyBoundaryLayer).
+    Writes 0/ in ascii, once: a case with a time step written or started before is left as it
+    is. Returns the steps done (a list of tool names). The tools exit 0 on some failures, so their
+    logs are read: a FOAM FATAL, a non-zero exit or a missing 'Writing U' / 'interpolating U'
+    raises RuntimeError naming the log."""
+    settings = read_settings(case)
+    start = settings.get("start") or {}
+    source, thickness = start.get("initial_solution"), start.get("boundary_layer_thickness")
+    mark = os.path.join(case, "0", START_MARK)
+    if not (source or thickness) or os.path.exists(mark) or _time_folders(case):
+        return []
+    environment = openfoam_environment()
+    command = ["nice", "-n", str(nice)] if nice else []
+
+    def tool(arguments, expected):
+        log_path = os.path.join(case, "log." + arguments[0])
+        with open(log_path, "w") as out:
+            code = subprocess.call(command + arguments + ["-case", case], stdout=out, stderr=subprocess.STDOUT,
+                                   env=environment)
+        with open(log_path, errors="replace") as file:
+            text = file.read()
+        if code != 0 or "FOAM FATAL" in text or expected not in text:
+            tail = "\n".join(text.strip().splitlines()[-25:])
+            raise RuntimeError("{} failed (exit {}, {!r} {}), see {}:\n{}".format(
+                arguments[0], code, expected, "missing" if expected not in text else "found", log_path, tail))
+
+    control = os.path.join(case, "system", "controlDict")
+    done = []
+    _set_entries(control, True, writeFormat="ascii")
+    try:
+        if source:
+            tool(["mapFields", source, "-consistent", "-sourceTime", "latestTime", "-mapMethod",
+                  "cellPointInterpolate"], "interpolating U")
+            # The source's other fields (rho, Ma, rDeltaT of its run) would be read as this
+            # case's start: only the case's own fields stay.
+            for name in os.listdir(os.path.join(case, "0")):
+                path = os.path.join(case, "0", name)
+                if os.path.isfile(path) and name not in settings["fields"]:
+                    os.remove(path)
+            done.append("mapFields")
+        if thickness:
+            tool(["applyBoundaryLayer", "-ybl", repr(float(thickness))], "Writing U")
+            # Its flux is that of the undamped U: the solver makes its own from rho U.
+            if os.path.exists(os.path.join(case, "0", "phi")):
+                os.remove(os.path.join(case, "0", "phi"))
+            done.append("applyBoundaryLayer")
+    finally:
+        _set_entries(control, True, writeFormat="binary")
+    with open(mark, "w") as file:
+        json.dump(done, file)
+    return done
+
+
 def write_case(grid_or_refined, case_directory, mach=M6_MACH, alpha_degrees=M6_ALPHA_DEGREES, pressure=None,
                temperature=M6_TEMPERATURE, reynolds_number=None, model="euler", length_unit=0.001,
                reference_length=M6_REFERENCE_LENGTH, reference_area=M6_REFERENCE_AREA,
                moment_point=M6_MOMENT_POINT, iterations=DEFAULT_ITERATIONS, solver=DEFAULT_SOLVER,
                write_interval=None,
                semispan=M6_SEMISPAN, max_courant=None, startup_iterations=50, startup_courant=0.25,
-               force=False):
+               initial_solution=None, wall_damped_start=None, force=False):
     """Writes a complete OpenFOAM case and returns its directory.
 
     grid_or_refined: a bvmesh grid (refine's result or a StructuredGrid), or the path of a case
@@ -659,12 +755,20 @@ def write_case(grid_or_refined, case_directory, mach=M6_MACH, alpha_degrees=M6_A
     transonic) or 'rhoCentralFoam' (density-based, Kurganov & Tadmor's central-upwind fluxes,
     explicit with local time stepping; euler only).
     iterations: solver steps; write_interval: steps between writes (default iterations).
-    max_courant: the local time step's Courant number (default 2 for rhoPimpleFoam, 0.2 for
-    rhoCentralFoam); rhoPimpleFoam runs its first startup_iterations at startup_courant, since
+    max_courant: the local time step's Courant number (default 2 for rhoPimpleFoam, 0.5 for it
+    on model 'rans', 0.2 for rhoCentralFoam); rhoPimpleFoam runs its first startup_iterations at startup_courant, since
     the impulsive start from the uniform free stream diverged at Courant 2 on the 295 k-cell M6
     grid and at 0.5 on a 59 k-cell one; rhoCentralFoam runs its last third (from the last write
     before two thirds of the iterations) at half of max_courant, where its CL settles (run_case
     runs the stages).
+    initial_solution: a case written by write_case and run (an euler solution on the same wing,
+    on this grid or another one with the same patches): run_case first maps its latest fields onto
+    this grid (mapFields, cell-point interpolation) instead of starting from the free stream.
+    wall_damped_start (default: for model 'rans' only): run_case first damps U within the
+    flat-plate boundary-layer thickness at reference_length (flat_plate_boundary_layer_thickness)
+    by the 1/7th-power profile in the wall distance (applyBoundaryLayer), so that the no-slip
+    wall does not stop the free stream at once in the wall cells. Both are done once, before the
+    first stage of a case that has no time step written yet (start_case).
     force: let the grid writer accept non-positive cells.
     """
     if model not in MODELS:
@@ -684,7 +788,8 @@ def write_case(grid_or_refined, case_directory, mach=M6_MACH, alpha_degrees=M6_A
     if solver in EULER_ONLY_SOLVERS and model != "euler":
         raise ValueError("solver {} is set up for model 'euler' only; use rhoPimpleFoam for {!r}".format(
             solver, model))
-    max_courant = DEFAULT_COURANT[solver] if max_courant is None else max_courant
+    if max_courant is None:
+        max_courant = DEFAULT_RANS_COURANT if model == "rans" and solver == "rhoPimpleFoam" else DEFAULT_COURANT[solver]
     if not (max_courant > 0.0 and math.isfinite(max_courant)):
         raise ValueError("max_courant must be > 0, got {!r}".format(max_courant))
     if not (startup_courant > 0.0 and math.isfinite(startup_courant)):
@@ -699,6 +804,12 @@ def write_case(grid_or_refined, case_directory, mach=M6_MACH, alpha_degrees=M6_A
     if model == "rans" and reynolds_number is None and pressure is None:
         raise ValueError("model 'rans' needs reynolds_number (or a pressure that sets it)")
     flow = freestream(mach, alpha_degrees, temperature, pressure, reynolds_number, reference_length)
+    wall_damped_start = model == "rans" if wall_damped_start is None else wall_damped_start
+    if wall_damped_start and model != "rans":
+        raise ValueError("wall_damped_start is for model 'rans' (a no-slip wall); model {!r} has a slip wall".format(
+            model))
+    if initial_solution is not None:
+        initial_solution = _check_initial_solution(initial_solution)
 
     case = os.path.abspath(os.fspath(case_directory))
     try:
@@ -728,6 +839,10 @@ def write_case(grid_or_refined, case_directory, mach=M6_MACH, alpha_degrees=M6_A
     patches = check_patches(case)
     if length_unit != 1.0:
         scale_points(case, length_unit)
+    if initial_solution is not None and set(read_boundary(initial_solution)) != set(patches):
+        raise ValueError("initial_solution {} has the patches {}, this case {}: mapFields maps between equal "
+                         "patch sets".format(initial_solution, ", ".join(read_boundary(initial_solution)),
+                                             ", ".join(patches)))
 
     fields = _fields(case, flow, model, patches)
     _constant(case, flow, model)
@@ -747,7 +862,10 @@ def write_case(grid_or_refined, case_directory, mach=M6_MACH, alpha_degrees=M6_A
     settings = dict(model=model, solver=solver, iterations=iterations, stages=stages, max_courant=max_courant,
                     length_unit=length_unit,
                     semispan=semispan, reference=reference, freestream=flow,
-                    wall_faces=patches["wall"]["nFaces"])
+                    wall_faces=patches["wall"]["nFaces"], fields=fields,
+                    start=dict(initial_solution=initial_solution,
+                               boundary_layer_thickness=flat_plate_boundary_layer_thickness(
+                                   flow["reynolds_number"], reference_length) if wall_damped_start else None))
     with open(os.path.join(case, SETTINGS_FILE), "w") as file:
         json.dump(settings, file, indent=2)
     open(os.path.join(case, "case.foam"), "w").close()  # for ParaView
@@ -755,11 +873,12 @@ def write_case(grid_or_refined, case_directory, mach=M6_MACH, alpha_degrees=M6_A
 
 
 def m6_grid(preset="euler", level=2, edge_points=None, normal_points=None, reynolds_number=11.72e6, wing_file=None,
-            target_cells=None, leading_edge_spacing=2.0):
+            target_cells=None, leading_edge_spacing=2.0, y_plus=None):
     """A grid of the bundled ONERA M6 half wing (mm): the half_wing template fitted at `level`
     (1e-5 root chord tolerance), the volume mesh (reference length 805 mm; above level 2 marched
     from the level-2 wall, as the main job's) and bvmesh.grid.refine(..., preset, target_cells,
-    normal_points; reynolds_number for 'rans'): about target_cells cells (default 300 000),
+    normal_points; reynolds_number and y_plus, the first cell's flat-plate y+ (default the preset's
+    1), for 'rans'): about target_cells cells (default 300 000),
     spaced as the wall needs, or with edge_points points on every block edge instead.
     leading_edge_spacing (mm; 0 or None: none): the wall's spacing away from the leading edge, a
     feature line along the measured leading-edge sweep from the root's nose (with counts from
@@ -793,6 +912,10 @@ def m6_grid(preset="euler", level=2, edge_points=None, normal_points=None, reyno
         options["normal_points"] = normal_points
     if preset == "rans":
         options["reynolds_number"] = reynolds_number
+        if y_plus is not None:
+            options["y_plus"] = y_plus
+    elif y_plus is not None:
+        raise ValueError("y_plus is for the 'rans' preset")
     if leading_edge_spacing:
         options["feature_spacings"] = [{"points": _leading_edge(placed), "spacing": leading_edge_spacing,
                                         "tolerance": 2.0}]
@@ -871,7 +994,8 @@ def _stop(process):
 
 def run_case(case, cores=1, nice=19, timeout=None, log_name=None):
     """Runs the case's solver (under `nice`, on `cores` cores: decomposePar / mpirun / reconstructPar
-    above 1) and returns {iterations, wall_time, log, residuals, coefficients, cores, stopped}.
+    above 1), after the case's start (start_case) on a case not run before, and returns
+    {iterations, wall_time, log, residuals, coefficients, cores, stopped}.
     timeout (s) stops the solver and keeps what it wrote (stopped says so).
     OpenFOAM tools can exit 0 after a failure, so the log is read: a FOAM FATAL, a non-zero exit,
     no residuals or a non-finite one raise RuntimeError naming the log."""
@@ -913,6 +1037,7 @@ def run_case(case, cores=1, nice=19, timeout=None, log_name=None):
         # Open MPI refuses root unless told twice.
         environment.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
     start = time.monotonic()
+    start_case(case, nice)
     for number, stage in enumerate(settings["stages"]):
         if stopped:
             break

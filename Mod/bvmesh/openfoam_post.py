@@ -383,6 +383,32 @@ def read_log(path):
     return dict(wall_time=total + clock, time_steps=steps)
 
 
+def read_internal_field(case, time, name):
+    """A field's cell values as written in ascii (write_case's start writes 0/ so): an (n,) or (n, 3)
+    array; a uniform field gives one row per cell from the mesh's cell count."""
+    path = os.path.join(case, str(time), name)
+    with open(path, errors="replace") as file:
+        text = file.read()
+    text = re.sub(r"/\*.*?\*/|//[^\n]*", "", text, flags=re.S)
+    if re.search(r"format\s+binary\s*;", text):
+        raise ValueError("{} is written in binary; read_internal_field reads ascii fields".format(path))
+    match = re.search(r"internalField\s+(uniform|nonuniform)\s+", text)
+    if not match:
+        raise ValueError("{} has no internalField".format(path))
+    rest = text[match.end():]
+    if match.group(1) == "uniform":
+        value = rest[:rest.index(";")].strip().strip("()").split()
+        values = np.tile(np.array(value, float), (cell_count(case), 1))
+        return values[:, 0] if len(value) == 1 else values
+    header = re.match(r"List<(\w+)>\s*(\d+)\s*\(", rest)
+    if not header:
+        raise ValueError("{}: cannot read its nonuniform internalField".format(path))
+    count = int(header.group(2))
+    body = rest[header.end():rest.index(";")]
+    values = np.array(re.sub(r"[()]", " ", body).split()[:count * (3 if header.group(1) == "vector" else 1)], float)
+    return values.reshape(count, 3) if header.group(1) == "vector" else values
+
+
 def cell_count(case):
     with open(os.path.join(case, "constant", "polyMesh", "owner")) as file:
         head = file.read(2000)

@@ -385,6 +385,18 @@ class DefaultM6Grid(unittest.TestCase):
     def test_edge_points_or_target_cells_not_both(self):
         with self.assertRaisesRegex(ValueError, "edge_points or target_cells, not both"):
             ofc.m6_grid(edge_points=5, target_cells=5000)
+        with self.assertRaisesRegex(ValueError, "y_plus is for the 'rans' preset"):
+            ofc.m6_grid("euler", edge_points=5, y_plus=30.0)
+
+
+def boundary_cells(case, patch):
+    """The cells owning a patch's faces (constant/polyMesh/owner as BVMesh writes it, ascii)."""
+    entry = ofc.read_boundary(case)[patch]
+    with open(os.path.join(case, "constant", "polyMesh", "owner")) as file:
+        text = file.read()
+    body = text[text.index("(", text.index("}", text.index("FoamFile"))) + 1:]
+    owners = np.array(body[:body.index(")")].split(), dtype=int)
+    return owners[entry["startFace"]:entry["startFace"] + entry["nFaces"]]
 
 
 @unittest.skipUnless(HAVE_OPENFOAM, "OpenFOAM (rhoPimpleFoam, /usr/share/openfoam) is not installed")
@@ -506,8 +518,53 @@ class CoarseM6Run(unittest.TestCase):
         self.assertRegex(read("0", "U"), r"wall\s*\{\s*type\s+noSlip;")
         self.assertRegex(read("0", "nut"), r"wall\s*\{\s*type\s+nutUSpaldingWallFunction;")
         self.assertIn("limitTemperature", read("system", "fvOptions"))
-        flow = ofc.read_settings(case)["freestream"]
-        self.assertAlmostEqual(flow["reynolds_number"] / 11.72e6, 1.0, places=9)
+        settings = ofc.read_settings(case)
+        self.assertAlmostEqual(settings["freestream"]["reynolds_number"] / 11.72e6, 1.0, places=9)
+        # Courant 0.5 after the start-up: 2 diverged on a 59 k-cell rans grid (docs/cfd.md).
+        self.assertEqual([(s["end"], s["max_courant"]) for s in settings["stages"]], [(50, 0.25), (2000, 0.5)])
+
+    def test_rans_start_damps_the_wall_cells_and_maps_an_initial_solution(self):
+        # On a coarse rans grid (y+ ~ 1 wall cells): the default rans start damps U within the
+        # flat-plate boundary-layer thickness and leaves it at the free stream beyond; with an
+        # initial solution (the euler run on the 3 k grid) the fields are mapped first.
+        grid = ofc.m6_grid("rans", level=2, edge_points=5, normal_points=None)
+        flow_re = 11.72e6
+        plain = ofc.write_case(grid, os.path.join(self.folder.name, "rans_start"), model="rans",
+                               reynolds_number=flow_re, iterations=10)
+        thickness = ofc.read_settings(plain)["start"]["boundary_layer_thickness"]
+        self.assertAlmostEqual(thickness, 0.37 * ofc.M6_REFERENCE_LENGTH * flow_re ** -0.2, places=12)
+        self.assertEqual(ofc.start_case(plain), ["applyBoundaryLayer"])
+        self.assertEqual(ofc.start_case(plain), [])  # once only
+        with open(os.path.join(plain, "system", "controlDict")) as file:
+            self.assertIn("writeFormat     binary;", file.read())
+        speed = ofc.read_settings(plain)["freestream"]["speed"]
+        wall_cells, outer_cells = boundary_cells(plain, "wall"), boundary_cells(plain, "farfield")
+        magnitude = np.linalg.norm(post.read_internal_field(plain, 0, "U"), axis=1)
+        self.assertTrue(np.all(magnitude[wall_cells] < 0.5 * speed), magnitude[wall_cells].max() / speed)
+        np.testing.assert_allclose(magnitude[outer_cells], speed, rtol=1e-9)
+        self.assertFalse(os.path.exists(os.path.join(plain, "0", "phi")))
+        # The euler case has no initial solution of its own and no damped start.
+        self.assertEqual(ofc.read_settings(self.case)["start"], dict(initial_solution=None,
+                                                                     boundary_layer_thickness=None))
+        with self.assertRaisesRegex(ValueError, "wall_damped_start is for model 'rans'"):
+            ofc.write_case(self.case, os.path.join(self.folder.name, "bad"), wall_damped_start=True, length_unit=1.0)
+        with self.assertRaisesRegex(ValueError, "no solution written"):
+            ofc.write_case(grid, os.path.join(self.folder.name, "bad"), model="rans", reynolds_number=flow_re,
+                           initial_solution=plain)
+
+        mapped = ofc.write_case(grid, os.path.join(self.folder.name, "rans_mapped"), model="rans",
+                                reynolds_number=flow_re, iterations=10, initial_solution=self.case)
+        self.assertEqual(ofc.start_case(mapped), ["mapFields", "applyBoundaryLayer"])
+        self.assertEqual(sorted(n for n in os.listdir(os.path.join(mapped, "0")) if not n.startswith(".")),
+                         ["T", "U", "alphat", "nuTilda", "nut", "p"])
+        p = post.read_internal_field(mapped, 0, "p")
+        p_inf = ofc.read_settings(mapped)["freestream"]["p"]
+        # The euler run's pressure field (its 20 steps at 8.05e4 Pa from the Reynolds number): not
+        # uniform, within the solver's bounds.
+        self.assertGreater(p.std(), 1e-3 * p_inf)
+        self.assertTrue(np.all((p > 0.1 * p_inf) & (p < 2.0 * p_inf)))
+        magnitude = np.linalg.norm(post.read_internal_field(mapped, 0, "U"), axis=1)
+        self.assertTrue(np.all(magnitude[boundary_cells(mapped, "wall")] < 0.6 * speed))
 
     def test_timeout_stops_the_solver_and_keeps_what_it_wrote(self):
         case = ofc.write_case(self.case, os.path.join(self.folder.name, "stopped"), iterations=100000,
