@@ -77,12 +77,11 @@ FoamFile
 
 
 def flat_plate_boundary_layer_thickness(reynolds_number, length):
-    """The turbulent flat-plate boundary-layer thickness 0.37 L Re^-0.2 at L (the estimate the core
-    uses for a volume mesh's boundary-layer thickness when none is given, VolumeMeshOptions)."""
-    if not (reynolds_number > 0.0 and math.isfinite(reynolds_number) and length > 0.0 and math.isfinite(length)):
-        raise ValueError("the boundary-layer estimate needs a Reynolds number and a length > 0, got {!r} and {!r}".format(
-            reynolds_number, length))
-    return 0.37 * length * reynolds_number ** -0.2
+    """The turbulent flat-plate boundary-layer thickness 0.37 L Re^-0.2 at L: the core's estimate,
+    the one a volume mesh takes for its boundary layer when none is given."""
+    from . import load_core
+
+    return load_core().flat_plate_boundary_layer_thickness(float(reynolds_number), float(length))
 
 
 def sutherland_viscosity(temperature):

@@ -22,6 +22,7 @@
 #include "core/volume/control_volume.h"
 #include "core/volume/hex_subdivision.h"
 #include "core/volume/volume_blocks.h"
+#include "core/volume/volume_options.h"
 
 namespace py = pybind11;
 
@@ -203,6 +204,10 @@ void bindVolume(py::module_& module) {
       .def(
           "write", [](const BlockMesh& mesh, const std::filesystem::path& file) { volume::writeBlockMeshFile(mesh, file.string()); },
           py::arg("path"), "Writes the block file (docs/volume.md).");
+  module.def("flat_plate_boundary_layer_thickness", &volume::flatPlateBoundaryLayerThickness,
+             py::arg("reynolds_number"), py::arg("length"),
+             "The turbulent flat-plate boundary-layer thickness 0.37 L Re^-0.2 at L = length (the volume "
+             "mesh's default boundary layer); ValueError unless both are finite and positive.");
   module.def("read_block_mesh", [](const std::filesystem::path& file) { return volume::readBlockMeshFile(file.string()); },
              py::arg("path"),
              "Reads a block file written by BlockMesh.write.");

@@ -533,6 +533,8 @@ class CoarseM6Run(unittest.TestCase):
                                reynolds_number=flow_re, iterations=10)
         thickness = ofc.read_settings(plain)["start"]["boundary_layer_thickness"]
         self.assertAlmostEqual(thickness, 0.37 * ofc.M6_REFERENCE_LENGTH * flow_re ** -0.2, places=12)
+        with self.assertRaisesRegex(ValueError, r"flat-plate boundary-layer estimate needs .* got -1 and 0.6"):
+            ofc.flat_plate_boundary_layer_thickness(-1.0, 0.6)
         self.assertEqual(ofc.start_case(plain), ["applyBoundaryLayer"])
         self.assertEqual(ofc.start_case(plain), [])  # once only
         with open(os.path.join(plain, "system", "controlDict")) as file:

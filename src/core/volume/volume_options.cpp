@@ -37,6 +37,15 @@ Vector3d symmetryPlaneNormal(const VolumeMeshOptions& options) {
   return normal;
 }
 
+double flatPlateBoundaryLayerThickness(double reynoldsNumber, double length) {
+  if (!(std::isfinite(reynoldsNumber) && reynoldsNumber > 0.0 && std::isfinite(length) && length > 0.0)) {
+    throw InvalidInputError(
+        "the flat-plate boundary-layer estimate needs a Reynolds number and a length > 0, got " +
+        numberText(reynoldsNumber) + " and " + numberText(length));
+  }
+  return 0.37 * length * std::pow(reynoldsNumber, -0.2);
+}
+
 ResolvedVolumeOptions resolveVolumeOptions(const VolumeMeshOptions& options, const MarchingFront& front) {
   const Vector3d planeNormal = symmetryPlaneNormal(options);
   const Vector3d lo = front.points.colwise().minCoeff().transpose();
@@ -64,9 +73,10 @@ ResolvedVolumeOptions resolveVolumeOptions(const VolumeMeshOptions& options, con
                             numberText(options.reynoldsNumber));
   }
   result.referenceLength = options.referenceLength > 0 ? options.referenceLength : extent.maxCoeff();
-  result.boundaryLayerThickness = options.boundaryLayerThickness > 0
-                                      ? options.boundaryLayerThickness
-                                      : 0.37 * result.referenceLength * std::pow(options.reynoldsNumber, -0.2);
+  result.boundaryLayerThickness =
+      options.boundaryLayerThickness > 0
+          ? options.boundaryLayerThickness
+          : flatPlateBoundaryLayerThickness(options.reynoldsNumber, result.referenceLength);
   result.farfieldDistance = options.farfieldDistance > 0 ? options.farfieldDistance : 20.0 * result.referenceLength;
   if (options.domainCentre) {
     const Vector3d& asked = *options.domainCentre;

@@ -56,6 +56,11 @@ struct ResolvedVolumeOptions {
   Eigen::Vector3d domainCentre = Eigen::Vector3d::Zero();
 };
 
+// The turbulent flat-plate boundary-layer thickness 0.37 L Re^-0.2 (the volume mesh's default
+// boundary layer; a RANS case's wall-damped start). Throws InvalidInputError unless both are
+// finite and positive.
+double flatPlateBoundaryLayerThickness(double reynoldsNumber, double length);
+
 // The unit normal of the options' symmetry plane. Throws InvalidInputError when the model is a
 // half model whose plane has a non-finite point or a zero normal.
 Eigen::Vector3d symmetryPlaneNormal(const VolumeMeshOptions& options);
