@@ -347,6 +347,16 @@ surface::QuadControlMesh stretchedSharpBox(int levels = 3) {
   return surface::testing::subdivide(box, levels);
 }
 
+// `intervals` + 1 evenly spaced parameters over direction `direction` of a block.
+std::vector<double> evenParameters(const BsplineVolume& v, int direction, int intervals) {
+  std::vector<double> t(static_cast<size_t>(intervals) + 1);
+  for (int k = 0; k <= intervals; ++k) {
+    t[static_cast<size_t>(k)] =
+        v.lower(direction) + (v.upper(direction) - v.lower(direction)) * k / intervals;
+  }
+  return t;
+}
+
 TEST(VolumeMesh, SplayBandLeavesAFaceNarrowerThanItsOwnNormals) {
   // The stretched box's end faces (half width 0.5) are narrower than the splay band at their rims
   // would be (two boundary-layer thicknesses, 0.8): the band covers half of them (0.25), so the
@@ -364,11 +374,7 @@ TEST(VolumeMesh, SplayBandLeavesAFaceNarrowerThanItsOwnNormals) {
   int samples = 0;
   for (const Block& block : result.blocks.blocks()) {
     const BsplineVolume& v = block.volume;
-    std::vector<double> u(41), w(41);
-    for (int k = 0; k <= 40; ++k) {
-      u[static_cast<size_t>(k)] = v.lower(0) + (v.upper(0) - v.lower(0)) * k / 40.0;
-      w[static_cast<size_t>(k)] = v.lower(1) + (v.upper(1) - v.lower(1)) * k / 40.0;
-    }
+    const std::vector<double> u = evenParameters(v, 0, 40), w = evenParameters(v, 1, 40);
     RowMatrixX3d x, du, dv, dw;
     v.evaluateGrid(u, w, {v.lower(2)}, x, &du, &dv, &dw);
     for (Eigen::Index p = 0; p < x.rows(); ++p) {
@@ -402,15 +408,10 @@ TEST(VolumeMesh, GridLinesLeaveTheWallAlongItsNormalInsideTheSplayBand) {
     int samples = 0;
     for (const Block& block : result.blocks.blocks()) {
       const BsplineVolume& v = block.volume;
-      std::vector<double> u = grevilleAbscissae(v.knots(0), 3), w = grevilleAbscissae(v.knots(1), 3);
-      if (!atGrevillePoints) {
-        u.assign(81, 0.0);
-        w.assign(81, 0.0);
-        for (int k = 0; k <= 80; ++k) {
-          u[static_cast<size_t>(k)] = v.lower(0) + (v.upper(0) - v.lower(0)) * k / 80.0;
-          w[static_cast<size_t>(k)] = v.lower(1) + (v.upper(1) - v.lower(1)) * k / 80.0;
-        }
-      }
+      const std::vector<double> u =
+          atGrevillePoints ? grevilleAbscissae(v.knots(0), 3) : evenParameters(v, 0, 80);
+      const std::vector<double> w =
+          atGrevillePoints ? grevilleAbscissae(v.knots(1), 3) : evenParameters(v, 1, 80);
       RowMatrixX3d x, du, dv, dw;
       v.evaluateGrid(u, w, {v.lower(2)}, x, &du, &dv, &dw);
       for (Eigen::Index p = 0; p < x.rows(); ++p) {

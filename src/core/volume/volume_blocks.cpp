@@ -551,9 +551,10 @@ void leaveAlongNormals(const std::vector<WallPatch>& patches, const WallGrid& gr
         done[static_cast<size_t>(id)] = 1;
         const Vector3d offset = offsets.point(gu[static_cast<size_t>(i)], gv[static_cast<size_t>(j)]);
         Vector3d normal = grid.front.normals.row(id).transpose();
-        if (grid.front.onSymmetryPlane[static_cast<size_t>(id)] !=
-            0)  // the wall meets the plane at a right angle
+        // On the symmetry plane the wall meets the plane at a right angle: its normal lies in it.
+        if (grid.front.onSymmetryPlane[static_cast<size_t>(id)] != 0) {
           normal = (normal - normal.dot(planeNormal) * planeNormal).normalized();
+        }
         const Vector3d line = (firstLayer.row(id) - grid.front.points.row(id)).transpose().normalized();
         const double tilt = std::acos(std::clamp(line.dot(normal), -1.0, 1.0)) * 180.0 / kPi;
         const double share =
