@@ -695,16 +695,7 @@ def start_case(case, nice=19):
     command = ["nice", "-n", str(nice)] if nice else []
 
     def tool(arguments, expected):
-        log_path = os.path.join(case, "log." + arguments[0])
-        with open(log_path, "w") as out:
-            code = subprocess.call(command + arguments + ["-case", case], stdout=out, stderr=subprocess.STDOUT,
-                                   env=environment)
-        with open(log_path, errors="replace") as file:
-            text = file.read()
-        if code != 0 or "FOAM FATAL" in text or expected not in text:
-            tail = "\n".join(text.strip().splitlines()[-25:])
-            raise RuntimeError("{} failed (exit {}, {!r} {}), see {}:\n{}".format(
-                arguments[0], code, expected, "missing" if expected not in text else "found", log_path, tail))
+        _run_tool(case, arguments, os.path.join(case, "log." + arguments[0]), command, environment, expected=expected)
 
     control = os.path.join(case, "system", "controlDict")
     done = []
@@ -991,6 +982,34 @@ def _stop(process):
             pass
 
 
+def _run_tool(case, arguments, log_path, prefix, environment, limit=None, mode="w", expected=None):
+    """Runs an OpenFOAM tool (`prefix` + `arguments` + -case) with its output in log_path; returns
+    (the log's text, whether it was stopped at `limit` seconds: the last written time step stays
+    usable). OpenFOAM's tools exit 0 on some failures, so the log is read: a non-zero exit, a FOAM
+    FATAL or, when given, a missing `expected` line raises RuntimeError naming the log."""
+    timed_out = False
+    with open(log_path, mode) as out:
+        # A session of its own, so that a stop reaches mpirun's ranks too, not only mpirun.
+        process = subprocess.Popen(prefix + arguments + ["-case", case], stdout=out, stderr=subprocess.STDOUT,
+                                   env=environment, start_new_session=True)
+        try:
+            code = process.wait(timeout=limit)
+        except subprocess.TimeoutExpired:
+            _stop(process)
+            timed_out, code = True, 0
+        except BaseException:
+            _stop(process)
+            raise
+    with open(log_path, errors="replace") as file:
+        text = file.read()
+    missing = expected is not None and expected not in text
+    if code != 0 or "FOAM FATAL" in text or missing:
+        tail = "\n".join(text.strip().splitlines()[-25:])
+        raise RuntimeError("{} failed (exit {}{}), see {}:\n{}".format(
+            arguments[0], code, ", {!r} missing".format(expected) if missing else "", log_path, tail))
+    return text, timed_out
+
+
 def run_case(case, cores=1, nice=19, timeout=None, log_name=None):
     """Runs the case's solver (under `nice`, on `cores` cores: decomposePar / mpirun / reconstructPar
     above 1), after the case's start (start_case) on a case not run before, and returns
@@ -1011,25 +1030,9 @@ def run_case(case, cores=1, nice=19, timeout=None, log_name=None):
     stopped = []
 
     def tool(arguments, log_path, limit=None, mode="w"):
-        with open(log_path, mode) as out:
-            # A session of its own, so that a stop reaches mpirun's ranks too, not only mpirun.
-            process = subprocess.Popen(command + arguments + ["-case", case], stdout=out, stderr=subprocess.STDOUT,
-                                       env=environment, start_new_session=True)
-            try:
-                code = process.wait(timeout=limit)
-            except subprocess.TimeoutExpired:
-                # The last written time step stays usable: stop and read what is there.
-                _stop(process)
-                stopped.append("after {:.0f} s".format(timeout))
-                code = 0
-            except BaseException:
-                _stop(process)
-                raise
-        with open(log_path, errors="replace") as file:
-            text = file.read()
-        if code != 0 or "FOAM FATAL" in text:
-            tail = "\n".join(text.strip().splitlines()[-25:])
-            raise RuntimeError("{} failed (exit {}), see {}:\n{}".format(arguments[0], code, log_path, tail))
+        text, timed_out = _run_tool(case, arguments, log_path, command, environment, limit, mode)
+        if timed_out:
+            stopped.append("after {:.0f} s".format(timeout))
         return text
 
     if cores > 1 and hasattr(os, "geteuid") and os.geteuid() == 0:
