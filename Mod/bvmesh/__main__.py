@@ -32,7 +32,7 @@ def _info(path, sharp_angle_degrees, sew=True, sew_tolerance=0.0):
 
 
 def _openfoam_case(args):
-    from bvmesh import openfoam_case, openfoam_post
+    from bvmesh import openfoam_case, openfoam_post, openfoam_run
 
     if args.mesh:
         source = args.mesh
@@ -51,7 +51,7 @@ def _openfoam_case(args):
         solver=args.solver, max_courant=args.max_courant, initial_solution=args.initial_solution)
     print("case written: {}".format(case))
     if args.run:
-        result = openfoam_case.run_case(case, cores=args.cores, timeout=args.timeout)
+        result = openfoam_run.run_case(case, cores=args.cores, timeout=args.timeout)
         print("{}: {} iterations in {:.0f} s{}, CL {:.4f}, CD {:.5f}".format(
             openfoam_case.read_settings(case)["solver"], result["iterations"], result["wall_time"],
             ", stopped " + result["stopped"] if result["stopped"] else "",

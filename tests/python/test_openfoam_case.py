@@ -1,7 +1,8 @@
-"""bvmesh.openfoam_case and bvmesh.openfoam_post: the case generator on a coarse ONERA M6 grid
-run by the real OpenFOAM solvers (residuals finite and falling, read from the function objects,
-since the tools exit 0 on some failures), the Cp cut against closed-form pressure fields on a
-swept tapered wing surface, the measured reference data, and errors that name the problem."""
+"""bvmesh.openfoam_case, bvmesh.openfoam_run and bvmesh.openfoam_post: the case generator on a
+coarse ONERA M6 grid run by the real OpenFOAM solvers (residuals finite and falling, read from the
+function objects, since the tools exit 0 on some failures), the Cp cut against closed-form
+pressure fields on a swept tapered wing surface, the measured reference data, and errors that
+name the problem."""
 
 import math
 import os
@@ -14,10 +15,11 @@ import numpy as np
 
 import bvmesh.grid
 import bvmesh.openfoam_case as ofc
+import bvmesh.openfoam_run as ofr
 import bvmesh.openfoam_post as post
 from fixtures import check_mesh, failed_checks
 
-HAVE_OPENFOAM = shutil.which("rhoPimpleFoam") is not None and os.path.isdir(ofc.OPENFOAM_DIR)
+HAVE_OPENFOAM = shutil.which("rhoPimpleFoam") is not None and os.path.isdir(ofr.OPENFOAM_DIR)
 SEMISPAN = 1.1963
 
 
@@ -298,13 +300,13 @@ class Errors(unittest.TestCase):
             ofc.write_case(case, os.path.join(blocker, "case"))
 
     def test_openfoam_missing(self):
-        saved = ofc.OPENFOAM_DIR
-        ofc.OPENFOAM_DIR = os.path.join(self.folder.name, "no_openfoam")
+        saved = ofr.OPENFOAM_DIR
+        ofr.OPENFOAM_DIR = os.path.join(self.folder.name, "no_openfoam")
         try:
             with self.assertRaisesRegex(ValueError, "OpenFOAM is missing"):
-                ofc.openfoam_environment()
+                ofr.openfoam_environment()
         finally:
-            ofc.OPENFOAM_DIR = saved
+            ofr.OPENFOAM_DIR = saved
 
     def test_not_a_bvmesh_case(self):
         with self.assertRaisesRegex(ValueError, "not a case written by bvmesh"):
@@ -411,7 +413,7 @@ class CoarseM6Run(unittest.TestCase):
         cls.grid = ofc.m6_grid("euler", level=2, edge_points=5, normal_points=9)
         cls.case = ofc.write_case(cls.grid, os.path.join(cls.folder.name, "lts"), iterations=20, write_interval=10,
                                   startup_iterations=5)
-        cls.result = ofc.run_case(cls.case)
+        cls.result = ofr.run_case(cls.case)
 
     @classmethod
     def tearDownClass(cls):
@@ -535,8 +537,8 @@ class CoarseM6Run(unittest.TestCase):
         self.assertAlmostEqual(thickness, 0.37 * ofc.M6_REFERENCE_LENGTH * flow_re ** -0.2, places=12)
         with self.assertRaisesRegex(ValueError, r"flat-plate boundary-layer estimate needs .* got -1 and 0.6"):
             ofc.flat_plate_boundary_layer_thickness(-1.0, 0.6)
-        self.assertEqual(ofc.start_case(plain), ["applyBoundaryLayer"])
-        self.assertEqual(ofc.start_case(plain), [])  # once only
+        self.assertEqual(ofr.start_case(plain), ["applyBoundaryLayer"])
+        self.assertEqual(ofr.start_case(plain), [])  # once only
         with open(os.path.join(plain, "system", "controlDict")) as file:
             self.assertIn("writeFormat     binary;", file.read())
         speed = ofc.read_settings(plain)["freestream"]["speed"]
@@ -556,7 +558,7 @@ class CoarseM6Run(unittest.TestCase):
 
         mapped = ofc.write_case(grid, os.path.join(self.folder.name, "rans_mapped"), model="rans",
                                 reynolds_number=flow_re, iterations=10, initial_solution=self.case)
-        self.assertEqual(ofc.start_case(mapped), ["mapFields", "applyBoundaryLayer"])
+        self.assertEqual(ofr.start_case(mapped), ["mapFields", "applyBoundaryLayer"])
         self.assertEqual(sorted(n for n in os.listdir(os.path.join(mapped, "0")) if not n.startswith(".")),
                          ["T", "U", "alphat", "nuTilda", "nut", "p"])
         p = post.read_internal_field(mapped, 0, "p")
@@ -571,7 +573,7 @@ class CoarseM6Run(unittest.TestCase):
     def test_timeout_stops_the_solver_and_keeps_what_it_wrote(self):
         case = ofc.write_case(self.case, os.path.join(self.folder.name, "stopped"), iterations=100000,
                               write_interval=5, length_unit=1.0)
-        result = ofc.run_case(case, timeout=4.0)
+        result = ofr.run_case(case, timeout=4.0)
         self.assertEqual(result["stopped"], "after 4 s")
         self.assertGreater(result["iterations"], 5)
         self.assertLess(result["wall_time"], 40.0)
@@ -581,7 +583,7 @@ class CoarseM6Run(unittest.TestCase):
         # Spaced as the default grid, 59 k cells: the start-up at Courant 0.5 diverged at step 5.
         grid = ofc.m6_grid("euler", level=2, target_cells=60000)
         case = ofc.write_case(grid, os.path.join(self.folder.name, "start_up"), iterations=12, startup_iterations=10)
-        result = ofc.run_case(case)
+        result = ofr.run_case(case)
         self.assertEqual(result["iterations"], 12)
         self.assertTrue(all(np.all(np.isfinite(values)) for values in result["residuals"].values()))
 
@@ -601,7 +603,7 @@ class CoarseM6Run(unittest.TestCase):
         self.assertEqual(re.findall(r"(?m)^maxCo\s+(\S+);", control), ["0.2"])
         with open(os.path.join(case, "system", "fvSchemes")) as file:
             self.assertIn("fluxScheme      Kurganov;", file.read())
-        result = ofc.run_case(case)
+        result = ofr.run_case(case)
         with open(os.path.join(case, "system", "controlDict")) as file:
             self.assertEqual(re.findall(r"(?m)^maxCo\s+(\S+);", file.read()), ["0.1"])
         residuals = result["residuals"]
@@ -618,7 +620,7 @@ class CoarseM6Run(unittest.TestCase):
     def test_simple_run_residuals_finite_and_falling(self):
         case = ofc.write_case(self.case, os.path.join(self.folder.name, "simple"), solver="rhoSimpleFoam",
                               iterations=10, length_unit=1.0)
-        self.check_residuals(ofc.run_case(case), 10)
+        self.check_residuals(ofr.run_case(case), 10)
 
 
 if __name__ == "__main__":

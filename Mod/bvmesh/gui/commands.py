@@ -582,7 +582,7 @@ class OpenFoamCase:
         return _resources("BVMesh_Export", "OpenFOAM flow case",
                           "Write a complete OpenFOAM case on the grid with the solver you choose (compressible; "
                           "free stream and force references: the ONERA M6 wind-tunnel case, changed in the "
-                          "export's Flow case properties); run it with bvmesh.openfoam_case.run_case")
+                          "export's Flow case properties); run it with bvmesh.openfoam_run.run_case")
 
     def IsActive(self):
         return find_object(volume_grid.TYPE) is not None
