@@ -5,16 +5,20 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <functional>
 #include <map>
 #include <random>
 #include <sstream>
+#include <string>
 
 #include "core/common/bspline_basis.h"
 #include "core/common/errors.h"
 #include "core/volume/block_mesh_io.h"
+#include "core/volume/control_volume.h"
 #include "core/volume/domain.h"
 #include "core/volume/volume_blocks.h"
 #include "core/volume/wall_patches.h"
+#include "core/volume/wall_topology.h"
 #include "surface_test_meshes.h"
 
 namespace bvmesh::volume {
@@ -507,6 +511,53 @@ TEST(VolumeMesh, HalfModelKeepsTheSymmetryPlane) {
   EXPECT_EQ(onTop, 1);
   EXPECT_LE(boxed.farfieldFacesAcrossDomainEdges, 4);
   EXPECT_GT(sampleQuality(boxed.blocks).minScaledJacobian, 0.2);
+}
+
+// The half of torus(n, m) with y >= 0 (n even): open on the plane y = 0 in two loops.
+surface::QuadControlMesh halfTorus(int n, int m) {
+  const surface::QuadControlMesh whole = surface::testing::torus(n, m);
+  std::vector<Vector3d> points;
+  for (int i = 0; i <= n / 2; ++i) {
+    for (int j = 0; j < m; ++j) points.push_back(whole.vertices.row(i * m + j).transpose());
+  }
+  std::vector<std::array<int, 4>> quads;
+  const auto id = [m](int i, int j) { return i * m + (j + m) % m; };
+  for (int i = 0; i < n / 2; ++i) {
+    for (int j = 0; j < m; ++j) quads.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+  }
+  return surface::makeQuadControlMesh(points, quads);
+}
+
+std::string refusal(const std::function<void()>& build) {
+  try {
+    build();
+  } catch (const InvalidInputError& error) {
+    return error.what();
+  }
+  return "accepted";
+}
+
+TEST(VolumeMesh, ARingOrAHalfRingIsRefusedBeforeMarching) {
+  // Marched, the torus's hole closed at the axis and the marching stopped there with a fold and
+  // advice about smoothing and growth; the domain boundary is one sphere, so no marching can work.
+  VolumeMeshOptions options;
+  options.boundaryLayerThickness = 0.05;
+  options.farfieldDistance = 40.0;
+  const surface::QuadControlMesh ring = surface::testing::torus(8, 4);
+  for (const std::string& message : {refusal([&] { generateVolumeMesh(ring, options); }),
+                                     refusal([&] { controlVolumeMesh(ring, options); })}) {
+    EXPECT_NE(message.find("the wall is a ring (genus 1"), std::string::npos) << message;
+  }
+  options.hasSymmetryPlane = true;
+  options.planeNormal = Vector3d::UnitY();
+  const surface::QuadControlMesh half = halfTorus(8, 4);
+  for (const std::string& message : {refusal([&] { generateVolumeMesh(half, options); }),
+                                     refusal([&] { controlVolumeMesh(half, options); })}) {
+    EXPECT_NE(message.find("meets the symmetry plane in 2 separate loops"), std::string::npos) << message;
+  }
+  // A sphere's topology, whole or halved, passes.
+  EXPECT_NO_THROW(requireMarchableWall(surface::testing::cube(), false));
+  EXPECT_NO_THROW(requireMarchableWall(surface::testing::upperHalfOfRefinedCube(), true));
 }
 
 TEST(Domain, RaysMeetSphereBoxAndCylinderWhereTheClosedFormsSay) {

@@ -12,6 +12,7 @@
 #include "core/subdiv/limit_evaluator.h"
 #include "core/surface/limit_points.h"
 #include "core/volume/wall_patches.h"
+#include "core/volume/wall_topology.h"
 
 namespace bvmesh::volume {
 namespace {
@@ -59,6 +60,7 @@ RowMatrixX3d meanLimitNormals(const surface::QuadControlMesh& wall, const Contro
 
 ControlVolume controlVolumeMesh(const surface::QuadControlMesh& wall, const VolumeMeshOptions& options) {
   surface::validateQuadControlMesh(wall);
+  requireMarchableWall(wall, options.hasSymmetryPlane);
   const Vector3d planeNormal = symmetryPlaneNormal(options);
   const auto wallVertices = static_cast<int>(wall.vertices.rows());
   const auto quads = static_cast<int>(wall.faces.rows());

@@ -7,7 +7,6 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <numeric>
 #include <string>
 
 #include "core/common/bspline_basis.h"
@@ -16,6 +15,7 @@
 #include "core/common/number_text.h"
 #include "core/surface/limit_bsplines.h"
 #include "core/volume/wall_patches.h"
+#include "core/volume/wall_topology.h"
 
 namespace bvmesh::volume {
 namespace {
@@ -211,30 +211,6 @@ BoundaryCondition outerCondition(const Domain& domain, const Eigen::MatrixXd& ou
     }
   }
   return domain.conditionAt(outerPoles.row(middle).transpose());
-}
-
-// A wall of several bodies would give one volume mesh per body, each filling the whole domain:
-// they overlap. Throws InvalidInputError naming a vertex of two of them.
-void requireOneBody(const surface::QuadControlMesh& wall) {
-  std::vector<int> parent(static_cast<size_t>(wall.vertices.rows()));
-  std::iota(parent.begin(), parent.end(), 0);
-  const auto root = [&](int v) {
-    while (parent[static_cast<size_t>(v)] != v)
-      v = parent[static_cast<size_t>(v)] = parent[static_cast<size_t>(parent[static_cast<size_t>(v)])];
-    return v;
-  };
-  for (Eigen::Index f = 0; f < wall.faces.rows(); ++f) {
-    for (int k = 1; k < 4; ++k) parent[static_cast<size_t>(root(wall.faces(f, k)))] = root(wall.faces(f, 0));
-  }
-  std::map<int, int> bodies;  // root -> a vertex of that body
-  for (Eigen::Index f = 0; f < wall.faces.rows(); ++f)
-    bodies.emplace(root(wall.faces(f, 0)), wall.faces(f, 0));
-  if (bodies.size() > 1) {
-    throw InvalidInputError(
-        "the wall has " + std::to_string(bodies.size()) + " separate bodies (control vertices " +
-        std::to_string(bodies.begin()->second) + " and " + std::to_string(std::next(bodies.begin())->second) +
-        " lie on different ones): their volume meshes would overlap; mesh one body, or join them");
-  }
 }
 
 // Marks the wall grid's points on open patch sides as symmetry-plane points; throws when the wall
@@ -645,7 +621,7 @@ int refinementSteps(const surface::QuadControlMesh& coarse, const surface::QuadC
 VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const VolumeMeshOptions& options,
                               const surface::QuadControlMesh* marchingWall) {
   surface::validateQuadControlMesh(wall);
-  requireOneBody(wall);
+  requireMarchableWall(wall, options.hasSymmetryPlane);
   const surface::LimitBSplines bsplines = surface::limitSurfaceToBSplines(wall);
   const std::vector<WallPatch> patches = conformingWallPatches(bsplines, wall);
   WallGrid grid = wallGrid(patches);
