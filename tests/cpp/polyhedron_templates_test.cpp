@@ -101,10 +101,16 @@ RowMatrixX3d vertexLimits(const ControlMesh& mesh) {
 
 TEST(TemplatePlacement, BoxOnABox) {
   const target::Target box(BRepPrimAPI_MakeBox(gp_Pnt(0, 0, 0), gp_Pnt(4, 2, 1)).Shape());
-  const PlacedPolyhedron placed =
-      placeTemplate(libraryTemplate("box"), box, {{{"segments_1", "3"}}, {}, {}, true, {}});
+  const PlacedPolyhedron placed = placeTemplate(
+      libraryTemplate("box"), box, {{{"segments_1", "3"}, {"segments_2", "2"}}, {}, {}, true, {}});
   EXPECT_TRUE(placed.mapping.complete()) << placed.mapping.describeUnmapped();
   EXPECT_EQ(placed.mesh.numFaces(), 2 * (3 * 2 + 3 * 2 + 2 * 2));
+  // By default the two longer axes take segments in proportion to their extents: square faces.
+  const PlacedPolyhedron square = placeTemplate(libraryTemplate("box"), box);
+  EXPECT_EQ(square.parameters.at("segments_1"), "8");
+  EXPECT_EQ(square.parameters.at("segments_2"), "4");
+  EXPECT_EQ(square.parameters.at("segments_3"), "2");
+  EXPECT_EQ(square.mesh.numFaces(), 2 * (8 * 4 + 8 * 2 + 4 * 2));
   EXPECT_EQ(placed.mapping.map.curves.size(), 12u);
   // Every vertex on the box surface, corners on the box corners.
   for (Eigen::Index v = 0; v < placed.mesh.vertices().rows(); ++v) {

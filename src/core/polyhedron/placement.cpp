@@ -8,6 +8,7 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <string>
 #include <type_traits>
 
 #include "core/common/closest_point.h"
@@ -23,10 +24,34 @@ using namespace placement_detail;
 
 // ---- box and sphere -------------------------------------------------------------------------
 
-Draft buildBox(const TemplateValues& values, const target::Target& target) {
+// Segments along a principal axis in proportion to its extent, `shortest` along the third axis.
+int segmentsByExtent(const PrincipalFrame& frame, int axis, int shortest) {
+  constexpr int kMostSegments = 64;  // the templates' bound on a count
+  const Vec extent = frame.high - frame.low;
+  return static_cast<int>(
+      std::clamp(std::round(shortest * extent[axis] / extent[2]), 1.0, double{kMostSegments}));
+}
+
+// Segments per principal axis; an axis given 0 follows its extent, so that the faces are about
+// square: from a 2 x 1 x 1 box with two segments on every axis (faces of 2:1 cells on the long
+// sides) the marching folded at the corners.
+std::array<int, 3> boxSegments(const TemplateValues& values, const PrincipalFrame& frame,
+                               std::map<std::string, std::string>& used) {
+  std::array<int, 3> n{};
+  for (int axis = 0; axis < 3; ++axis) {
+    const std::string name = "segments_" + std::to_string(axis + 1);
+    int& count = n[static_cast<size_t>(axis)];
+    count = values.integer(name);
+    if (count == 0) count = segmentsByExtent(frame, axis, values.integer("segments_3"));
+    used[name] = std::to_string(count);
+  }
+  return n;
+}
+
+Draft buildBox(const TemplateValues& values, const target::Target& target,
+               std::map<std::string, std::string>& used) {
   const PrincipalFrame frame = principalFrame(target);
-  const std::array<int, 3> n{values.integer("segments_1"), values.integer("segments_2"),
-                             values.integer("segments_3")};
+  const std::array<int, 3> n = boxSegments(values, frame, used);
   const Lattice lattice = latticeSurface(n, {true, true, true, true, true, true});
   Draft draft;
   const auto extreme = [&](const std::array<int, 3>& c, int axis) {
@@ -57,8 +82,12 @@ Draft buildBox(const TemplateValues& values, const target::Target& target) {
 
 Draft buildSphere(const TemplateValues& values, const target::Target& target) {
   const PrincipalFrame frame = principalFrame(target);
-  const int n = values.integer("segments");
-  const Lattice lattice = latticeSurface({n, n, n}, {true, true, true, true, true, true});
+  // Segments in proportion to the extents: the plain cube on a 2 x 1 x 1 ellipsoid left its tips
+  // under one face each, far inside, and the fit stagnated 0.4 from the target.
+  std::array<int, 3> n{};
+  for (int axis = 0; axis < 3; ++axis)
+    n[static_cast<size_t>(axis)] = segmentsByExtent(frame, axis, values.integer("segments"));
+  const Lattice lattice = latticeSurface(n, {true, true, true, true, true, true});
   const Vec mid = frameMid(frame);
   const Vec half = 0.5 * (frame.high - frame.low);
   Draft draft;
@@ -66,7 +95,8 @@ Draft buildSphere(const TemplateValues& values, const target::Target& target) {
   RayBatch rays;
   for (const std::array<int, 3>& c : lattice.coords) {
     Vec q;  // equiangular cube-to-sphere map: even spacing on the sphere
-    for (int a = 0; a < 3; ++a) q[a] = std::tan(0.25 * kPi * (2.0 * c[static_cast<size_t>(a)] / n - 1.0));
+    for (int a = 0; a < 3; ++a)
+      q[a] = std::tan(0.25 * kPi * (2.0 * c[static_cast<size_t>(a)] / n[static_cast<size_t>(a)] - 1.0));
     const Vec onEllipsoid = mid + frame.axes * q.normalized().cwiseProduct(half);
     rays.add(draft.add(onEllipsoid), mid, onEllipsoid - mid);
   }
@@ -88,7 +118,7 @@ PlacedPolyhedron placeTemplate(const PolyhedronTemplate& polyhedronTemplate, con
   Draft draft;
   switch (polyhedronTemplate.generator) {
     case Generator::Box:
-      draft = buildBox(values, target);
+      draft = buildBox(values, target, used);
       break;
     case Generator::Sphere:
       draft = buildSphere(values, target);

@@ -1,0 +1,77 @@
+"""The bodies a user tries first, made with FreeCAD's Part module and meshed with the templates'
+defaults: a 2 x 1 x 1 box, a 2 x 1 x 1 ellipsoid, a cylinder and a capsule, each through the fit,
+the volume stage (flat-plate boundary layer at Re 1e6) and the euler grid; and a torus, which no
+marched front can take."""
+
+import unittest
+
+import numpy as np
+
+import bvmesh
+import bvmesh.grid
+import bvmesh.volume
+from bvmesh import polyhedra
+
+try:
+    import FreeCAD
+    import Part
+except ImportError:  # pragma: no cover - FreeCAD is installed on the test machines
+    FreeCAD = Part = None
+
+
+def ellipsoid(a, b, c):
+    return Part.makeSphere(1.0).transformGeometry(FreeCAD.Matrix(a, 0, 0, 0, 0, b, 0, 0, 0, 0, c, 0, 0, 0, 0, 1))
+
+
+def capsule():
+    return Part.makeCylinder(0.5, 3).fuse([Part.makeSphere(0.5), Part.makeSphere(0.5, FreeCAD.Vector(0, 0, 3))]).removeSplitter()
+
+
+def fitted(shape, template, level):
+    target = bvmesh.Target.from_brep(shape.exportBrepToString())
+    placed = polyhedra.place(template, target)
+    fitter = bvmesh.SurfaceFitter(target, placed["mesh"], placed["feature_map"], max_level=level)
+    return placed, fitter, fitter.run()
+
+
+@unittest.skipIf(Part is None, "FreeCAD is not importable")
+class SimpleBodiesTest(unittest.TestCase):
+    def mesh(self, shape, template, length, level=3):
+        placed, fitter, run = fitted(shape, template, level)
+        self.assertLess(run["history"][-1]["max_distance"], 2e-3 * length, run["detail"])
+        volume = bvmesh.volume.offset_and_farfield(fitter, reference_length=length, reynolds_number=1e6)
+        quality = bvmesh.grid.quality(bvmesh.grid.refine(volume, "euler"))
+        return placed, quality
+
+    def check_grid(self, quality, min_scaled_jacobian):
+        self.assertGreater(quality["scaled_jacobian"].min(), min_scaled_jacobian)
+        self.assertLess(quality["non_orthogonality"].max(), 70.0)
+
+    def test_box_of_two_to_one(self):
+        # With two segments on every axis the long sides' faces were 2:1 and the first far-field
+        # layer folded at a corner ("layer 5 above wall patch 1 ... scaled Jacobian -0.63").
+        placed, quality = self.mesh(Part.makeBox(2, 1, 1), "box", 2.0)
+        self.assertEqual([placed["parameters"][f"segments_{a}"] for a in (1, 2, 3)], ["4", "2", "2"])
+        self.check_grid(quality, 0.5)  # measured 0.573
+
+    def test_ellipsoid_of_two_to_one(self):
+        # The plain cube left the tips under one face each: the fit stagnated 0.36 from the target
+        # and the boundary layer folded on the bad wall.
+        placed, quality = self.mesh(ellipsoid(2, 1, 1), "sphere", 4.0)
+        self.assertEqual(placed["mesh"].num_vertices, 12)  # a 2 x 1 x 1 lattice
+        self.check_grid(quality, 0.3)  # measured 0.400 (fit to 3.4e-3 at level 3)
+
+    def test_cylinder(self):
+        self.check_grid(self.mesh(Part.makeCylinder(0.5, 3), "cylinder", 3.0)[1], 0.5)  # measured 0.597
+
+    def test_capsule(self):
+        self.check_grid(self.mesh(capsule(), "capsule", 4.0, level=2)[1], 0.5)
+
+    def test_torus_is_refused_before_marching(self):
+        _, fitter, _ = fitted(Part.makeTorus(2.0, 0.4), "nacelle", 1)
+        with self.assertRaisesRegex(bvmesh.InvalidInputError, r"the wall is a ring \(genus 1"):
+            bvmesh.volume.offset_and_farfield(fitter, reference_length=4.0, reynolds_number=1e6)
+
+
+if __name__ == "__main__":
+    unittest.main()
