@@ -195,29 +195,43 @@ std::optional<fit::SymmetryPlane> detectSymmetryPlane(const target::Target& targ
                                                       double relativeFlatness) {
   const double diagonal = target.report().diagonal;
   const target::Points& nodes = target.meshNodes();
-  for (const FeatureCurve& curve : curves) {  // boundary curves come longest first
-    if (curve.kind != FeatureCurveKind::Boundary) continue;
-    const target::Points points = curvePolyline(target, curve);
-    if (points.rows() < 3) continue;
+  const auto planeThrough = [&](const target::Points& points) -> std::optional<fit::SymmetryPlane> {
+    if (points.rows() < 3) return std::nullopt;
     const Eigen::Vector3d centre = points.colwise().mean().transpose();
     const Eigen::MatrixXd centred = points.rowwise() - centre.transpose();
     const auto [vectors, values] =
         sortedEigen(centred.transpose() * centred / static_cast<double>(points.rows()));
-    if (!(values[1] > 1e-6 * values[0])) continue;  // a straight line spans no plane
+    if (!(values[1] > 1e-6 * values[0])) return std::nullopt;  // a straight line spans no plane
     Eigen::Vector3d normal = vectors.col(2);
     const Eigen::VectorXd offsets = centred * normal;
-    if (offsets.cwiseAbs().maxCoeff() > relativeFlatness * diagonal) continue;
+    if (offsets.cwiseAbs().maxCoeff() > relativeFlatness * diagonal) return std::nullopt;
     // The whole target on one side (within the tessellation's deflection).
     const Eigen::VectorXd sides = (nodes.rowwise() - centre.transpose()) * normal;
     const double slack = 2.0 * target.report().deflection;
-    if (sides.minCoeff() < -slack && sides.maxCoeff() > slack) continue;
+    if (sides.minCoeff() < -slack && sides.maxCoeff() > slack) return std::nullopt;
     if (sides.sum() < 0.0) normal = -normal;
     fit::SymmetryPlane plane;
     plane.point = centre;
     plane.normal = normal;
     return plane;
+  };
+  std::vector<target::Points> boundaries;
+  for (const FeatureCurve& curve : curves) {  // boundary curves come longest first
+    if (curve.kind != FeatureCurveKind::Boundary) continue;
+    boundaries.push_back(curvePolyline(target, curve));
+    if (auto plane = planeThrough(boundaries.back())) return plane;
   }
-  return std::nullopt;
+  // A boundary of straight curves only (a half cylinder's: its two sides and the ends' diameters)
+  // spans its plane together.
+  Eigen::Index rows = 0;
+  for (const target::Points& points : boundaries) rows += points.rows();
+  target::Points all(rows, 3);
+  rows = 0;
+  for (const target::Points& points : boundaries) {
+    all.middleRows(rows, points.rows()) = points;
+    rows += points.rows();
+  }
+  return planeThrough(all);
 }
 
 HalfModelShape removeSymmetryFace(const TopoDS_Shape& shape, double relativeFlatness) {

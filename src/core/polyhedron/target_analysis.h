@@ -49,8 +49,9 @@ class PlaneSection {
 };
 
 // The symmetry plane of a half model: the plane of the longest free-boundary curve that lies in
-// a plane (within relativeFlatness of the diagonal) with the whole target on one side of it.
-// The normal points to the side the target lies on.
+// a plane (within relativeFlatness of the diagonal) with the whole target on one side of it, or
+// else the plane of all free-boundary curves together, which straight curves only span so (a half
+// cylinder's). The normal points to the side the target lies on.
 std::optional<fit::SymmetryPlane> detectSymmetryPlane(const target::Target& target,
                                                       const std::vector<FeatureCurve>& curves,
                                                       double relativeFlatness = 1e-5);

@@ -341,10 +341,11 @@ std::vector<std::vector<Eigen::MatrixXd>> layerPatchPoles(const std::vector<Wall
       }
     }
   }
-  // Corners: the point shared by every patch there.
+  // Corners: the point shared by every patch there, on the wall too, where three or more patches
+  // meet and the sides above, written pair by pair, can leave them their own roundings of it.
   for (size_t p = 0; p < patches.size(); ++p) {
     const int nu = patches[p].surface.uPoles, nv = patches[p].surface.vPoles;
-    for (int k = 1; k < layerCount; ++k) {
+    for (int k = 0; k < layerCount; ++k) {
       for (const auto& [i, j] : {std::pair<int, int>{0, 0}, {nu - 1, 0}, {0, nv - 1}, {nu - 1, nv - 1}}) {
         layerPoles[p][static_cast<size_t>(k)].row(i * nv + j) =
             layers[static_cast<size_t>(k)].row(grid.pointOf[p][static_cast<size_t>(i * nv + j)]);
