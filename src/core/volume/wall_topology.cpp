@@ -80,8 +80,8 @@ void requireMarchableWall(const surface::QuadControlMesh& wall, bool halfModel) 
         " separate loops (control vertices " + std::to_string(loops.begin()->second) + " and " +
         std::to_string(std::next(loops.begin())->second) +
         " lie on different ones), like half a ring: the front's pieces on the plane would close the gap "
-        "between "
-        "them before the far field; the volume stage takes a half body that meets the plane in one loop");
+        "between them before the far field; the volume stage takes a half body that meets the plane in one "
+        "loop");
   }
 }
 
