@@ -10,6 +10,7 @@
 #include <string>
 #include <utility>
 
+#include "core/common/disjoint_sets.h"
 #include "core/common/errors.h"
 #include "core/common/input_checks.h"
 #include "core/common/number_text.h"
@@ -22,26 +23,6 @@ std::string pairText(int a, int b) {
 }
 
 size_t at(int index) { return static_cast<size_t>(index); }
-
-// Union-find over face corners; two corners of one vertex are joined when the faces meet at an
-// edge through that vertex, so a manifold vertex ends with a single set (one fan).
-class CornerSets {
-public:
-  explicit CornerSets(size_t count) : parent_(count) {
-    std::iota(parent_.begin(), parent_.end(), 0);
-  }
-  int find(int corner) {
-    while (parent_[at(corner)] != corner) {
-      parent_[at(corner)] = parent_[at(parent_[at(corner)])];
-      corner = parent_[at(corner)];
-    }
-    return corner;
-  }
-  void join(int a, int b) { parent_[at(find(a))] = find(b); }
-
-private:
-  std::vector<int> parent_;
-};
 
 }  // namespace
 
@@ -132,7 +113,9 @@ void ControlMesh::buildConnectivity() {
   edgeFaces.reserve(numCorners / 2 + 1);
   edgeFirstCorner.reserve(numCorners / 2 + 1);
   faceEdges_.assign(numCorners, -1);
-  CornerSets fans(numCorners);
+  // Two corners of one vertex are joined when the faces meet at an edge through that vertex, so a
+  // manifold vertex ends with a single set (one fan).
+  DisjointSets fans(numCorners);
   vertexFirstCorner_ = RowMatrixX2i::Constant(numVertices(), 2, -1);
 
   for (int f = 0; f < numFaces(); ++f) {

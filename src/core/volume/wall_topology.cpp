@@ -1,11 +1,11 @@
 #include "core/volume/wall_topology.h"
 
 #include <map>
-#include <numeric>
 #include <set>
 #include <string>
 #include <vector>
 
+#include "core/common/disjoint_sets.h"
 #include "core/common/errors.h"
 #include "core/mesh/control_mesh.h"
 #include "core/surface/limit_points.h"
@@ -13,26 +13,10 @@
 namespace bvmesh::volume {
 namespace {
 
-// Union-find over vertex ids with path halving.
-class DisjointSets {
- public:
-  explicit DisjointSets(size_t count) : parent_(count) { std::iota(parent_.begin(), parent_.end(), 0); }
-  int root(int v) {
-    while (parent_[static_cast<size_t>(v)] != v) {
-      v = parent_[static_cast<size_t>(v)] = parent_[static_cast<size_t>(parent_[static_cast<size_t>(v)])];
-    }
-    return v;
-  }
-  void join(int a, int b) { parent_[static_cast<size_t>(root(a))] = root(b); }
-
- private:
-  std::vector<int> parent_;
-};
-
 // Per set (by its root) one of its members, over the given members.
 std::map<int, int> setsOf(DisjointSets& sets, const std::vector<int>& members) {
   std::map<int, int> found;
-  for (int v : members) found.emplace(sets.root(v), v);
+  for (int v : members) found.emplace(sets.find(v), v);
   return found;
 }
 
