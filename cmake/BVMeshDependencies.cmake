@@ -19,13 +19,16 @@ add_library(bvmesh_opensubdiv INTERFACE)
 target_include_directories(bvmesh_opensubdiv SYSTEM INTERFACE ${OPENSUBDIV_INCLUDE_DIR})
 target_link_libraries(bvmesh_opensubdiv INTERFACE ${OPENSUBDIV_CPU_LIBRARY})
 
-# CHOLMOD (SuiteSparse): supernodal sparse Cholesky for the least-squares normal equations;
-# Eigen's own simplicial factorization is an order of magnitude slower on fitting-sized meshes.
+# SuiteSparse: CHOLMOD's supernodal sparse Cholesky for the least-squares normal equations
+# (Eigen's own simplicial factorization is an order of magnitude slower on fitting-sized meshes),
+# and UMFPACK's sparse LU for the hyperbolic marching's steps (one factor preconditions many
+# solves, and UMFPACK's are faster than Eigen's SparseLU's: docs/volume.md).
 find_path(CHOLMOD_INCLUDE_DIR cholmod.h PATH_SUFFIXES suitesparse REQUIRED)
 find_library(CHOLMOD_LIBRARY NAMES cholmod REQUIRED)
-add_library(bvmesh_cholmod INTERFACE)
-target_include_directories(bvmesh_cholmod SYSTEM INTERFACE ${CHOLMOD_INCLUDE_DIR})
-target_link_libraries(bvmesh_cholmod INTERFACE ${CHOLMOD_LIBRARY})
+find_library(UMFPACK_LIBRARY NAMES umfpack REQUIRED)
+add_library(bvmesh_suitesparse INTERFACE)
+target_include_directories(bvmesh_suitesparse SYSTEM INTERFACE ${CHOLMOD_INCLUDE_DIR})
+target_link_libraries(bvmesh_suitesparse INTERFACE ${CHOLMOD_LIBRARY} ${UMFPACK_LIBRARY})
 
 # CGNS (Debian's libcgns-dev, HDF5 backend): no CMake or pkg-config file, so locate it directly.
 # The CGNS writer keeps it private to the core.

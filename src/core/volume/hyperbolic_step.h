@@ -16,6 +16,7 @@
 #include <Eigen/SparseCore>
 
 #include <array>
+#include <memory>
 #include <vector>
 
 #include "core/common/types.h"
@@ -45,6 +46,7 @@ class HyperbolicStepper {
   HyperbolicStepper(Eigen::Index pointCount, const std::vector<std::array<int, 4>>& quads,
                     const std::vector<char>& onPlane, const Eigen::Vector3d& planePoint,
                     const Eigen::Vector3d& planeNormal, const HyperbolicOptions& options);
+  ~HyperbolicStepper();
 
   // The front `points` advanced by `thickness` (the area-weighted mean of the points' steps), in
   // pseudo-steps no longer than maxStepToEdge times a short edge of the front (its 10th
@@ -77,9 +79,18 @@ class HyperbolicStepper {
   Eigen::Matrix3d mirror_;
   HyperbolicOptions options_;
   std::vector<std::vector<RingEntry>> rings_;
-  // The step's smoothing operator, factored once (the preconditioner of every step's solve).
+  // GMRES on the step's system from the last solution scaled to this step; false where it stalls.
+  template <typename Preconditioner>
+  bool solveIteratively(const Eigen::SparseMatrix<double>& matrix, const Eigen::VectorXd& rhs, double step,
+                        Eigen::VectorXd& delta) const;
+
+  // The step's smoothing operator, factored once (the preconditioner of the steps it suits).
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> smoothingFactor_;
   Eigen::VectorXd smoothingRowScale_;
+  // The direct factor of the layer's last pseudo-step solved directly: the preconditioner of its
+  // next pseudo-steps, until it no longer suits them.
+  struct StepFactor;
+  std::unique_ptr<StepFactor> stepFactor_;
   // The last solve's solution and its pseudo-step: the next solve's first guess.
   Eigen::VectorXd lastSolution_;
   double lastStep_ = 0.0;
