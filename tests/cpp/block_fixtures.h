@@ -165,4 +165,68 @@ inline volume::BlockMesh boxInBoxDomain() {
   return volume::BlockMesh(std::move(blocks));
 }
 
+// A sharp edge as a fan: the y axis (y in [0, 1]) is the edge of a wedge of half angle `alpha`
+// (radians) whose upper and lower faces run along -x; block 0 stands on the upper face (u = y,
+// v from the edge along it to length 2, w along its normal to height 1), block 1 on the lower face
+// (v towards the edge), and block 2 fans round the edge from the lower face's normal to the
+// upper's through +x (u = y, v the angle, w the distance from the edge): its w_min face is the
+// edge itself, collapsed along v. Its side faces are the other blocks' edge faces, poles computed
+// by the same expression, so they are identical bit for bit. The face y = 0 is a symmetry plane,
+// the other outer ones far field.
+inline volume::BlockMesh fanWedgeBlocks(double alpha) {
+  const std::vector<double> knots = uniformClampedKnots(3, 2);  // 5 poles, Greville 0 1/3 1 5/3 2 (in halves)
+  const std::array<double, 5> greville{0.0, 1.0 / 6.0, 0.5, 5.0 / 6.0, 1.0};
+  const Eigen::Vector3d upper(std::sin(alpha), 0.0, std::cos(alpha)), lower(std::sin(alpha), 0.0, -std::cos(alpha));
+  // A point of the line leaving the edge at span y, distance t along `direction`.
+  auto offEdge = [](double y, double t, const Eigen::Vector3d& direction) -> Eigen::Vector3d {
+    return Eigen::Vector3d(0.0, y, 0.0) + t * direction;
+  };
+  std::vector<volume::Block> blocks(3);
+  for (int b = 0; b < 3; ++b) {
+    RowMatrixX3d poles(125, 3);
+    for (int k = 0; k < 5; ++k) {
+      for (int j = 0; j < 5; ++j) {
+        for (int i = 0; i < 5; ++i) {
+          const double y = greville[static_cast<size_t>(i)], t = greville[static_cast<size_t>(k)];
+          const double along = greville[static_cast<size_t>(j)];
+          Eigen::Vector3d x;
+          if (b == 0) {
+            x = along == 0.0 ? offEdge(y, t, upper)
+                             : Eigen::Vector3d(-2.0 * along * std::cos(alpha), y, 2.0 * along * std::sin(alpha)) + t * upper;
+          } else if (b == 1) {
+            const double s = 1.0 - along;  // towards the edge
+            x = s == 0.0 ? offEdge(y, t, lower)
+                         : Eigen::Vector3d(-2.0 * s * std::cos(alpha), y, -2.0 * s * std::sin(alpha)) + t * lower;
+          } else {
+            const double angle = (2.0 * along - 1.0) * (M_PI / 2.0 - alpha);  // lower normal .. upper normal
+            const Eigen::Vector3d direction = along == 0.0   ? lower
+                                              : along == 1.0 ? upper
+                                                             : Eigen::Vector3d(std::cos(angle), 0.0, std::sin(angle));
+            x = offEdge(y, t, direction);
+          }
+          poles.row(i + 5 * (j + 5 * k)) = x.transpose();
+        }
+      }
+    }
+    volume::Block& block = blocks[static_cast<size_t>(b)];
+    block.volume = volume::BsplineVolume({3, 3, 3}, {knots, knots, knots}, poles);
+    using volume::BoundaryCondition;
+    for (volume::BlockFace& face : block.faces) face.condition = BoundaryCondition::Farfield;
+    block.faces[static_cast<size_t>(volume::BlockFaceSide::UMin)].condition = BoundaryCondition::Symmetry;
+    block.faces[static_cast<size_t>(volume::BlockFaceSide::WMin)].condition =
+        b == 2 ? BoundaryCondition::Collapsed : BoundaryCondition::Wall;
+  }
+  auto link = [&](int b, volume::BlockFaceSide side, int other, volume::BlockFaceSide otherSide) {
+    volume::BlockFace& face = blocks[static_cast<size_t>(b)].faces[static_cast<size_t>(side)];
+    face.condition = volume::BoundaryCondition::Connected;
+    face.neighbour.block = other;
+    face.neighbour.face = static_cast<int>(otherSide);
+  };
+  link(0, volume::BlockFaceSide::VMin, 2, volume::BlockFaceSide::VMax);
+  link(2, volume::BlockFaceSide::VMax, 0, volume::BlockFaceSide::VMin);
+  link(1, volume::BlockFaceSide::VMax, 2, volume::BlockFaceSide::VMin);
+  link(2, volume::BlockFaceSide::VMin, 1, volume::BlockFaceSide::VMax);
+  return volume::BlockMesh(std::move(blocks));
+}
+
 }  // namespace bvmesh::test

@@ -70,6 +70,28 @@ TEST(OpenFoamWriter, MirroredAndTurnedBlocksPassCheckMesh) {
   EXPECT_NE(output.find("cells:            1000"), std::string::npos) << output;
 }
 
+TEST(OpenFoamWriter, AFanRoundASharpEdgeIsPrismsThatPassCheckMesh) {
+  RefinementOptions options;
+  options.normalPoints = 9;
+  options.tangentialSpacing = 0.25;
+  const RefinedGrid refined = refineBlockMesh(test::fanWedgeBlocks(10.0 * M_PI / 180.0), options);
+  const HexTopology topology(refined.grid);
+  const std::filesystem::path root = std::filesystem::path(BVMESH_TEST_OUTPUT_DIR) / "grid_openfoam_fan";
+  std::filesystem::remove_all(root);
+  io::writeOpenFoamCase(topology, root.string());
+  const GridBlock& fan = refined.grid.blocks()[2];
+  const Eigen::Index prisms = static_cast<Eigen::Index>(fan.size[0] - 1) * (fan.size[1] - 1);
+  const std::string faces = readText(root / "constant" / "polyMesh" / "faces");
+  size_t triangles = 0;
+  for (size_t at = faces.find("\n3("); at != std::string::npos; at = faces.find("\n3(", at + 1)) ++triangles;
+  EXPECT_EQ(triangles, static_cast<size_t>(fan.size[0] * (fan.size[1] - 1)));  // the prisms' span faces
+  if (!haveCheckMesh()) GTEST_SKIP() << "checkMesh is not installed";
+  const std::string output = checkMesh(root);
+  EXPECT_NE(output.find("Mesh OK."), std::string::npos) << output;
+  EXPECT_NE(output.find("cells:            " + std::to_string(topology.cellCount())), std::string::npos) << output;
+  EXPECT_TRUE(std::regex_search(output, std::regex("prisms: +" + std::to_string(prisms) + "\n"))) << output;
+}
+
 TEST(OpenFoamWriter, BoxDomainOuterFacesArePatchedQuadByQuad) {
   // The one-layer box in a box domain whose edges its top and bottom faces reach over. Each quad
   // goes to the patch its centre lies on (worked out by the fixture on its own); without the

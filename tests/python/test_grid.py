@@ -350,5 +350,122 @@ class SphereGrids(unittest.TestCase):
             bvmesh.grid.write_openfoam(self.euler, missing)
 
 
+def fan_wedge_block_file(path, half_wedge_degrees=10.0):
+    """The block file of a sharp edge as a fan (tests/cpp/block_fixtures.h, fanWedgeBlocks): the
+    y axis is the edge of a wedge whose faces run along -x, block 0 on the upper face, block 1 on
+    the lower, block 2 fanning round the edge from the lower face's normal to the upper's, its
+    w_min face the edge itself (collapsed). y = 0 is a symmetry plane."""
+    alpha = math.radians(half_wedge_degrees)
+    upper = np.array([math.sin(alpha), 0.0, math.cos(alpha)])
+    lower = np.array([math.sin(alpha), 0.0, -math.cos(alpha)])
+    greville = [0.0, 1.0 / 6.0, 0.5, 5.0 / 6.0, 1.0]
+    knots = "knots {} 3 9 0 0 0 0 1 2 2 2 2\n"
+    lines = ["bvmesh-blocks 1", "blocks 3"]
+    for b in range(3):
+        lines += ["block {}".format(b)] + [knots.format(d).rstrip() for d in "uvw"] + ["poles 5 5 5"]
+        for t in greville:
+            for along in greville:
+                for y in greville:
+                    edge = np.array([0.0, y, 0.0])
+                    if b == 0:
+                        x = edge + t * upper if along == 0.0 else np.array(
+                            [-2 * along * math.cos(alpha), y, 2 * along * math.sin(alpha)]) + t * upper
+                    elif b == 1:
+                        s = 1.0 - along
+                        x = edge + t * lower if s == 0.0 else np.array(
+                            [-2 * s * math.cos(alpha), y, -2 * s * math.sin(alpha)]) + t * lower
+                    else:
+                        angle = (2 * along - 1) * (math.pi / 2 - alpha)
+                        direction = lower if along == 0.0 else upper if along == 1.0 else np.array(
+                            [math.cos(angle), 0.0, math.sin(angle)])
+                        x = edge + t * direction
+                    lines.append("{!r} {!r} {!r}".format(*x))
+        faces = {"u_min": "symmetry", "u_max": "farfield", "v_min": "farfield", "v_max": "farfield",
+                 "w_min": "collapsed" if b == 2 else "wall", "w_max": "farfield"}
+        if b == 0:
+            faces["v_min"] = "connected 2 v_max 0 0 0"
+        if b == 1:
+            faces["v_max"] = "connected 2 v_min 0 0 0"
+        if b == 2:
+            faces["v_min"] = "connected 1 v_max 0 0 0"
+            faces["v_max"] = "connected 0 v_min 0 0 0"
+        lines += ["face {} {}".format(name, faces[name]) for name in ("u_min", "u_max", "v_min", "v_max", "w_min", "w_max")]
+    lines.append("end")
+    with open(path, "w") as file:
+        file.write("\n".join(lines) + "\n")
+
+
+class FanGrid(unittest.TestCase):
+    """A fan of prisms round a sharp edge (a block with a collapsed face) through every writer and
+    the real checkers."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.folder = tempfile.TemporaryDirectory()
+        path = os.path.join(cls.folder.name, "fan.blocks")
+        fan_wedge_block_file(path)
+        cls.blocks = bvmesh.read_block_mesh(path)
+        cls.refined = bvmesh.grid.refine(cls.blocks, None, normal_points=9, tangential_spacing=0.25)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.folder.cleanup()
+
+    def test_the_block_file_keeps_the_collapsed_face(self):
+        self.assertEqual(self.blocks.faces(2)["w_min"]["condition"], "collapsed")
+        self.assertEqual(self.refined.grid.faces(2)["w_min"]["condition"], "collapsed")
+        fan = self.refined.grid.points(2)  # (ni, nj, nk, 3)
+        self.assertEqual(fan.shape[1], 7)  # 160 degrees in cells of at most 30
+        np.testing.assert_array_equal(fan[:, :, 0], np.repeat(fan[:, :1, 0], fan.shape[1], axis=1))
+
+    def test_cgns_passes_cgnscheck_with_a_degenerate_line(self):
+        import h5py
+
+        path = os.path.join(self.folder.name, "fan.cgns")
+        bvmesh.grid.write_cgns(self.refined, path)
+        report = subprocess.run(["cgnscheck", path], capture_output=True, text=True, timeout=300).stdout
+        self.assertIn("checking complete", report)
+        self.assertNotRegex(report, r"(?i)error|warning", report)
+        with h5py.File(path, "r") as cgns:
+            base = cgns["Base"]
+            self.assertEqual(bytes(base["collapsed"]["FamBC"][" data"][()]).rstrip(b"\0"), b"BCDegenerateLine")
+            boundary = base["block_0003"]["ZoneBC"]["collapsed_w_min"]
+            self.assertEqual(bytes(boundary[" data"][()]).rstrip(b"\0"), b"BCDegenerateLine")
+
+    def test_checkmesh_and_plot3dtofoam_see_the_same_prisms(self):
+        grid = self.refined.grid
+        prisms = (grid.points(2).shape[0] - 1) * (grid.points(2).shape[1] - 1)
+        case = os.path.join(self.folder.name, "fan_case")
+        bvmesh.grid.write_openfoam(self.refined, case)
+        output = check_mesh(case)
+        self.assertIn("Mesh OK.", output)
+        self.assertRegex(output, r"prisms: +{}\n".format(prisms))
+        # plot3dToFoam merges the Plot3D file's bit-identical points, the edge's included.
+        plot3d = os.path.join(self.folder.name, "fan.p3d")
+        bvmesh.grid.write_plot3d(self.refined, plot3d, "ascii")
+        for points, read in zip((grid.points(b) for b in range(3)), bvmesh.grid.read_plot3d(plot3d)):
+            np.testing.assert_array_equal(read, points)
+        second = os.path.join(self.folder.name, "plot3d_case")
+        bvmesh.grid.write_openfoam(self.refined, second)
+        subprocess.run(["plot3dToFoam", "-noBlank", "-case", second, plot3d], env=OPENFOAM,
+                       capture_output=True, text=True, timeout=300)
+        output = check_mesh(second)
+        self.assertRegex(output, r"cells: +{}\n".format(grid.cell_count), output)
+        self.assertRegex(output, r"prisms: +{}\n".format(prisms), output)
+
+    def test_vtk_loads_it_and_the_quality_is_the_prisms(self):
+        import vtk
+
+        path = os.path.join(self.folder.name, "fan.vtm")
+        report = bvmesh.grid.quality(self.refined)
+        bvmesh.grid.write_vtk(self.refined, path, report)
+        reader = vtk.vtkXMLMultiBlockDataReader()
+        reader.SetFileName(path)
+        reader.Update()
+        self.assertEqual(reader.GetOutput().GetNumberOfBlocks(), 3)
+        self.assertGreater(report["scaled_jacobian"].min(), 0.3)  # sin(160 / 6 degrees) = 0.45 at the edge
+        self.assertLess(report["non_orthogonality"].max(), 20.0)
+
+
 if __name__ == "__main__":
     unittest.main()

@@ -1,5 +1,7 @@
 #include "core/grid/direction_sets.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -27,6 +29,9 @@ constexpr int kIntervalsPerSpan = 4;
 constexpr int kTurningSamplesPerSpan = 16;
 // A set's shared measure is tabulated at this many fractions of arc length.
 constexpr int kSharedMeasureSamples = 2048;
+// Cells of a fan around a collapsed block edge (a sharp trailing edge's prisms) turn at most this
+// far each: their corner at the edge has a scaled Jacobian of about its sine.
+constexpr double kFanCellRadians = 30.0 * M_PI / 180.0;
 
 // Block directions (node 3 b + d) joined through connected faces, with the orientation of each
 // relative to its set's root (parity 1: reversed).
@@ -147,13 +152,61 @@ std::vector<BlockPlan> wallNormalPlans(const std::vector<volume::Block>& blocks,
   return plans;
 }
 
+// The line a collapsed edge along `direction` takes its distribution from: along it, through
+// the middle of the block's other tangential direction and at the first knot off the wall (the
+// middle, in a block without a wall); and the angle it sweeps round the point below it on the
+// wall (`offWall` false), which the collapsed face's edge is.
+BsplineCurve fanLine(const BsplineVolume& volume, const BlockPlan& plan, int direction, bool offWall = true) {
+  const int n = plan.normalDirection;
+  if (n == direction) {
+    throw InvalidInputError("a block has a collapsed edge along its wall-normal direction " +
+                            std::string(1, "uvw"[direction]) + " (collapsed edges must run along the wall)");
+  }
+  const auto [first, second] = otherDirections(direction);
+  auto at = [&](int other) {
+    if (other != n) return 0.5 * (volume.lower(other) + volume.upper(other));
+    if (!offWall) return parameterAtEnd(volume, n, plan.wallEnd);
+    const std::vector<double>& knots = volume.knots(n);
+    const double firstKnot = knots[static_cast<size_t>(volume.degree(n) + 1)];
+    return plan.wallEnd == 0 ? firstKnot : volume.upper(n) - (firstKnot - volume.lower(n));
+  };
+  return volume.isoCurve(direction, at(first), at(second));
+}
+
+double sweptAngle(const BsplineCurve& fan, const BsplineCurve& below) {
+  constexpr int kSamples = 64;
+  const double start = fan.knots.front(), end = fan.knots.back();
+  double angle = 0.0;
+  Eigen::Vector3d previous = Eigen::Vector3d::Zero();
+  for (int k = 0; k <= kSamples; ++k) {
+    const double t = start + (end - start) * k / kSamples;
+    const Eigen::Vector3d ray = (fan.point(t) - below.point(t)).normalized();
+    if (k > 0) angle += std::atan2(previous.cross(ray).norm(), previous.dot(ray));
+    previous = ray;
+  }
+  return angle;
+}
+
 // The block edges' arc-length and turning tables, kept for their distributions, and per set
-// (indexed by its root) the tables that count its points and its longest counted edge.
+// (indexed by its root) the tables that count its points and its longest counted edge. An edge
+// of zero length (on a collapsed face) takes its distribution from its block's fan line along
+// that direction (fanLine); the set counts that line at the spacing and the angle it sweeps round
+// the edge in fan cells.
 struct EdgeTables {
   std::vector<std::array<std::vector<ArcLength>, 3>> arcs;        // per block and direction: its 4 edges
   std::vector<std::array<std::vector<TurningTable>, 3>> turning;  // the same edges, then a middle line
+  std::vector<std::array<std::optional<ArcLength>, 3>> fanArcs;   // per block and direction, where an edge is collapsed
+  std::vector<std::array<std::optional<TurningTable>, 3>> fanTurning;
   std::vector<std::vector<const TurningTable*>> counted;
+  std::vector<std::vector<const TurningTable*>> countedFans;
+  std::vector<double> fanAngle;  // per set, the largest angle a fan line of it sweeps round its edge
   std::vector<double> longestEdge;
+
+  // The arc-length table edge e of (b, d) places its points by: its own, or its fan line's.
+  const ArcLength& placing(size_t b, int d, int e) const {
+    const ArcLength& own = arcs[b][static_cast<size_t>(d)][static_cast<size_t>(e)];
+    return own.length() > 0.0 || !fanArcs[b][static_cast<size_t>(d)] ? own : *fanArcs[b][static_cast<size_t>(d)];
+  }
 };
 
 // A set counts its wall edges (all its edges if it has none), each asking for its length in
@@ -166,7 +219,11 @@ EdgeTables tabulateEdges(const std::vector<volume::Block>& blocks, const std::ve
   const size_t blockCount = blocks.size();
   EdgeTables tables{std::vector<std::array<std::vector<ArcLength>, 3>>(blockCount),
                     std::vector<std::array<std::vector<TurningTable>, 3>>(blockCount),
+                    std::vector<std::array<std::optional<ArcLength>, 3>>(blockCount),
+                    std::vector<std::array<std::optional<TurningTable>, 3>>(blockCount),
                     std::vector<std::vector<const TurningTable*>>(3 * blockCount),
+                    std::vector<std::vector<const TurningTable*>>(3 * blockCount),
+                    std::vector<double>(3 * blockCount, 0.0),
                     std::vector<double>(3 * blockCount, 0.0)};
   for (size_t b = 0; b < blockCount; ++b) {
     const BsplineVolume& volume = blocks[b].volume;
@@ -186,9 +243,21 @@ EdgeTables tabulateEdges(const std::vector<volume::Block>& blocks, const std::ve
         const BsplineCurve curve = edgeCurve(volume, d, e);
         const ArcLength& arc = arcs.emplace_back(curve, kIntervalsPerSpan);
         const TurningTable& turning = turningOf(curve, arc);
+        if (!(arc.length() > 0.0) && !tables.fanArcs[b][static_cast<size_t>(d)]) {
+          const BsplineCurve fan = fanLine(volume, plans[b], d);
+          const ArcLength& fanArc = tables.fanArcs[b][static_cast<size_t>(d)].emplace(fan, kIntervalsPerSpan);
+          if (!(fanArc.length() > 0.0)) {
+            throw InvalidInputError(blockText(b) + " has an edge of zero length along " + "uvw"[d] +
+                                    " whose block is collapsed across its middle as well (no line to fan along)");
+          }
+          tables.countedFans[root].push_back(&tables.fanTurning[b][static_cast<size_t>(d)].emplace(
+              fan, fanArc, kTurningSamplesPerSpan * static_cast<int>(fan.knots.size())));
+          tables.fanAngle[root] =
+              std::max(tables.fanAngle[root], sweptAngle(fan, fanLine(volume, plans[b], d, false)));
+        }
         if (onWallOrNoWall(plans[b], d, e)) {
           tables.longestEdge[root] = std::max(tables.longestEdge[root], arc.length());
-          tables.counted[root].push_back(&turning);
+          if (arc.length() > 0.0) tables.counted[root].push_back(&turning);
         }
       }
       const int n = plans[b].normalDirection;
@@ -221,6 +290,7 @@ std::vector<EdgeEnd> wallEdgeEnds(const std::vector<volume::Block>& blocks,
         if (!onWallOrNoWall(plans[b], d, e)) continue;
         const RowMatrixX3d& poles = edgeCurve(blocks[b].volume, d, e).poles;
         const double length = edges.arcs[b][static_cast<size_t>(d)][static_cast<size_t>(e)].length();
+        if (!(length > 0.0)) continue;  // a collapsed edge continues nothing
         for (int end = 0; end < 2; ++end) {
           const Eigen::Index at = end == 0 ? 0 : poles.rows() - 1;
           const Eigen::Index next = end == 0 ? 1 : poles.rows() - 2;
@@ -262,6 +332,8 @@ struct PointCounts {
         double cells = 0.0;
         for (const TurningTable* edge : edges.counted[root])
           cells = std::max(cells, edge->measure(spacing, maxTurning));
+        for (const TurningTable* fan : edges.countedFans[root]) cells = std::max(cells, fan->measure(spacing, maxTurning));
+        cells = std::max(cells, edges.fanAngle[root] / kFanCellRadians);
         const FeatureDemand& demand = featureDemand[root];
         const double featureLength = std::max(demand.length[0], demand.length[1]);
         if (featureLength > 0.0) {
@@ -340,8 +412,10 @@ std::vector<std::optional<SharedMeasure>> sharedMeasures(
       const std::vector<TurningTable>& tables = edges.turning[b][static_cast<size_t>(d)];
       for (size_t e = 0; e < tables.size(); ++e) {
         if (e < 4 && !onWallOrNoWall(plans[b], d, static_cast<int>(e))) continue;
-        shared->add(tables[e], parity == 1);
+        if (tables[e].length() > 0.0) shared->add(tables[e], parity == 1);
       }
+      const std::optional<TurningTable>& fan = edges.fanTurning[b][static_cast<size_t>(d)];
+      if (fan) shared->add(*fan, parity == 1);
     }
   }
   return setMeasure;
@@ -457,11 +531,7 @@ void placeEdgePoints(const std::vector<volume::Block>& blocks, const DirectionSe
       const int points = plan.size[static_cast<size_t>(d)];
       const auto [root, parity] = sets.find(static_cast<int>(3 * b) + d);
       for (int e = 0; e < 4; ++e) {
-        const ArcLength& arc = edges.arcs[b][static_cast<size_t>(d)][static_cast<size_t>(e)];
-        if (!(arc.length() > 0.0)) {
-          throw InvalidInputError(blockText(b) + " has an edge of zero length along " + "uvw"[d] +
-                                  " (collapsed edges cannot be refined)");
-        }
+        const ArcLength& arc = edges.placing(b, d, e);
         const std::vector<double> sigma =
             edgeFractions(*setMeasure[static_cast<size_t>(root)], root, parity, points,
                           std::min(edgeEndSpacing / arc.length(), 0.5),

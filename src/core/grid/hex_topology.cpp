@@ -32,6 +32,17 @@ void forEachFaceCell(const GridBlock& block, int side, Visit&& visit) {
 
 }  // namespace
 
+HexFace hexCellFace(const std::array<Eigen::Index, 8>& corners, int side) {
+  HexFace face;
+  face.size = 0;
+  for (int v = 0; v < 4; ++v) {
+    const Eigen::Index point = corners[static_cast<size_t>(kCellFaces[static_cast<size_t>(side)][static_cast<size_t>(v)])];
+    if (face.size == 0 || face.points[static_cast<size_t>(face.size - 1)] != point) face.points[static_cast<size_t>(face.size++)] = point;
+  }
+  if (face.size > 1 && face.points[static_cast<size_t>(face.size - 1)] == face.points[0]) --face.size;
+  return face;
+}
+
 HexTopology::HexTopology(const StructuredGrid& grid) : grid_(grid), merged_(mergePoints(grid)) {
   const auto& blocks = grid.blocks();
   cellOffset_.assign(1, 0);
@@ -52,6 +63,21 @@ HexTopology::HexTopology(const StructuredGrid& grid) : grid_(grid), merged_(merg
     }
     mirrored_.push_back(volume < 0.0);
   }
+  // A block whose own grid positions share a merged point has a collapsed face: only there can
+  // cell faces collapse.
+  std::vector<char> seen(static_cast<size_t>(merged_.points.rows()), 0);
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    const auto first = merged_.pointOf.begin() + merged_.blockOffset[b];
+    const auto last = merged_.pointOf.begin() + merged_.blockOffset[b + 1];
+    bool repeats = false;
+    for (auto p = first; p != last; ++p) {
+      repeats = repeats || seen[static_cast<size_t>(*p)] != 0;
+      seen[static_cast<size_t>(*p)] = 1;
+    }
+    for (auto p = first; p != last; ++p) seen[static_cast<size_t>(*p)] = 0;
+    collapsing_.push_back(repeats);
+  }
+  auto collapsedFace = [&](Eigen::Index cell, int side) { return cellFace(cell, side).size < 3; };
   for (size_t b = 0; b < blocks.size(); ++b) {
     for (int side = 0; side < 6; ++side) {
       const volume::BlockFace& face = blocks[b].faces[static_cast<size_t>(side)];
@@ -60,25 +86,37 @@ HexTopology::HexTopology(const StructuredGrid& grid) : grid_(grid), merged_(merg
         const std::array<int, 3> cells = cellSizes(blocks[b]);
         const Eigen::Index cell = cellOffset_[b] + ijk[0] + static_cast<Eigen::Index>(cells[0]) * (ijk[1] + static_cast<Eigen::Index>(cells[1]) * ijk[2]);
         const Eigen::Index other = acrossBlockFace({b, ijk}, side);
-        if (cell < other) interBlock_.push_back({cell, side, other});
+        if (cell < other && !(collapsing_[b] && collapsedFace(cell, side))) interBlock_.push_back({cell, side, other});
       });
     }
   }
   std::sort(interBlock_.begin(), interBlock_.end(),
             [](const auto& x, const auto& y) { return x[0] != y[0] ? x[0] < y[0] : x[2] < y[2]; });
   internalFaces_ = static_cast<Eigen::Index>(interBlock_.size());
-  for (const GridBlock& block : blocks) {
-    const std::array<int, 3> c = cellSizes(block);
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    const std::array<int, 3> c = cellSizes(blocks[b]);
     internalFaces_ += static_cast<Eigen::Index>(c[0] - 1) * c[1] * c[2] + static_cast<Eigen::Index>(c[0]) * (c[1] - 1) * c[2] +
                       static_cast<Eigen::Index>(c[0]) * c[1] * (c[2] - 1);
+    if (!collapsing_[b]) continue;
+    for (Eigen::Index cell = cellOffset_[b]; cell < cellOffset_[b + 1]; ++cell) {
+      const BlockCell at = locate(cell);
+      for (int d = 0; d < 3; ++d) {
+        if (at.ijk[static_cast<size_t>(d)] + 1 < c[static_cast<size_t>(d)] && collapsedFace(cell, 2 * d + 1)) --internalFaces_;
+      }
+    }
   }
   for (BoundaryCondition condition : kPatchOrder) {
     BoundaryPatch patch{condition, volume::boundaryConditionName(condition), 0};
-    for (const GridBlock& block : blocks) {
+    for (size_t b = 0; b < blocks.size(); ++b) {
+      const GridBlock& block = blocks[b];
+      const std::array<int, 3> c = cellSizes(block);
       for (int side = 0; side < 6; ++side) {
-        if (block.faces[static_cast<size_t>(side)].condition == BoundaryCondition::Connected) continue;
-        forEachFaceCell(block, side, [&](int a, int b, const std::array<int, 3>&) {
-          if (block.quadCondition(side, a, b) == condition) ++patch.size;
+        const BoundaryCondition own = block.faces[static_cast<size_t>(side)].condition;
+        if (own == BoundaryCondition::Connected || own == BoundaryCondition::Collapsed) continue;
+        forEachFaceCell(block, side, [&](int qa, int qb, const std::array<int, 3>& ijk) {
+          if (block.quadCondition(side, qa, qb) != condition) return;
+          const Eigen::Index cell = cellOffset_[b] + ijk[0] + static_cast<Eigen::Index>(c[0]) * (ijk[1] + static_cast<Eigen::Index>(c[1]) * ijk[2]);
+          if (!(collapsing_[b] && collapsedFace(cell, side))) ++patch.size;
         });
       }
     }
@@ -110,15 +148,12 @@ std::array<Eigen::Index, 8> HexTopology::cellCorners(Eigen::Index cell) const {
   return corners;
 }
 
-std::array<Eigen::Index, 4> HexTopology::cellFace(Eigen::Index cell, int side) const {
+HexFace HexTopology::cellFace(Eigen::Index cell, int side) const {
   const BlockCell at = locate(cell);
   // In a mirrored block the grid's i-min side is the right-handed cell's i-max side.
   const int logical = mirrored_[at.block] && side < 2 ? 1 - side : side;
-  const std::array<Eigen::Index, 8> corners = cellCorners(cell);
-  std::array<Eigen::Index, 4> face{};
-  for (int v = 0; v < 4; ++v) {
-    face[static_cast<size_t>(v)] = corners[static_cast<size_t>(kCellFaces[static_cast<size_t>(logical)][static_cast<size_t>(v)])];
-  }
+  HexFace face = hexCellFace(cellCorners(cell), logical);
+  face.owner = cell;
   return face;
 }
 
@@ -148,11 +183,15 @@ void HexTopology::forEachInternalFace(const std::function<void(const HexFace&)>&
       // blocks' cells, which have larger numbers still.
       for (int d = 0; d < 3; ++d) {
         if (at.ijk[static_cast<size_t>(d)] + 1 < c[static_cast<size_t>(d)]) {
-          visit({cellFace(cell, 2 * d + 1), cell, cell + strides[d]});
+          HexFace face = cellFace(cell, 2 * d + 1);
+          face.neighbour = cell + strides[d];
+          if (face.size >= 3) visit(face);
         }
       }
       for (; next != interBlock_.end() && (*next)[0] == cell; ++next) {
-        visit({cellFace(cell, static_cast<int>((*next)[1])), cell, (*next)[2]});
+        HexFace face = cellFace(cell, static_cast<int>((*next)[1]));
+        face.neighbour = (*next)[2];
+        visit(face);
       }
     }
   }
@@ -164,11 +203,13 @@ void HexTopology::forEachBoundaryFace(const std::function<void(size_t, const Hex
     for (size_t b = 0; b < blocks.size(); ++b) {
       const std::array<int, 3> c = cellSizes(blocks[b]);
       for (int side = 0; side < 6; ++side) {
-        if (blocks[b].faces[static_cast<size_t>(side)].condition == BoundaryCondition::Connected) continue;
+        const BoundaryCondition own = blocks[b].faces[static_cast<size_t>(side)].condition;
+        if (own == BoundaryCondition::Connected || own == BoundaryCondition::Collapsed) continue;
         forEachFaceCell(blocks[b], side, [&](int qa, int qb, const std::array<int, 3>& ijk) {
           if (blocks[b].quadCondition(side, qa, qb) != patches_[patch].condition) return;
           const Eigen::Index cell = cellOffset_[b] + ijk[0] + static_cast<Eigen::Index>(c[0]) * (ijk[1] + static_cast<Eigen::Index>(c[1]) * ijk[2]);
-          visit(patch, {cellFace(cell, side), cell, -1});
+          const HexFace face = cellFace(cell, side);
+          if (face.size >= 3) visit(patch, face);
         });
       }
     }

@@ -3,7 +3,9 @@
 // internal faces in upper-triangular order (by owner, then neighbour; owner < neighbour, the
 // face pointing from owner to neighbour), then boundary faces patch by patch, pointing out.
 // Faces are enumerated on the fly, so writers and quality metrics stream them without storing
-// the whole face list.
+// the whole face list. Where a block has a collapsed face, its cells there have merged corners
+// (prisms, pyramids): their faces lose the repeated points, and faces left with fewer than three
+// points (on the collapsed face itself) are no faces.
 #pragma once
 
 #include <array>
@@ -17,9 +19,15 @@ namespace bvmesh::grid {
 
 struct HexFace {
   std::array<Eigen::Index, 4> points;  // merged point numbers, counter-clockwise seen from outside the owner
+  int size = 4;                        // 4, or 3 where a cell corner merged with the next
   Eigen::Index owner = -1;
   Eigen::Index neighbour = -1;         // -1 on a boundary face
 };
+
+// Face `side` (i-min, i-max, j-min, j-max, k-min, k-max) of a right-handed cell with these
+// merged corners (order 000 100 110 010 001 101 111 011), counter-clockwise seen from outside,
+// its repeated points dropped: a quad, a triangle, or (size below 3) no face.
+HexFace hexCellFace(const std::array<Eigen::Index, 8>& corners, int side);
 
 struct BoundaryPatch {
   volume::BoundaryCondition condition;
@@ -56,8 +64,12 @@ class HexTopology {
     std::array<int, 3> ijk;
   };
   BlockCell locate(Eigen::Index cell) const;
-  // Face `side` (BlockFaceSide order) of a cell, outward, as merged points.
-  std::array<Eigen::Index, 4> cellFace(Eigen::Index cell, int side) const;
+  // Face `side` (BlockFaceSide order) of a cell, outward, as merged points without repeats; its
+  // size is below 3 where the face has collapsed.
+  HexFace cellFace(Eigen::Index cell, int side) const;
+  // Cells of blocks whose grid has merged points of its own (a collapsed face) can have
+  // collapsed faces; other blocks' cells cannot.
+  bool mayCollapse(size_t block) const { return collapsing_[block]; }
   // The cell across block face `side` of a cell on that face (another block's), or -1.
   Eigen::Index acrossBlockFace(const BlockCell& at, int side) const;
 
@@ -65,6 +77,7 @@ class HexTopology {
   MergedPoints merged_;
   std::vector<Eigen::Index> cellOffset_;
   std::vector<bool> mirrored_;
+  std::vector<bool> collapsing_;
   std::vector<BoundaryPatch> patches_;
   // Faces between blocks with owner < neighbour, sorted by (owner, neighbour): (owner, side, neighbour).
   std::vector<std::array<Eigen::Index, 3>> interBlock_;

@@ -41,6 +41,7 @@ StructuredGrid::StructuredGrid(std::vector<GridBlock> blocks, bool viscousWall)
                               std::to_string(block.size[2]) + " needs " + std::to_string(block.pointCount()));
     }
     for (int f = 0; f < 6; ++f) {
+      requireCollapsed(b, f);
       const std::vector<volume::BoundaryCondition>& quads = block.quadConditions[static_cast<size_t>(f)];
       if (quads.empty()) continue;
       const std::array<int, 2> counts = volume::faceGridCounts(block.size, f);
@@ -67,6 +68,29 @@ StructuredGrid::StructuredGrid(std::vector<GridBlock> blocks, bool viscousWall)
       }
     }
   });
+}
+
+void StructuredGrid::requireCollapsed(size_t b, int f) {
+  GridBlock& block = blocks_[b];
+  volume::BlockFace& face = block.faces[static_cast<size_t>(f)];
+  if (face.condition != volume::BoundaryCondition::Collapsed) {
+    face.collapsedAlong = {false, false};
+    return;
+  }
+  const std::array<bool, 2> along = volume::coincidentAlongFace(block.points, block.size, f);
+  const bool given = face.collapsedAlong[0] || face.collapsedAlong[1];
+  for (int axis = 0; axis < 2; ++axis) {
+    if (given && face.collapsedAlong[static_cast<size_t>(axis)] && !along[static_cast<size_t>(axis)]) {
+      throw InvalidInputError("grid block " + std::to_string(b) + " face " + volume::blockFaceName(f) +
+                              " is collapsed along its axis " + std::to_string(axis) +
+                              ", but its points differ along it (a collapsed face's points coincide bit for bit)");
+    }
+  }
+  if (!given) face.collapsedAlong = along;
+  if (!face.collapsedAlong[0] && !face.collapsedAlong[1]) {
+    throw InvalidInputError("grid block " + std::to_string(b) + " face " + volume::blockFaceName(f) +
+                            " is collapsed, but its points differ along both of its directions");
+  }
 }
 
 void StructuredGrid::checkPointMatching(size_t b, int f) const {

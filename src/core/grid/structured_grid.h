@@ -38,7 +38,8 @@ class StructuredGrid {
   StructuredGrid() = default;
   // Validates: at least 2 points per direction, point rows matching the sizes, finite points,
   // connections as volume::checkFaceConnections requires, connected faces' points identical bit
-  // for bit. Throws InvalidInputError naming the block, face and point.
+  // for bit, collapsed faces one point along the axes their collapsedAlong names (found from the
+  // points where it names none). Throws InvalidInputError naming the block, face and point.
   // viscousWall: the grid resolves the boundary layer (wall spacing for y+ ~ 1), so solver files
   // call the wall viscous (CGNS BCWallViscous) rather than inviscid (BCWall).
   explicit StructuredGrid(std::vector<GridBlock> blocks, bool viscousWall = false);
@@ -52,6 +53,9 @@ class StructuredGrid {
  private:
   // Throws unless block b's face f has the points of the neighbour face it is connected to.
   void checkPointMatching(size_t b, int f) const;
+  // For a collapsed face of block b: its collapsedAlong checked against its points, or found from
+  // them; throws when its points are not one point along either axis.
+  void requireCollapsed(size_t b, int f);
 
   std::vector<GridBlock> blocks_;
   bool viscousWall_ = false;

@@ -22,6 +22,16 @@ struct BlockHexMesh {
 };
 
 BlockHexMesh blockHexMesh(const volume::BlockMesh& blocks) {
+  for (int b = 0; b < blocks.blockCount(); ++b) {
+    for (int f = 0; f < 6; ++f) {
+      if (blocks.blocks()[static_cast<size_t>(b)].faces[static_cast<size_t>(f)].condition ==
+          volume::BoundaryCondition::Collapsed) {
+        throw InvalidInputError("block " + std::to_string(b) + " face " + volume::blockFaceName(f) +
+                                " is collapsed: volumetric subdivision takes hexahedral control cells only "
+                                "(refine such blocks by evaluation)");
+      }
+    }
+  }
   const volume::VolumeControlMesh control = volume::volumeControlMesh(blocks);
   BlockHexMesh result;
   result.mesh.points = control.points;

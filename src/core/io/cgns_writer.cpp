@@ -32,6 +32,8 @@ CGNS_ENUMT(BCType_t) bcType(BoundaryCondition condition, bool viscousWall) {
       return CGNS_ENUMV(BCInflow);
     case BoundaryCondition::Outlet:
       return CGNS_ENUMV(BCOutflow);
+    case BoundaryCondition::Collapsed:
+      return CGNS_ENUMV(BCDegenerateLine);
     case BoundaryCondition::Farfield:
     case BoundaryCondition::Side:
     case BoundaryCondition::Connected:
@@ -103,16 +105,17 @@ class CgnsFile {
   int fn_ = -1;
 };
 
-// One BC_t of a zone in its condition's family, named after the condition and the block face;
-// `points` as cg_boco_write takes them (a point range, or a list of face centres). Returns its index.
-int writeBoundary(int fn, int base, int zone, BoundaryCondition condition, bool viscousWall, const std::string& faceName,
-                  CGNS_ENUMT(PointSetType_t) setType, const std::vector<cgsize_t>& points, const std::string& path,
-                  const std::string& zoneName) {
+// One BC_t of a zone in its condition's family, named after the condition and the block face, of
+// `type`; `points` as cg_boco_write takes them (a point range, or a list of face centres).
+// Returns its index.
+int writeBoundary(int fn, int base, int zone, BoundaryCondition condition, CGNS_ENUMT(BCType_t) type,
+                  const std::string& faceName, CGNS_ENUMT(PointSetType_t) setType, const std::vector<cgsize_t>& points,
+                  const std::string& path, const std::string& zoneName) {
   const char* family = volume::boundaryConditionName(condition);
   const std::string bc = std::string(family) + "_" + faceName;
   const auto count = static_cast<cgsize_t>(setType == CGNS_ENUMV(PointRange) ? 2 : points.size() / 3);
   int index = 0;
-  check(cg_boco_write(fn, base, zone, bc.c_str(), bcType(condition, viscousWall), setType, count, points.data(), &index),
+  check(cg_boco_write(fn, base, zone, bc.c_str(), type, setType, count, points.data(), &index),
         path, zoneName + " " + bc);
   check(cg_goto(fn, base, "Zone_t", zone, "ZoneBC_t", 1, "BC_t", index, "end"), path, zoneName + " " + bc);
   check(cg_famname_write(family), path, zoneName + " " + bc + " family");
@@ -156,8 +159,11 @@ void writeZone(int fn, int base, const grid::StructuredGrid& grid, int b, const 
       continue;
     }
     if (block.quadConditions[static_cast<size_t>(f)].empty()) {
-      writeBoundary(fn, base, zone, face.condition, grid.viscousWall(), faceName, CGNS_ENUMV(PointRange),
-                    {pointRange.begin(), pointRange.end()}, path, name);
+      // A face collapsed to one point is a degenerate point, one collapsed to a curve a line.
+      const bool point = face.condition == BoundaryCondition::Collapsed && face.collapsedAlong[0] && face.collapsedAlong[1];
+      writeBoundary(fn, base, zone, face.condition,
+                    point ? CGNS_ENUMV(BCDegeneratePoint) : bcType(face.condition, grid.viscousWall()), faceName,
+                    CGNS_ENUMV(PointRange), {pointRange.begin(), pointRange.end()}, path, name);
       continue;
     }
     // A face whose quads lie on several parts of the domain: per condition, its quads as a list
@@ -179,7 +185,7 @@ void writeZone(int fn, int base, const grid::StructuredGrid& grid, int b, const 
                                                 : f / 2 == 1 ? CGNS_ENUMV(JFaceCenter)
                                                              : CGNS_ENUMV(KFaceCenter);
     for (const auto& [condition, list] : quads) {
-      const int bcIndex = writeBoundary(fn, base, zone, condition, grid.viscousWall(), faceName,
+      const int bcIndex = writeBoundary(fn, base, zone, condition, bcType(condition, grid.viscousWall()), faceName,
                                         CGNS_ENUMV(PointList), list, path, name);
       check(cg_boco_gridlocation_write(fn, base, zone, bcIndex, location), path, name + " " + faceName + " location");
     }

@@ -74,7 +74,8 @@ void writeMesh(std::ostream& out, const volume::BlockMesh& mesh) {
   if (!all.empty()) {
     out << "  <boundary>\n" << all << "  </boundary>\n";
     for (BoundaryCondition condition : {BoundaryCondition::Wall, BoundaryCondition::Symmetry, BoundaryCondition::Farfield,
-                                        BoundaryCondition::Inlet, BoundaryCondition::Outlet, BoundaryCondition::Side}) {
+                                        BoundaryCondition::Inlet, BoundaryCondition::Outlet, BoundaryCondition::Side,
+                                        BoundaryCondition::Collapsed}) {
       const std::string sides = boundarySides(mesh, [condition](BoundaryCondition c) { return c == condition; });
       if (sides.empty()) continue;
       out << "  <boundary name=\"" << volume::boundaryConditionName(condition) << "\">\n" << sides << "  </boundary>\n";

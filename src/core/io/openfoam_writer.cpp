@@ -127,8 +127,9 @@ void writeOpenFoamCase(const grid::HexTopology& topology, const std::string& cas
   writeFile(mesh / "faces", [&](Output& out) {
     out.text(header("faceList", location, "faces")).number(faceCount).text("\n(\n");
     auto face = [&](const grid::HexFace& f) {
-      out.text("4(").number(f.points[0]).character(' ').number(f.points[1]).character(' ').number(f.points[2]);
-      out.character(' ').number(f.points[3]).text(")\n");
+      out.number(f.size).character('(').number(f.points[0]);
+      for (size_t v = 1; v < static_cast<size_t>(f.size); ++v) out.character(' ').number(f.points[v]);
+      out.text(")\n");
     };
     topology.forEachInternalFace(face);
     topology.forEachBoundaryFace([&](size_t, const grid::HexFace& f) { face(f); });

@@ -24,16 +24,17 @@ struct FaceGeometry {
 };
 
 // OpenFOAM's face centre and area: triangles from each edge to the points' average, the centre
-// weighted by triangle area.
-FaceGeometry faceGeometry(const RowMatrixX3d& points, const std::array<Eigen::Index, 4>& face) {
+// weighted by triangle area. A face of a cell on a collapsed face may be a triangle.
+FaceGeometry faceGeometry(const RowMatrixX3d& points, const grid::HexFace& face) {
+  const auto corners = static_cast<size_t>(face.size);
   Vector3d average = Vector3d::Zero();
-  for (Eigen::Index p : face) average += points.row(p).transpose();
-  average /= 4.0;
+  for (size_t v = 0; v < corners; ++v) average += points.row(face.points[v]).transpose();
+  average /= static_cast<double>(corners);
   Vector3d sumN = Vector3d::Zero(), sumAc = Vector3d::Zero();
   double sumA = 0.0;
-  for (size_t v = 0; v < 4; ++v) {
-    const Vector3d a = points.row(face[v]).transpose();
-    const Vector3d b = points.row(face[(v + 1) % 4]).transpose();
+  for (size_t v = 0; v < corners; ++v) {
+    const Vector3d a = points.row(face.points[v]).transpose();
+    const Vector3d b = points.row(face.points[(v + 1) % corners]).transpose();
     const Vector3d n = (b - a).cross(average - a);
     const double area = n.norm();
     sumN += n;
@@ -46,22 +47,22 @@ FaceGeometry faceGeometry(const RowMatrixX3d& points, const std::array<Eigen::In
 struct CellGeometry {
   Vector3d centre;
   double volume;
-  std::array<FaceGeometry, 6> faces;
+  std::vector<FaceGeometry> faces;
 };
 
-// OpenFOAM's cell centre and volume: pyramids from the faces to the face centres' average.
+// OpenFOAM's cell centre and volume: pyramids from the faces to the face centres' average. The
+// faces of a cell on a collapsed face lose their repeated points, and those left with fewer
+// than three are none (a prism has five faces).
 CellGeometry cellGeometry(const RowMatrixX3d& points, const std::array<Eigen::Index, 8>& corners) {
-  static constexpr std::array<std::array<int, 4>, 6> kFaces{{
-      {0, 4, 7, 3}, {1, 2, 6, 5}, {0, 1, 5, 4}, {3, 7, 6, 2}, {0, 3, 2, 1}, {4, 5, 6, 7}}};
   CellGeometry cell{};
   Vector3d estimate = Vector3d::Zero();
-  for (size_t f = 0; f < 6; ++f) {
-    std::array<Eigen::Index, 4> face{};
-    for (size_t v = 0; v < 4; ++v) face[v] = corners[static_cast<size_t>(kFaces[f][v])];
-    cell.faces[f] = faceGeometry(points, face);
-    estimate += cell.faces[f].centre;
+  for (int side = 0; side < 6; ++side) {
+    const grid::HexFace face = grid::hexCellFace(corners, side);
+    if (face.size < 3) continue;
+    cell.faces.push_back(faceGeometry(points, face));
+    estimate += cell.faces.back().centre;
   }
-  estimate /= 6.0;
+  estimate /= static_cast<double>(cell.faces.size());
   Vector3d weighted = Vector3d::Zero();
   double volume3 = 0.0;
   for (const FaceGeometry& face : cell.faces) {
@@ -76,13 +77,15 @@ CellGeometry cellGeometry(const RowMatrixX3d& points, const std::array<Eigen::In
 
 // OpenFOAM's skewness of a face between a cell centre and a point (the neighbour's centre, or
 // the face centre pushed out along the normal on a boundary).
-double faceSkewness(const RowMatrixX3d& points, const std::array<Eigen::Index, 4>& face, const FaceGeometry& geometry,
+double faceSkewness(const RowMatrixX3d& points, const grid::HexFace& face, const FaceGeometry& geometry,
                     const Vector3d& ownerCentre, const Vector3d& d) {
   const Vector3d toFace = geometry.centre - ownerCentre;
   const Vector3d offset = toFace - (geometry.area.dot(toFace) / (geometry.area.dot(d) + kRootVSmall)) * d;
   const Vector3d direction = offset / (offset.norm() + kRootVSmall);
   double reach = 0.2 * d.norm() + kRootVSmall;
-  for (Eigen::Index p : face) reach = std::max(reach, std::abs(direction.dot(points.row(p).transpose() - geometry.centre)));
+  for (int v = 0; v < face.size; ++v) {
+    reach = std::max(reach, std::abs(direction.dot(points.row(face.points[static_cast<size_t>(v)]).transpose() - geometry.centre)));
+  }
   return offset.norm() / reach;
 }
 
@@ -144,13 +147,13 @@ CellQuality measureCellQuality(const grid::HexTopology& topology) {
   std::vector<double> areaSum(static_cast<size_t>(cells), 0.0);
   std::vector<int> internalFaces(static_cast<size_t>(cells), 0);
   topology.forEachInternalFace([&](const grid::HexFace& face) {
-    const FaceGeometry geometry = faceGeometry(points, face.points);
+    const FaceGeometry geometry = faceGeometry(points, face);
     const Vector3d& a = geometry.area;
     const Vector3d& own = centres[static_cast<size_t>(face.owner)];
     const Vector3d d = centres[static_cast<size_t>(face.neighbour)] - own;
     const double cosine = geometry.area.dot(d) / (geometry.area.norm() * d.norm() + kRootVSmall);
     const double angle = std::acos(std::min(1.0, std::max(-1.0, cosine))) * kDegrees;
-    const double skew = faceSkewness(points, face.points, geometry, own, d);
+    const double skew = faceSkewness(points, face, geometry, own, d);
     const double v0 = quality.volume[static_cast<size_t>(face.owner)];
     const double v1 = quality.volume[static_cast<size_t>(face.neighbour)];
     const double growth = std::max(v0, v1) / std::max(std::min(v0, v1), kRootVSmall);
@@ -175,11 +178,11 @@ CellQuality measureCellQuality(const grid::HexTopology& topology) {
     quality.determinant[c] = std::abs((tensor / (meanArea * meanArea)).determinant()) / 8.0;
   }
   topology.forEachBoundaryFace([&](size_t, const grid::HexFace& face) {
-    const FaceGeometry geometry = faceGeometry(points, face.points);
+    const FaceGeometry geometry = faceGeometry(points, face);
     const Vector3d& own = centres[static_cast<size_t>(face.owner)];
     const Vector3d normal = geometry.area / (geometry.area.norm() + kRootVSmall);
     const Vector3d d = 2.0 * normal * normal.dot(geometry.centre - own);  // to the mirrored centre
-    worsen(quality.skewness[static_cast<size_t>(face.owner)], faceSkewness(points, face.points, geometry, own, d));
+    worsen(quality.skewness[static_cast<size_t>(face.owner)], faceSkewness(points, face, geometry, own, d));
   });
   // The wall, block face by block face: per wall cell the angle between the wall face's normal
   // and the mean of the cell's four edges off the wall; per wall point the first edge's length.

@@ -48,6 +48,8 @@ const char* boundaryConditionName(BoundaryCondition condition) {
       return "outlet";
     case BoundaryCondition::Side:
       return "side";
+    case BoundaryCondition::Collapsed:
+      return "collapsed";
   }
   return "";
 }
@@ -55,7 +57,7 @@ const char* boundaryConditionName(BoundaryCondition condition) {
 std::optional<BoundaryCondition> findBoundaryCondition(const std::string& name) {
   for (BoundaryCondition c : {BoundaryCondition::Connected, BoundaryCondition::Wall, BoundaryCondition::Symmetry,
                               BoundaryCondition::Farfield, BoundaryCondition::Inlet, BoundaryCondition::Outlet,
-                              BoundaryCondition::Side}) {
+                              BoundaryCondition::Side, BoundaryCondition::Collapsed}) {
     if (name == boundaryConditionName(c)) return c;
   }
   return std::nullopt;
@@ -98,6 +100,19 @@ FaceRows faceRows(const std::array<int, 3>& counts, int face) {
   const auto [first, second] = faceDirections(face);
   return {origin[0] * stride[0] + origin[1] * stride[1] + origin[2] * stride[2],
           stride[static_cast<size_t>(first)], stride[static_cast<size_t>(second)]};
+}
+
+std::array<bool, 2> coincidentAlongFace(const RowMatrixX3d& grid, const std::array<int, 3>& counts, int face) {
+  const std::array<int, 2> sizes = faceGridCounts(counts, face);
+  const FaceRows rows = faceRows(counts, face);
+  std::array<bool, 2> along{true, true};
+  for (int b = 0; b < sizes[1]; ++b) {
+    for (int a = 0; a < sizes[0]; ++a) {
+      if (grid.row(rows.at(a, b)) != grid.row(rows.at(0, b))) along[0] = false;
+      if (grid.row(rows.at(a, b)) != grid.row(rows.at(a, 0))) along[1] = false;
+    }
+  }
+  return along;
 }
 
 namespace {
@@ -190,7 +205,18 @@ BlockMesh::BlockMesh(std::vector<Block> blocks) : blocks_(std::move(blocks)) {
   const int count = blockCount();
   for (int b = 0; b < count; ++b) {
     for (int f = 0; f < 6; ++f) {
-      const BlockFace& face = blocks_[static_cast<size_t>(b)].faces[static_cast<size_t>(f)];
+      BlockFace& face = blocks_[static_cast<size_t>(b)].faces[static_cast<size_t>(f)];
+      if (face.condition == BoundaryCondition::Collapsed) {
+        face.collapsedAlong = coincidentAlongFace(blocks_[static_cast<size_t>(b)].volume.poles(),
+                                                  poleGrids[static_cast<size_t>(b)], f);
+        if (!face.collapsedAlong[0] && !face.collapsedAlong[1]) {
+          throw InvalidInputError(faceText(b, f) +
+                                  " is collapsed, but its poles differ along both of its directions (a "
+                                  "collapsed face is one curve or one point: its poles identical along a row)");
+        }
+        continue;
+      }
+      face.collapsedAlong = {false, false};
       if (face.condition != BoundaryCondition::Connected) continue;
       const FaceConnection& link = face.neighbour;
       const BsplineVolume& mine = blocks_[static_cast<size_t>(b)].volume;
@@ -243,21 +269,30 @@ std::vector<Eigen::Index> sharedGridRoots(const std::vector<std::array<BlockFace
     }
     return x;
   };
+  // The smaller index becomes the root, so every position's root is the smallest it is shared with.
+  auto join = [&](Eigen::Index p, Eigen::Index q) {
+    const Eigen::Index rp = find(p), rq = find(q);
+    if (rp != rq) parent[static_cast<size_t>(std::max(rp, rq))] = std::min(rp, rq);
+  };
   for (size_t b = 0; b < faces.size(); ++b) {
     for (int f = 0; f < 6; ++f) {
       const BlockFace& face = faces[b][static_cast<size_t>(f)];
-      if (face.condition != BoundaryCondition::Connected) continue;
-      const size_t other = static_cast<size_t>(face.neighbour.block);
       const std::array<int, 2> mine = faceGridCounts(counts[b], f);
       const FaceRows here = faceRows(counts[b], f);
+      if (face.condition == BoundaryCondition::Collapsed) {
+        for (int c = 0; c < mine[1]; ++c) {
+          for (int a = 0; a < mine[0]; ++a) {
+            if (face.collapsedAlong[0]) join(offset[b] + here.at(a, c), offset[b] + here.at(0, c));
+            if (face.collapsedAlong[1]) join(offset[b] + here.at(a, c), offset[b] + here.at(a, 0));
+          }
+        }
+        continue;
+      }
+      if (face.condition != BoundaryCondition::Connected) continue;
+      const size_t other = static_cast<size_t>(face.neighbour.block);
       const FaceRows there = BlockMesh::neighbourFaceRows(face.neighbour, counts[other]);
       for (int c = 0; c < mine[1]; ++c) {
-        for (int a = 0; a < mine[0]; ++a) {
-          const Eigen::Index rp = find(offset[b] + here.at(a, c));
-          const Eigen::Index rq = find(offset[other] + there.at(a, c));
-          // The smaller index becomes the root, so every position's root is the smallest it is shared with.
-          if (rp != rq) parent[static_cast<size_t>(std::max(rp, rq))] = std::min(rp, rq);
-        }
+        for (int a = 0; a < mine[0]; ++a) join(offset[b] + here.at(a, c), offset[other] + there.at(a, c));
       }
     }
   }
@@ -313,7 +348,7 @@ VolumeControlMesh volumeControlMesh(const BlockMesh& mesh) {
     }
     for (int f = 0; f < 6; ++f) {
       const BoundaryCondition condition = blocks[b].faces[static_cast<size_t>(f)].condition;
-      if (condition == BoundaryCondition::Connected) continue;
+      if (condition == BoundaryCondition::Connected || condition == BoundaryCondition::Collapsed) continue;
       const std::array<int, 2> counts = BlockMesh::facePoleCounts(volume, f);
       for (int a = 0; a + 1 < counts[0]; ++a) {
         for (int c = 0; c + 1 < counts[1]; ++c) {

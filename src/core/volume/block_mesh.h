@@ -17,7 +17,10 @@ namespace bvmesh::volume {
 // faces, (u, w) on v faces, (u, v) on w faces.
 enum class BlockFaceSide { UMin = 0, UMax = 1, VMin = 2, VMax = 3, WMin = 4, WMax = 5 };
 
-enum class BoundaryCondition { Connected, Wall, Symmetry, Farfield, Inlet, Outlet, Side };
+// Collapsed: the face is no surface but a curve or a point (an axis or a sharp edge that the
+// block fans out from): its grid is one point along one or both of its directions, so it
+// bounds nothing and its cells are prisms or pyramids there.
+enum class BoundaryCondition { Connected, Wall, Symmetry, Farfield, Inlet, Outlet, Side, Collapsed };
 
 const char* boundaryConditionName(BoundaryCondition condition);
 // The condition boundaryConditionName calls `name`, if any.
@@ -52,7 +55,14 @@ struct FaceConnection {
 struct BlockFace {
   BoundaryCondition condition = BoundaryCondition::Farfield;
   FaceConnection neighbour;  // used when condition == Connected
+  // With condition Collapsed: per face axis (a, b), whether the face's grid is one point along it
+  // (every row along that axis); found from the poles by BlockMesh.
+  std::array<bool, 2> collapsedAlong{false, false};
 };
+
+// Per face axis, whether `grid` (poles or points of a block with `counts` per direction, row i
+// fastest) is one point along it on `face`: every row along that axis identical bit for bit.
+std::array<bool, 2> coincidentAlongFace(const RowMatrixX3d& grid, const std::array<int, 3>& counts, int face);
 
 struct Block {
   BsplineVolume volume;
@@ -67,9 +77,10 @@ void checkFaceConnections(const std::vector<std::array<BlockFace, 6>>& faces,
                           const std::vector<std::array<int, 3>>& counts, const char* unit);
 
 // Positions of block grids (poles or points; sizes per direction in `counts`) that connected faces
-// join: position r of block b has the global number offset[b] + r (offset: the running sum of the
-// blocks' sizes, row r = i + n_i * (j + n_j * k)). Returns for every global number the smallest
-// global number it is shared with (itself when unshared).
+// join, or that a collapsed face makes one: position r of block b has the global number
+// offset[b] + r (offset: the running sum of the blocks' sizes, row r = i + n_i * (j + n_j * k)).
+// Returns for every global number the smallest global number it is shared with (itself when
+// unshared).
 std::vector<Eigen::Index> sharedGridRoots(const std::vector<std::array<BlockFace, 6>>& faces,
                                           const std::vector<std::array<int, 3>>& counts);
 
@@ -78,8 +89,9 @@ class BlockMesh {
   BlockMesh() = default;
   // Validates: connections in range and mutual (the neighbour's face points back with the inverse
   // orientation), matching pole counts and knot vectors (mirrored where reversed) along connected
-  // faces, and connected faces' poles identical bit for bit. Throws InvalidInputError naming the
-  // block and face.
+  // faces, connected faces' poles identical bit for bit, and collapsed faces' poles one point
+  // along at least one direction (which it records in their collapsedAlong). Throws
+  // InvalidInputError naming the block and face.
   explicit BlockMesh(std::vector<Block> blocks);
 
   const std::vector<Block>& blocks() const { return blocks_; }
@@ -101,7 +113,8 @@ class BlockMesh {
 };
 
 // The blocks' control nets as one mesh of hexahedral control cells: poles shared by connected faces
-// merged into one point, every boundary face of a cell tagged with its block face's condition.
+// (or made one by a collapsed face) merged into one point, every boundary face of a cell tagged
+// with its block face's condition (a collapsed face has none).
 struct VolumeControlMesh {
   RowMatrixX3d points;                           // #P x 3
   std::vector<std::array<int, 8>> cells;         // corners (i, j, k) order: 000 100 110 010 001 101 111 011

@@ -679,21 +679,73 @@ class Marcher {
 }  // namespace
 
 double hexScaledJacobian(const std::array<Eigen::Vector3d, 8>& corners) {
+  // Edge of the corner at (i, j, k) along `direction`, pointing towards increasing index.
+  const auto edge = [&](int i, int j, int k, int direction) -> Vector3d {
+    std::array<int, 3> at{i, j, k};
+    std::array<int, 3> other = at;
+    other[static_cast<size_t>(direction)] = 1 - other[static_cast<size_t>(direction)];
+    const Vector3d& x = corners[static_cast<size_t>(cornerIndex(at[0], at[1], at[2]))];
+    const Vector3d& y = corners[static_cast<size_t>(cornerIndex(other[0], other[1], other[2]))];
+    return at[static_cast<size_t>(direction)] == 0 ? Vector3d(y - x) : Vector3d(x - y);
+  };
   double worst = 1.0;
+  bool measured = false;
   for (int k = 0; k < 2; ++k) {
     for (int j = 0; j < 2; ++j) {
       for (int i = 0; i < 2; ++i) {
-        const Vector3d& x = corners[static_cast<size_t>(cornerIndex(i, j, k))];
-        const Vector3d eu = (corners[static_cast<size_t>(cornerIndex(1 - i, j, k))] - x) * (i == 0 ? 1.0 : -1.0);
-        const Vector3d ev = (corners[static_cast<size_t>(cornerIndex(i, 1 - j, k))] - x) * (j == 0 ? 1.0 : -1.0);
-        const Vector3d ew = (corners[static_cast<size_t>(cornerIndex(i, j, 1 - k))] - x) * (k == 0 ? 1.0 : -1.0);
-        const double lengths = eu.norm() * ev.norm() * ew.norm();
-        const double quality = lengths > 0 ? eu.cross(ev).dot(ew) / lengths : -1.0;
+        std::array<Vector3d, 3> e{edge(i, j, k, 0), edge(i, j, k, 1), edge(i, j, k, 2)};
+        std::array<int, 3> ijk{i, j, k};
+        int zero = -1, zeros = 0;
+        for (int d = 0; d < 3; ++d) {
+          if (e[static_cast<size_t>(d)].squaredNorm() == 0.0) {
+            zero = d;
+            ++zeros;
+          }
+        }
+        double quality = 0.0;
+        if (zeros == 0) {
+          const double lengths = e[0].norm() * e[1].norm() * e[2].norm();
+          quality = e[0].cross(e[1]).dot(e[2]) / lengths;
+        } else if (zeros == 1) {
+          // A corner merged with its neighbour along `zero` (a collapsed face): a prism's corner,
+          // whose third edge is the neighbour's edge that differs from its own. Its sign is the
+          // cell's orientation there: the zero edge replaced by the step between the two edges.
+          std::array<int, 3> partner = ijk;
+          partner[static_cast<size_t>(zero)] = 1 - partner[static_cast<size_t>(zero)];
+          int differing = -1;
+          for (int d = 0; d < 3; ++d) {
+            if (d == zero) continue;
+            if (edge(partner[0], partner[1], partner[2], d) != e[static_cast<size_t>(d)]) {
+              differing = differing < 0 ? d : 3;
+            }
+          }
+          if (differing < 0) continue;  // merged along two directions: no corner of its own
+          if (differing == 3) {
+            // Pinched to its neighbour without a collapsed face beside it: no cell.
+            quality = -1.0;
+            measured = true;
+            worst = std::min(worst, quality);
+            continue;
+          }
+          const Vector3d mine = e[static_cast<size_t>(differing)];
+          const Vector3d theirs = edge(partner[0], partner[1], partner[2], differing);
+          std::array<Vector3d, 3> oriented = e;
+          oriented[static_cast<size_t>(zero)] = ijk[static_cast<size_t>(zero)] == 0 ? Vector3d(theirs - mine)
+                                                                                    : Vector3d(mine - theirs);
+          const int same = 3 - zero - differing;
+          const double magnitude = std::abs(e[static_cast<size_t>(same)].cross(mine).dot(theirs)) /
+                                   (e[static_cast<size_t>(same)].norm() * mine.norm() * theirs.norm());
+          const double sign = oriented[0].cross(oriented[1]).dot(oriented[2]);
+          quality = sign > 0.0 ? magnitude : (sign < 0.0 ? -magnitude : 0.0);
+        } else {
+          continue;  // a corner merged along two or three directions has no edges of its own to measure
+        }
+        measured = true;
         worst = std::min(worst, quality);
       }
     }
   }
-  return worst;
+  return measured ? worst : -1.0;
 }
 
 FarfieldScheme farfieldSchemeOf(const std::string& name) {
