@@ -631,7 +631,7 @@ def make_volume_mesh(fit, name="VolumeMesh", wall_level=-1, marching_level=-1, s
     wall faces). options: those of bvmesh.volume.offset_and_farfield
     (reference_length, reynolds_number, boundary_layer_thickness, boundary_layer_layers,
     boundary_layer_growth, sharp_edge_splay, farfield_distance, farfield_growth, smoothing,
-    min_scaled_jacobian, max_layers; farfield_scheme 'hyperbolic' (default) | 'smoothed'; domain
+    min_scaled_jacobian, max_layers, knife_edge_fans; farfield_scheme 'hyperbolic' (default) | 'smoothed'; domain
     'sphere' | 'box' | 'cylinder' | 'cad', flow_direction, box_half_extent). domain 'cad', the
     default when the fit's target is a flow domain's body: the domain its CAD holds. show: the
     block faces shown, e.g. ('wall', 'symmetry')."""
@@ -676,8 +676,8 @@ def _volume_option_table():
     vectors."""
     from bvmesh.features import volume_mesh
 
-    return ([row[:2] for row in volume_mesh.OPTIONS] + [("Domain", "domain"), ("FarfieldScheme", "farfield_scheme")]
-            + [row[:2] for row in volume_mesh.VECTORS])
+    return ([row[:2] for row in volume_mesh.OPTIONS] + [row[:2] for row in volume_mesh.SWITCHES]
+            + [("Domain", "domain"), ("FarfieldScheme", "farfield_scheme")] + [row[:2] for row in volume_mesh.VECTORS])
 
 
 def _set_and_recompute(obj, table, display, options, show, what, extra):

@@ -31,7 +31,8 @@ def offset_and_farfield(fit_or_mesh, symmetry_plane=None, marching_wall=None, **
     of bvmesh.generate_volume_mesh (reference_length, reynolds_number, boundary_layer_thickness,
     boundary_layer_layers, boundary_layer_growth, sharp_edge_splay, farfield_distance,
     farfield_growth, farfield_scheme ('hyperbolic', the default, or 'smoothed'), smoothing,
-    min_scaled_jacobian, max_layers).
+    min_scaled_jacobian, max_layers, knife_edge_fans: a sharp trailing edge cut open with a fan of
+    prisms round it, off by default).
     Returns a bvmesh.VolumeMesh; raises ValueError (bvmesh.InvalidInputError) for a bad wall or
     option and bvmesh.SolverError when the marching would fold, naming where.
     """

@@ -65,12 +65,13 @@ template <typename Make>
 void defineMarchingFunction(py::module_& module, const char* name, Make make, const char* doc) {
   module.def(
       name,
-      [make](const ControlMesh& wall, const py::object& symmetryPlane, double referenceLength, double reynoldsNumber,
-             double boundaryLayerThickness, int boundaryLayerLayers, double boundaryLayerGrowth, double sharpEdgeSplay,
-             double farfieldDistance, double farfieldGrowth, double smoothing, double minScaledJacobian, int maxLayers,
+      [make](const ControlMesh& wall, const py::object& symmetryPlane, double referenceLength,
+             double reynoldsNumber, double boundaryLayerThickness, int boundaryLayerLayers,
+             double boundaryLayerGrowth, double sharpEdgeSplay, double farfieldDistance,
+             double farfieldGrowth, double smoothing, double minScaledJacobian, int maxLayers,
              const std::string& domain, const py::object& boxHalfExtent, const py::object& flowDirection,
              const std::optional<ControlMesh>& marchingWall, const py::object& domainCentre,
-             const std::string& farfieldScheme) {
+             const std::string& farfieldScheme, bool knifeEdgeFans) {
         volume::VolumeMeshOptions options;
         setSymmetryPlane(symmetryPlane, options);
         if (!domainCentre.is_none()) {
@@ -87,6 +88,7 @@ void defineMarchingFunction(py::module_& module, const char* name, Make make, co
         options.boundaryLayerLayers = boundaryLayerLayers;
         options.boundaryLayerGrowth = boundaryLayerGrowth;
         options.sharpEdgeSplay = sharpEdgeSplay;
+        options.knifeEdgeFans = knifeEdgeFans;
         options.farfieldDistance = farfieldDistance;
         options.farfieldGrowth = farfieldGrowth;
         options.smoothing = smoothing;
@@ -98,12 +100,14 @@ void defineMarchingFunction(py::module_& module, const char* name, Make make, co
         return make(surface::toQuadControlMesh(wall), options, &coarse);
       },
       py::arg("wall"), py::arg("symmetry_plane") = py::none(), py::arg("reference_length") = 0.0,
-      py::arg("reynolds_number") = 5e6, py::arg("boundary_layer_thickness") = 0.0, py::arg("boundary_layer_layers") = 4,
-      py::arg("boundary_layer_growth") = 1.2, py::arg("sharp_edge_splay") = 2.0, py::arg("farfield_distance") = 0.0,
-      py::arg("farfield_growth") = 1.3, py::arg("smoothing") = 1.0, py::arg("min_scaled_jacobian") = 0.05,
-      py::arg("max_layers") = 400, py::arg("domain") = "sphere", py::arg("box_half_extent") = py::none(),
+      py::arg("reynolds_number") = 5e6, py::arg("boundary_layer_thickness") = 0.0,
+      py::arg("boundary_layer_layers") = 4, py::arg("boundary_layer_growth") = 1.2,
+      py::arg("sharp_edge_splay") = 2.0, py::arg("farfield_distance") = 0.0, py::arg("farfield_growth") = 1.3,
+      py::arg("smoothing") = 1.0, py::arg("min_scaled_jacobian") = 0.05, py::arg("max_layers") = 400,
+      py::arg("domain") = "sphere", py::arg("box_half_extent") = py::none(),
       py::arg("flow_direction") = std::vector<double>{1.0, 0.0, 0.0}, py::arg("marching_wall") = py::none(),
-      py::arg("domain_centre") = py::none(), py::arg("farfield_scheme") = "hyperbolic", doc);
+      py::arg("domain_centre") = py::none(), py::arg("farfield_scheme") = "hyperbolic",
+      py::arg("knife_edge_fans") = false, doc);
 }
 
 }  // namespace
@@ -245,7 +249,10 @@ wall: an all-quad bvmesh.ControlMesh (e.g. SurfaceFitter.mesh), outward oriented
 on symmetry_plane ((point, normal) of a half model). Boundary layer: boundary_layer_layers control
 layers along the wall normals, total thickness boundary_layer_thickness (0: the turbulent flat-plate
 estimate 0.37 L Re^-0.2 with L = reference_length, 0: the wall's largest extent); around sharp convex
-edges the grid lines fan out over a band sharp_edge_splay boundary-layer thicknesses wide. Far field: marched
+edges the grid lines fan out over a band sharp_edge_splay boundary-layer thicknesses wide, or with
+knife_edge_fans a knife edge (a sharp trailing edge: faces more than 120 degrees apart) is cut open,
+its faces' lines leave along their own normals and a block of prisms fans round it (its wall face
+the edge itself, collapsed; the B-spline blocks only, not control_volume_mesh). Far field: marched
 (farfield_scheme 'hyperbolic', the default: Chan & Steger's orthogonality and cell-volume equations,
 one sparse solve per pseudo-step, a layer it would fold marched by the smoothed step
 (farfield_layers_smoothed counts them); 'smoothed': directions with growing implicit smoothing,
@@ -282,6 +289,11 @@ faces. Returns a VolumeMesh; its .blocks is a BlockMesh with one block per wall 
         if (marchingWall != nullptr) {
           throw bvmesh::InvalidInputError("control_volume_mesh marches the wall's own control mesh; marching_wall is an "
                                   "option of generate_volume_mesh");
+        }
+        if (options.knifeEdgeFans) {
+          throw bvmesh::InvalidInputError(
+              "control_volume_mesh keeps its control cells hexahedral; knife_edge_fans is an "
+              "option of generate_volume_mesh");
         }
         py::gil_scoped_release release;
         return volume::controlVolumeMesh(wall, options);

@@ -162,6 +162,12 @@ TEST(CollapsedFace, HexCellsWithAMergedCornerAreMeasuredAsPrismsAndInvertedOnesS
   std::swap(wedge[4], wedge[7]);
   std::swap(wedge[5], wedge[6]);
   EXPECT_LT(hexScaledJacobian(wedge), -std::sin(angle) + 1e-12);
+  // The same wedge with its edge on top (corners 001 and 011 one point, 101 and 111 one point):
+  // the merged corners' differing edges point into them.
+  std::array<Vector3d, 8> upsideDown{top(0, -1), top(1, -1),        top(1, 1),         top(0, 1),
+                                     a,          Vector3d(1, 0, 0), Vector3d(1, 0, 0), a};
+  for (Vector3d& x : upsideDown) x.z() = -x.z();
+  EXPECT_NEAR(hexScaledJacobian(upsideDown), std::sin(angle), 1e-12);
   // Merged along two directions at once (all four bottom corners one point): a pyramid, whose
   // apex is no corner of its own; measured by its base.
   std::array<Vector3d, 8> pyramid{a, a, a, a, Vector3d(-1, -1, 1), Vector3d(1, -1, 1), Vector3d(1, 1, 1), Vector3d(-1, 1, 1)};

@@ -108,32 +108,44 @@ inline QuadControlMesh subdivide(const QuadControlMesh& mesh, int levels) {
   return toQuadControlMesh(refined);
 }
 
-// The cube refined twice, its upper half (faces with z >= 0): open on the plane z = 0, its open
-// boundary's vertices exactly on it.
-inline QuadControlMesh upperHalfOfRefinedCube() {
-  const QuadControlMesh whole = subdivide(cube(), 2);
+// The half of a mesh on the positive side of the plane x[axis] = 0 (faces whose vertices' sum of
+// that coordinate is >= 0), with its creases there: open on the plane, its open boundary's
+// vertices put exactly on it.
+inline QuadControlMesh halfOf(const QuadControlMesh& whole, int axis) {
   std::vector<Eigen::Vector3d> points;
   std::vector<std::array<int, 4>> quads;
   std::vector<int> id(static_cast<size_t>(whole.vertices.rows()), -1);
   for (Eigen::Index f = 0; f < whole.faces.rows(); ++f) {
-    double z = 0;
-    for (int k = 0; k < 4; ++k) z += whole.vertices(whole.faces(f, k), 2);
-    if (z < 0) continue;
+    double side = 0;
+    for (int k = 0; k < 4; ++k) side += whole.vertices(whole.faces(f, k), axis);
+    if (side < 0) continue;
     std::array<int, 4> quad{};
     for (int k = 0; k < 4; ++k) {
       int& v = id[static_cast<size_t>(whole.faces(f, k))];
       if (v < 0) {
         v = static_cast<int>(points.size());
         Eigen::Vector3d x = whole.vertices.row(whole.faces(f, k)).transpose();
-        if (std::abs(x.z()) < 1e-12) x.z() = 0.0;
+        if (std::abs(x[axis]) < 1e-12) x[axis] = 0.0;
         points.push_back(x);
       }
       quad[static_cast<size_t>(k)] = v;
     }
     quads.push_back(quad);
   }
-  return makeQuadControlMesh(points, quads);
+  QuadControlMesh half = makeQuadControlMesh(points, quads);
+  std::vector<std::array<int, 2>> creases;
+  for (Eigen::Index c = 0; c < whole.creases.rows(); ++c) {
+    const int a = id[static_cast<size_t>(whole.creases(c, 0))], b = id[static_cast<size_t>(whole.creases(c, 1))];
+    if (a >= 0 && b >= 0) creases.push_back({a, b});
+  }
+  half.creases.resize(static_cast<Eigen::Index>(creases.size()), 2);
+  for (size_t c = 0; c < creases.size(); ++c) half.creases.row(static_cast<Eigen::Index>(c)) << creases[c][0], creases[c][1];
+  return half;
 }
+
+// The cube refined twice, its upper half (faces with z >= 0): open on the plane z = 0, its open
+// boundary's vertices exactly on it.
+inline QuadControlMesh upperHalfOfRefinedCube() { return halfOf(subdivide(cube(), 2), 2); }
 
 // The cube refined once with the equator loop (z = 0) made an infinitely sharp crease.
 inline QuadControlMesh cubeWithCreasedEquator() {

@@ -595,6 +595,27 @@ class VolumeObjects(unittest.TestCase):
         finally:
             self.doc.removeObject(vm.Name)
 
+    def test_knife_edge_fans_through_the_document(self):
+        # Off on a new mesh and on one saved before the property; set, it reaches the marching's
+        # options (the sphere has no knife edge: its blocks stay as they are).
+        from bvmesh.features import volume_mesh
+
+        self.assertFalse(self.volume.KnifeEdgeFans)
+        vm = api.make_volume_mesh(self.fit, boundary_layer_thickness=0.05, farfield_distance=20.0,
+                                  knife_edge_fans=True, name="Fans")
+        try:
+            self.assertTrue(vm.KnifeEdgeFans)
+            self.assertIs(volume_mesh.options(vm)["knife_edge_fans"], True)
+            self.assertEqual(vm.BlockCount, self.volume.BlockCount)
+            self.assertEqual(vm.Digest, self.volume.Digest)
+            vm.removeProperty("KnifeEdgeFans")
+            vm.Proxy.setup(vm)
+            self.assertFalse(vm.KnifeEdgeFans)
+            with self.assertRaisesRegex(Exception, "knife_edge_fans"):
+                api.set_volume_options(vm, knife_edge_fan=True)
+        finally:
+            self.doc.removeObject(vm.Name)
+
     def test_lower_wall_level_refits(self):
         level = self.fit.Level - 1
         vm = api.make_volume_mesh(self.fit, wall_level=level, boundary_layer_thickness=0.05, farfield_distance=20.0,

@@ -131,6 +131,8 @@ def fill_volume_panel(farfield_scheme="smoothed"):
     check(offered == ["smoothed", "hyperbolic"] and scheme.currentText() == "smoothed",
           "the volume panel offers the far-field schemes, smoothed first: {}".format(offered))
     scheme.setCurrentIndex(offered.index(farfield_scheme))
+    fans = panel.findChild(QtGui.QCheckBox, "checkKnifeEdgeFans")
+    check(fans is not None and not fans.isChecked(), "the volume panel offers fans at knife edges, off")
     return panel
 
 

@@ -203,16 +203,12 @@ class SphereGrids(unittest.TestCase):
         self.assertEqual(points, len(grid.merged_points()), result.stdout[-2000:])
 
     def test_vtk_multiblock_loads_with_its_quality_fields(self):
-        import vtk
         from vtk.util.numpy_support import vtk_to_numpy
 
         path = os.path.join(self.folder.name, "sphere.vtm")
         report = bvmesh.grid.quality(self.euler)
         bvmesh.grid.write_vtk(self.euler, path, report)
-        reader = vtk.vtkXMLMultiBlockDataReader()
-        reader.SetFileName(path)
-        reader.Update()
-        data = reader.GetOutput()
+        data = read_vtk_multiblock(path)
         grid = self.euler.grid
         self.assertEqual(data.GetNumberOfBlocks(), grid.block_count)
         start = 0
@@ -350,6 +346,16 @@ class SphereGrids(unittest.TestCase):
             bvmesh.grid.write_openfoam(self.euler, missing)
 
 
+def read_vtk_multiblock(path):
+    """The VTK multiblock data set of a .vtm file, read by VTK itself."""
+    import vtk
+
+    reader = vtk.vtkXMLMultiBlockDataReader()
+    reader.SetFileName(path)
+    reader.Update()
+    return reader.GetOutput()
+
+
 def fan_wedge_block_file(path, half_wedge_degrees=10.0):
     """The block file of a sharp edge as a fan (tests/cpp/block_fixtures.h, fanWedgeBlocks): the
     y axis is the edge of a wedge whose faces run along -x, block 0 on the upper face, block 1 on
@@ -454,15 +460,10 @@ class FanGrid(unittest.TestCase):
         self.assertRegex(output, r"prisms: +{}\n".format(prisms), output)
 
     def test_vtk_loads_it_and_the_quality_is_the_prisms(self):
-        import vtk
-
         path = os.path.join(self.folder.name, "fan.vtm")
         report = bvmesh.grid.quality(self.refined)
         bvmesh.grid.write_vtk(self.refined, path, report)
-        reader = vtk.vtkXMLMultiBlockDataReader()
-        reader.SetFileName(path)
-        reader.Update()
-        self.assertEqual(reader.GetOutput().GetNumberOfBlocks(), 3)
+        self.assertEqual(read_vtk_multiblock(path).GetNumberOfBlocks(), 3)
         self.assertGreater(report["scaled_jacobian"].min(), 0.3)  # sin(160 / 6 degrees) = 0.45 at the edge
         self.assertLess(report["non_orthogonality"].max(), 20.0)
 

@@ -231,6 +231,8 @@ class ControlVolumeOfTheSphereFit(unittest.TestCase):
             bvmesh.volume.control_volume(self.volume)
         with self.assertRaisesRegex(bvmesh.InvalidInputError, "far-field distance 0.01 is not beyond"):
             bvmesh.volume.control_volume(self.fitter, boundary_layer_thickness=0.05, farfield_distance=0.01)
+        with self.assertRaisesRegex(bvmesh.InvalidInputError, "knife_edge_fans is an option of generate_volume_mesh"):
+            bvmesh.volume.control_volume(self.fitter, knife_edge_fans=True)
 
 
 class HexMeshInterface(unittest.TestCase):

@@ -2,6 +2,7 @@
 forms, the blocks as arrays, the block file, and errors that name the problem."""
 
 import os
+import subprocess
 import tempfile
 import unittest
 
@@ -10,7 +11,7 @@ import numpy as np
 import bvmesh
 import bvmesh.volume
 
-from fixtures import CUBE_FACES, CUBE_VERTICES, check_mesh, smooth_border_normal_jumps, sphere_target
+from fixtures import CUBE_FACES, CUBE_VERTICES, OPENFOAM, check_mesh, smooth_border_normal_jumps, sphere_target
 
 
 def greville(knots):
@@ -285,14 +286,22 @@ def sampled_block(blocks, b):
     return x, du, dv, dw, scaled
 
 
+FACE_SAMPLES = {"u_min": (0,), "u_max": (-1,), "v_min": (slice(None), 0), "v_max": (slice(None), -1),
+                "w_min": (slice(None), slice(None), 0), "w_max": (slice(None), slice(None), -1)}
+
+
 def sampled_blocks(mesh):
     """Every block of a volume mesh sampled as sampled_block does: the worst scaled Jacobian, the
     sample points at or below 0 (n, 3), the largest distance of a symmetry face's samples from
-    y = 0, and the outer faces' samples' distances from the domain centre."""
+    y = 0, and the outer faces' samples' distances from the domain centre. A collapsed face's own
+    samples (a knife edge's fan: a line, where du x dv . dw is 0) are no cells and left out."""
     blocks, centre = mesh.blocks, np.asarray(mesh.domain_centre)
     worst, negative, symmetry_offset, outer = 1.0, [], 0.0, []
     for b in range(blocks.block_count):
         x, _, _, _, scaled = sampled_block(blocks, b)
+        for name, at in FACE_SAMPLES.items():
+            if blocks.faces(b)[name]["condition"] == "collapsed":
+                scaled[at] = 1.0
         worst = min(worst, scaled.min())
         negative.extend(x[scaled <= 0.0])
         outer.extend(np.linalg.norm(x[:, :, -1] - centre, axis=2).ravel())
@@ -300,6 +309,22 @@ def sampled_blocks(mesh):
             if blocks.faces(b)[name]["condition"] == "symmetry":
                 symmetry_offset = max(symmetry_offset, np.abs(face[..., 1]).max())
     return worst, np.array(negative).reshape(-1, 3), symmetry_offset, np.array(outer)
+
+
+TIP_TRAILING_EDGE_CORNER = np.array([1144.4, 1197.1, 0.0])
+
+
+def check_m6_blocks(test, mesh, negatives, within, worst, symmetry=True):
+    """The M6's blocks sampled (sampled_blocks): the outer face on the far field of 20 root chords
+    to 1 %, the symmetry faces on y = 0 (when `symmetry`), and at most `negatives` samples at or
+    below 0, all within `within` mm of the trailing edge's tip corner, none below `worst`."""
+    lowest, negative, symmetry_offset, outer = sampled_blocks(mesh)
+    np.testing.assert_allclose(outer, 20 * 805.0, rtol=0.01)
+    if symmetry:
+        test.assertLess(symmetry_offset, 1e-12 * 1457.0)
+    test.assertLessEqual(len(negative), negatives)
+    test.assertLess(np.abs(negative - TIP_TRAILING_EDGE_CORNER).max(initial=0.0), within)
+    test.assertGreater(lowest, worst)
 
 
 class M6Volume(unittest.TestCase):
@@ -408,13 +433,8 @@ class M6HyperbolicFarField(unittest.TestCase):
         np.testing.assert_array_equal(self.mesh.layer_min_scaled_jacobian[:5], self.smoothed.layer_min_scaled_jacobian[:5])
 
     def test_blocks_symmetry_plane_and_far_field_as_asked(self):
-        worst, negative, symmetry_offset, outer = sampled_blocks(self.mesh)
-        np.testing.assert_allclose(outer, 20 * 805.0, rtol=0.01)
-        self.assertLess(symmetry_offset, 1e-12 * 1457.0)
         # The boundary layer's known defect at the trailing edge's tip corner (M6Volume) and nothing else.
-        self.assertLessEqual(len(negative), 6)
-        self.assertLess(np.abs(negative - np.array([1144.4, 1197.1, 0.0])).max(initial=0.0), 5.0)
-        self.assertGreater(worst, -0.1)
+        check_m6_blocks(self, self.mesh, negatives=6, within=5.0, worst=-0.1)
 
 
 class M6VolumeOnTheConvergedWall(unittest.TestCase):
@@ -460,15 +480,75 @@ class M6VolumeOnTheConvergedWall(unittest.TestCase):
         self.assertGreater(level2, 1e-5 * 805.0)
 
     def test_blocks_positive_and_the_far_field_as_asked(self):
-        worst, negative, _, outer = sampled_blocks(self.mesh)
-        np.testing.assert_allclose(outer, 20 * 805.0, rtol=0.01)
         # The known defect of level 2 alone (M6Volume), at the same corner column: 8 samples (4 per
         # side, -0.134 at worst; level 2: 6, -0.070) in the first layers where the trailing edge
         # meets the tip, nowhere else.
-        self.assertLessEqual(len(negative), 8)
-        self.assertLess(np.abs(negative - np.array([1144.4, 1197.1, 0.0])).max(initial=0.0), 6.0)
-        self.assertGreater(worst, -0.15)
+        check_m6_blocks(self, self.mesh, negatives=8, within=6.0, worst=-0.15, symmetry=False)
 
+
+class M6KnifeEdgeFans(unittest.TestCase):
+    """The main job's volume mesh (the level-3 wall carried from level 2) with the sharp trailing
+    edge cut open and a fan of prisms round it (knife_edge_fans=True), closing where the trailing
+    edge meets the tip: each surface's grid lines leave the wall along its own normal at the
+    trailing edge too, and the 1 M-cell grids pass checkMesh (the rans grid all but the aspect
+    ratio, whose y+ 1 cells it fails by design; without fans its skewness fails as well)."""
+
+    @classmethod
+    def setUpClass(cls):
+        import bvmesh.grid
+
+        fitter, _ = fit_m6(level=3)
+        coarse, _ = fit_m6(level=2)
+        cls.mesh = bvmesh.volume.offset_and_farfield(fitter, marching_wall=coarse, reference_length=805.0,
+                                                     knife_edge_fans=True)
+        cls.euler = bvmesh.grid.refine(cls.mesh, "euler", target_cells=1000000)
+        cls.rans = bvmesh.grid.refine(cls.mesh, "rans", target_cells=1000000, reynolds_number=11.72e6)
+
+    def test_one_fan_along_the_trailing_edge(self):
+        fans = [b for b in range(self.mesh.blocks.block_count)
+                if self.mesh.blocks.faces(b)["w_min"]["condition"] == "collapsed"]
+        self.assertEqual(len(fans), 1)
+        faces = self.mesh.blocks.faces(fans[0])
+        # From the root on the symmetry plane to the tip, where it closes.
+        self.assertEqual(sorted([faces["u_min"]["condition"], faces["u_max"]["condition"]]), ["collapsed", "symmetry"])
+        self.assertEqual(self.mesh.block_chart[fans[0]], -1)
+
+    def test_blocks_positive_but_at_the_tip_corner_as_without_fans(self):
+        # The same 8 samples at the trailing edge's tip corner as the O-grid's (M6VolumeOnTheConvergedWall).
+        check_m6_blocks(self, self.mesh, negatives=8, within=6.0, worst=-0.15)
+
+    def test_grids_wall_orthogonal_and_their_cells_positive(self):
+        # Wall angle at the 95th / 99th percentile: measured 0.85 / 2.4 degrees (euler) and 1.08 /
+        # 2.7 (rans); without fans 1.54 / 42.9 and 1.26 / 41.2, the trailing edge's O-grid lines.
+        for refined, p95 in ((self.euler, 1.0), (self.rans, 1.2)):
+            report = bvmesh.grid.quality(refined)
+            self.assertGreater(report["scaled_jacobian"].min(), 0.0)
+            self.assertLess(np.percentile(report["wall_angle"], 95), p95)
+            self.assertLess(np.percentile(report["wall_angle"], 99), 3.0)
+
+    def test_checkmesh_counts_the_prisms_and_passes(self):
+        import re
+        import shutil
+
+        if shutil.which("checkMesh") is None:
+            self.skipTest("checkMesh (openfoam) is not installed")
+        fan = next(b for b in range(self.euler.grid.block_count) if self.euler.grid.faces(b)["w_min"]["condition"] == "collapsed")
+        for refined, allowed in ((self.euler, []), (self.rans, ["aspect ratio"])):
+            ni, nj, nk, _ = refined.grid.points(fan).shape
+            with tempfile.TemporaryDirectory() as case:
+                bvmesh.grid.write_openfoam(refined, case)
+                result = subprocess.run(["checkMesh", "-case", case], env=OPENFOAM, capture_output=True,
+                                        text=True, timeout=300)
+            report = result.stdout
+            # Prisms on the trailing edge (the fan's first layer) and on the line where it closes
+            # (its cells there in every other layer); where the two meet, tet wedges.
+            self.assertRegex(report, r"prisms: +{}\n".format((nj - 1) * (ni - 2 + nk - 2)))
+            self.assertRegex(report, r"tet wedges: +{}\n".format(nj - 1))
+            failed = [line for line in report.splitlines() if line.strip().startswith("***")]
+            self.assertEqual(len(failed), len(allowed), "\n".join(failed))
+            for line, what in zip(failed, allowed):
+                self.assertIn(what, line)
+            self.assertIn("Mesh OK." if not allowed else "Failed {} mesh checks.".format(len(allowed)), report)
 
 
 def hemisphere_cylinder_with_flat_base():

@@ -35,6 +35,12 @@ OPTIONS = (
      "Cells below this scaled Jacobian get local smoothing rounds while marching"),
     ("MaxLayers", "max_layers", "App::PropertyInteger", 400, "Control layers at most"),
 )
+# Switches: (property, option, default, description).
+SWITCHES = (
+    ("KnifeEdgeFans", "knife_edge_fans", False,
+     "Cut knife edges (a sharp trailing edge) open with a fan of prisms round them: their surfaces' grid lines "
+     "leave the wall along their own normals; the fan closes where the edge ends inside the wall (a wing tip)"),
+)
 DISPLAY = (("ShowWall", "wall", True), ("ShowSymmetry", "symmetry", True), ("ShowFarfield", "farfield", False))
 # cad: the flow domain of the fit's target (Target.FlowDomain), as its CAD gives it.
 DOMAINS = ["sphere", "box", "cylinder", "cad"]
@@ -52,6 +58,7 @@ VECTORS = (
 def options(obj):
     """The marching options of a VolumeMesh object, as offset_and_farfield's keywords."""
     settings = {option: getattr(obj, prop) for prop, option, _, _, _ in OPTIONS}
+    settings.update({option: bool(getattr(obj, prop)) for prop, option, _, _ in SWITCHES})
     settings["domain"] = obj.Domain
     settings["farfield_scheme"] = obj.FarfieldScheme
     for prop, option, _, _ in VECTORS:
@@ -164,6 +171,8 @@ class VolumeMeshProxy(RecomputedProxy):
                      "wall faces)", -1)
         for prop, _, type_name, default, doc in OPTIONS:
             add_property(obj, type_name, prop, "Marching", doc, default)
+        for prop, _, default, doc in SWITCHES:
+            add_property(obj, "App::PropertyBool", prop, "Marching", doc, default)
         # A document saved before 'cad' gains it.
         self.add_enumeration(obj, "Domain", "Marching",
                              "Outer boundary: sphere (half sphere on a symmetry plane), box or cylinder along the "

@@ -216,6 +216,7 @@ class _OptionsPanel(_Panel):
     options = display = ()
     extra_spins = ()  # (property, keyword) outside OPTIONS
     combos = ()       # (property, keyword, choices)
+    switches = ()     # (property, keyword, default, description): check<Property>
 
     def __init__(self, obj, source=None):
         self.obj, self.source = obj, source
@@ -229,6 +230,8 @@ class _OptionsPanel(_Panel):
         for prop, _ in self.extra_spins:
             self.widget("spin", prop, -1).setValue(self.current(prop, -1))
         for prop, _, default in self.display:
+            self.widget("check", prop).setChecked(self.current(prop, default))
+        for prop, _, default, _ in self.switches:
             self.widget("check", prop).setChecked(self.current(prop, default))
 
     def widget(self, kind, prop, default=None):
@@ -266,6 +269,10 @@ class _OptionsPanel(_Panel):
             value = self.widget("spin", prop, -1).value()
             if value != self.current(prop, -1):
                 changed[keyword] = value
+        for prop, keyword, default, _ in self.switches:
+            value = self.widget("check", prop).isChecked()
+            if value != self.current(prop, default):
+                changed[keyword] = value
         shown = tuple(condition for prop, condition, _ in self.display if self.widget("check", prop).isChecked())
         if shown != tuple(condition for prop, condition, default in self.display if self.current(prop, default)):
             changed["show"] = shown
@@ -302,6 +309,7 @@ class VolumeMeshPanel(_OptionsPanel):
     form_name, title = "volume_mesh", "Volume mesh"
     create_function, set_function = "make_volume_mesh", "set_volume_options"
     options, display = volume_mesh.OPTIONS, volume_mesh.DISPLAY
+    switches = volume_mesh.SWITCHES
     extra_spins = (("WallLevel", "wall_level"), ("MarchingLevel", "marching_level"))
     combos = (("Domain", "domain", volume_mesh.DOMAINS),
               ("FarfieldScheme", "farfield_scheme", volume_mesh.FARFIELD_SCHEMES))

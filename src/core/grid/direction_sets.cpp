@@ -201,13 +201,19 @@ struct EdgeTables {
   std::vector<std::vector<const TurningTable*>> countedFans;
   std::vector<double> fanAngle;  // per set, the largest angle a fan line of it sweeps round its edge
   std::vector<double> longestEdge;
+  std::vector<std::array<std::array<bool, 4>, 3>> collapsed;  // per block, direction and edge
 
   // The arc-length table edge e of (b, d) places its points by: its own, or its fan line's.
   const ArcLength& placing(size_t b, int d, int e) const {
-    const ArcLength& own = arcs[b][static_cast<size_t>(d)][static_cast<size_t>(e)];
-    return own.length() > 0.0 || !fanArcs[b][static_cast<size_t>(d)] ? own : *fanArcs[b][static_cast<size_t>(d)];
+    return collapsed[b][static_cast<size_t>(d)][static_cast<size_t>(e)]
+               ? *fanArcs[b][static_cast<size_t>(d)]
+               : arcs[b][static_cast<size_t>(d)][static_cast<size_t>(e)];
   }
 };
+
+// Block edges shorter than this share of their block's pole box are collapsed (their evaluated
+// points one point to rounding).
+constexpr double kCollapsedEdge = 1e-9;
 
 // A set counts its wall edges (all its edges if it has none), each asking for its length in
 // spacings plus its turning in maxTurning steps. With a turning limit, a wall face's middle grid
@@ -224,9 +230,11 @@ EdgeTables tabulateEdges(const std::vector<volume::Block>& blocks, const std::ve
                     std::vector<std::vector<const TurningTable*>>(3 * blockCount),
                     std::vector<std::vector<const TurningTable*>>(3 * blockCount),
                     std::vector<double>(3 * blockCount, 0.0),
-                    std::vector<double>(3 * blockCount, 0.0)};
+                    std::vector<double>(3 * blockCount, 0.0),
+                    std::vector<std::array<std::array<bool, 4>, 3>>(blockCount)};
   for (size_t b = 0; b < blockCount; ++b) {
     const BsplineVolume& volume = blocks[b].volume;
+    const double extent = (volume.poles().colwise().maxCoeff() - volume.poles().colwise().minCoeff()).norm();
     for (int d = 0; d < 3; ++d) {
       const auto root = static_cast<size_t>(sets.find(static_cast<int>(3 * b) + d).first);
       std::vector<ArcLength>& arcs = tables.arcs[b][static_cast<size_t>(d)];
@@ -243,10 +251,12 @@ EdgeTables tabulateEdges(const std::vector<volume::Block>& blocks, const std::ve
         const BsplineCurve curve = edgeCurve(volume, d, e);
         const ArcLength& arc = arcs.emplace_back(curve, kIntervalsPerSpan);
         const TurningTable& turning = turningOf(curve, arc);
-        if (!(arc.length() > 0.0) && !tables.fanArcs[b][static_cast<size_t>(d)]) {
+        const bool collapsed = !(arc.length() > kCollapsedEdge * extent);
+        tables.collapsed[b][static_cast<size_t>(d)][static_cast<size_t>(e)] = collapsed;
+        if (collapsed && !tables.fanArcs[b][static_cast<size_t>(d)]) {
           const BsplineCurve fan = fanLine(volume, plans[b], d);
           const ArcLength& fanArc = tables.fanArcs[b][static_cast<size_t>(d)].emplace(fan, kIntervalsPerSpan);
-          if (!(fanArc.length() > 0.0)) {
+          if (!(fanArc.length() > kCollapsedEdge * extent)) {
             throw InvalidInputError(blockText(b) + " has an edge of zero length along " + "uvw"[d] +
                                     " whose block is collapsed across its middle as well (no line to fan along)");
           }
@@ -256,8 +266,9 @@ EdgeTables tabulateEdges(const std::vector<volume::Block>& blocks, const std::ve
               std::max(tables.fanAngle[root], sweptAngle(fan, fanLine(volume, plans[b], d, false)));
         }
         if (onWallOrNoWall(plans[b], d, e)) {
+          if (collapsed) continue;
           tables.longestEdge[root] = std::max(tables.longestEdge[root], arc.length());
-          if (arc.length() > 0.0) tables.counted[root].push_back(&turning);
+          tables.counted[root].push_back(&turning);
         }
       }
       const int n = plans[b].normalDirection;
@@ -289,8 +300,9 @@ std::vector<EdgeEnd> wallEdgeEnds(const std::vector<volume::Block>& blocks,
       for (int e = 0; e < 4; ++e) {
         if (!onWallOrNoWall(plans[b], d, e)) continue;
         const RowMatrixX3d& poles = edgeCurve(blocks[b].volume, d, e).poles;
+        if (edges.collapsed[b][static_cast<size_t>(d)][static_cast<size_t>(e)])
+          continue;  // it continues nothing
         const double length = edges.arcs[b][static_cast<size_t>(d)][static_cast<size_t>(e)].length();
-        if (!(length > 0.0)) continue;  // a collapsed edge continues nothing
         for (int end = 0; end < 2; ++end) {
           const Eigen::Index at = end == 0 ? 0 : poles.rows() - 1;
           const Eigen::Index next = end == 0 ? 1 : poles.rows() - 2;
@@ -411,8 +423,10 @@ std::vector<std::optional<SharedMeasure>> sharedMeasures(
       }
       const std::vector<TurningTable>& tables = edges.turning[b][static_cast<size_t>(d)];
       for (size_t e = 0; e < tables.size(); ++e) {
-        if (e < 4 && !onWallOrNoWall(plans[b], d, static_cast<int>(e))) continue;
-        if (tables[e].length() > 0.0) shared->add(tables[e], parity == 1);
+        if (e < 4 && (!onWallOrNoWall(plans[b], d, static_cast<int>(e)) ||
+                      edges.collapsed[b][static_cast<size_t>(d)][e]))
+          continue;
+        shared->add(tables[e], parity == 1);
       }
       const std::optional<TurningTable>& fan = edges.fanTurning[b][static_cast<size_t>(d)];
       if (fan) shared->add(*fan, parity == 1);

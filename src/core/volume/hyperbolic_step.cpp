@@ -139,9 +139,19 @@ HyperbolicStepper::HyperbolicStepper(Eigen::Index pointCount, const std::vector<
   if (onPlane_.empty()) onPlane_.assign(static_cast<size_t>(pointCount), 0);
   std::vector<std::vector<FanEdge>> fans(static_cast<size_t>(pointCount));
   for (const auto& quad : quads) {
+    // A quad that repeats a corner (a knife edge's fan closing at its end) is a triangle.
+    std::array<int, 4> corners{};
+    int size = 0;
     for (int k = 0; k < 4; ++k) {
-      fans[static_cast<size_t>(quad[static_cast<size_t>(k)])].push_back(
-          {quad[static_cast<size_t>((k + 1) % 4)], quad[static_cast<size_t>((k + 3) % 4)]});
+      const int point = quad[static_cast<size_t>(k)];
+      if (size == 0 || corners[static_cast<size_t>(size - 1)] != point)
+        corners[static_cast<size_t>(size++)] = point;
+    }
+    if (size > 1 && corners[static_cast<size_t>(size - 1)] == corners[0]) --size;
+    for (int k = 0; k < size; ++k) {
+      fans[static_cast<size_t>(corners[static_cast<size_t>(k)])].push_back(
+          {corners[static_cast<size_t>((k + 1) % size)],
+           corners[static_cast<size_t>((k + size - 1) % size)]});
     }
   }
   for (Eigen::Index p = 0; p < pointCount; ++p) {
@@ -237,8 +247,9 @@ double HyperbolicStepper::shortEdge(const RowMatrixX3d& points) const {
   lengths.reserve(4 * quads_.size());
   for (const auto& q : quads_) {
     for (int k = 0; k < 4; ++k) {
-      lengths.push_back(
-          (points.row(q[static_cast<size_t>(k)]) - points.row(q[static_cast<size_t>((k + 1) % 4)])).norm());
+      const double length =
+          (points.row(q[static_cast<size_t>(k)]) - points.row(q[static_cast<size_t>((k + 1) % 4)])).norm();
+      if (length > 0.0) lengths.push_back(length);  // a triangle's repeated corner is no edge
     }
   }
   const auto tenth = lengths.begin() + static_cast<std::ptrdiff_t>(lengths.size() / 10);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <numeric>
 #include <optional>
 #include <queue>
 #include <set>
@@ -25,12 +26,20 @@ using Eigen::Vector3d;
 
 int cornerIndex(int i, int j, int k) { return 4 * k + (j == 0 ? i : 3 - i); }
 
-std::vector<std::vector<int>> neighbours(const MarchingFront& front) {
+// Per point its neighbours along the quads' edges (a quad's repeated corner is no edge); with
+// `withoutFans`, the wall's points alone, connected as if the knife edges' fans were not there (a
+// fan's points have none, and an edge's two copies are apart).
+std::vector<std::vector<int>> neighbours(const MarchingFront& front, bool withoutFans = false) {
+  std::vector<char> fan(static_cast<size_t>(front.points.rows()), 0);
+  if (withoutFans) {
+    for (const FanPoint& point : front.fanPoints) fan[static_cast<size_t>(point.point)] = 1;
+  }
   std::vector<std::set<int>> sets(static_cast<size_t>(front.points.rows()));
   for (const auto& quad : front.quads) {
     for (int e = 0; e < 4; ++e) {
       const int a = quad[static_cast<size_t>(e)];
       const int b = quad[static_cast<size_t>((e + 1) % 4)];
+      if (a == b || fan[static_cast<size_t>(a)] != 0 || fan[static_cast<size_t>(b)] != 0) continue;
       sets[static_cast<size_t>(a)].insert(b);
       sets[static_cast<size_t>(b)].insert(a);
     }
@@ -46,10 +55,28 @@ constexpr int kRepairs = 30;
 // makes the point sharp.
 constexpr double kSharpAngle = kPi / 6.0;
 
+// The wall as the splay bands see it: per point the node standing for it (itself; another point
+// where a knife edge's copies are one; -1 for none, a fan's point), the nodes' normals and their
+// neighbours.
+struct WallView {
+  std::vector<int> node;
+  RowMatrixX3d normals;
+  std::vector<std::vector<int>> neighbours;
+};
+
 class Marcher {
  public:
   Marcher(const MarchingFront& front, const MarchingOptions& options)
-      : front_(front), options_(options), neighbours_(neighbours(front)) {
+      : front_(front),
+        options_(options),
+        neighbours_(neighbours(front)),
+        wallNeighbours_(neighbours(front, true)),
+        fanQuad_(front.quads.size(), 0) {
+    std::vector<char> fan(static_cast<size_t>(front.points.rows()), 0);
+    for (const FanPoint& point : front.fanPoints) fan[static_cast<size_t>(point.point)] = 1;
+    for (size_t q = 0; q < front.quads.size(); ++q) {
+      for (int p : front.quads[q]) fanQuad_[q] = static_cast<char>(fanQuad_[q] | fan[static_cast<size_t>(p)]);
+    }
     if (front.points.rows() > 0) {
       wallSize_ = (front.points.colwise().maxCoeff() - front.points.colwise().minCoeff()).norm();
     }
@@ -73,7 +100,7 @@ class Marcher {
     // Straight grid lines along the wall normals; where a cell would be poor (a patch smaller
     // than the boundary layer is thick, next to a sharp edge), the lines' directions are smoothed
     // there alone, so the wall stays orthogonal everywhere else.
-    RowMatrixX3d lines = splayedAtSharpEdges(options_.sharpEdgeSplay * options_.boundaryLayerThickness);
+    RowMatrixX3d lines = boundaryLayerLines(options_.sharpEdgeSplay * options_.boundaryLayerThickness);
     const Eigen::VectorXd reach = foldLimitedReach(lines);
     std::vector<RowMatrixX3d> blLayers;
     for (int repair = 0;; ++repair) {
@@ -82,24 +109,27 @@ class Marcher {
       double worst = 1.0;
       int worstQuad = -1;
       int worstLayer = 1;
+      bool poor = false;
       for (int k = 0; k < nBl; ++k) {
         RowMatrixX3d layer = front_.points + blDistance[static_cast<size_t>(k)] * (reach.asDiagonal() * lines);
         keepOnPlane(layer);
         const RowMatrixX3d& below = k == 0 ? front_.points : blLayers.back();
-        const auto [layerWorst, quad] = markPoorCells(below, layer, bad);
-        if (layerWorst < worst) {
-          worst = layerWorst;
-          worstQuad = quad;
+        const PoorCells cells = markPoorCells(below, layer, bad);
+        poor = poor || cells.any;
+        if (cells.worst < worst) {
+          worst = cells.worst;
+          worstQuad = cells.where;
           worstLayer = k + 1;
         }
         blLayers.push_back(std::move(layer));
       }
-      if (worst >= options_.minScaledJacobian || (repair >= kRepairs && worst > 0.0)) break;
+      if (!poor || (repair >= kRepairs && worst > 0.0)) break;
       if (repair >= kRepairs || options_.smoothing == 0.0) {
         fold(worstLayer, worst, worstQuad, front_.points,
              "in the boundary layer: a thinner boundary layer or a finer wall there keeps its grid lines apart");
       }
       smoothDirections(lines, 4, markAround(bad));
+      turnFans(lines);
     }
     for (int k = 0; k < nBl; ++k) {
       result.layers.push_back(std::move(blLayers[static_cast<size_t>(k)]));
@@ -207,6 +237,16 @@ class Marcher {
     }
   }
 
+  // A knife edge's fan: its lines turn from one copy's line to the other's.
+  void turnFans(RowMatrixX3d& lines) const {
+    for (const FanPoint& fan : front_.fanPoints) {
+      Vector3d d =
+          turnedBetween(lines.row(fan.from).transpose(), lines.row(fan.to).transpose(), fan.fraction);
+      if (onPlane(fan.point)) d = (d - d.dot(options_.planeNormal) * options_.planeNormal).normalized();
+      lines.row(fan.point) = d.transpose();
+    }
+  }
+
   bool onPlane(Eigen::Index p) const {
     return !front_.onSymmetryPlane.empty() && front_.onSymmetryPlane[static_cast<size_t>(p)] != 0;
   }
@@ -250,18 +290,31 @@ class Marcher {
   }
 
   // Marks the cells between two layers below the wanted quality; returns the worst and where.
-  std::pair<double, int> markPoorCells(const RowMatrixX3d& lower, const RowMatrixX3d& upper, std::vector<char>& bad) const {
-    double worst = 1.0;
-    int where = -1;
+  // A knife edge's fan has thin cells by design where it closes (its angle shrinking to nothing
+  // at the edge's end): they must only be positive.
+  double wantedQuality(size_t quad) const { return fanQuad_[quad] != 0 ? 0.0 : options_.minScaledJacobian; }
+
+  struct PoorCells {
+    double worst = 1.0;  // the worst cell's scaled Jacobian
+    int where = -1;      // and its quad
+    bool any = false;    // some cell is below the quality wanted of it
+  };
+
+  PoorCells markPoorCells(const RowMatrixX3d& lower, const RowMatrixX3d& upper,
+                          std::vector<char>& bad) const {
+    PoorCells result;
     for (size_t q = 0; q < front_.quads.size(); ++q) {
       const double quality = cellQuality(lower, upper, q);
-      if (quality < options_.minScaledJacobian) bad[q] = 1;
-      if (quality < worst) {
-        worst = quality;
-        where = static_cast<int>(q);
+      if (!(quality > wantedQuality(q)) && !(fanQuad_[q] == 0 && quality >= options_.minScaledJacobian)) {
+        bad[q] = 1;
+        result.any = true;
+      }
+      if (quality < result.worst) {
+        result.worst = quality;
+        result.where = static_cast<int>(q);
       }
     }
-    return {worst, where};
+    return result;
   }
 
   // Direction smoothing at the marked points (the local repair of poor cells).
@@ -315,20 +368,24 @@ class Marcher {
   // Worst scaled Jacobian of the cells between two layers, and the quad where it is.
   std::pair<double, int> worstCell(const RowMatrixX3d& lower, const RowMatrixX3d& upper) const {
     std::vector<char> ignored(front_.quads.size(), 0);
-    return markPoorCells(lower, upper, ignored);
+    const PoorCells poor = markPoorCells(lower, upper, ignored);
+    return {poor.worst, poor.where};
   }
 
   // Points where the wall turns sharply: an adjacent cell's normal more than 30 degrees off the
-  // point's (averaged) normal.
-  std::vector<char> sharpEdgePoints() const {
+  // point's (averaged) normal, per node of `view`.
+  std::vector<char> sharpEdgePoints(const WallView& view) const {
     std::vector<char> sharp(static_cast<size_t>(front_.points.rows()), 0);
     for (const auto& q : front_.quads) {
       const Vector3d a = front_.points.row(q[0]).transpose(), b = front_.points.row(q[1]).transpose();
       const Vector3d c = front_.points.row(q[2]).transpose(), d = front_.points.row(q[3]).transpose();
-      const Vector3d n = (c - a).cross(d - b).normalized();
+      const Vector3d area = (c - a).cross(d - b);
+      if (area.norm() == 0.0) continue;  // a fan's quad: no wall cell
+      const Vector3d n = area.normalized();
       for (int p : q) {
-        if (n.dot(front_.normals.row(p).transpose()) < std::cos(kSharpAngle))
-          sharp[static_cast<size_t>(p)] = 1;
+        const int node = view.node[static_cast<size_t>(p)];
+        if (node >= 0 && n.dot(view.normals.row(node).transpose()) < std::cos(kSharpAngle))
+          sharp[static_cast<size_t>(node)] = 1;
       }
     }
     return sharp;
@@ -389,7 +446,7 @@ class Marcher {
   // of the smallest cone holding them). Zero elsewhere. The band's harmonic interpolation there
   // mixes the fuselage's normal with the trailing edge's cancelling ones and leaves a line nearly in
   // the wing's surface; this one runs along the fuselage, downstream, between both.
-  RowMatrixX3d concaveCornerLines(const std::vector<char>& sharp) const {
+  RowMatrixX3d concaveCornerLines(const WallView& view, const std::vector<char>& sharp) const {
     const Eigen::Index n = front_.points.rows();
     std::vector<std::vector<Vector3d>> normals(static_cast<size_t>(n)), centres(static_cast<size_t>(n));
     for (const auto& q : front_.quads) {
@@ -397,8 +454,9 @@ class Marcher {
       const Vector3d c = front_.points.row(q[2]).transpose(), d = front_.points.row(q[3]).transpose();
       const Vector3d normal = (c - a).cross(d - b);
       if (normal.norm() == 0.0) continue;
-      for (int p : q) {
-        if (sharp[static_cast<size_t>(p)] == 0) continue;
+      for (int corner : q) {
+        const int p = view.node[static_cast<size_t>(corner)];
+        if (p < 0 || sharp[static_cast<size_t>(p)] == 0) continue;
         normals[static_cast<size_t>(p)].push_back(normal.normalized());
         centres[static_cast<size_t>(p)].push_back(0.25 * (a + b + c + d));
       }
@@ -455,8 +513,8 @@ class Marcher {
   // Per front point the splay band's width in its smooth region (the points connected without
   // crossing a sharp-edge point): `width`, or half the region's largest distance from the sharp
   // edges where that is less. Sharp-edge points keep `width`.
-  std::vector<double> regionBandWidths(const std::vector<char>& sharp, const std::vector<double>& distance,
-                                       double width) const {
+  std::vector<double> regionBandWidths(const WallView& view, const std::vector<char>& sharp,
+                                       const std::vector<double>& distance, double width) const {
     const size_t n = sharp.size();
     std::vector<double> result(n, width);
     std::vector<char> seen(n, 0);
@@ -469,7 +527,7 @@ class Marcher {
       for (size_t next = 0; next < members.size(); ++next) {
         const auto p = static_cast<size_t>(members[next]);
         reach = std::max(reach, distance[p]);
-        for (int q : neighbours_[p]) {
+        for (int q : view.neighbours[p]) {
           if (sharp[static_cast<size_t>(q)] != 0 || seen[static_cast<size_t>(q)] != 0) continue;
           seen[static_cast<size_t>(q)] = 1;
           members.push_back(q);
@@ -481,18 +539,19 @@ class Marcher {
   }
 
   // Boundary-layer grid-line directions: the wall normals, except in a band of geodesic width
-  // `width` around sharp convex edges (a sharp trailing edge, a tip), where they are the harmonic
-  // interpolation between the normals at the band's rim. A single grid line leaving such an edge
-  // along the mean normal would fan the cells next to it over ~90 degrees in one cell, which the
-  // blocks' cubic interpolation of the layers turns into folds; the band spreads the fan over
-  // several cells and keeps the wall orthogonal everywhere outside it. The band covers at most
-  // half of the smooth region it lies in (half its farthest point's distance from the sharp
+  // `width` around sharp convex edges (a tip; a knife edge without a fan), where they are the
+  // harmonic interpolation between the normals at the band's rim. A single grid line leaving such
+  // an edge along the mean normal would fan the cells next to it over ~90 degrees in one cell,
+  // which the blocks' cubic interpolation of the layers turns into folds; the band spreads the fan
+  // over several cells and keeps the wall orthogonal everywhere outside it. The band covers at
+  // most half of the smooth region it lies in (half its farthest point's distance from the sharp
   // edges): a face narrower than the band, such as a body's flat base inside its rim, would
   // otherwise have no rim of its own in the band, and every line on it would take its
-  // neighbours' normals, leaving the first cells flat.
-  RowMatrixX3d splayedAtSharpEdges(double width) const {
+  // neighbours' normals, leaving the first cells flat. On the nodes of `view`; every point gets
+  // its node's line (a fan's points none: turnFans sets them).
+  RowMatrixX3d splayedAtSharpEdges(const WallView& view, double width) const {
     const Eigen::Index n = front_.points.rows();
-    const std::vector<char> sharp = sharpEdgePoints();
+    const std::vector<char> sharp = sharpEdgePoints(view);
     std::vector<double> distance(static_cast<size_t>(n), std::numeric_limits<double>::infinity());
     using Entry = std::pair<double, int>;
     std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
@@ -506,7 +565,7 @@ class Marcher {
       const auto [d, p] = queue.top();
       queue.pop();
       if (d > distance[static_cast<size_t>(p)]) continue;
-      for (int q : neighbours_[static_cast<size_t>(p)]) {
+      for (int q : view.neighbours[static_cast<size_t>(p)]) {
         const double through = d + (front_.points.row(p) - front_.points.row(q)).norm();
         if (through < distance[static_cast<size_t>(q)]) {
           distance[static_cast<size_t>(q)] = through;
@@ -514,11 +573,13 @@ class Marcher {
         }
       }
     }
-    const std::vector<double> bandWidth = regionBandWidths(sharp, distance, width);
-    const RowMatrixX3d cornerLines = concaveCornerLines(sharp);
+    const std::vector<double> bandWidth = regionBandWidths(view, sharp, distance, width);
+    const RowMatrixX3d cornerLines = concaveCornerLines(view, sharp);
     auto heldAtCorner = [&](Eigen::Index p) { return cornerLines.row(p).squaredNorm() > 0.0; };
+    auto isNode = [&](Eigen::Index p) { return view.node[static_cast<size_t>(p)] == p; };
     auto inBand = [&](Eigen::Index p) {
-      return !heldAtCorner(p) && distance[static_cast<size_t>(p)] < bandWidth[static_cast<size_t>(p)];
+      return isNode(p) && !heldAtCorner(p) &&
+             distance[static_cast<size_t>(p)] < bandWidth[static_cast<size_t>(p)];
     };
     std::vector<Eigen::Triplet<double>> entries;
     for (Eigen::Index p = 0; p < n; ++p) {
@@ -526,7 +587,7 @@ class Marcher {
         entries.emplace_back(p, p, 1.0);
         continue;
       }
-      const auto& near = neighbours_[static_cast<size_t>(p)];
+      const auto& near = view.neighbours[static_cast<size_t>(p)];
       entries.emplace_back(p, p, static_cast<double>(near.size()));
       for (int q : near) entries.emplace_back(p, q, -1.0);
     }
@@ -534,17 +595,84 @@ class Marcher {
     matrix.setFromTriplets(entries.begin(), entries.end());
     Eigen::SparseLU<Eigen::SparseMatrix<double>> solver(matrix);
     if (solver.info() != Eigen::Success) throw SolverError("the splay at the wall's sharp edges could not be factored");
-    Eigen::MatrixXd rim = front_.normals;  // column major, as SparseLU solves
+    Eigen::MatrixXd rim = view.normals;  // column major, as SparseLU solves
     for (Eigen::Index p = 0; p < n; ++p) {
-      if (inBand(p)) rim.row(p).setZero();
+      if (inBand(p) || !isNode(p)) rim.row(p).setZero();
       if (heldAtCorner(p)) rim.row(p) = cornerLines.row(p);
     }
-    RowMatrixX3d lines = Eigen::MatrixXd(solver.solve(rim));
+    const RowMatrixX3d solved = Eigen::MatrixXd(solver.solve(rim));
+    RowMatrixX3d lines = front_.normals;
     for (Eigen::Index p = 0; p < n; ++p) {
-      Vector3d d = lines.row(p).transpose();
+      const int node = view.node[static_cast<size_t>(p)];
+      if (node < 0) continue;
+      Vector3d d = solved.row(node).transpose();
       if (onPlane(p)) d -= d.dot(options_.planeNormal) * options_.planeNormal;
       lines.row(p) = d.normalized().transpose();
     }
+    return lines;
+  }
+
+  // The wall as the splay bands see it: with every knife edge cut open for its fan (each copy a
+  // node of its own with its face's normal, the fans' points none), or (`closed`) with each
+  // edge's copies one node again, on their mean normal, as an O-grid's edge.
+  WallView wallView(bool closed) const {
+    const Eigen::Index n = front_.points.rows();
+    WallView view;
+    view.node.resize(static_cast<size_t>(n));
+    std::iota(view.node.begin(), view.node.end(), 0);
+    view.normals = front_.normals;
+    for (const FanPoint& fan : front_.fanPoints) view.node[static_cast<size_t>(fan.point)] = -1;
+    if (closed) {
+      for (const KnifeCopies& copies : front_.knifeCopies) {
+        view.node[static_cast<size_t>(copies.second)] = copies.first;
+        view.normals.row(copies.first) =
+            (front_.normals.row(copies.first) + front_.normals.row(copies.second)).normalized();
+        view.normals.row(copies.second) = view.normals.row(copies.first);
+      }
+    }
+    std::vector<std::set<int>> sets(static_cast<size_t>(n));
+    for (Eigen::Index p = 0; p < n; ++p) {
+      const int node = view.node[static_cast<size_t>(p)];
+      if (node < 0) continue;
+      for (int q : wallNeighbours_[static_cast<size_t>(p)]) {
+        const int other = view.node[static_cast<size_t>(q)];
+        if (other >= 0 && other != node) sets[static_cast<size_t>(node)].insert(other);
+      }
+    }
+    view.neighbours.resize(static_cast<size_t>(n));
+    for (Eigen::Index p = 0; p < n; ++p)
+      view.neighbours[static_cast<size_t>(p)].assign(sets[static_cast<size_t>(p)].begin(),
+                                                     sets[static_cast<size_t>(p)].end());
+    return view;
+  }
+
+  // The boundary layer's grid lines: splayed at sharp edges with the knife edges cut open; where
+  // a fan closes (its edge ending in a sharp corner inside the wall), blended over
+  // kFanClosingWidths band widths from the O-grid's lines at that corner (the knife edge closed,
+  // as if it had no fan) to them in proportion to the distance: the fan narrows to nothing at
+  // the corner, whose cells are the O-grid's.
+  RowMatrixX3d boundaryLayerLines(double width) const {
+    constexpr double kFanClosingWidths = 3.0;
+    RowMatrixX3d lines = splayedAtSharpEdges(wallView(false), width);
+    std::vector<int> ends;
+    for (const KnifeCopies& copies : front_.knifeCopies) {
+      if (copies.closedEnd >= 0) ends.push_back(copies.closedEnd);
+    }
+    if (!ends.empty()) {
+      std::sort(ends.begin(), ends.end());
+      ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+      const RowMatrixX3d closed = splayedAtSharpEdges(wallView(true), width);
+      const double closing = kFanClosingWidths * std::max(width, options_.boundaryLayerThickness);
+      for (Eigen::Index p = 0; p < lines.rows(); ++p) {
+        double toEnd = std::numeric_limits<double>::infinity();
+        for (int end : ends) toEnd = std::min(toEnd, (front_.points.row(p) - front_.points.row(end)).norm());
+        if (toEnd < closing) {
+          lines.row(p) =
+              turnedBetween(closed.row(p).transpose(), lines.row(p).transpose(), toEnd / closing).transpose();
+        }
+      }
+    }
+    turnFans(lines);
     return lines;
   }
 
@@ -625,10 +753,10 @@ class Marcher {
                                const Eigen::VectorXd& lengths, int layer) const {
     for (int repair = 0;; ++repair) {
       std::vector<char> bad(front_.quads.size(), 0);
-      const auto [worst, quad] = markPoorCells(points, next, bad);
-      if (worst >= options_.minScaledJacobian || (repair >= kRepairs && worst > 0.0)) return next;
+      const PoorCells cells = markPoorCells(points, next, bad);
+      if (!cells.any || (repair >= kRepairs && cells.worst > 0.0)) return next;
       if (repair >= kRepairs || options_.smoothing == 0.0) {
-        fold(layer, worst, quad, points,
+        fold(layer, cells.worst, cells.where, points,
              "after local smoothing: raise the smoothing, lower the growth or refine the wall there");
       }
       const std::vector<char> marks = markAround(bad);
@@ -673,6 +801,8 @@ class Marcher {
   const MarchingFront& front_;
   const MarchingOptions& options_;
   std::vector<std::vector<int>> neighbours_;
+  std::vector<std::vector<int>> wallNeighbours_;  // without the knife edges' fans (splay bands)
+  std::vector<char> fanQuad_;                     // per quad: a knife edge's fan's
   double wallSize_ = 1.0;  // bounding-box diagonal: the distance over which the directions turn radial
 };
 
@@ -729,9 +859,12 @@ double hexScaledJacobian(const std::array<Eigen::Vector3d, 8>& corners) {
           }
           const Vector3d mine = e[static_cast<size_t>(differing)];
           const Vector3d theirs = edge(partner[0], partner[1], partner[2], differing);
+          // The step from this corner's edge's far end to the partner's, turned to point along
+          // increasing `zero` (edges at the upper end of `differing` point into the corner).
+          const bool flipped =
+              (ijk[static_cast<size_t>(zero)] == 1) != (ijk[static_cast<size_t>(differing)] == 1);
           std::array<Vector3d, 3> oriented = e;
-          oriented[static_cast<size_t>(zero)] = ijk[static_cast<size_t>(zero)] == 0 ? Vector3d(theirs - mine)
-                                                                                    : Vector3d(mine - theirs);
+          oriented[static_cast<size_t>(zero)] = flipped ? Vector3d(mine - theirs) : Vector3d(theirs - mine);
           const int same = 3 - zero - differing;
           const double magnitude = std::abs(e[static_cast<size_t>(same)].cross(mine).dot(theirs)) /
                                    (e[static_cast<size_t>(same)].norm() * mine.norm() * theirs.norm());
@@ -746,6 +879,12 @@ double hexScaledJacobian(const std::array<Eigen::Vector3d, 8>& corners) {
     }
   }
   return measured ? worst : -1.0;
+}
+
+Eigen::Vector3d turnedBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double fraction) {
+  const double angle = std::atan2(a.cross(b).norm(), a.dot(b));
+  if (angle < 1e-12) return a;
+  return (std::sin((1.0 - fraction) * angle) * a + std::sin(fraction * angle) * b).normalized();
 }
 
 FarfieldScheme farfieldSchemeOf(const std::string& name) {

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -16,15 +17,42 @@
 
 namespace bvmesh::volume {
 
+// A point of a fan round a knife edge of the wall (edge_fans.h): it lies on the edge, and its
+// grid line turns from the line of the edge's copy `from` to that of its copy `to` by `fraction`.
+struct FanPoint {
+  int point = -1;
+  int from = -1;
+  int to = -1;
+  double fraction = 0.0;
+};
+
+// The two copies of a knife edge's point (the edge's faces see one each; a fan lies between
+// them) and how far it lies from where its edge ends inside the wall (infinite where it does
+// not): the fan closes over that distance, its copies' lines turning onto their bisector.
+struct KnifeCopies {
+  int first = -1;
+  int second = -1;
+  int closedEnd = -1;  // the nearest point where a fan closes (-1: none)
+  double toClosedEnd = std::numeric_limits<double>::infinity();
+};
+
 // The surface to march: points, quads (counter-clockwise seen from outside, i.e. the side to march
-// to) and, per point, the unit wall normal and whether it lies on the symmetry plane.
+// to) and, per point, the unit wall normal and whether it lies on the symmetry plane. A quad may
+// repeat a corner (a triangle: a fan closing at the end of its edge), and a fan's quads have no
+// area on the wall itself.
 struct MarchingFront {
   RowMatrixX3d points;
   std::vector<std::array<int, 4>> quads;
   RowMatrixX3d normals;
   std::vector<char> onSymmetryPlane;
   std::vector<std::string> quadNames;  // per quad, where it is (for error messages), may be empty
+  std::vector<FanPoint> fanPoints;
+  std::vector<KnifeCopies> knifeCopies;
 };
+
+// The unit direction at `fraction` of the turn from unit `a` to unit `b` (in their plane, at a
+// constant rate; a and b not opposite).
+Eigen::Vector3d turnedBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double fraction);
 
 // How the far field is marched: `Hyperbolic` solves Chan & Steger's orthogonality and cell-volume
 // equations per step (hyperbolic_step.h), whose smoothed volumes open concave corners; a layer it

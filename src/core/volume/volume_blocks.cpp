@@ -7,13 +7,16 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <numeric>
 #include <string>
+#include <tuple>
 
 #include "core/common/bspline_basis.h"
 #include "core/common/errors.h"
 #include "core/common/math_constants.h"
 #include "core/common/number_text.h"
 #include "core/surface/limit_bsplines.h"
+#include "core/volume/edge_fans.h"
 #include "core/volume/wall_patches.h"
 #include "core/volume/wall_topology.h"
 
@@ -25,25 +28,6 @@ using Eigen::Vector3d;
 const char* sideName(ChartSide side) {
   static const char* names[] = {"v_min", "u_max", "v_max", "u_min"};
   return names[static_cast<int>(side)];
-}
-
-// Position (i, j) in a patch's pole grid of entry t along a side.
-std::pair<int, int> sidePosition(const WallPatch& patch, ChartSide side, int t) {
-  switch (side) {
-    case ChartSide::VMin:
-      return {t, 0};
-    case ChartSide::VMax:
-      return {t, patch.surface.vPoles - 1};
-    case ChartSide::UMin:
-      return {0, t};
-    case ChartSide::UMax:
-      return {patch.surface.uPoles - 1, t};
-  }
-  return {0, 0};
-}
-
-int sideLength(const WallPatch& patch, ChartSide side) {
-  return side == ChartSide::VMin || side == ChartSide::VMax ? patch.surface.uPoles : patch.surface.vPoles;
 }
 
 // Values of the cubic basis on `knots` (one column per pole) at the parameters (one row each).
@@ -88,17 +72,26 @@ struct WallGrid {
   Vector3d lo, hi;
 };
 
-// A side's identity: the canonical (lexicographically smaller direction) vertex chain.
+// A side's identity: the canonical (lexicographically smaller direction) vertex chain, and which
+// copy of it the side lies on where a knife edge's chain is cut open (edge_fans.h).
 struct SideKey {
-  std::vector<int> chain;
-  bool reversed = false;  // the patch runs against the canonical direction
+  std::pair<std::vector<int>, int> id;  // (chain, copy)
+  bool reversed = false;                // the patch runs against the canonical direction
 };
 
 SideKey sideKey(const WallPatch& patch, ChartSide side) {
   const std::vector<int>& chain = patch.sideVertices[static_cast<size_t>(side)];
+  const int copy = patch.sideCopy[static_cast<size_t>(side)];
   std::vector<int> reversed(chain.rbegin(), chain.rend());
-  if (reversed < chain) return {reversed, true};
-  return {chain, false};
+  if (reversed < chain) return {{reversed, copy}, true};
+  return {{chain, copy}, false};
+}
+
+// The control vertex at a patch's corner (0: (0, 0), 1: (U, 0), 2: (0, V), 3: (U, V)).
+int cornerVertex(const WallPatch& patch, int corner) {
+  const std::vector<int>& chain =
+      patch.sideVertices[static_cast<size_t>(corner < 2 ? ChartSide::VMin : ChartSide::VMax)];
+  return corner % 2 == 0 ? chain.front() : chain.back();
 }
 
 WallGrid wallGrid(const std::vector<WallPatch>& patches) {
@@ -107,8 +100,8 @@ WallGrid wallGrid(const std::vector<WallPatch>& patches) {
   std::vector<int> normalCount;
   std::vector<std::vector<Vector3d>> faceNormals;  // per point, one normal per wall face there
   const double sameFace = std::cos(kFaceAngleDegrees * kPi / 180.0);
-  std::map<int, int> cornerPoint;                               // control vertex -> point
-  std::map<std::pair<std::vector<int>, int>, int> sidePoint;     // (canonical chain, entry) -> point
+  std::map<std::pair<int, int>, int> cornerPoint;                   // (control vertex, copy) -> point
+  std::map<std::tuple<std::vector<int>, int, int>, int> sidePoint;  // (canonical chain, copy, entry) -> point
   for (size_t p = 0; p < patches.size(); ++p) {
     const WallPatch& patch = patches[p];
     const PatchSurface& surface = patch.surface;
@@ -116,24 +109,28 @@ WallGrid wallGrid(const std::vector<WallPatch>& patches) {
     const std::vector<double> gv = grevilleAbscissae(surface.vKnots, 3);
     const int nu = surface.uPoles, nv = surface.vPoles;
     std::vector<int>& ids = grid.pointOf.emplace_back(static_cast<size_t>(nu * nv), -1);
+    auto cornerId = [&](int corner) {
+      const std::pair<int, int> key{cornerVertex(patch, corner),
+                                    patch.cornerCopy[static_cast<size_t>(corner)]};
+      const auto found = cornerPoint.find(key);
+      if (found != cornerPoint.end()) return found->second;
+      return cornerPoint[key] = static_cast<int>(points.size());
+    };
     auto idAt = [&](int i, int j) -> int {
       const bool uEnd = i == 0 || i == nu - 1, vEnd = j == 0 || j == nv - 1;
-      if (uEnd && vEnd) {
-        const ChartSide side = j == 0 ? ChartSide::VMin : ChartSide::VMax;
-        const int vertex = patch.sideVertices[static_cast<size_t>(side)][i == 0 ? 0 : patch.sideVertices[static_cast<size_t>(side)].size() - 1];
-        const auto found = cornerPoint.find(vertex);
-        if (found != cornerPoint.end()) return found->second;
-        return cornerPoint[vertex] = static_cast<int>(points.size());
-      }
+      if (uEnd && vEnd) return cornerId((i == 0 ? 0 : 1) + (j == 0 ? 0 : 2));
       if (uEnd || vEnd) {
         const ChartSide side = vEnd ? (j == 0 ? ChartSide::VMin : ChartSide::VMax)
                                     : (i == 0 ? ChartSide::UMin : ChartSide::UMax);
+        // A fan's end inside the wall is its corner's point all along.
+        if (patch.collapsedSide[static_cast<size_t>(side)]) return cornerId(i == 0 ? 0 : 1);
         const int t = vEnd ? i : j;
         const SideKey key = sideKey(patch, side);
-        const int entry = key.reversed ? sideLength(patch, side) - 1 - t : t;
-        const auto found = sidePoint.find({key.chain, entry});
+        const int entry = key.reversed ? sidePoleCount(patch, side) - 1 - t : t;
+        const auto index = std::make_tuple(key.id.first, key.id.second, entry);
+        const auto found = sidePoint.find(index);
         if (found != sidePoint.end()) return found->second;
-        return sidePoint[{key.chain, entry}] = static_cast<int>(points.size());
+        return sidePoint[index] = static_cast<int>(points.size());
       }
       return static_cast<int>(points.size());
     };
@@ -148,6 +145,8 @@ WallGrid wallGrid(const std::vector<WallPatch>& patches) {
           normalCount.push_back(0);
           faceNormals.emplace_back();
         }
+        ids[static_cast<size_t>(i * nv + j)] = id;
+        if (patch.fan) continue;  // no wall of its own: its points' lines fan between the edge's faces'
         normals[static_cast<size_t>(id)] += normal;
         ++normalCount[static_cast<size_t>(id)];
         std::vector<Vector3d>& faces = faceNormals[static_cast<size_t>(id)];
@@ -155,32 +154,90 @@ WallGrid wallGrid(const std::vector<WallPatch>& patches) {
         if (std::none_of(faces.begin(), faces.end(),
                          [&](const Vector3d& n) { return n.dot(unit) > sameFace; }))
           faces.push_back(unit);
-        ids[static_cast<size_t>(i * nv + j)] = id;
       }
     }
     for (int i = 0; i + 1 < nu; ++i) {
       for (int j = 0; j + 1 < nv; ++j) {
         grid.front.quads.push_back({ids[static_cast<size_t>(i * nv + j)], ids[static_cast<size_t>((i + 1) * nv + j)],
                                     ids[static_cast<size_t>((i + 1) * nv + j + 1)], ids[static_cast<size_t>(i * nv + j + 1)]});
-        grid.front.quadNames.push_back("wall patch " + std::to_string(p) + " (chart " + std::to_string(patch.chart) +
-                                       ") pole cell (" + std::to_string(i) + ", " + std::to_string(j) + ")");
+        grid.front.quadNames.push_back("wall patch " + std::to_string(p) +
+                                       (patch.fan ? std::string(" (fan round a knife edge)")
+                                                  : " (chart " + std::to_string(patch.chart) + ")") +
+                                       " pole cell (" + std::to_string(i) + ", " + std::to_string(j) + ")");
       }
     }
+  }
+  // A fan's points between the edge's two copies: their lines turn from one copy's to the
+  // other's by their share of the fan's parameter (the marching sets them; here their normals).
+  for (size_t p = 0; p < patches.size(); ++p) {
+    const WallPatch& patch = patches[p];
+    if (!patch.fan) continue;
+    const std::vector<double> gv = grevilleAbscissae(patch.surface.vKnots, 3);
+    const int nu = patch.surface.uPoles, nv = patch.surface.vPoles;
+    for (int i = 0; i < nu; ++i) {
+      const int from = grid.pointOf[p][static_cast<size_t>(i * nv)];
+      const int to = grid.pointOf[p][static_cast<size_t>(i * nv + nv - 1)];
+      if (from == to) continue;  // the fan's closed end
+      for (int j = 1; j + 1 < nv; ++j) {
+        const int id = grid.pointOf[p][static_cast<size_t>(i * nv + j)];
+        grid.front.fanPoints.push_back({id, from, to, gv[static_cast<size_t>(j)] / gv.back()});
+      }
+    }
+  }
+  // Each fan station's two copies, and their distance from the nearest point where a fan closes.
+  std::vector<int> closedEnds;
+  for (size_t p = 0; p < patches.size(); ++p) {
+    const WallPatch& patch = patches[p];
+    if (!patch.fan) continue;
+    const int nu = patch.surface.uPoles, nv = patch.surface.vPoles;
+    for (int i = 0; i < nu; ++i) {
+      const int from = grid.pointOf[p][static_cast<size_t>(i * nv)];
+      const int to = grid.pointOf[p][static_cast<size_t>(i * nv + nv - 1)];
+      if (from == to)
+        closedEnds.push_back(from);
+      else
+        grid.front.knifeCopies.push_back({from, to});
+    }
+  }
+  for (KnifeCopies& copies : grid.front.knifeCopies) {
+    for (int end : closedEnds) {
+      const double distance =
+          (points[static_cast<size_t>(copies.first)] - points[static_cast<size_t>(end)]).norm();
+      if (distance < copies.toClosedEnd) {
+        copies.toClosedEnd = distance;
+        copies.closedEnd = end;
+      }
+    }
+  }
+  // On the wall a fan is its edge: its points and the edge's second copy sit exactly on the first
+  // copy (their surfaces' evaluations differ by rounding), so its quads there have no area.
+  for (const FanPoint& fan : grid.front.fanPoints) {
+    points[static_cast<size_t>(fan.point)] = points[static_cast<size_t>(fan.from)];
+    points[static_cast<size_t>(fan.to)] = points[static_cast<size_t>(fan.from)];
   }
   const auto count = static_cast<Eigen::Index>(points.size());
   grid.front.points.resize(count, 3);
   grid.front.normals.resize(count, 3);
   grid.front.onSymmetryPlane.assign(static_cast<size_t>(count), 0);
   grid.corner.assign(static_cast<size_t>(count), 0);
+  std::vector<char> onFan(static_cast<size_t>(count), 0);
+  for (const FanPoint& fan : grid.front.fanPoints) onFan[static_cast<size_t>(fan.point)] = 1;
   for (Eigen::Index k = 0; k < count; ++k) {
     grid.corner[static_cast<size_t>(k)] = faceNormals[static_cast<size_t>(k)].size() >= 3;
     grid.front.points.row(k) = points[static_cast<size_t>(k)].transpose();
+    if (onFan[static_cast<size_t>(k)] != 0) continue;
     const Vector3d n = normals[static_cast<size_t>(k)];
     if (!(n.norm() > 1e-12)) {
       throw SolverError("the wall has no normal at point " + std::to_string(k) + " (" +
                         coordinatesText(points[static_cast<size_t>(k)]) + "): a degenerate or folded patch");
     }
     grid.front.normals.row(k) = n.normalized().transpose();
+  }
+  for (const FanPoint& fan : grid.front.fanPoints) {
+    grid.front.normals.row(fan.point) =
+        turnedBetween(grid.front.normals.row(fan.from).transpose(),
+                      grid.front.normals.row(fan.to).transpose(), fan.fraction)
+            .transpose();
   }
   grid.lo = grid.front.points.colwise().minCoeff().transpose();
   grid.hi = grid.front.points.colwise().maxCoeff().transpose();
@@ -229,7 +286,8 @@ void markSymmetryPoints(const std::vector<WallPatch>& patches, WallGrid& grid, c
   for (size_t p = 0; p < patches.size(); ++p) {
     for (int s = 0; s < 4; ++s) {
       const WallPatch& patch = patches[p];
-      if (patch.sides[static_cast<size_t>(s)].patch >= 0) continue;
+      if (patch.sides[static_cast<size_t>(s)].patch >= 0 || patch.collapsedSide[static_cast<size_t>(s)])
+        continue;
       const ChartSide side = static_cast<ChartSide>(s);
       const std::vector<int>& chain = patch.sideVertices[static_cast<size_t>(s)];
       const std::string where = "wall patch " + std::to_string(p) + " side " + sideName(side) + " (control vertices " +
@@ -238,8 +296,8 @@ void markSymmetryPoints(const std::vector<WallPatch>& patches, WallGrid& grid, c
         throw InvalidInputError("the wall is open at " + where +
                                 ": close it, or give the symmetry plane it lies on (a half model)");
       }
-      for (int t = 0; t < sideLength(patch, side); ++t) {
-        const auto [i, j] = sidePosition(patch, side, t);
+      for (int t = 0; t < sidePoleCount(patch, side); ++t) {
+        const auto [i, j] = sidePolePosition(patch, side, t);
         const int id = grid.pointOf[p][static_cast<size_t>(i * patch.surface.vPoles + j)];
         const double off = std::abs((grid.front.points.row(id).transpose() - options.planePoint).dot(planeNormal));
         if (off > 1e-6 * grid.size) {
@@ -302,15 +360,20 @@ std::vector<std::vector<Eigen::MatrixXd>> layerPatchPoles(const std::vector<Wall
   }
   // Shared sides: the first patch on a side gives its poles (layer 0) or the side's own 1-D
   // interpolation (other layers) to every patch on it; corners are the layer points themselves.
-  std::map<std::vector<int>, bool> sideDone;
-  for (size_t p = 0; p < patches.size(); ++p) {
+  // Fans first: their poles on the wall are their edge's (one copy's), which their sides give to
+  // the edge's faces, so that a fan's wall face is one curve bit for bit.
+  std::map<std::pair<std::vector<int>, int>, bool> sideDone;
+  std::vector<size_t> order(patches.size());
+  std::iota(order.begin(), order.end(), size_t{0});
+  std::stable_partition(order.begin(), order.end(), [&](size_t p) { return patches[p].fan; });
+  for (size_t p : order) {
     for (int s = 0; s < 4; ++s) {
       const ChartSide side = static_cast<ChartSide>(s);
       const WallPatch& patch = patches[p];
       const SideKey key = sideKey(patch, side);
-      if (sideDone.count(key.chain) > 0) continue;
-      sideDone[key.chain] = true;
-      const int length = sideLength(patch, side);
+      if (sideDone.count(key.id) > 0) continue;
+      sideDone[key.id] = true;
+      const int length = sidePoleCount(patch, side);
       const std::vector<double>& knots = side == ChartSide::VMin || side == ChartSide::VMax ? patch.surface.uKnots : patch.surface.vKnots;
       const GrevilleInterpolation& along = interpolator(knots);
       const PatchSideLink& link = patch.sides[static_cast<size_t>(s)];
@@ -318,13 +381,13 @@ std::vector<std::vector<Eigen::MatrixXd>> layerPatchPoles(const std::vector<Wall
         Eigen::MatrixXd row(length, 3);
         if (k == 0) {
           for (int t = 0; t < length; ++t) {
-            const auto [i, j] = sidePosition(patch, side, t);
+            const auto [i, j] = sidePolePosition(patch, side, t);
             row.row(t) = layerPoles[p][0].row(i * patch.surface.vPoles + j);
           }
         } else {
           Eigen::MatrixXd data(length, 3);
           for (int t = 0; t < length; ++t) {
-            const auto [i, j] = sidePosition(patch, side, t);
+            const auto [i, j] = sidePolePosition(patch, side, t);
             data.row(t) = layers[static_cast<size_t>(k)].row(grid.pointOf[p][static_cast<size_t>(i * patch.surface.vPoles + j)]);
           }
           row = along.solve(data);
@@ -332,7 +395,7 @@ std::vector<std::vector<Eigen::MatrixXd>> layerPatchPoles(const std::vector<Wall
         auto write = [&](size_t target, ChartSide targetSide, bool reversed) {
           const WallPatch& other = patches[target];
           for (int t = 0; t < length; ++t) {
-            const auto [i, j] = sidePosition(other, targetSide, reversed ? length - 1 - t : t);
+            const auto [i, j] = sidePolePosition(other, targetSide, reversed ? length - 1 - t : t);
             layerPoles[target][static_cast<size_t>(k)].row(i * other.surface.vPoles + j) = row.row(t);
           }
         };
@@ -342,13 +405,25 @@ std::vector<std::vector<Eigen::MatrixXd>> layerPatchPoles(const std::vector<Wall
     }
   }
   // Corners: the point shared by every patch there, on the wall too, where three or more patches
-  // meet and the sides above, written pair by pair, can leave them their own roundings of it.
+  // meet and the sides above, written pair by pair, can leave them their own roundings of it; a
+  // collapsed side (a fan's closed end) is its corner's point all along.
   for (size_t p = 0; p < patches.size(); ++p) {
-    const int nu = patches[p].surface.uPoles, nv = patches[p].surface.vPoles;
+    const WallPatch& patch = patches[p];
+    const int nu = patch.surface.uPoles, nv = patch.surface.vPoles;
     for (int k = 0; k < layerCount; ++k) {
+      Eigen::MatrixXd& poles = layerPoles[p][static_cast<size_t>(k)];
       for (const auto& [i, j] : {std::pair<int, int>{0, 0}, {nu - 1, 0}, {0, nv - 1}, {nu - 1, nv - 1}}) {
-        layerPoles[p][static_cast<size_t>(k)].row(i * nv + j) =
+        poles.row(i * nv + j) =
             layers[static_cast<size_t>(k)].row(grid.pointOf[p][static_cast<size_t>(i * nv + j)]);
+      }
+      for (int s = 0; s < 4; ++s) {
+        if (!patch.collapsedSide[static_cast<size_t>(s)]) continue;
+        const ChartSide side = static_cast<ChartSide>(s);
+        const auto [i0, j0] = sidePolePosition(patch, side, 0);
+        for (int t = 1; t < sidePoleCount(patch, side); ++t) {
+          const auto [i, j] = sidePolePosition(patch, side, t);
+          poles.row(i * nv + j) = poles.row(i0 * nv + j0);
+        }
       }
     }
   }
@@ -360,15 +435,41 @@ std::vector<std::vector<Eigen::MatrixXd>> layerPatchPoles(const std::vector<Wall
 struct CoarsePlace {
   int patch = -1;
   bool swapped = false;     // fine u runs along coarse v
-  double scale = 1.0;       // coarse parameter per fine parameter (1 / 2^steps)
+  std::array<double, 2> scale{1.0, 1.0};   // coarse parameter per fine parameter (1 / 2^steps; 1 round a fan)
   std::array<double, 2> origin{0.0, 0.0};  // coarse (u, v) of fine (0, 0)
   std::array<double, 2> sign{1.0, 1.0};    // direction of coarse (u, v) along fine (u, v) (after the swap)
 
   std::pair<double, double> map(double u, double v) const {
     const double a = swapped ? v : u, b = swapped ? u : v;
-    return {origin[0] + sign[0] * scale * a, origin[1] + sign[1] * scale * b};
+    return {origin[0] + sign[0] * scale[0] * a, origin[1] + sign[1] * scale[1] * b};
   }
 };
+
+// A fan's place on the coarse wall's fan round the same stretch of knife edge (the same end
+// vertices): along the edge as the wall's patches, round it one to one.
+CoarsePlace placeFan(const WallPatch& fine, size_t f, const std::vector<WallPatch>& coarse, double scale) {
+  const std::vector<int>& chain = fine.sideVertices[static_cast<size_t>(ChartSide::VMin)];
+  for (size_t c = 0; c < coarse.size(); ++c) {
+    if (!coarse[c].fan) continue;
+    const std::vector<int>& coarseChain = coarse[c].sideVertices[static_cast<size_t>(ChartSide::VMin)];
+    const bool same = coarseChain.front() == chain.front() && coarseChain.back() == chain.back();
+    const bool reversed = coarseChain.front() == chain.back() && coarseChain.back() == chain.front();
+    if (!same && !reversed) continue;
+    const double coarseU = coarse[c].surface.uKnots.back();
+    if (fine.surface.uKnots.back() * scale != coarseU || fine.surface.vKnots != coarse[c].surface.vKnots)
+      break;
+    CoarsePlace place;
+    place.patch = static_cast<int>(c);
+    place.scale = {scale, 1.0};
+    place.origin = {same ? 0.0 : coarseU, 0.0};
+    place.sign = {same ? 1.0 : -1.0, 1.0};
+    return place;
+  }
+  throw InvalidInputError("wall patch " + std::to_string(f) +
+                          " (the fan round the knife edge from control vertex " +
+                          std::to_string(chain.front()) + " to " + std::to_string(chain.back()) +
+                          ") has no fan of the marching wall round the same edge");
+}
 
 std::array<int, 4> patchCornerVertices(const WallPatch& patch) {
   const std::vector<int>& low = patch.sideVertices[static_cast<size_t>(ChartSide::VMin)];
@@ -383,6 +484,7 @@ std::vector<CoarsePlace> placeOnCoarsePatches(const std::vector<WallPatch>& fine
                                               int steps) {
   std::map<std::array<int, 4>, int> coarseBySortedCorners;
   for (size_t c = 0; c < coarse.size(); ++c) {
+    if (coarse[c].fan) continue;
     std::array<int, 4> corners = patchCornerVertices(coarse[c]);
     std::sort(corners.begin(), corners.end());
     coarseBySortedCorners[corners] = static_cast<int>(c);
@@ -390,6 +492,10 @@ std::vector<CoarsePlace> placeOnCoarsePatches(const std::vector<WallPatch>& fine
   const double scale = std::ldexp(1.0, -steps);
   std::vector<CoarsePlace> places;
   for (size_t f = 0; f < fine.size(); ++f) {
+    if (fine[f].fan) {
+      places.push_back(placeFan(fine[f], f, coarse, scale));
+      continue;
+    }
     const std::array<int, 4> corners = patchCornerVertices(fine[f]);
     std::array<int, 4> sorted = corners;
     std::sort(sorted.begin(), sorted.end());
@@ -409,7 +515,7 @@ std::vector<CoarsePlace> placeOnCoarsePatches(const std::vector<WallPatch>& fine
     const std::array<int, 2> p00 = cornerPosition(corners[0]), p10 = cornerPosition(corners[1]), p01 = cornerPosition(corners[2]);
     CoarsePlace place;
     place.patch = found->second;
-    place.scale = scale;
+    place.scale = {scale, scale};
     place.swapped = p10[0] == p00[0];  // moving along fine u keeps coarse u: it runs along coarse v
     const int along = place.swapped ? 1 : 0;  // the coarse direction fine u runs along
     const double coarseU = c.surface.uKnots.back(), coarseV = c.surface.vKnots.back();
@@ -534,8 +640,10 @@ void leaveAlongNormals(const std::vector<WallPatch>& patches, const WallGrid& gr
         }
         const Vector3d line = (firstLayer.row(id) - grid.front.points.row(id)).transpose().normalized();
         const double tilt = std::acos(std::clamp(line.dot(normal), -1.0, 1.0)) * 180.0 / kPi;
-        const double share =
-            grid.corner[static_cast<size_t>(id)] != 0 ? 0.0 : std::min(1.0, tilt / kFullTurnDegrees);
+        // A fan's lines leave no wall of their own: they keep the turn they were marched with.
+        const double share = grid.corner[static_cast<size_t>(id)] != 0 || patches[p].fan
+                                 ? 0.0
+                                 : std::min(1.0, tilt / kFullTurnDegrees);
         leaving.row(id) += (offset + share * (offset.norm() * normal - offset)).transpose();
       }
     }
@@ -624,7 +732,8 @@ VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const Volume
   surface::validateQuadControlMesh(wall);
   requireMarchableWall(wall, options.hasSymmetryPlane);
   const surface::LimitBSplines bsplines = surface::limitSurfaceToBSplines(wall);
-  const std::vector<WallPatch> patches = conformingWallPatches(bsplines, wall);
+  std::vector<WallPatch> patches = conformingWallPatches(bsplines, wall);
+  if (options.knifeEdgeFans) insertEdgeFans(patches);
   WallGrid grid = wallGrid(patches);
   markSymmetryPoints(patches, grid, options);
 
@@ -644,6 +753,7 @@ VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const Volume
                               " faces): the wall must be its control mesh subdivided 1 to 8 times");
     }
     coarsePatches = conformingWallPatches(surface::limitSurfaceToBSplines(*marchingWall), *marchingWall);
+    if (options.knifeEdgeFans) insertEdgeFans(coarsePatches);
     coarseGrid = wallGrid(coarsePatches);
     markSymmetryPoints(coarsePatches, coarseGrid, options);
   }
@@ -696,7 +806,8 @@ VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const Volume
     Block block;
     block.volume = BsplineVolume({3, 3, 3}, {patch.surface.uKnots, patch.surface.vKnots, wKnots},
                                  std::move(blockPoles[p]), "block " + std::to_string(p));
-    block.faces[static_cast<size_t>(BlockFaceSide::WMin)].condition = BoundaryCondition::Wall;
+    block.faces[static_cast<size_t>(BlockFaceSide::WMin)].condition =
+        patch.fan ? BoundaryCondition::Collapsed : BoundaryCondition::Wall;
     block.faces[static_cast<size_t>(BlockFaceSide::WMax)].condition =
         outerCondition(result.domain, layerPoles[p].back(), result.farfieldFacesAcrossDomainEdges);
     setLateralFaces(patch, block.faces);

@@ -26,6 +26,9 @@ struct VolumeMeshOptions {
   int boundaryLayerLayers = 4;
   double boundaryLayerGrowth = 1.2;
   double sharpEdgeSplay = 2.0;  // MarchingOptions::sharpEdgeSplay
+  // Knife edges of the wall (a sharp trailing edge) cut open, with a fan of prisms round them
+  // (edge_fans.h); else their grid lines splay in the band. The B-spline blocks only.
+  bool knifeEdgeFans = false;
   // Far-field boundary around the wall's centre (halved by a symmetry plane): a sphere of radius
   // farfieldDistance (0: 20 reference lengths), a box (half sizes boxHalfExtent, or farfieldDistance
   // along every axis where 0, at most 1e4 reference lengths; the layers are marched to its nearest

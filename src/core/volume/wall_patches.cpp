@@ -223,10 +223,32 @@ std::vector<WallPatch> conformingWallPatches(const surface::LimitBSplines& bspli
   return patches;
 }
 
+std::pair<int, int> sidePolePosition(const WallPatch& patch, ChartSide side, int t) {
+  switch (side) {
+    case ChartSide::VMin:
+      return {t, 0};
+    case ChartSide::VMax:
+      return {t, patch.surface.vPoles - 1};
+    case ChartSide::UMin:
+      return {0, t};
+    case ChartSide::UMax:
+      return {patch.surface.uPoles - 1, t};
+  }
+  return {0, 0};
+}
+
+int sidePoleCount(const WallPatch& patch, ChartSide side) {
+  return alongU(side) ? patch.surface.uPoles : patch.surface.vPoles;
+}
+
 void setLateralFaces(const WallPatch& patch, std::array<BlockFace, 6>& faces) {
   for (int s = 0; s < 4; ++s) {
     const PatchSideLink& link = patch.sides[static_cast<size_t>(s)];
     BlockFace& face = faces[static_cast<size_t>(blockFaceOf(static_cast<ChartSide>(s)))];
+    if (patch.collapsedSide[static_cast<size_t>(s)]) {
+      face.condition = BoundaryCondition::Collapsed;
+      continue;
+    }
     if (link.patch < 0) {
       face.condition = BoundaryCondition::Symmetry;
       continue;

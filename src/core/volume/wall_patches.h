@@ -6,6 +6,7 @@
 #pragma once
 
 #include <array>
+#include <utility>
 #include <vector>
 
 #include "core/surface/limit_bsplines.h"
@@ -43,7 +44,20 @@ struct WallPatch {
   std::array<std::vector<int>, 4> sideVertices;  // control-mesh vertices along each side, by increasing parameter
   std::array<PatchSideLink, 4> sides;             // per ChartSide
   std::array<bool, 4> creaseSide{false, false, false, false};  // side on a crease of the control mesh
+  // A fan round a knife edge of the wall (edge_fans.h): no wall of its own, its surface the edge
+  // repeated across it (u along the edge, v round it), its block's wall face collapsed.
+  bool fan = false;
+  // Where a knife edge's vertex chain is cut open: which copy of it each side and corner lies on
+  // (0: the chain itself; 1 and 2: the edge's two faces, the fan between them seeing both), and
+  // the sides collapsed to one point (a fan's end inside the wall).
+  std::array<int, 4> sideCopy{0, 0, 0, 0};
+  std::array<int, 4> cornerCopy{0, 0, 0, 0};  // corners (0, 0), (U, 0), (0, V), (U, V)
+  std::array<bool, 4> collapsedSide{false, false, false, false};
 };
+
+// Position (i, j) in a patch's pole grid of entry t along a side, and the side's number of poles.
+std::pair<int, int> sidePolePosition(const WallPatch& patch, ChartSide side, int t);
+int sidePoleCount(const WallPatch& patch, ChartSide side);
 
 // Splits the charts of `layout` (of `mesh`) into conforming patches and links their sides, without
 // surfaces: the patches as rectangles of control-mesh faces. Throws TopologyError when a side has
@@ -56,7 +70,8 @@ std::vector<WallPatch> conformingWallPatches(const surface::LimitBSplines& bspli
                                              const surface::QuadControlMesh& mesh);
 
 // The lateral faces (u_min ... v_max) of the block standing on `patch` (block numbers = patch
-// numbers): connected to the block on the neighbouring patch, or symmetry where the side is open.
+// numbers): connected to the block on the neighbouring patch, collapsed where the side is, or
+// symmetry where it is open.
 void setLateralFaces(const WallPatch& patch, std::array<BlockFace, 6>& faces);
 
 }  // namespace bvmesh::volume
