@@ -42,7 +42,8 @@ def _openfoam_case(args):
         source = openfoam_case.m6_grid(args.model, level=args.level, edge_points=args.edge_points,
                                        normal_points=args.normal_points, target_cells=args.target_cells,
                                        leading_edge_spacing=args.leading_edge_spacing,
-                                       reynolds_number=args.reynolds or 11.72e6, y_plus=args.y_plus)
+                                       reynolds_number=args.reynolds or 11.72e6, y_plus=args.y_plus,
+                                       knife_edge_fans=args.knife_edge_fans)
         print("  {} cells".format(source.grid.cell_count))
     case = openfoam_case.write_case(
         source, args.case, mach=args.mach, alpha_degrees=args.alpha, pressure=args.pressure,
@@ -115,6 +116,8 @@ def main(argv=None):
     cfd.add_argument("--y-plus", type=float, help="M6 rans grid: the first cell's flat-plate y+ (default 1)")
     cfd.add_argument("--leading-edge-spacing", type=float, default=2.0,
                      help="M6 grid: wall spacing in mm away from the leading edge (default 2; 0: none)")
+    cfd.add_argument("--knife-edge-fans", action="store_true",
+                     help="M6 grid: the sharp trailing edge cut open with a fan of prisms round it")
     cfd.add_argument("--run", action="store_true", help="run the solver (nice -n 19)")
     cfd.add_argument("--cores", type=int, default=1, help="cores for the solver (default 1)")
     cfd.add_argument("--timeout", type=float, help="stop the solver after this many seconds, keeping its last write")

@@ -622,7 +622,7 @@ def write_case(grid_or_refined, case_directory, mach=M6_MACH, alpha_degrees=M6_A
 
 
 def m6_grid(preset="euler", level=2, edge_points=None, normal_points=None, reynolds_number=11.72e6, wing_file=None,
-            target_cells=None, leading_edge_spacing=2.0, y_plus=None):
+            target_cells=None, leading_edge_spacing=2.0, y_plus=None, knife_edge_fans=False):
     """A grid of the bundled ONERA M6 half wing (mm): the half_wing template fitted at `level`
     (1e-5 root chord tolerance), the volume mesh (reference length 805 mm; above level 2 marched
     from the level-2 wall, as the main job's) and bvmesh.grid.refine(..., preset, target_cells,
@@ -637,7 +637,8 @@ def m6_grid(preset="euler", level=2, edge_points=None, normal_points=None, reyno
     none without the leading-edge spacing). Equal edge counts give the wall's small blocks (the
     trailing edge's tip corner) the counts of the large ones: 17 edge points make 1102 faces
     above 70 degrees, and rhoPimpleFoam diverges on that grid in its first iterations.
-    edge_points=5, normal_points=9 gives 3 k cells."""
+    edge_points=5, normal_points=9 gives 3 k cells. knife_edge_fans: the sharp trailing edge cut
+    open with a fan of prisms round it (bvmesh.volume.offset_and_farfield)."""
     from . import grid as bvgrid
     from . import load_core, paths, polyhedra, volume
 
@@ -655,7 +656,8 @@ def m6_grid(preset="euler", level=2, edge_points=None, normal_points=None, reyno
         return fitter
 
     marching_wall = fitted(volume.WING_MARCHING_LEVEL) if level > volume.WING_MARCHING_LEVEL else None
-    mesh = volume.offset_and_farfield(fitted(level), marching_wall=marching_wall, reference_length=805.0)
+    mesh = volume.offset_and_farfield(fitted(level), marching_wall=marching_wall, reference_length=805.0,
+                                      knife_edge_fans=knife_edge_fans)
     options = dict(edge_points=edge_points) if edge_points is not None else dict(target_cells=target_cells or 300000)
     if normal_points is not None:
         options["normal_points"] = normal_points

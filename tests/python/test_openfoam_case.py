@@ -384,6 +384,13 @@ class DefaultM6Grid(unittest.TestCase):
         quality = bvmesh.grid.quality(grid)
         self.assertGreater(quality["summary"]["scaled_jacobian"]["min"], 0.0)
 
+    def test_knife_edge_fans_put_a_fan_of_prisms_round_the_trailing_edge(self):
+        grid = ofc.m6_grid(target_cells=5000, normal_points=9, knife_edge_fans=True)
+        fans = [b for b in range(grid.grid.block_count) if grid.grid.faces(b)["w_min"]["condition"] == "collapsed"]
+        self.assertEqual(len(fans), 1)
+        self.assertEqual(grid.grid.block_count, ofc.m6_grid(target_cells=5000, normal_points=9).grid.block_count + 1)
+        self.assertGreater(bvmesh.grid.quality(grid)["summary"]["scaled_jacobian"]["min"], 0.0)
+
     def test_edge_points_or_target_cells_not_both(self):
         with self.assertRaisesRegex(ValueError, "edge_points or target_cells, not both"):
             ofc.m6_grid(edge_points=5, target_cells=5000)
