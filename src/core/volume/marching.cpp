@@ -289,23 +289,21 @@ class Marcher {
     return marks;
   }
 
-  // Marks the cells between two layers below the wanted quality; returns the worst and where.
-  // A knife edge's fan has thin cells by design where it closes (its angle shrinking to nothing
-  // at the edge's end): they must only be positive.
-  double wantedQuality(size_t quad) const { return fanQuad_[quad] != 0 ? 0.0 : options_.minScaledJacobian; }
-
   struct PoorCells {
     double worst = 1.0;  // the worst cell's scaled Jacobian
     int where = -1;      // and its quad
     bool any = false;    // some cell is below the quality wanted of it
   };
 
+  // Marks the cells between two layers below the wanted quality (minScaledJacobian; a knife edge's
+  // fan, whose cells are thin by design where it closes, only positive); returns the worst and
+  // where, and whether any was marked.
   PoorCells markPoorCells(const RowMatrixX3d& lower, const RowMatrixX3d& upper,
                           std::vector<char>& bad) const {
     PoorCells result;
     for (size_t q = 0; q < front_.quads.size(); ++q) {
       const double quality = cellQuality(lower, upper, q);
-      if (!(quality > wantedQuality(q)) && !(fanQuad_[q] == 0 && quality >= options_.minScaledJacobian)) {
+      if (fanQuad_[q] != 0 ? !(quality > 0.0) : quality < options_.minScaledJacobian) {
         bad[q] = 1;
         result.any = true;
       }
