@@ -645,22 +645,31 @@ class Marcher {
   }
 
   // The boundary layer's grid lines: splayed at sharp edges with the knife edges cut open; where
-  // a fan closes (its edge ending in a sharp corner inside the wall), blended over
-  // kFanClosingWidths band widths from the O-grid's lines at that corner (the knife edge closed,
-  // as if it had no fan) to them in proportion to the distance: the fan narrows to nothing at
-  // the corner, whose cells are the O-grid's.
+  // a fan closes (its edge ending in a sharp corner inside the wall), blended from the O-grid's
+  // lines at that corner (the knife edge closed, as if it had no fan) to them in proportion to
+  // the distance, over the length on which the fan's arc at the top of the boundary layer (its
+  // widest angle times the thickness) equals the distance, times kFanClosingMargin: straight
+  // lines nearer than that would turn the fan's cells at the corner over, were they the fan's
+  // own. The fan narrows to nothing at the corner, whose cells are the O-grid's. (On the M6 that
+  // length is 33 mm; over 69, 42, 35 and 23 mm its euler grid has 25, 19, 15 and 13 faces above
+  // 70 degrees and 346, 322, 314 and 298 cells below a scaled Jacobian of 0.3, every one marched.)
   RowMatrixX3d boundaryLayerLines(double width) const {
-    constexpr double kFanClosingWidths = 3.0;
+    constexpr double kFanClosingMargin = 1.0;
     RowMatrixX3d lines = splayedAtSharpEdges(wallView(false), width);
     std::vector<int> ends;
+    double widest = 0.0;
     for (const KnifeCopies& copies : front_.knifeCopies) {
-      if (copies.closedEnd >= 0) ends.push_back(copies.closedEnd);
+      if (copies.closedEnd < 0) continue;
+      ends.push_back(copies.closedEnd);
+      const Vector3d first = front_.normals.row(copies.first).transpose();
+      widest = std::max(widest, std::atan2(first.cross(front_.normals.row(copies.second).transpose()).norm(),
+                                           first.dot(front_.normals.row(copies.second).transpose())));
     }
     if (!ends.empty()) {
       std::sort(ends.begin(), ends.end());
       ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
       const RowMatrixX3d closed = splayedAtSharpEdges(wallView(true), width);
-      const double closing = kFanClosingWidths * std::max(width, options_.boundaryLayerThickness);
+      const double closing = kFanClosingMargin * widest * options_.boundaryLayerThickness;
       for (Eigen::Index p = 0; p < lines.rows(); ++p) {
         double toEnd = std::numeric_limits<double>::infinity();
         for (int end : ends) toEnd = std::min(toEnd, (front_.points.row(p) - front_.points.row(end)).norm());
