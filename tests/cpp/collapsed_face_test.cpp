@@ -178,6 +178,70 @@ TEST(CollapsedFace, HexCellsWithAMergedCornerAreMeasuredAsPrismsAndInvertedOnesS
   EXPECT_EQ(hexScaledJacobian(point), -1.0);
 }
 
+TEST(CollapsedFace, AnEdgeOfZeroLengthOnNoCollapsedFaceIsRefusedByName) {
+  // The fan's edge face called a wall: its edges along v have no length, and nothing says which
+  // line they would take their points from.
+  std::vector<Block> blocks = test::fanWedgeBlocks(kHalfWedge).blocks();
+  blocks[2].faces[static_cast<size_t>(BlockFaceSide::WMin)].condition = BoundaryCondition::Wall;
+  grid::RefinementOptions options;
+  options.normalPoints = 9;
+  options.tangentialSpacing = 0.5;
+  try {
+    grid::refineBlockMesh(BlockMesh(std::move(blocks)), options);
+    FAIL() << "refined an edge of zero length on a wall face";
+  } catch (const InvalidInputError& error) {
+    EXPECT_NE(
+        std::string(error.what()).find("block 2 has an edge of zero length along v on no collapsed face"),
+        std::string::npos)
+        << error.what();
+  }
+}
+
+TEST(CollapsedFace, CellsPinchedWithoutACollapsedFaceAreNoCells) {
+  // The refined fan with its edge face called a wall: its points there coincide but are distinct
+  // points (each cell face on the edge a quad of no area), so its cells there are no prisms.
+  std::vector<grid::GridBlock> blocks = refinedFan().grid.blocks();
+  volume::BlockFace& edge = blocks[2].faces[static_cast<size_t>(BlockFaceSide::WMin)];
+  edge.condition = BoundaryCondition::Wall;
+  const grid::StructuredGrid pinched(blocks, false);
+  const grid::HexTopology topology(pinched);
+  const std::vector<double> jacobians = quality::cellScaledJacobians(topology);
+  const grid::GridBlock& fan = blocks[2];
+  const Eigen::Index fanCells =
+      static_cast<Eigen::Index>(fan.size[0] - 1) * (fan.size[1] - 1) * (fan.size[2] - 1);
+  const Eigen::Index firstFanCell = topology.cellCount() - fanCells;
+  int onEdge = 0;
+  for (Eigen::Index c = firstFanCell; c < topology.cellCount(); ++c)
+    onEdge += jacobians[static_cast<size_t>(c)] == -1.0;
+  EXPECT_EQ(onEdge, (fan.size[0] - 1) * (fan.size[1] - 1));
+  EXPECT_THROW(quality::requirePositiveCells(topology), InvalidInputError);
+}
+
+TEST(CollapsedFace, QuadConditionsNeitherNameNorLieOnACollapsedFace) {
+  const std::vector<grid::GridBlock> refined = refinedFan().grid.blocks();
+  auto refusal = [](std::vector<grid::GridBlock> blocks) -> std::string {
+    try {
+      grid::StructuredGrid grid(std::move(blocks), false);
+    } catch (const InvalidInputError& error) {
+      return error.what();
+    }
+    return "accepted";
+  };
+  // Quads of a far-field face marked collapsed, and quad conditions on the collapsed face.
+  std::vector<grid::GridBlock> collapsedQuads = refined;
+  const int farfield = static_cast<int>(BlockFaceSide::WMax);
+  const std::array<int, 2> counts = faceGridCounts(collapsedQuads[2].size, farfield);
+  collapsedQuads[2].quadConditions[static_cast<size_t>(farfield)].assign(
+      static_cast<size_t>((counts[0] - 1) * (counts[1] - 1)), BoundaryCondition::Collapsed);
+  EXPECT_NE(refusal(collapsedQuads).find("grid block 2 face w_max (farfield) has"), std::string::npos);
+  std::vector<grid::GridBlock> quadsOnTheEdge = refined;
+  const int edge = static_cast<int>(BlockFaceSide::WMin);
+  const std::array<int, 2> edgeCounts = faceGridCounts(quadsOnTheEdge[2].size, edge);
+  quadsOnTheEdge[2].quadConditions[static_cast<size_t>(edge)].assign(
+      static_cast<size_t>((edgeCounts[0] - 1) * (edgeCounts[1] - 1)), BoundaryCondition::Wall);
+  EXPECT_NE(refusal(quadsOnTheEdge).find("grid block 2 face w_min (collapsed) has"), std::string::npos);
+}
+
 TEST(CollapsedFace, VolumetricSubdivisionRefusesItByName) {
   try {
     grid::subdivideBlockMesh(test::fanWedgeBlocks(kHalfWedge), 1);

@@ -490,6 +490,81 @@ TEST(IoCgns, CgnscheckFindsNoErrorsOrWarnings) {
   EXPECT_GE(broken.errors, 1) << broken.text;
 }
 
+// One 3 x 3 x 3 block with a collapsed face, moved by `offset` along x: a pyramid whose w_max
+// face is its apex (`point`), or a wedge whose u_min face is its edge along z.
+GridBlock collapsedBlock(bool point, double offset) {
+  GridBlock block;
+  block.size = {3, 3, 3};
+  block.points.resize(27, 3);
+  for (int k = 0; k < 3; ++k) {
+    for (int j = 0; j < 3; ++j) {
+      for (int i = 0; i < 3; ++i) {
+        const double shrink = point ? 1.0 - k / 2.0 : i / 2.0;
+        block.points.row(block.index(i, j, k)) << offset + (point ? (i - 1) * shrink : i), (j - 1) * shrink,
+            k;
+      }
+    }
+  }
+  block.faces[static_cast<size_t>(point ? volume::BlockFaceSide::WMax : volume::BlockFaceSide::UMin)]
+      .condition = BoundaryCondition::Collapsed;
+  block.faces[static_cast<size_t>(volume::BlockFaceSide::WMin)].condition = BoundaryCondition::Wall;
+  return block;
+}
+
+TEST(IoCgns, CollapsedFacesAreDegeneratePointsOrLinesTheirFamilyTypedWhereTheyAgree) {
+  const std::string path = outputPath("io_collapsed.cgns");
+  for (bool both : {false, true}) {
+    std::vector<GridBlock> blocks{collapsedBlock(true, 0.0)};
+    if (both) blocks.push_back(collapsedBlock(false, 10.0));
+    writeCgns(StructuredGrid(blocks), path);
+    {
+      CgnsReader file(path);
+      int families = 0;
+      CG(cg_nfamilies(file.fn, 1, &families));
+      int found = 0;
+      for (int f = 1; f <= families; ++f) {
+        char name[64];
+        int bcs = 0, geometries = 0;
+        CG(cg_family_read(file.fn, 1, f, name, &bcs, &geometries));
+        if (std::string(name) != "collapsed") continue;
+        ++found;
+        // A point and a line: the family has no type of its own.
+        ASSERT_EQ(bcs, both ? 0 : 1);
+        if (both) continue;
+        char bcName[64];
+        CGNS_ENUMT(BCType_t) type;
+        CG(cg_fambc_read(file.fn, 1, f, 1, bcName, &type));
+        EXPECT_EQ(type, CGNS_ENUMV(BCDegeneratePoint));
+      }
+      EXPECT_EQ(found, 1);
+      for (int zone = 1; zone <= static_cast<int>(blocks.size()); ++zone) {
+        int bocos = 0;
+        CG(cg_nbocos(file.fn, 1, zone, &bocos));
+        int collapsed = 0;
+        for (int bc = 1; bc <= bocos; ++bc) {
+          char name[64];
+          CGNS_ENUMT(BCType_t) type;
+          CGNS_ENUMT(PointSetType_t) pointSet;
+          cgsize_t points = 0, normalListSize = 0;
+          int normalIndex[3], datasets = 0;
+          CGNS_ENUMT(DataType_t) normalType;
+          CG(cg_boco_info(file.fn, 1, zone, bc, name, &type, &pointSet, &points, normalIndex, &normalListSize,
+                          &normalType, &datasets));
+          if (std::string(name).rfind("collapsed", 0) != 0) continue;
+          ++collapsed;
+          EXPECT_EQ(type, zone == 1 ? CGNS_ENUMV(BCDegeneratePoint) : CGNS_ENUMV(BCDegenerateLine)) << name;
+        }
+        EXPECT_EQ(collapsed, 1);
+      }
+    }
+    if (std::system("command -v cgnscheck > /dev/null 2>&1") != 0) continue;
+    const CheckReport report = cgnscheck(path);
+    EXPECT_TRUE(report.complete) << report.text;
+    EXPECT_EQ(report.errors, 0) << report.text;
+    EXPECT_EQ(report.warnings, 0) << report.text;
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Plot3D
 

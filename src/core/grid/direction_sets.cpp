@@ -167,8 +167,8 @@ BsplineCurve fanLine(const BsplineVolume& volume, const BlockPlan& plan, int dir
     if (other != n) return 0.5 * (volume.lower(other) + volume.upper(other));
     if (!offWall) return parameterAtEnd(volume, n, plan.wallEnd);
     const std::vector<double>& knots = volume.knots(n);
-    const double firstKnot = knots[static_cast<size_t>(volume.degree(n) + 1)];
-    return plan.wallEnd == 0 ? firstKnot : volume.upper(n) - (firstKnot - volume.lower(n));
+    const auto degree = static_cast<size_t>(volume.degree(n));
+    return plan.wallEnd == 0 ? knots[degree + 1] : knots[knots.size() - degree - 2];
   };
   return volume.isoCurve(direction, at(first), at(second));
 }
@@ -211,9 +211,27 @@ struct EdgeTables {
   }
 };
 
-// Block edges shorter than this share of their block's pole box are collapsed (their evaluated
-// points one point to rounding).
-constexpr double kCollapsedEdge = 1e-9;
+// Whether edge `e` along `direction` (edgeCurve's numbering) lies on a collapsed face of the
+// block that is one point along `direction`.
+bool onCollapsedFace(const volume::Block& block, int direction, int e) {
+  const auto [first, second] = otherDirections(direction);
+  for (const int face : {2 * first + (e & 1), 2 * second + (e >> 1)}) {
+    const volume::BlockFace& side = block.faces[static_cast<size_t>(face)];
+    if (side.condition != BoundaryCondition::Collapsed) continue;
+    const std::array<int, 2> axes = volume::faceDirections(face);
+    for (int axis = 0; axis < 2; ++axis) {
+      if (axes[static_cast<size_t>(axis)] == direction && side.collapsedAlong[static_cast<size_t>(axis)])
+        return true;
+    }
+  }
+  return false;
+}
+
+// A turning table's samples along `curve`; without a turning limit the table serves arc length
+// alone: one step.
+int turningSamples(const BsplineCurve& curve, double maxTurning) {
+  return maxTurning > 0.0 ? kTurningSamplesPerSpan * static_cast<int>(curve.knots.size()) : 1;
+}
 
 // A set counts its wall edges (all its edges if it has none), each asking for its length in
 // spacings plus its turning in maxTurning steps. With a turning limit, a wall face's middle grid
@@ -234,7 +252,6 @@ EdgeTables tabulateEdges(const std::vector<volume::Block>& blocks, const std::ve
                     std::vector<std::array<std::array<bool, 4>, 3>>(blockCount)};
   for (size_t b = 0; b < blockCount; ++b) {
     const BsplineVolume& volume = blocks[b].volume;
-    const double extent = (volume.poles().colwise().maxCoeff() - volume.poles().colwise().minCoeff()).norm();
     for (int d = 0; d < 3; ++d) {
       const auto root = static_cast<size_t>(sets.find(static_cast<int>(3 * b) + d).first);
       std::vector<ArcLength>& arcs = tables.arcs[b][static_cast<size_t>(d)];
@@ -242,26 +259,28 @@ EdgeTables tabulateEdges(const std::vector<volume::Block>& blocks, const std::ve
       arcs.reserve(4);
       turnings.reserve(5);  // `counted` points into it
       auto turningOf = [&](const BsplineCurve& curve, const ArcLength& arc) -> const TurningTable& {
-        // Without a turning limit the table serves arc length alone: one step.
-        const int samples =
-            maxTurning > 0.0 ? kTurningSamplesPerSpan * static_cast<int>(curve.knots.size()) : 1;
-        return turnings.emplace_back(curve, arc, samples);
+        return turnings.emplace_back(curve, arc, turningSamples(curve, maxTurning));
       };
       for (int e = 0; e < 4; ++e) {
         const BsplineCurve curve = edgeCurve(volume, d, e);
         const ArcLength& arc = arcs.emplace_back(curve, kIntervalsPerSpan);
         const TurningTable& turning = turningOf(curve, arc);
-        const bool collapsed = !(arc.length() > kCollapsedEdge * extent);
+        const bool collapsed = onCollapsedFace(blocks[b], d, e);
+        if (!collapsed && !(arc.length() > 0.0)) {
+          throw InvalidInputError(blockText(b) + " has an edge of zero length along " + "uvw"[d] +
+                                  " on no collapsed face (a face that is one curve or point must be declared "
+                                  "'collapsed')");
+        }
         tables.collapsed[b][static_cast<size_t>(d)][static_cast<size_t>(e)] = collapsed;
         if (collapsed && !tables.fanArcs[b][static_cast<size_t>(d)]) {
           const BsplineCurve fan = fanLine(volume, plans[b], d);
           const ArcLength& fanArc = tables.fanArcs[b][static_cast<size_t>(d)].emplace(fan, kIntervalsPerSpan);
-          if (!(fanArc.length() > kCollapsedEdge * extent)) {
+          if (!(fanArc.length() > 0.0)) {
             throw InvalidInputError(blockText(b) + " has an edge of zero length along " + "uvw"[d] +
                                     " whose block is collapsed across its middle as well (no line to fan along)");
           }
           tables.countedFans[root].push_back(&tables.fanTurning[b][static_cast<size_t>(d)].emplace(
-              fan, fanArc, kTurningSamplesPerSpan * static_cast<int>(fan.knots.size())));
+              fan, fanArc, turningSamples(fan, maxTurning)));
           tables.fanAngle[root] =
               std::max(tables.fanAngle[root], sweptAngle(fan, fanLine(volume, plans[b], d, false)));
         }
@@ -299,9 +318,9 @@ std::vector<EdgeEnd> wallEdgeEnds(const std::vector<volume::Block>& blocks,
       const auto [root, parity] = sets.find(static_cast<int>(3 * b) + d);
       for (int e = 0; e < 4; ++e) {
         if (!onWallOrNoWall(plans[b], d, e)) continue;
-        const RowMatrixX3d& poles = edgeCurve(blocks[b].volume, d, e).poles;
         if (edges.collapsed[b][static_cast<size_t>(d)][static_cast<size_t>(e)])
           continue;  // it continues nothing
+        const RowMatrixX3d& poles = edgeCurve(blocks[b].volume, d, e).poles;
         const double length = edges.arcs[b][static_cast<size_t>(d)][static_cast<size_t>(e)].length();
         for (int end = 0; end < 2; ++end) {
           const Eigen::Index at = end == 0 ? 0 : poles.rows() - 1;

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 
+#include "core/common/distinct_corners.h"
+
 namespace bvmesh::grid {
 namespace {
 
@@ -33,13 +35,13 @@ void forEachFaceCell(const GridBlock& block, int side, Visit&& visit) {
 }  // namespace
 
 HexFace hexCellFace(const std::array<Eigen::Index, 8>& corners, int side) {
+  std::array<Eigen::Index, 4> quad{};
+  for (size_t v = 0; v < 4; ++v)
+    quad[v] = corners[static_cast<size_t>(kCellFaces[static_cast<size_t>(side)][v])];
+  const DistinctCorners<Eigen::Index> distinct = distinctCorners(quad);
   HexFace face;
-  face.size = 0;
-  for (int v = 0; v < 4; ++v) {
-    const Eigen::Index point = corners[static_cast<size_t>(kCellFaces[static_cast<size_t>(side)][static_cast<size_t>(v)])];
-    if (face.size == 0 || face.points[static_cast<size_t>(face.size - 1)] != point) face.points[static_cast<size_t>(face.size++)] = point;
-  }
-  if (face.size > 1 && face.points[static_cast<size_t>(face.size - 1)] == face.points[0]) --face.size;
+  face.points = distinct.points;
+  face.size = distinct.size;
   return face;
 }
 
@@ -63,8 +65,8 @@ HexTopology::HexTopology(const StructuredGrid& grid) : grid_(grid), merged_(merg
     }
     mirrored_.push_back(volume < 0.0);
   }
-  // A block whose own grid positions share a merged point has a collapsed face: only there can
-  // cell faces collapse.
+  // Only cells of a block whose own grid positions share a merged point (its collapsed face's,
+  // or a neighbour's merged into two of its own) can have merged corners.
   std::vector<char> seen(static_cast<size_t>(merged_.points.rows()), 0);
   for (size_t b = 0; b < blocks.size(); ++b) {
     const auto first = merged_.pointOf.begin() + merged_.blockOffset[b];

@@ -4,8 +4,9 @@
 // face pointing from owner to neighbour), then boundary faces patch by patch, pointing out.
 // Faces are enumerated on the fly, so writers and quality metrics stream them without storing
 // the whole face list. Where a block has a collapsed face, its cells there have merged corners
-// (prisms, pyramids): their faces lose the repeated points, and faces left with fewer than three
-// points (on the collapsed face itself) are no faces.
+// (prisms; tetrahedral wedges where two collapsed faces meet, pyramids where one is a point): their faces
+// lose the repeated points, and faces left with fewer than three points (on the collapsed face itself) are no
+// faces.
 #pragma once
 
 #include <array>
@@ -67,9 +68,6 @@ class HexTopology {
   // Face `side` (BlockFaceSide order) of a cell, outward, as merged points without repeats; its
   // size is below 3 where the face has collapsed.
   HexFace cellFace(Eigen::Index cell, int side) const;
-  // Cells of blocks whose grid has merged points of its own (a collapsed face) can have
-  // collapsed faces; other blocks' cells cannot.
-  bool mayCollapse(size_t block) const { return collapsing_[block]; }
   // The cell across block face `side` of a cell on that face (another block's), or -1.
   Eigen::Index acrossBlockFace(const BlockCell& at, int side) const;
 

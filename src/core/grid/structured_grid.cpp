@@ -41,17 +41,22 @@ StructuredGrid::StructuredGrid(std::vector<GridBlock> blocks, bool viscousWall)
                               std::to_string(block.size[2]) + " needs " + std::to_string(block.pointCount()));
     }
     for (int f = 0; f < 6; ++f) {
-      requireCollapsed(b, f);
+      findCollapsedAxes(b, f);
       const std::vector<volume::BoundaryCondition>& quads = block.quadConditions[static_cast<size_t>(f)];
       if (quads.empty()) continue;
       const std::array<int, 2> counts = volume::faceGridCounts(block.size, f);
       const auto expected = static_cast<size_t>(counts[0] - 1) * static_cast<size_t>(counts[1] - 1);
-      const bool connected = block.faces[static_cast<size_t>(f)].condition == volume::BoundaryCondition::Connected;
-      if (connected || quads.size() != expected ||
-          std::count(quads.begin(), quads.end(), volume::BoundaryCondition::Connected) > 0) {
-        throw InvalidInputError(name + " face " + volume::blockFaceName(f) + " has " + std::to_string(quads.size()) +
-                                " quad conditions; a boundary face takes one per quad (" + std::to_string(expected) +
-                                "), none of them 'connected'");
+      const volume::BoundaryCondition whole = block.faces[static_cast<size_t>(f)].condition;
+      const auto notABoundary = [](volume::BoundaryCondition c) {
+        return c == volume::BoundaryCondition::Connected || c == volume::BoundaryCondition::Collapsed;
+      };
+      if (notABoundary(whole) || quads.size() != expected ||
+          std::any_of(quads.begin(), quads.end(), notABoundary)) {
+        throw InvalidInputError(name + " face " + volume::blockFaceName(f) + " (" +
+                                volume::boundaryConditionName(whole) + ") has " +
+                                std::to_string(quads.size()) +
+                                " quad conditions; a boundary face takes one per quad (" +
+                                std::to_string(expected) + "), none of them 'connected' or 'collapsed'");
       }
     }
     faces.push_back(block.faces);
@@ -70,27 +75,15 @@ StructuredGrid::StructuredGrid(std::vector<GridBlock> blocks, bool viscousWall)
   });
 }
 
-void StructuredGrid::requireCollapsed(size_t b, int f) {
+void StructuredGrid::findCollapsedAxes(size_t b, int f) {
   GridBlock& block = blocks_[b];
   volume::BlockFace& face = block.faces[static_cast<size_t>(f)];
-  if (face.condition != volume::BoundaryCondition::Collapsed) {
-    face.collapsedAlong = {false, false};
-    return;
-  }
-  const std::array<bool, 2> along = volume::coincidentAlongFace(block.points, block.size, f);
-  const bool given = face.collapsedAlong[0] || face.collapsedAlong[1];
-  for (int axis = 0; axis < 2; ++axis) {
-    if (given && face.collapsedAlong[static_cast<size_t>(axis)] && !along[static_cast<size_t>(axis)]) {
-      throw InvalidInputError("grid block " + std::to_string(b) + " face " + volume::blockFaceName(f) +
-                              " is collapsed along its axis " + std::to_string(axis) +
-                              ", but its points differ along it (a collapsed face's points coincide bit for bit)");
-    }
-  }
-  if (!given) face.collapsedAlong = along;
-  if (!face.collapsedAlong[0] && !face.collapsedAlong[1]) {
-    throw InvalidInputError("grid block " + std::to_string(b) + " face " + volume::blockFaceName(f) +
-                            " is collapsed, but its points differ along both of its directions");
-  }
+  face.collapsedAlong =
+      face.condition == volume::BoundaryCondition::Collapsed
+          ? volume::collapsedFaceAxes(block.points, block.size, f,
+                                      "grid block " + std::to_string(b) + " face " + volume::blockFaceName(f),
+                                      "points")
+          : std::array<bool, 2>{false, false};
 }
 
 void StructuredGrid::checkPointMatching(size_t b, int f) const {

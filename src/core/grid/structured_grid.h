@@ -53,9 +53,9 @@ class StructuredGrid {
  private:
   // Throws unless block b's face f has the points of the neighbour face it is connected to.
   void checkPointMatching(size_t b, int f) const;
-  // For a collapsed face of block b: its collapsedAlong checked against its points, or found from
-  // them; throws when its points are not one point along either axis.
-  void requireCollapsed(size_t b, int f);
+  // Sets block b's face f's collapsedAlong: for a collapsed face from its points (throws when
+  // they are not one point along either axis), none otherwise.
+  void findCollapsedAxes(size_t b, int f);
 
   std::vector<GridBlock> blocks_;
   bool viscousWall_ = false;

@@ -42,6 +42,14 @@ CGNS_ENUMT(BCType_t) bcType(BoundaryCondition condition, bool viscousWall) {
   return CGNS_ENUMV(BCFarfield);
 }
 
+// A whole face's boundary type: a face collapsed to one point is a degenerate point, one
+// collapsed to a curve a line.
+CGNS_ENUMT(BCType_t) faceBcType(const volume::BlockFace& face, bool viscousWall) {
+  if (face.condition == BoundaryCondition::Collapsed && face.collapsedAlong[0] && face.collapsedAlong[1])
+    return CGNS_ENUMV(BCDegeneratePoint);
+  return bcType(face.condition, viscousWall);
+}
+
 // One-based (i, j, k) of face position (a, b), as CGNS point ranges count.
 std::array<cgsize_t, 3> cgnsIndex(const std::array<int, 3>& size, int face, int a, int b) {
   const std::array<int, 3> ijk = volume::faceGridPosition(size, face, a, b);
@@ -159,10 +167,7 @@ void writeZone(int fn, int base, const grid::StructuredGrid& grid, int b, const 
       continue;
     }
     if (block.quadConditions[static_cast<size_t>(f)].empty()) {
-      // A face collapsed to one point is a degenerate point, one collapsed to a curve a line.
-      const bool point = face.condition == BoundaryCondition::Collapsed && face.collapsedAlong[0] && face.collapsedAlong[1];
-      writeBoundary(fn, base, zone, face.condition,
-                    point ? CGNS_ENUMV(BCDegeneratePoint) : bcType(face.condition, grid.viscousWall()), faceName,
+      writeBoundary(fn, base, zone, face.condition, faceBcType(face, grid.viscousWall()), faceName,
                     CGNS_ENUMV(PointRange), {pointRange.begin(), pointRange.end()}, path, name);
       continue;
     }
@@ -200,19 +205,28 @@ void writeFile(const grid::StructuredGrid& grid, const std::string& temporary, c
   // The geometry's length unit is whatever the CAD model used, which the grid does not record.
   check(cg_goto(fn, base, "end"), path, "the base");
   check(cg_dataclass_write(CGNS_ENUMV(NormalizedByUnknownDimensional)), path, "the base's data class");
-  // Families first, in condition order, only for the conditions some face uses.
-  std::set<BoundaryCondition> used;
+  // Families first, in condition order, only for the conditions some face uses, each with the
+  // boundary type its faces have (none where they differ: collapsed faces that are lines and
+  // points; each face's own boundary node says which).
+  std::map<BoundaryCondition, std::set<CGNS_ENUMT(BCType_t)>> used;
   for (const grid::GridBlock& block : grid.blocks()) {
     for (size_t f = 0; f < 6; ++f) {
-      if (block.faces[f].condition != BoundaryCondition::Connected) used.insert(block.faces[f].condition);
-      used.insert(block.quadConditions[f].begin(), block.quadConditions[f].end());
+      const volume::BlockFace& face = block.faces[f];
+      if (block.quadConditions[f].empty()) {
+        if (face.condition != BoundaryCondition::Connected)
+          used[face.condition].insert(faceBcType(face, grid.viscousWall()));
+        continue;
+      }
+      for (BoundaryCondition condition : block.quadConditions[f])
+        used[condition].insert(bcType(condition, grid.viscousWall()));
     }
   }
-  for (BoundaryCondition condition : used) {
+  for (const auto& [condition, types] : used) {
     const char* family = volume::boundaryConditionName(condition);
     int index = 0, bc = 0;
     check(cg_family_write(fn, base, family, &index), path, std::string("family ") + family);
-    check(cg_fambc_write(fn, base, index, "FamBC", bcType(condition, grid.viscousWall()), &bc), path,
+    if (types.size() != 1) continue;
+    check(cg_fambc_write(fn, base, index, "FamBC", *types.begin(), &bc), path,
           std::string("family ") + family);
   }
   for (int b = 0; b < grid.blockCount(); ++b) writeZone(fn, base, grid, b, path);

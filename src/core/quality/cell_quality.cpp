@@ -47,7 +47,8 @@ FaceGeometry faceGeometry(const RowMatrixX3d& points, const grid::HexFace& face)
 struct CellGeometry {
   Vector3d centre;
   double volume;
-  std::vector<FaceGeometry> faces;
+  std::array<FaceGeometry, 6> faces;
+  int faceCount = 0;  // 6, 5 for a prism
 };
 
 // OpenFOAM's cell centre and volume: pyramids from the faces to the face centres' average. The
@@ -59,13 +60,15 @@ CellGeometry cellGeometry(const RowMatrixX3d& points, const std::array<Eigen::In
   for (int side = 0; side < 6; ++side) {
     const grid::HexFace face = grid::hexCellFace(corners, side);
     if (face.size < 3) continue;
-    cell.faces.push_back(faceGeometry(points, face));
-    estimate += cell.faces.back().centre;
+    const FaceGeometry& geometry = cell.faces[static_cast<size_t>(cell.faceCount++)] =
+        faceGeometry(points, face);
+    estimate += geometry.centre;
   }
-  estimate /= static_cast<double>(cell.faces.size());
+  estimate /= static_cast<double>(cell.faceCount);
   Vector3d weighted = Vector3d::Zero();
   double volume3 = 0.0;
-  for (const FaceGeometry& face : cell.faces) {
+  for (int f = 0; f < cell.faceCount; ++f) {
+    const FaceGeometry& face = cell.faces[static_cast<size_t>(f)];
     const double pyramid = std::max(face.area.dot(face.centre - estimate), kRootVSmall);
     weighted += pyramid * (0.75 * face.centre + 0.25 * estimate);
     volume3 += pyramid;
@@ -239,6 +242,10 @@ std::vector<MetricSummary> summarizeQuality(const grid::HexTopology& topology, c
   return result;
 }
 
+// A cell's twelve edges as pairs of its corners (order 000 100 110 010 001 101 111 011).
+constexpr std::array<std::array<size_t, 2>, 12> kCellEdges{
+    {{0, 1}, {1, 2}, {2, 3}, {3, 0}, {4, 5}, {5, 6}, {6, 7}, {7, 4}, {0, 4}, {1, 5}, {2, 6}, {3, 7}}};
+
 std::vector<double> cellScaledJacobians(const grid::HexTopology& topology) {
   const RowMatrixX3d& points = topology.points().points;
   std::vector<double> jacobians(static_cast<size_t>(topology.cellCount()));
@@ -247,7 +254,13 @@ std::vector<double> cellScaledJacobians(const grid::HexTopology& topology) {
       const std::array<Eigen::Index, 8> corners = topology.cellCorners(c);
       std::array<Vector3d, 8> x;
       for (size_t v = 0; v < 8; ++v) x[v] = points.row(corners[v]).transpose();
-      jacobians[static_cast<size_t>(c)] = volume::hexScaledJacobian(x);
+      // Corners at one place that are not one merged point (an axis a grid pinches to without
+      // a collapsed face) make no cell: its faces there would have no area.
+      const bool pinched =
+          std::any_of(kCellEdges.begin(), kCellEdges.end(), [&](const std::array<size_t, 2>& e) {
+            return corners[e[0]] != corners[e[1]] && x[e[0]] == x[e[1]];
+          });
+      jacobians[static_cast<size_t>(c)] = pinched ? -1.0 : volume::hexScaledJacobian(x);
     }
   });
   return jacobians;

@@ -115,6 +115,18 @@ std::array<bool, 2> coincidentAlongFace(const RowMatrixX3d& grid, const std::arr
   return along;
 }
 
+std::array<bool, 2> collapsedFaceAxes(const RowMatrixX3d& grid, const std::array<int, 3>& counts, int face,
+                                      const std::string& faceName, const std::string& pointsName) {
+  const std::array<bool, 2> along = coincidentAlongFace(grid, counts, face);
+  if (!along[0] && !along[1]) {
+    throw InvalidInputError(
+        faceName + " is collapsed, but its " + pointsName +
+        " differ along both of its directions (a collapsed face is one curve or one point: its " +
+        pointsName + " identical bit for bit along a row)");
+  }
+  return along;
+}
+
 namespace {
 std::array<int, 3> poleCounts(const BsplineVolume& volume) {
   return {volume.poleCount(0), volume.poleCount(1), volume.poleCount(2)};
@@ -207,13 +219,9 @@ BlockMesh::BlockMesh(std::vector<Block> blocks) : blocks_(std::move(blocks)) {
     for (int f = 0; f < 6; ++f) {
       BlockFace& face = blocks_[static_cast<size_t>(b)].faces[static_cast<size_t>(f)];
       if (face.condition == BoundaryCondition::Collapsed) {
-        face.collapsedAlong = coincidentAlongFace(blocks_[static_cast<size_t>(b)].volume.poles(),
-                                                  poleGrids[static_cast<size_t>(b)], f);
-        if (!face.collapsedAlong[0] && !face.collapsedAlong[1]) {
-          throw InvalidInputError(faceText(b, f) +
-                                  " is collapsed, but its poles differ along both of its directions (a "
-                                  "collapsed face is one curve or one point: its poles identical along a row)");
-        }
+        face.collapsedAlong =
+            collapsedFaceAxes(blocks_[static_cast<size_t>(b)].volume.poles(),
+                              poleGrids[static_cast<size_t>(b)], f, faceText(b, f), "poles");
         continue;
       }
       face.collapsedAlong = {false, false};

@@ -19,7 +19,7 @@ enum class BlockFaceSide { UMin = 0, UMax = 1, VMin = 2, VMax = 3, WMin = 4, WMa
 
 // Collapsed: the face is no surface but a curve or a point (an axis or a sharp edge that the
 // block fans out from): its grid is one point along one or both of its directions, so it
-// bounds nothing and its cells are prisms or pyramids there.
+// bounds nothing and its cells are prisms there (tetrahedral wedges where two meet, pyramids on a point).
 enum class BoundaryCondition { Connected, Wall, Symmetry, Farfield, Inlet, Outlet, Side, Collapsed };
 
 const char* boundaryConditionName(BoundaryCondition condition);
@@ -63,6 +63,12 @@ struct BlockFace {
 // Per face axis, whether `grid` (poles or points of a block with `counts` per direction, row i
 // fastest) is one point along it on `face`: every row along that axis identical bit for bit.
 std::array<bool, 2> coincidentAlongFace(const RowMatrixX3d& grid, const std::array<int, 3>& counts, int face);
+
+// The axes along which a face with condition Collapsed is one point (coincidentAlongFace); throws
+// InvalidInputError naming it (`faceName`, e.g. "block 3 face w_min") and what `grid` holds
+// (`pointsName`: "poles", "points") when it is one along neither.
+std::array<bool, 2> collapsedFaceAxes(const RowMatrixX3d& grid, const std::array<int, 3>& counts, int face,
+                                      const std::string& faceName, const std::string& pointsName);
 
 struct Block {
   BsplineVolume volume;

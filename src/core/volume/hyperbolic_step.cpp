@@ -13,6 +13,7 @@
 #include <type_traits>
 #include <utility>
 
+#include "core/common/distinct_corners.h"
 #include "core/common/errors.h"
 #include "core/common/math_constants.h"
 #include "core/common/number_text.h"
@@ -140,14 +141,7 @@ HyperbolicStepper::HyperbolicStepper(Eigen::Index pointCount, const std::vector<
   std::vector<std::vector<FanEdge>> fans(static_cast<size_t>(pointCount));
   for (const auto& quad : quads) {
     // A quad that repeats a corner (a knife edge's fan closing at its end) is a triangle.
-    std::array<int, 4> corners{};
-    int size = 0;
-    for (int k = 0; k < 4; ++k) {
-      const int point = quad[static_cast<size_t>(k)];
-      if (size == 0 || corners[static_cast<size_t>(size - 1)] != point)
-        corners[static_cast<size_t>(size++)] = point;
-    }
-    if (size > 1 && corners[static_cast<size_t>(size - 1)] == corners[0]) --size;
+    const auto [corners, size] = distinctCorners(quad);
     for (int k = 0; k < size; ++k) {
       fans[static_cast<size_t>(corners[static_cast<size_t>(k)])].push_back(
           {corners[static_cast<size_t>((k + 1) % size)],
@@ -224,15 +218,16 @@ Vector3d HyperbolicStepper::ringPoint(const RowMatrixX3d& points, const RingEntr
   return x - 2.0 * (x - planePoint_).dot(planeNormal_) * planeNormal_;
 }
 
-// Each quad's area shared equally by its corners; a point on the symmetry plane counts its
-// mirrored cells too.
+// Each quad's area shared equally by its distinct corners (a triangle's by three); a point on the
+// symmetry plane counts its mirrored cells too.
 Eigen::VectorXd HyperbolicStepper::nodeAreas(const RowMatrixX3d& points) const {
   Eigen::VectorXd area = Eigen::VectorXd::Zero(points.rows());
   for (const auto& q : quads_) {
     const Vector3d diagonal1 = (points.row(q[2]) - points.row(q[0])).transpose();
     const Vector3d diagonal2 = (points.row(q[3]) - points.row(q[1])).transpose();
-    const double quarter = 0.125 * diagonal1.cross(diagonal2).norm();
-    for (int p : q) area[p] += quarter;
+    const auto [corners, size] = distinctCorners(q);
+    const double share = 0.5 * diagonal1.cross(diagonal2).norm() / size;
+    for (int k = 0; k < size; ++k) area[corners[static_cast<size_t>(k)]] += share;
   }
   for (Eigen::Index p = 0; p < area.rows(); ++p) {
     if (onPlane_[static_cast<size_t>(p)] != 0) area[p] *= 2.0;

@@ -14,6 +14,7 @@
 #include <set>
 #include <string>
 
+#include "core/common/distinct_corners.h"
 #include "core/common/errors.h"
 #include "core/common/input_checks.h"
 #include "core/common/math_constants.h"
@@ -36,10 +37,11 @@ std::vector<std::vector<int>> neighbours(const MarchingFront& front, bool withou
   }
   std::vector<std::set<int>> sets(static_cast<size_t>(front.points.rows()));
   for (const auto& quad : front.quads) {
-    for (int e = 0; e < 4; ++e) {
-      const int a = quad[static_cast<size_t>(e)];
-      const int b = quad[static_cast<size_t>((e + 1) % 4)];
-      if (a == b || fan[static_cast<size_t>(a)] != 0 || fan[static_cast<size_t>(b)] != 0) continue;
+    const auto [corners, size] = distinctCorners(quad);
+    for (int e = 0; e < size; ++e) {
+      const int a = corners[static_cast<size_t>(e)];
+      const int b = corners[static_cast<size_t>((e + 1) % size)];
+      if (fan[static_cast<size_t>(a)] != 0 || fan[static_cast<size_t>(b)] != 0) continue;
       sets[static_cast<size_t>(a)].insert(b);
       sets[static_cast<size_t>(b)].insert(a);
     }
@@ -856,14 +858,10 @@ double hexScaledJacobian(const std::array<Eigen::Vector3d, 8>& corners) {
               differing = differing < 0 ? d : 3;
             }
           }
-          if (differing < 0) continue;  // merged along two directions: no corner of its own
-          if (differing == 3) {
-            // Pinched to its neighbour without a collapsed face beside it: no cell.
-            quality = -1.0;
-            measured = true;
-            worst = std::min(worst, quality);
-            continue;
-          }
+          // Its neighbour's other edges its own: the corner where two collapsed faces of a
+          // tetrahedral wedge meet, measured at the wedge's other corners.
+          if (differing < 0) continue;
+          if (differing == 3) return -1.0;  // pinched to its neighbour without a collapsed face beside it
           const Vector3d mine = e[static_cast<size_t>(differing)];
           const Vector3d theirs = edge(partner[0], partner[1], partner[2], differing);
           // The step from this corner's edge's far end to the partner's, turned to point along
