@@ -10,13 +10,20 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <map>
+#include <set>
+#include <stdexcept>
 #include <vector>
 
 #include "core/common/bspline_basis.h"
 #include "core/grid/hex_topology.h"
 #include "core/grid/refinement.h"
 #include "core/quality/cell_quality.h"
+#include "core/surface/limit_bsplines.h"
+#include "core/volume/edge_fans.h"
+#include "core/volume/marching.h"
 #include "core/volume/volume_blocks.h"
+#include "core/volume/wall_patches.h"
 #include "surface_test_meshes.h"
 
 namespace bvmesh::volume {
@@ -36,6 +43,63 @@ VolumeMesh marched(bool fans) {
   options.farfieldDistance = 100.0;
   options.knifeEdgeFans = fans;
   return generateVolumeMesh(lens(), options);
+}
+
+// The cube refined once with the three faces round its corner (1, 1, 1) a cap: the hexagon of
+// edges round them creased and laid on the unit circle of z = 0 (in the order the cap's faces run
+// round it, so that the cap faces +z), the corner lifted to z = 0.15 and the rest of the cube (a
+// disc round the hexagon, embedded by Tutte's barycentric mapping) bulged to z = -0.2 (1 - r^2).
+// A lens whose knife edge turns at three of its six vertices (the cube's face centres): there the
+// cap has one face and the rest three, the middle one touching the edge at its corner alone.
+surface::QuadControlMesh cappedLens() {
+  surface::QuadControlMesh mesh = surface::testing::subdivide(surface::testing::cube(), 1);
+  Eigen::Index corner = 0;
+  mesh.vertices.rowwise().sum().maxCoeff(&corner);  // the refined cube's corner, moved inwards
+  std::map<std::pair<int, int>, int> capEdges;      // directed edge -> uses by the cap's faces
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    if ((mesh.faces.row(f).array() != corner).all()) continue;
+    for (int k = 0; k < 4; ++k) ++capEdges[{mesh.faces(f, k), mesh.faces(f, (k + 1) % 4)}];
+  }
+  std::map<int, int> next;  // the hexagon, in the cap faces' direction
+  for (const auto& [edge, uses] : capEdges) {
+    if (capEdges.count({edge.second, edge.first}) == 0) next[edge.first] = edge.second;
+  }
+  std::vector<int> hexagon{next.begin()->first};
+  while (next[hexagon.back()] != hexagon.front()) hexagon.push_back(next[hexagon.back()]);
+  std::vector<char> fixed(static_cast<size_t>(mesh.vertices.rows()), 0);
+  RowMatrixX3d& x = mesh.vertices;
+  x.setZero();
+  for (size_t k = 0; k < hexagon.size(); ++k) {
+    const double angle = 2.0 * M_PI * static_cast<double>(k) / static_cast<double>(hexagon.size());
+    x.row(hexagon[k]) << std::cos(angle), std::sin(angle), 0.0;
+    fixed[static_cast<size_t>(hexagon[k])] = 1;
+  }
+  x.row(corner) << 0.0, 0.0, 0.15;
+  if (hexagon.size() != 6) throw std::logic_error("the cap is not bounded by a hexagon");
+  fixed[static_cast<size_t>(corner)] = 1;
+  std::vector<std::set<int>> neighbours(static_cast<size_t>(x.rows()));
+  for (Eigen::Index f = 0; f < mesh.faces.rows(); ++f) {
+    for (int k = 0; k < 4; ++k) {
+      neighbours[static_cast<size_t>(mesh.faces(f, k))].insert(mesh.faces(f, (k + 1) % 4));
+      neighbours[static_cast<size_t>(mesh.faces(f, (k + 1) % 4))].insert(mesh.faces(f, k));
+    }
+  }
+  for (int sweep = 0; sweep < 500; ++sweep) {
+    for (Eigen::Index v = 0; v < x.rows(); ++v) {
+      if (fixed[static_cast<size_t>(v)] != 0) continue;
+      Eigen::RowVector3d mean = Eigen::RowVector3d::Zero();
+      for (int n : neighbours[static_cast<size_t>(v)]) mean += x.row(n);
+      x.row(v) = mean / static_cast<double>(neighbours[static_cast<size_t>(v)].size());
+    }
+  }
+  for (Eigen::Index v = 0; v < x.rows(); ++v) {
+    if (fixed[static_cast<size_t>(v)] == 0) x(v, 2) = -0.2 * (1.0 - x.row(v).head<2>().squaredNorm());
+  }
+  mesh.creases.resize(static_cast<Eigen::Index>(hexagon.size()), 2);
+  for (size_t k = 0; k < hexagon.size(); ++k) {
+    mesh.creases.row(static_cast<Eigen::Index>(k)) << hexagon[k], hexagon[(k + 1) % hexagon.size()];
+  }
+  return surface::testing::subdivide(mesh, 2);
 }
 
 bool isFan(const Block& block) {
@@ -131,6 +195,55 @@ TEST(EdgeFans, TheGridsCellsAtTheKnifeEdgeArePrismsBetterThanTheOGrids) {
       EXPECT_LT(atEdge, 0.3);
     }
   }
+}
+
+TEST(EdgeFans, PatchesTouchingTheKnifeEdgeAtACornerAloneTakeTheirSidesCopy) {
+  // The capped lens's knife edge turns at three vertices, where a patch of the lower part meets
+  // it at its corner alone: that corner must be the lower face's copy of the vertex (the grid
+  // torn there otherwise: blocks whose shared faces differ). Fans all round the hexagon, and
+  // every refined cell positive.
+  VolumeMeshOptions options;
+  options.boundaryLayerThickness = 0.05;
+  options.farfieldDistance = 100.0;
+  options.knifeEdgeFans = true;
+  const VolumeMesh mesh = generateVolumeMesh(cappedLens(), options);
+  int fans = 0;
+  for (const Block& block : mesh.blocks.blocks()) fans += isFan(block);
+  EXPECT_GE(fans, 6);
+  grid::RefinementOptions refinement;
+  refinement.targetCells = 50000;
+  const grid::RefinedGrid refined = grid::refineBlockMesh(mesh.blocks, refinement);
+  quality::requirePositiveCells(grid::HexTopology(refined.grid));
+}
+
+TEST(EdgeFans, AConcaveCreaseIsNoKnifeEdge) {
+  // The lens inside out: its equator a narrow groove, the faces' normals as far apart.
+  const surface::QuadControlMesh outside = lens();
+  surface::QuadControlMesh inside = outside;
+  for (Eigen::Index f = 0; f < inside.faces.rows(); ++f) inside.faces.row(f) = outside.faces.row(f).reverse();
+  std::vector<WallPatch> convex = conformingWallPatches(surface::limitSurfaceToBSplines(outside), outside);
+  std::vector<WallPatch> concave = conformingWallPatches(surface::limitSurfaceToBSplines(inside), inside);
+  EXPECT_EQ(insertEdgeFans(convex), 4);
+  EXPECT_EQ(insertEdgeFans(concave), 0);
+}
+
+TEST(EdgeFans, AFanTurnsRoundTheOutsideOfItsEdgeEvenAtACusp) {
+  const Vector3d up(0, 0, 1), down(0, 0, -1), back(1, 0, 0);
+  // Opposite normals (a cusp): half way round is the outside.
+  EXPECT_LT((turnedBetween(up, down, 0.5, back) - back).norm(), 1e-12);
+  EXPECT_LT((turnedBetween(up, down, 0.5, -back) + back).norm(), 1e-12);
+  EXPECT_LT(
+      (turnedBetween(up, down, 1.0 / 3.0, back) - Vector3d(std::sin(M_PI / 3), 0, std::cos(M_PI / 3))).norm(),
+      1e-12);
+  // A trailing edge's normals 160 degrees apart: the short way round, through the outside.
+  const double half = 80.0 * M_PI / 180.0;
+  const Vector3d upper(std::sin(half), 0, std::cos(half)), lower(std::sin(half), 0, -std::cos(half));
+  EXPECT_LT((turnedBetween(upper, lower, 0.5, back) - back).norm(), 1e-12);
+  EXPECT_LT((turnedBetween(upper, lower, 0.5) - back).norm(), 1e-12);
+  EXPECT_LT((turnedBetween(upper, lower, 1.0, back) - lower).norm(), 1e-12);
+  // A normal off the plane of the turn: reached at the end all the same.
+  const Vector3d skew = Vector3d(0.1, 0.2, -1.0).normalized();
+  EXPECT_LT((turnedBetween(up, skew, 1.0, back) - skew).norm(), 1e-12);
 }
 
 TEST(EdgeFans, AKnifeEdgeEndingOnTheSymmetryPlaneEndsItsFanThere) {

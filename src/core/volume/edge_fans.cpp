@@ -5,28 +5,15 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <set>
+#include <string>
 
 #include "core/common/bspline_basis.h"
+#include "core/common/errors.h"
 #include "core/common/math_constants.h"
 
 namespace bvmesh::volume {
 namespace {
-
-// Corner index (0, 0) = 0, (U, 0) = 1, (0, V) = 2, (U, V) = 3 of entry `end` (0: first, 1: last)
-// along a side.
-int cornerOf(ChartSide side, int end) {
-  switch (side) {
-    case ChartSide::VMin:
-      return end;
-    case ChartSide::UMax:
-      return 1 + 2 * end;
-    case ChartSide::VMax:
-      return 2 + end;
-    case ChartSide::UMin:
-      return 2 * end;
-  }
-  return 0;
-}
 
 // A patch's quads run along its side in increasing entry order on VMin and UMax, decreasing on
 // VMax and UMin (counter-clockwise round each quad).
@@ -34,11 +21,9 @@ bool runsForward(ChartSide side) { return side == ChartSide::VMin || side == Cha
 
 Eigen::Vector3d sideNormal(const WallPatch& patch, ChartSide side, int t) {
   const auto [i, j] = sidePolePosition(patch, side, t);
-  const std::vector<double> gu = grevilleAbscissae(patch.surface.uKnots, 3);
-  const std::vector<double> gv = grevilleAbscissae(patch.surface.vKnots, 3);
   Eigen::Vector3d normal;
-  patch.surface.point(gu[static_cast<size_t>(i)], gv[static_cast<size_t>(j)], &normal);
-  return normal;
+  polePoint(patch, i, j, &normal);
+  return normal.normalized();
 }
 
 // A knife edge between patch `a` side `aSide` and patch `b` side `bSide`, from vertex `from` to
@@ -50,6 +35,9 @@ struct Knife {
   int from = -1, to = -1;
 };
 
+// How far a cusp's faces may lie on the wrong side of each other's tangent planes by rounding.
+constexpr double kCuspTolerance = 1e-9;
+
 bool isKnife(const std::vector<WallPatch>& patches, int p, ChartSide side) {
   const WallPatch& patch = patches[static_cast<size_t>(p)];
   const PatchSideLink& link = patch.sides[static_cast<size_t>(side)];
@@ -59,7 +47,13 @@ bool isKnife(const std::vector<WallPatch>& patches, int p, ChartSide side) {
   const double knife = std::cos(kKnifeEdgeDegrees * kPi / 180.0);
   for (int t = 1; t + 1 < length; ++t) {
     const int theirs = link.reversed ? length - 1 - t : t;
-    if (sideNormal(patch, side, t).dot(sideNormal(other, link.side, theirs)) > knife) return false;
+    const Eigen::Vector3d mine = sideNormal(patch, side, t), its = sideNormal(other, link.side, theirs);
+    if (mine.dot(its) > knife) return false;
+    // Convex: each face lies behind the other's tangent plane (a narrow groove, its faces'
+    // normals as far apart, is concave; a cusp, with opposite normals, is both).
+    const double behind =
+        mine.dot(sideOutward(other, link.side, theirs)) + its.dot(sideOutward(patch, side, t));
+    if (behind < -kCuspTolerance) return false;
   }
   return length > 2;
 }
@@ -135,15 +129,67 @@ bool openAt(const WallPatch& patch, int vertex) {
   return false;
 }
 
+// Copies (1, 2) of a cut-open chain vertex for the patches that touch it at a corner alone (more
+// than four patches there, or the chain turning at it): each takes the copy of the patches it
+// meets across its uncut sides round the vertex, the side of the knife edges it lies on. Skips
+// the vertices where the chains close (copy 0 for every patch there).
+void spreadCornerCopies(std::vector<WallPatch>& patches, const std::set<int>& closing) {
+  // The two sides meeting at each corner, with the corner's end along each.
+  constexpr std::array<std::array<std::pair<ChartSide, int>, 2>, 4> kCornerSides{{
+      {{{ChartSide::VMin, 0}, {ChartSide::UMin, 0}}},
+      {{{ChartSide::VMin, 1}, {ChartSide::UMax, 0}}},
+      {{{ChartSide::VMax, 0}, {ChartSide::UMin, 1}}},
+      {{{ChartSide::VMax, 1}, {ChartSide::UMax, 1}}},
+  }};
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (WallPatch& patch : patches) {
+      if (patch.fan) continue;
+      for (int corner = 0; corner < 4; ++corner) {
+        const int copy = patch.cornerCopy[static_cast<size_t>(corner)];
+        const int vertex = cornerVertex(patch, corner);
+        if (copy == 0 || closing.count(vertex) != 0) continue;
+        for (const auto& [side, end] : kCornerSides[static_cast<size_t>(corner)]) {
+          const PatchSideLink& link = patch.sides[static_cast<size_t>(side)];
+          if (link.patch < 0 || patches[static_cast<size_t>(link.patch)].fan) continue;  // open, or cut
+          WallPatch& other = patches[static_cast<size_t>(link.patch)];
+          const std::vector<int>& chain = other.sideVertices[static_cast<size_t>(link.side)];
+          const int theirs = sideEndCorner(link.side, chain.front() == vertex ? 0 : 1);
+          int& otherCopy = other.cornerCopy[static_cast<size_t>(theirs)];
+          if (otherCopy == copy) continue;
+          if (otherCopy != 0) {
+            throw InvalidInputError("the knife edges through control vertex " + std::to_string(vertex) +
+                                    " do not part the wall round it in two: march this wall without "
+                                    "knife_edge_fans");
+          }
+          otherCopy = copy;
+          changed = true;
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 
-int insertEdgeFans(std::vector<WallPatch>& patches, int fanSpans) {
+int insertEdgeFans(std::vector<WallPatch>& patches) {
   const std::vector<Knife> knives = orientedKnives(patches);
   if (knives.empty()) return 0;
   std::map<int, int> ends;  // vertex -> knife ends there
   for (const Knife& knife : knives) {
     ++ends[knife.from];
     ++ends[knife.to];
+  }
+  for (const auto& [vertex, count] : ends) {
+    const Knife& knife = *std::find_if(knives.begin(), knives.end(),
+                                       [&](const Knife& k) { return k.from == vertex || k.to == vertex; });
+    if (count > 2 && (openAt(patches[static_cast<size_t>(knife.a)], vertex) ||
+                      openAt(patches[static_cast<size_t>(knife.b)], vertex))) {
+      throw InvalidInputError(std::to_string(count) + " knife edges meet at control vertex " +
+                              std::to_string(vertex) +
+                              " on the symmetry plane: fans end there one per knife edge, so march this wall "
+                              "without knife_edge_fans");
+    }
   }
   // Where a chain ends inside the wall its copies join again (copy 0) and the fans close.
   auto closes = [&](const Knife& knife, int vertex) {
@@ -169,9 +215,9 @@ int insertEdgeFans(std::vector<WallPatch>& patches, int fanSpans) {
       std::reverse(fan.surface.uKnots.begin(), fan.surface.uKnots.end());
       for (double& k : fan.surface.uKnots) k = edgeKnots.front() + edgeKnots.back() - k;
     }
-    fan.surface.vKnots = uniformClampedKnots(3, fanSpans);
+    fan.surface.vKnots = uniformClampedKnots(3, kFanSpans);
     fan.surface.uPoles = length;
-    fan.surface.vPoles = fanSpans + 3;
+    fan.surface.vPoles = kFanSpans + 3;
     for (int i = 0; i < length; ++i) {
       const auto [ia, ja] = sidePolePosition(a, knife.aSide, againstA ? length - 1 - i : i);
       fan.surface.poles.insert(fan.surface.poles.end(), static_cast<size_t>(fan.surface.vPoles),
@@ -181,9 +227,9 @@ int insertEdgeFans(std::vector<WallPatch>& patches, int fanSpans) {
     if (againstA) std::reverse(chain.begin(), chain.end());
     fan.sideVertices[static_cast<size_t>(ChartSide::VMin)] = chain;
     fan.sideVertices[static_cast<size_t>(ChartSide::VMax)] = chain;
-    fan.sideVertices[static_cast<size_t>(ChartSide::UMin)].assign(static_cast<size_t>(fanSpans + 1),
+    fan.sideVertices[static_cast<size_t>(ChartSide::UMin)].assign(static_cast<size_t>(kFanSpans + 1),
                                                                   chain.front());
-    fan.sideVertices[static_cast<size_t>(ChartSide::UMax)].assign(static_cast<size_t>(fanSpans + 1),
+    fan.sideVertices[static_cast<size_t>(ChartSide::UMax)].assign(static_cast<size_t>(kFanSpans + 1),
                                                                   chain.back());
     const size_t id = patches.size();
     fan.sides[static_cast<size_t>(ChartSide::VMin)] = {knife.a, knife.aSide, againstA};
@@ -197,8 +243,8 @@ int insertEdgeFans(std::vector<WallPatch>& patches, int fanSpans) {
     b.sideCopy[static_cast<size_t>(knife.bSide)] = 2;
     // The copies of the chain's vertices at a's and b's corners there.
     for (int end = 0; end < 2; ++end) {
-      a.cornerCopy[static_cast<size_t>(cornerOf(knife.aSide, end))] = 1;
-      b.cornerCopy[static_cast<size_t>(cornerOf(knife.bSide, end))] = 2;
+      a.cornerCopy[static_cast<size_t>(sideEndCorner(knife.aSide, end))] = 1;
+      b.cornerCopy[static_cast<size_t>(sideEndCorner(knife.bSide, end))] = 2;
     }
     for (const auto& [side, vertex] :
          {std::pair{ChartSide::UMin, chain.front()}, std::pair{ChartSide::UMax, chain.back()}}) {
@@ -219,18 +265,17 @@ int insertEdgeFans(std::vector<WallPatch>& patches, int fanSpans) {
       patches[fan].sides[static_cast<size_t>(side)] = {static_cast<int>(other), otherSide, false};
     }
   }
-  // Corners where a chain closes are the vertex itself for every patch there.
+  std::set<int> closing;
   for (const Knife& knife : knives) {
     for (int vertex : {knife.from, knife.to}) {
-      if (!closes(knife, vertex)) continue;
-      for (WallPatch& patch : patches) {
-        for (int corner = 0; corner < 4; ++corner) {
-          const ChartSide side = corner < 2 ? ChartSide::VMin : ChartSide::VMax;
-          const std::vector<int>& chain = patch.sideVertices[static_cast<size_t>(side)];
-          if ((corner % 2 == 0 ? chain.front() : chain.back()) == vertex)
-            patch.cornerCopy[static_cast<size_t>(corner)] = 0;
-        }
-      }
+      if (closes(knife, vertex)) closing.insert(vertex);
+    }
+  }
+  spreadCornerCopies(patches, closing);
+  // Corners where a chain closes are the vertex itself for every patch there.
+  for (WallPatch& patch : patches) {
+    for (int corner = 0; corner < 4; ++corner) {
+      if (closing.count(cornerVertex(patch, corner)) != 0) patch.cornerCopy[static_cast<size_t>(corner)] = 0;
     }
   }
   return static_cast<int>(patches.size() - firstFan);

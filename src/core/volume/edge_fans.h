@@ -19,14 +19,19 @@
 
 namespace bvmesh::volume {
 
-// Wall-patch sides on a crease whose two patches' normals lie more than this apart at every
-// point of the side between its ends are knife edges.
+// Wall-patch sides on a convex crease whose two patches' normals lie more than this apart at
+// every point of the side between its ends are knife edges.
 constexpr double kKnifeEdgeDegrees = 120.0;
 
+// Cubic spans of a fan round its edge.
+constexpr int kFanSpans = 3;
+
 // Cuts every knife edge of `patches` (conformingWallPatches' patches, surfaces included) open
-// and appends a fan patch between its copies (`fanSpans` cubic spans round the edge); returns
-// the number of fans appended. The patches' side links, copies and collapsed sides are set so
-// that the wall grid and the blocks see the copies as distinct and the fans as part of the wall.
-int insertEdgeFans(std::vector<WallPatch>& patches, int fanSpans = 3);
+// and appends a fan patch between its copies; returns the number of fans appended. The patches'
+// side links, copies and collapsed sides are set so that the wall grid and the blocks see the
+// copies as distinct and the fans as part of the wall. Throws InvalidInputError where more than
+// two knife edges end at a vertex on the symmetry plane, or where the knife edges through a
+// vertex do not part the patches round it in two.
+int insertEdgeFans(std::vector<WallPatch>& patches);
 
 }  // namespace bvmesh::volume

@@ -198,7 +198,7 @@ class Marcher {
     blendOntoDomain(result, nBl);
     result.layerMinScaledJacobian.push_back(1.0);
     for (size_t k = 1; k < result.layers.size(); ++k) {
-      result.layerMinScaledJacobian.push_back(worstCell(result.layers[k - 1], result.layers[k]).first);
+      result.layerMinScaledJacobian.push_back(worstCell(result.layers[k - 1], result.layers[k]));
     }
     return result;
   }
@@ -242,8 +242,8 @@ class Marcher {
   // A knife edge's fan: its lines turn from one copy's line to the other's.
   void turnFans(RowMatrixX3d& lines) const {
     for (const FanPoint& fan : front_.fanPoints) {
-      Vector3d d =
-          turnedBetween(lines.row(fan.from).transpose(), lines.row(fan.to).transpose(), fan.fraction);
+      Vector3d d = turnedBetween(lines.row(fan.from).transpose(), lines.row(fan.to).transpose(), fan.fraction,
+                                 fan.outside);
       if (onPlane(fan.point)) d = (d - d.dot(options_.planeNormal) * options_.planeNormal).normalized();
       lines.row(fan.point) = d.transpose();
     }
@@ -291,24 +291,28 @@ class Marcher {
     return marks;
   }
 
+  // Whether the cell on `quad` with this scaled Jacobian is below the quality wanted of it
+  // (minScaledJacobian; a knife edge's fan, whose cells are thin by design where it closes, only
+  // positive).
+  bool isPoor(size_t quad, double quality) const {
+    return fanQuad_[quad] != 0 ? !(quality > 0.0) : quality < options_.minScaledJacobian;
+  }
+
   struct PoorCells {
-    double worst = 1.0;  // the worst cell's scaled Jacobian
+    double worst = 1.0;  // the worst poor cell's scaled Jacobian
     int where = -1;      // and its quad
-    bool any = false;    // some cell is below the quality wanted of it
+    bool any = false;    // some cell is poor
   };
 
-  // Marks the cells between two layers below the wanted quality (minScaledJacobian; a knife edge's
-  // fan, whose cells are thin by design where it closes, only positive); returns the worst and
-  // where, and whether any was marked.
+  // Marks the poor cells between two layers; returns the worst of them and where.
   PoorCells markPoorCells(const RowMatrixX3d& lower, const RowMatrixX3d& upper,
                           std::vector<char>& bad) const {
     PoorCells result;
     for (size_t q = 0; q < front_.quads.size(); ++q) {
       const double quality = cellQuality(lower, upper, q);
-      if (fanQuad_[q] != 0 ? !(quality > 0.0) : quality < options_.minScaledJacobian) {
-        bad[q] = 1;
-        result.any = true;
-      }
+      if (!isPoor(q, quality)) continue;
+      bad[q] = 1;
+      result.any = true;
       if (quality < result.worst) {
         result.worst = quality;
         result.where = static_cast<int>(q);
@@ -365,11 +369,11 @@ class Marcher {
     return hexScaledJacobian(corners);
   }
 
-  // Worst scaled Jacobian of the cells between two layers, and the quad where it is.
-  std::pair<double, int> worstCell(const RowMatrixX3d& lower, const RowMatrixX3d& upper) const {
-    std::vector<char> ignored(front_.quads.size(), 0);
-    const PoorCells poor = markPoorCells(lower, upper, ignored);
-    return {poor.worst, poor.where};
+  // Worst scaled Jacobian of the cells between two layers.
+  double worstCell(const RowMatrixX3d& lower, const RowMatrixX3d& upper) const {
+    double worst = 1.0;
+    for (size_t q = 0; q < front_.quads.size(); ++q) worst = std::min(worst, cellQuality(lower, upper, q));
+    return worst;
   }
 
   // Points where the wall turns sharply: an adjacent cell's normal more than 30 degrees off the
@@ -415,7 +419,7 @@ class Marcher {
           corners[static_cast<size_t>(k)] = (front_.points.row(p) + lower * lines.row(p)).transpose();
           corners[static_cast<size_t>(k + 4)] = (front_.points.row(p) + upper * lines.row(p)).transpose();
         }
-        if (hexScaledJacobian(corners) >= options_.minScaledJacobian) continue;
+        if (!isPoor(quad, hexScaledJacobian(corners))) continue;
         // Only a converging column (its cross-section shrinking: a concave corner) is stopped; a
         // column poor from the wall on, or one diverging around a convex sharp edge, is the splay
         // band's and the local repair's to mend.
@@ -647,38 +651,25 @@ class Marcher {
   }
 
   // The boundary layer's grid lines: splayed at sharp edges with the knife edges cut open; where
-  // a fan closes (its edge ending in a sharp corner inside the wall), blended from the O-grid's
+  // fans close (their edge ending in a sharp corner inside the wall), blended from the O-grid's
   // lines at that corner (the knife edge closed, as if it had no fan) to them in proportion to
-  // the distance, over the length on which the fan's arc at the top of the boundary layer (its
-  // widest angle times the thickness) equals the distance, times kFanClosingMargin: straight
-  // lines nearer than that would turn the fan's cells at the corner over, were they the fan's
-  // own. The fan narrows to nothing at the corner, whose cells are the O-grid's. (On the M6 that
-  // length is 33 mm; over 69, 42, 35 and 23 mm its euler grid has 25, 19, 15 and 13 faces above
-  // 70 degrees and 346, 322, 314 and 298 cells below a scaled Jacobian of 0.3, every one marched.)
+  // the distance, over the length on which the fans' arc at the top of the boundary layer (their
+  // widest angle times the thickness) equals the distance: straight lines nearer than that would
+  // turn the fan's cells at the corner over, were they the fan's own. The fan narrows to nothing
+  // at the corner, whose cells are the O-grid's.
   RowMatrixX3d boundaryLayerLines(double width) const {
-    constexpr double kFanClosingMargin = 1.0;
     RowMatrixX3d lines = splayedAtSharpEdges(wallView(false), width);
-    std::vector<int> ends;
-    double widest = 0.0;
-    for (const KnifeCopies& copies : front_.knifeCopies) {
-      if (copies.closedEnd < 0) continue;
-      ends.push_back(copies.closedEnd);
-      const Vector3d first = front_.normals.row(copies.first).transpose();
-      widest = std::max(widest, std::atan2(first.cross(front_.normals.row(copies.second).transpose()).norm(),
-                                           first.dot(front_.normals.row(copies.second).transpose())));
-    }
-    if (!ends.empty()) {
-      std::sort(ends.begin(), ends.end());
-      ends.erase(std::unique(ends.begin(), ends.end()), ends.end());
+    if (!front_.fanClosings.empty()) {
       const RowMatrixX3d closed = splayedAtSharpEdges(wallView(true), width);
-      const double closing = kFanClosingMargin * widest * options_.boundaryLayerThickness;
       for (Eigen::Index p = 0; p < lines.rows(); ++p) {
-        double toEnd = std::numeric_limits<double>::infinity();
-        for (int end : ends) toEnd = std::min(toEnd, (front_.points.row(p) - front_.points.row(end)).norm());
-        if (toEnd < closing) {
-          lines.row(p) =
-              turnedBetween(closed.row(p).transpose(), lines.row(p).transpose(), toEnd / closing).transpose();
+        double share = 1.0;
+        for (const FanClosing& closing : front_.fanClosings) {
+          const double length = closing.widestAngle * options_.boundaryLayerThickness;
+          share = std::min(share, (front_.points.row(p) - front_.points.row(closing.point)).norm() / length);
         }
+        if (share < 1.0)
+          lines.row(p) =
+              turnedBetween(closed.row(p).transpose(), lines.row(p).transpose(), share).transpose();
       }
     }
     turnFans(lines);
@@ -886,10 +877,23 @@ double hexScaledJacobian(const std::array<Eigen::Vector3d, 8>& corners) {
   return measured ? worst : -1.0;
 }
 
-Eigen::Vector3d turnedBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double fraction) {
-  const double angle = std::atan2(a.cross(b).norm(), a.dot(b));
-  if (angle < 1e-12) return a;
-  return (std::sin((1.0 - fraction) * angle) * a + std::sin(fraction * angle) * b).normalized();
+Eigen::Vector3d turnedBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double fraction,
+                              const Eigen::Vector3d& outside) {
+  // About an axis normal to a and b (to a and `outside` where they are opposite), turned so that
+  // the turn starts towards `outside`; b's part off that plane is added along the way.
+  constexpr double kOpposite = 1e-6;
+  Vector3d axis = a.cross(b);
+  if (axis.norm() < kOpposite) axis = a.cross(outside);
+  if (axis.norm() < kOpposite * kOpposite)
+    return ((1.0 - fraction) * a + fraction * b).normalized();  // one direction
+  axis.normalize();
+  if (outside.squaredNorm() > 0.0 && axis.cross(a).dot(outside) < 0.0) axis = -axis;
+  double angle = std::atan2(a.cross(b).dot(axis), a.dot(b));
+  if (angle < 0.0) angle += 2.0 * kPi;
+  const auto turned = [&](double by) -> Vector3d {
+    return std::cos(by) * a + std::sin(by) * axis.cross(a) + (1.0 - std::cos(by)) * axis.dot(a) * axis;
+  };
+  return (turned(fraction * angle) + fraction * (b - turned(angle))).normalized();
 }
 
 FarfieldScheme farfieldSchemeOf(const std::string& name) {

@@ -7,7 +7,6 @@
 #pragma once
 
 #include <array>
-#include <limits>
 #include <string>
 #include <vector>
 
@@ -18,22 +17,28 @@
 namespace bvmesh::volume {
 
 // A point of a fan round a knife edge of the wall (edge_fans.h): it lies on the edge, and its
-// grid line turns from the line of the edge's copy `from` to that of its copy `to` by `fraction`.
+// grid line turns from the line of the edge's copy `from` to that of its copy `to` by `fraction`,
+// round the outside of the edge's wedge (`outside`, a unit direction off the edge between its
+// faces: the way round where the faces' normals are opposite, a cusp).
 struct FanPoint {
   int point = -1;
   int from = -1;
   int to = -1;
   double fraction = 0.0;
+  Eigen::Vector3d outside = Eigen::Vector3d::Zero();
 };
 
-// The two copies of a knife edge's point (the edge's faces see one each; a fan lies between
-// them) and how far it lies from where its edge ends inside the wall (infinite where it does
-// not): the fan closes over that distance, its copies' lines turning onto their bisector.
+// The two copies of a knife edge's point: the edge's faces see one each, a fan lies between them.
 struct KnifeCopies {
   int first = -1;
   int second = -1;
-  int closedEnd = -1;  // the nearest point where a fan closes (-1: none)
-  double toClosedEnd = std::numeric_limits<double>::infinity();
+};
+
+// A point where fans close (their knife edge ends inside the wall, the copies joined again), and
+// the widest angle between the copies' normals along those fans.
+struct FanClosing {
+  int point = -1;
+  double widestAngle = 0.0;
 };
 
 // The surface to march: points, quads (counter-clockwise seen from outside, i.e. the side to march
@@ -48,11 +53,15 @@ struct MarchingFront {
   std::vector<std::string> quadNames;  // per quad, where it is (for error messages), may be empty
   std::vector<FanPoint> fanPoints;
   std::vector<KnifeCopies> knifeCopies;
+  std::vector<FanClosing> fanClosings;
 };
 
-// The unit direction at `fraction` of the turn from unit `a` to unit `b` (in their plane, at a
-// constant rate; a and b not opposite).
-Eigen::Vector3d turnedBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double fraction);
+// The unit direction at `fraction` of the turn from unit `a` to unit `b` at a constant rate: in
+// their plane the short way round, or, with `outside` given, the way round through the side
+// `outside` points to (opposite a and b: in the plane of a and `outside`; without it they must
+// not be opposite).
+Eigen::Vector3d turnedBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double fraction,
+                              const Eigen::Vector3d& outside = Eigen::Vector3d::Zero());
 
 // How the far field is marched: `Hyperbolic` solves Chan & Steger's orthogonality and cell-volume
 // equations per step (hyperbolic_step.h), whose smoothed volumes open concave corners; a layer it

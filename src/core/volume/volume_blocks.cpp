@@ -87,13 +87,6 @@ SideKey sideKey(const WallPatch& patch, ChartSide side) {
   return {{chain, copy}, false};
 }
 
-// The control vertex at a patch's corner (0: (0, 0), 1: (U, 0), 2: (0, V), 3: (U, V)).
-int cornerVertex(const WallPatch& patch, int corner) {
-  const std::vector<int>& chain =
-      patch.sideVertices[static_cast<size_t>(corner < 2 ? ChartSide::VMin : ChartSide::VMax)];
-  return corner % 2 == 0 ? chain.front() : chain.back();
-}
-
 WallGrid wallGrid(const std::vector<WallPatch>& patches) {
   WallGrid grid;
   std::vector<Vector3d> points, normals;
@@ -123,7 +116,7 @@ WallGrid wallGrid(const std::vector<WallPatch>& patches) {
         const ChartSide side = vEnd ? (j == 0 ? ChartSide::VMin : ChartSide::VMax)
                                     : (i == 0 ? ChartSide::UMin : ChartSide::UMax);
         // A fan's end inside the wall is its corner's point all along.
-        if (patch.collapsedSide[static_cast<size_t>(side)]) return cornerId(i == 0 ? 0 : 1);
+        if (patch.collapsedSide[static_cast<size_t>(side)]) return cornerId(sideEndCorner(side, 0));
         const int t = vEnd ? i : j;
         const SideKey key = sideKey(patch, side);
         const int entry = key.reversed ? sidePoleCount(patch, side) - 1 - t : t;
@@ -168,7 +161,9 @@ WallGrid wallGrid(const std::vector<WallPatch>& patches) {
     }
   }
   // A fan's points between the edge's two copies: their lines turn from one copy's to the
-  // other's by their share of the fan's parameter (the marching sets them; here their normals).
+  // other's by their share of the fan's parameter, round the outside of the edge's wedge, where
+  // both faces leave the edge (the marching sets them; here their normals).
+  std::vector<std::vector<int>> fanClosedEnds(patches.size());
   for (size_t p = 0; p < patches.size(); ++p) {
     const WallPatch& patch = patches[p];
     if (!patch.fan) continue;
@@ -177,35 +172,21 @@ WallGrid wallGrid(const std::vector<WallPatch>& patches) {
     for (int i = 0; i < nu; ++i) {
       const int from = grid.pointOf[p][static_cast<size_t>(i * nv)];
       const int to = grid.pointOf[p][static_cast<size_t>(i * nv + nv - 1)];
-      if (from == to) continue;  // the fan's closed end
+      if (from == to) {
+        fanClosedEnds[p].push_back(from);
+        continue;
+      }
+      grid.front.knifeCopies.push_back({from, to});
+      Vector3d outside = Vector3d::Zero();
+      for (const ChartSide side : {ChartSide::VMin, ChartSide::VMax}) {
+        const PatchSideLink& face = patch.sides[static_cast<size_t>(side)];
+        outside +=
+            sideOutward(patches[static_cast<size_t>(face.patch)], face.side, face.reversed ? nu - 1 - i : i);
+      }
       for (int j = 1; j + 1 < nv; ++j) {
         const int id = grid.pointOf[p][static_cast<size_t>(i * nv + j)];
-        grid.front.fanPoints.push_back({id, from, to, gv[static_cast<size_t>(j)] / gv.back()});
-      }
-    }
-  }
-  // Each fan station's two copies, and their distance from the nearest point where a fan closes.
-  std::vector<int> closedEnds;
-  for (size_t p = 0; p < patches.size(); ++p) {
-    const WallPatch& patch = patches[p];
-    if (!patch.fan) continue;
-    const int nu = patch.surface.uPoles, nv = patch.surface.vPoles;
-    for (int i = 0; i < nu; ++i) {
-      const int from = grid.pointOf[p][static_cast<size_t>(i * nv)];
-      const int to = grid.pointOf[p][static_cast<size_t>(i * nv + nv - 1)];
-      if (from == to)
-        closedEnds.push_back(from);
-      else
-        grid.front.knifeCopies.push_back({from, to});
-    }
-  }
-  for (KnifeCopies& copies : grid.front.knifeCopies) {
-    for (int end : closedEnds) {
-      const double distance =
-          (points[static_cast<size_t>(copies.first)] - points[static_cast<size_t>(end)]).norm();
-      if (distance < copies.toClosedEnd) {
-        copies.toClosedEnd = distance;
-        copies.closedEnd = end;
+        grid.front.fanPoints.push_back(
+            {id, from, to, gv[static_cast<size_t>(j)] / gv.back(), outside.normalized()});
       }
     }
   }
@@ -236,9 +217,24 @@ WallGrid wallGrid(const std::vector<WallPatch>& patches) {
   for (const FanPoint& fan : grid.front.fanPoints) {
     grid.front.normals.row(fan.point) =
         turnedBetween(grid.front.normals.row(fan.from).transpose(),
-                      grid.front.normals.row(fan.to).transpose(), fan.fraction)
+                      grid.front.normals.row(fan.to).transpose(), fan.fraction, fan.outside)
             .transpose();
   }
+  // Where fans close, the widest angle between their copies' normals.
+  std::map<int, double> widest;
+  for (size_t p = 0; p < patches.size(); ++p) {
+    if (fanClosedEnds[p].empty()) continue;
+    const int nu = patches[p].surface.uPoles, nv = patches[p].surface.vPoles;
+    double angle = 0.0;
+    for (int i = 0; i < nu; ++i) {
+      const Vector3d from = grid.front.normals.row(grid.pointOf[p][static_cast<size_t>(i * nv)]).transpose();
+      const Vector3d to =
+          grid.front.normals.row(grid.pointOf[p][static_cast<size_t>(i * nv + nv - 1)]).transpose();
+      angle = std::max(angle, std::atan2(from.cross(to).norm(), from.dot(to)));
+    }
+    for (int end : fanClosedEnds[p]) widest[end] = std::max(widest[end], angle);
+  }
+  for (const auto& [point, angle] : widest) grid.front.fanClosings.push_back({point, angle});
   grid.lo = grid.front.points.colwise().minCoeff().transpose();
   grid.hi = grid.front.points.colwise().maxCoeff().transpose();
   grid.size = (grid.hi - grid.lo).norm();
@@ -445,6 +441,11 @@ struct CoarsePlace {
   }
 };
 
+constexpr const char* kKnifeLevelsDisagree =
+    " is a knife edge (convex, its faces' normals more than 120 degrees apart) on one of the wall and the "
+    "marching wall and not on the other, so only one of them has a fan there: march from the wall itself or "
+    "without knife_edge_fans";
+
 // A fan's place on the coarse wall's fan round the same stretch of knife edge (the same end
 // vertices): along the edge as the wall's patches, round it one to one.
 CoarsePlace placeFan(const WallPatch& fine, size_t f, const std::vector<WallPatch>& coarse, double scale) {
@@ -456,8 +457,12 @@ CoarsePlace placeFan(const WallPatch& fine, size_t f, const std::vector<WallPatc
     const bool reversed = coarseChain.front() == chain.back() && coarseChain.back() == chain.front();
     if (!same && !reversed) continue;
     const double coarseU = coarse[c].surface.uKnots.back();
-    if (fine.surface.uKnots.back() * scale != coarseU || fine.surface.vKnots != coarse[c].surface.vKnots)
-      break;
+    if (fine.surface.uKnots.back() * scale != coarseU || fine.surface.vKnots != coarse[c].surface.vKnots) {
+      throw InvalidInputError(
+          "wall patch " + std::to_string(f) + " (the fan round the knife edge from control vertex " +
+          std::to_string(chain.front()) + " to " + std::to_string(chain.back()) +
+          ") does not refine the marching wall's fan round it (patch " + std::to_string(c) + ")");
+    }
     CoarsePlace place;
     place.patch = static_cast<int>(c);
     place.scale = {scale, 1.0};
@@ -465,10 +470,8 @@ CoarsePlace placeFan(const WallPatch& fine, size_t f, const std::vector<WallPatc
     place.sign = {same ? 1.0 : -1.0, 1.0};
     return place;
   }
-  throw InvalidInputError("wall patch " + std::to_string(f) +
-                          " (the fan round the knife edge from control vertex " +
-                          std::to_string(chain.front()) + " to " + std::to_string(chain.back()) +
-                          ") has no fan of the marching wall round the same edge");
+  throw InvalidInputError("the wall's crease from control vertex " + std::to_string(chain.front()) + " to " +
+                          std::to_string(chain.back()) + kKnifeLevelsDisagree);
 }
 
 std::array<int, 4> patchCornerVertices(const WallPatch& patch) {
@@ -530,6 +533,14 @@ std::vector<CoarsePlace> placeOnCoarsePatches(const std::vector<WallPatch>& fine
     place.origin = {p00[0] == 0 ? 0.0 : coarseU, p00[1] == 0 ? 0.0 : coarseV};
     place.sign = {p00[0] == 0 ? 1.0 : -1.0, p00[1] == 0 ? 1.0 : -1.0};
     places.push_back(place);
+  }
+  for (size_t c = 0; c < coarse.size(); ++c) {
+    const auto placed = [&](const CoarsePlace& place) { return place.patch == static_cast<int>(c); };
+    if (!coarse[c].fan || std::any_of(places.begin(), places.end(), placed)) continue;
+    const std::vector<int>& chain = coarse[c].sideVertices[static_cast<size_t>(ChartSide::VMin)];
+    throw InvalidInputError("the marching wall's crease from control vertex " +
+                            std::to_string(chain.front()) + " to " + std::to_string(chain.back()) +
+                            kKnifeLevelsDisagree);
   }
   return places;
 }

@@ -241,6 +241,39 @@ int sidePoleCount(const WallPatch& patch, ChartSide side) {
   return alongU(side) ? patch.surface.uPoles : patch.surface.vPoles;
 }
 
+int cornerVertex(const WallPatch& patch, int corner) {
+  const std::vector<int>& chain =
+      patch.sideVertices[static_cast<size_t>(corner < 2 ? ChartSide::VMin : ChartSide::VMax)];
+  return corner % 2 == 0 ? chain.front() : chain.back();
+}
+
+int sideEndCorner(ChartSide side, int end) {
+  switch (side) {
+    case ChartSide::VMin:
+      return end;
+    case ChartSide::UMax:
+      return 1 + 2 * end;
+    case ChartSide::VMax:
+      return 2 + end;
+    case ChartSide::UMin:
+      return 2 * end;
+  }
+  return 0;
+}
+
+Eigen::Vector3d polePoint(const WallPatch& patch, int i, int j, Eigen::Vector3d* normal) {
+  const std::vector<double> gu = grevilleAbscissae(patch.surface.uKnots, 3);
+  const std::vector<double> gv = grevilleAbscissae(patch.surface.vKnots, 3);
+  return patch.surface.point(gu[static_cast<size_t>(i)], gv[static_cast<size_t>(j)], normal);
+}
+
+Eigen::Vector3d sideOutward(const WallPatch& patch, ChartSide side, int t) {
+  const auto [i, j] = sidePolePosition(patch, side, t);
+  const int inward = side == ChartSide::VMin || side == ChartSide::UMin ? 1 : -1;
+  const auto [ii, ji] = alongU(side) ? std::pair{i, j + inward} : std::pair{i + inward, j};
+  return (polePoint(patch, i, j) - polePoint(patch, ii, ji)).normalized();
+}
+
 void setLateralFaces(const WallPatch& patch, std::array<BlockFace, 6>& faces) {
   for (int s = 0; s < 4; ++s) {
     const PatchSideLink& link = patch.sides[static_cast<size_t>(s)];

@@ -59,6 +59,18 @@ struct WallPatch {
 std::pair<int, int> sidePolePosition(const WallPatch& patch, ChartSide side, int t);
 int sidePoleCount(const WallPatch& patch, ChartSide side);
 
+// A patch's corners are numbered 0: (0, 0), 1: (U, 0), 2: (0, V), 3: (U, V). The control vertex
+// at one, and the corner at entry `end` (0: first, 1: last) along a side.
+int cornerVertex(const WallPatch& patch, int corner);
+int sideEndCorner(ChartSide side, int end);
+
+// The patch surface's point, and its normal (not unit), at the Greville abscissae of pole (i, j).
+Eigen::Vector3d polePoint(const WallPatch& patch, int i, int j, Eigen::Vector3d* normal = nullptr);
+
+// The unit direction in which the patch's surface leaves through entry t of `side`: from the
+// point (polePoint) of the pole one row inside to the side's.
+Eigen::Vector3d sideOutward(const WallPatch& patch, ChartSide side, int t);
+
 // Splits the charts of `layout` (of `mesh`) into conforming patches and links their sides, without
 // surfaces: the patches as rectangles of control-mesh faces. Throws TopologyError when a side has
 // more than one neighbour after splitting.
