@@ -219,7 +219,12 @@ TEST(CollapsedFace, CellsPinchedWithoutACollapsedFaceAreNoCells) {
 
 TEST(CollapsedFace, QuadConditionsNeitherNameNorLieOnACollapsedFace) {
   const std::vector<grid::GridBlock> refined = refinedFan().grid.blocks();
-  auto refusal = [](std::vector<grid::GridBlock> blocks) -> std::string {
+  // The fan block with every quad of one face given `condition`: refused, or "accepted".
+  auto refusal = [&](BlockFaceSide side, BoundaryCondition condition) -> std::string {
+    std::vector<grid::GridBlock> blocks = refined;
+    const std::array<int, 2> counts = faceGridCounts(blocks[2].size, static_cast<int>(side));
+    blocks[2].quadConditions[static_cast<size_t>(side)].assign(
+        static_cast<size_t>((counts[0] - 1) * (counts[1] - 1)), condition);
     try {
       grid::StructuredGrid grid(std::move(blocks), false);
     } catch (const InvalidInputError& error) {
@@ -228,18 +233,13 @@ TEST(CollapsedFace, QuadConditionsNeitherNameNorLieOnACollapsedFace) {
     return "accepted";
   };
   // Quads of a far-field face marked collapsed, and quad conditions on the collapsed face.
-  std::vector<grid::GridBlock> collapsedQuads = refined;
-  const int farfield = static_cast<int>(BlockFaceSide::WMax);
-  const std::array<int, 2> counts = faceGridCounts(collapsedQuads[2].size, farfield);
-  collapsedQuads[2].quadConditions[static_cast<size_t>(farfield)].assign(
-      static_cast<size_t>((counts[0] - 1) * (counts[1] - 1)), BoundaryCondition::Collapsed);
-  EXPECT_NE(refusal(collapsedQuads).find("grid block 2 face w_max (farfield) has"), std::string::npos);
-  std::vector<grid::GridBlock> quadsOnTheEdge = refined;
-  const int edge = static_cast<int>(BlockFaceSide::WMin);
-  const std::array<int, 2> edgeCounts = faceGridCounts(quadsOnTheEdge[2].size, edge);
-  quadsOnTheEdge[2].quadConditions[static_cast<size_t>(edge)].assign(
-      static_cast<size_t>((edgeCounts[0] - 1) * (edgeCounts[1] - 1)), BoundaryCondition::Wall);
-  EXPECT_NE(refusal(quadsOnTheEdge).find("grid block 2 face w_min (collapsed) has"), std::string::npos);
+  EXPECT_NE(refusal(BlockFaceSide::WMax, BoundaryCondition::Collapsed)
+                .find("grid block 2 face w_max (farfield) has"),
+            std::string::npos);
+  EXPECT_NE(
+      refusal(BlockFaceSide::WMin, BoundaryCondition::Wall).find("grid block 2 face w_min (collapsed) has"),
+      std::string::npos);
+  EXPECT_EQ(refusal(BlockFaceSide::WMax, BoundaryCondition::Farfield), "accepted");
 }
 
 TEST(CollapsedFace, VolumetricSubdivisionRefusesItByName) {

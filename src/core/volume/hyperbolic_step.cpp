@@ -32,28 +32,36 @@ constexpr double kSmoothingGrowthExponent = 0.15;
 constexpr int kSmoothingIterations = 60;
 constexpr int kFactorIterations = 12;
 
+// Eigen's preconditioner interface for one prepared before the solver runs (given by `use`):
+// the solver's own analysis and factorisation calls do nothing.
+template <typename Derived>
+class PreparedPreconditioner {
+ public:
+  template <typename Matrix>
+  Derived& analyzePattern(const Matrix&) {
+    return static_cast<Derived&>(*this);
+  }
+  template <typename Matrix>
+  Derived& factorize(const Matrix&) {
+    return static_cast<Derived&>(*this);
+  }
+  template <typename Matrix>
+  Derived& compute(const Matrix&) {
+    return static_cast<Derived&>(*this);
+  }
+  Eigen::ComputationInfo info() const { return Eigen::Success; }
+};
+
 // GMRES preconditioner: the step's smoothing part alone, (1 + 4 eps_I) I - eps_I (4 / M) sum over the
 // ring, the same for x, y and z (without the ghosts' mirrored terms). It depends on the front's
 // topology only, so it is factored once; the orthogonality and volume coupling, at most about the
 // pseudo-step over the edge length, is left to the iterations.
-class SmoothingPreconditioner {
+class SmoothingPreconditioner : public PreparedPreconditioner<SmoothingPreconditioner> {
  public:
   void use(const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>* factor,
            const Eigen::VectorXd* rowScale) {
     factor_ = factor;
     rowScale_ = rowScale;
-  }
-  template <typename Matrix>
-  SmoothingPreconditioner& analyzePattern(const Matrix&) {
-    return *this;
-  }
-  template <typename Matrix>
-  SmoothingPreconditioner& factorize(const Matrix&) {
-    return *this;
-  }
-  template <typename Matrix>
-  SmoothingPreconditioner& compute(const Matrix&) {
-    return *this;
   }
   template <typename Rhs>
   Eigen::VectorXd solve(const Eigen::MatrixBase<Rhs>& b) const {
@@ -65,7 +73,6 @@ class SmoothingPreconditioner {
     const Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> solved = solvedByComponent;
     return Eigen::Map<const Eigen::VectorXd>(solved.data(), 3 * n);
   }
-  Eigen::ComputationInfo info() const { return Eigen::Success; }
 
  private:
   const Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>>* factor_ = nullptr;
@@ -78,26 +85,13 @@ class SmoothingPreconditioner {
 // and one factor serves many of them.
 using StepLU = Eigen::UmfPackLU<Eigen::SparseMatrix<double>>;
 
-class FactorPreconditioner {
+class FactorPreconditioner : public PreparedPreconditioner<FactorPreconditioner> {
  public:
   void use(const StepLU* factor) { factor_ = factor; }
-  template <typename Matrix>
-  FactorPreconditioner& analyzePattern(const Matrix&) {
-    return *this;
-  }
-  template <typename Matrix>
-  FactorPreconditioner& factorize(const Matrix&) {
-    return *this;
-  }
-  template <typename Matrix>
-  FactorPreconditioner& compute(const Matrix&) {
-    return *this;
-  }
   template <typename Rhs>
   Eigen::VectorXd solve(const Eigen::MatrixBase<Rhs>& b) const {
     return factor_->solve(b);
   }
-  Eigen::ComputationInfo info() const { return Eigen::Success; }
 
  private:
   const StepLU* factor_ = nullptr;
