@@ -626,9 +626,9 @@ def make_volume_mesh(fit, name="VolumeMesh", wall_level=-1, marching_level=-1, s
     """The block-structured B-spline volume mesh around a SurfaceFit's wall: boundary-layer control
     layers along the wall normals and the far field marched out to a sphere (half sphere on the
     fit's symmetry plane), one tricubic block per wall patch. wall_level: -1 the fit's level, or a
-    lower one (the same fit refitted to it). marching_level: -1 march the wall itself, or a level
-    below the wall's whose marched layers are carried onto the wall (its charts stay the blocks'
-    wall faces). options: those of bvmesh.volume.offset_and_farfield
+    lower one (the same fit refitted to it). marching_level: -1 march the wall itself and, where
+    that folds, each lower level in turn (MarchingLevelUsed says which), or a level below the
+    wall's whose marched layers are carried onto the wall (its charts stay the blocks' wall faces). options: those of bvmesh.volume.offset_and_farfield
     (reference_length, reynolds_number, boundary_layer_thickness, boundary_layer_layers,
     boundary_layer_growth, sharp_edge_splay, farfield_distance, farfield_growth, smoothing,
     min_scaled_jacobian, max_layers, knife_edge_fans; farfield_scheme 'hyperbolic' (default) | 'smoothed'; domain

@@ -18,7 +18,6 @@ import time
 import numpy as np
 
 from bvmesh import api, load_core, paths
-from bvmesh.volume import WING_MARCHING_LEVEL
 
 
 def _root_chord(wing_shape, symmetry_face):
@@ -143,9 +142,10 @@ def _volume_report(vm, grid_object, quality, cgns, case, verdict, seconds):
         "# ONERA M6 half wing: volume mesh",
         "",
         "Wall: the surface fit at level {}{}; the grid's wall points lie within {:.3e} of the CAD faces (fit "
-        "tolerance {:.3g}).".format(vm.WallLevelUsed, "" if vm.MarchingLevel < 0 else (
-            ", layers marched from the fit refitted to level {} and carried onto it (docs/volume.md: marched "
-            "from its own level the boundary layer folds at the trailing edge's tip corner)".format(vm.MarchingLevel)),
+        "tolerance {:.3g}).".format(vm.WallLevelUsed, "" if vm.MarchingLevelUsed == vm.WallLevelUsed else (
+            ", layers marched from the fit refitted to level {} and carried onto it (the automatic marching "
+            "level: marched from its own level the boundary layer folds at the trailing edge's tip corner; "
+            "docs/volume.md)".format(vm.MarchingLevelUsed)),
             wall_distance(grid_object), vm.Fit.Tolerance),
         "Blocks: {} tricubic B-spline blocks, {} control layers; boundary layer {:.4g} thick (reference length "
         "{:.4g}, Re {:.4g}); far field: sphere of radius {:.6g} ({:.1f} reference lengths), marched {}{}.".format(
@@ -185,9 +185,7 @@ def run_volume(fit, chord, files, log=print, grid_method="bspline", subdivision_
     blocks evaluated. Returns the volume objects by name."""
     started = time.time()
     stage = time.time()
-    marching_level = WING_MARCHING_LEVEL if fit.Level > WING_MARCHING_LEVEL else -1
-    vm = api.make_volume_mesh(fit, marching_level=marching_level, reference_length=chord,
-                              reynolds_number=REYNOLDS_NUMBER)
+    vm = api.make_volume_mesh(fit, reference_length=chord, reynolds_number=REYNOLDS_NUMBER)
     log("volume mesh: {} blocks, {} control layers, far field {:.0f} ({:.1f} s)".format(
         vm.BlockCount, vm.ControlLayers, vm.FarfieldDistanceUsed, time.time() - stage))
     stage = time.time()

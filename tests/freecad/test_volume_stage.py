@@ -521,7 +521,8 @@ class VolumeObjects(unittest.TestCase):
         for options, message in (({"wall_level": -2}, r"WallLevel -2 must be 0 or more, up to the fit's level 3 "
                                                       r"\(or -1: the fit's own level\)"),
                                  ({"marching_level": -5}, r"MarchingLevel -5 must be below the wall's level 3 and 0 "
-                                                          r"or more \(or -1: march the wall itself\)")):
+                                                          r"or more \(or -1: the wall's own level, or lower ones "
+                                                          r"where its marching folds\)")):
             with self.assertRaisesRegex(RuntimeError, message):
                 api.set_volume_options(self.volume, **options)
             self.assertEqual((self.volume.WallLevel, self.volume.MarchingLevel, self.volume.Digest), (-1, -1, digest))
@@ -748,6 +749,37 @@ class SaveAndReopen(unittest.TestCase):
             self.assertEqual([o.Name for o in doc.Objects if not o.isValid()], [])
             self.assertEqual((vm.Digest, grid.Digest), digests)
             self.assertEqual(doc.getObject("MeshQuality").Cells, grid.CellCount)
+        finally:
+            FreeCAD.closeDocument(doc.Name)
+
+
+class AutomaticMarchingLevel(unittest.TestCase):
+    """MarchingLevel -1 on the M6 fitted to level 3: marched from its own level, the boundary layer
+    folds at the trailing edge's tip corner; the layers come from level 2, as MarchingLevel 2 gives
+    them."""
+
+    def test_a_wall_whose_marching_folds_is_marched_from_the_next_level_down(self):
+        from bvmesh import load_core, paths
+
+        doc = FreeCAD.newDocument("AutomaticMarchingLevel")
+        try:
+            wing = api.import_cad(doc, paths.EXAMPLE_WING)
+            _, symmetry_face, _ = load_core().remove_symmetry_face(wing.Shape.exportBrepToString())
+            faces = ["Face{}".format(i + 1) for i in range(len(wing.Shape.Faces)) if i != symmetry_face]
+            target = api.make_target(doc, wing, faces=faces)
+            polyhedron = api.make_polyhedron_from_template(doc, target, "half_wing", tip_kinks="follow")
+            fit = api.make_surface_fit(doc, target, polyhedron, symmetry_plane=api.symmetry_plane_guess(target),
+                                       tolerance=8e-3, max_level=3)
+            api.fit_to_tolerance(fit)
+            self.assertEqual(fit.Level, 3)
+            automatic = api.make_volume_mesh(fit, reference_length=805.0, name="Automatic")
+            self.assertEqual((automatic.WallLevelUsed, automatic.MarchingLevelUsed), (3, 2))
+            explicit = api.make_volume_mesh(fit, marching_level=2, reference_length=805.0, name="Explicit")
+            self.assertEqual(explicit.MarchingLevelUsed, 2)
+            self.assertEqual(automatic.Digest, explicit.Digest)
+            # The subdivision grid's control volume is marched from the level the layers came from.
+            grids = [api.make_volume_grid(vm, method="subdivision", steps=1) for vm in (automatic, explicit)]
+            self.assertEqual(grids[0].Digest, grids[1].Digest)
         finally:
             FreeCAD.closeDocument(doc.Name)
 

@@ -174,7 +174,7 @@ class VolumeGridProxy(RecomputedProxy):
         if obj.Method == "subdivision":
             wall, plane, settings = volume_mesh_feature.marching_inputs(obj.VolumeMesh)
             # The control volume is marched from the level the blocks' layers are marched from.
-            wall = volume_mesh_feature.marching_wall(obj.VolumeMesh) or wall
+            wall = volume_mesh_feature.marching_wall_used(obj.VolumeMesh) or wall
             steps = obj.SubdivisionSteps
 
             def subdivide():

@@ -99,17 +99,39 @@ def marching_inputs(obj):
     return wall, symmetry_plane(fit), options(obj)
 
 
-def marching_wall(obj):
-    """A function giving the control mesh the blocks' layers are marched from when the object's
-    MarchingLevel is below its wall's level (the same fit refitted to that level), else None."""
+def wall_level(obj):
+    """The subdivision level of the wall a VolumeMesh object's blocks stand on."""
+    return obj.Fit.Level if obj.WallLevel < 0 else obj.WallLevel
+
+
+def marching_levels(obj):
+    """The levels a VolumeMesh object's layers may be marched from, in the order they are tried: its
+    MarchingLevel alone, or for -1 (automatic) the wall's own level and then, where the marching
+    folds, each lower level down to 1 in turn (for a fit made by one 'Fit to tolerance' step, whose
+    lower levels can be refitted; the wall's own alone otherwise)."""
+    level = wall_level(obj)
     if obj.MarchingLevel == -1:
+        return [level] + (list(range(level - 1, 0, -1)) if list(obj.Fit.Steps) == ["fit"] else [])
+    if not 0 <= obj.MarchingLevel < level:
+        raise ValueError("MarchingLevel {} must be below the wall's level {} and 0 or more (or -1: the wall's own "
+                         "level, or lower ones where its marching folds)".format(obj.MarchingLevel, level))
+    return [obj.MarchingLevel]
+
+
+def marching_wall(obj, level):
+    """A function giving the control mesh a VolumeMesh object's layers are marched from at `level`
+    (the fit refitted to it), or None for the wall's own level."""
+    if level == wall_level(obj):
         return None
-    wall_level = obj.Fit.Level if obj.WallLevel < 0 else obj.WallLevel
-    if not 0 <= obj.MarchingLevel < wall_level:
-        raise ValueError("MarchingLevel {} must be below the wall's level {} and 0 or more (or -1: march the wall "
-                         "itself)".format(obj.MarchingLevel, wall_level))
-    wall, _ = surface_fit.wall_at_level(obj.Fit, obj.MarchingLevel)
+    wall, _ = surface_fit.wall_at_level(obj.Fit, level)
     return wall
+
+
+def marching_wall_used(obj):
+    """marching_wall at the level the object's layers were marched from (MarchingLevelUsed; the
+    wall's own before it is known)."""
+    used = obj.MarchingLevelUsed
+    return marching_wall(obj, used) if 0 <= used < wall_level(obj) else None
 
 
 def blocks_digest(blocks):
@@ -166,9 +188,10 @@ class VolumeMeshProxy(RecomputedProxy):
                      "Subdivision level of the wall: -1 the fit's own; a lower level refits the fit's target "
                      "and polyhedron to that level", -1)
         add_property(obj, "App::PropertyInteger", "MarchingLevel", "Inputs",
-                     "Subdivision level the layers are marched from: -1 the wall's own; a lower level marches "
-                     "the fit refitted to it and carries the layers onto the wall (whose charts stay the blocks' "
-                     "wall faces)", -1)
+                     "Subdivision level the layers are marched from: -1 the wall's own, or where its marching "
+                     "folds each lower level in turn (MarchingLevelUsed says which); a lower level marches the fit "
+                     "refitted to it and carries the layers onto the wall (whose charts stay the blocks' wall "
+                     "faces)", -1)
         for prop, _, type_name, default, doc in OPTIONS:
             add_property(obj, type_name, prop, "Marching", doc, default)
         for prop, _, default, doc in SWITCHES:
@@ -211,6 +234,9 @@ class VolumeMeshProxy(RecomputedProxy):
             ("Digest", "App::PropertyString", "SHA-1 of the blocks' knots and poles"),
         ):
             add_property(obj, type_name, name, r, doc, mode=READ_ONLY)
+        add_property(obj, "App::PropertyInteger", "MarchingLevelUsed", r,
+                     "Subdivision level the layers were marched from (-1 in a document saved before the property: "
+                     "the wall's own)", -1, mode=READ_ONLY)
 
     def key(self, obj):
         fit = obj.Fit
@@ -220,14 +246,29 @@ class VolumeMeshProxy(RecomputedProxy):
         return hashlib.sha1(data.encode()).hexdigest()
 
     def make(self, obj):
-        from bvmesh import volume
+        from bvmesh import SolverError, volume
 
         wall, plane, settings = marching_inputs(obj)
-        coarse = marching_wall(obj)
-        return run_work("marching the boundary layer and the far field of {}".format(obj.Label),
-                        lambda: volume.offset_and_farfield(wall(), symmetry_plane=plane,
-                                                           marching_wall=None if coarse is None else coarse(),
-                                                           **settings))
+        levels = marching_levels(obj)
+        coarse = [marching_wall(obj, level) for level in levels]  # the properties read here, not in the worker
+
+        def march():
+            folds = []
+            for level, marching in zip(levels, coarse):
+                try:
+                    result = volume.offset_and_farfield(wall(), symmetry_plane=plane,
+                                                        marching_wall=None if marching is None else marching(),
+                                                        **settings)
+                except SolverError as error:
+                    if len(levels) == 1 or not str(error).startswith("marching folds"):
+                        raise
+                    folds.append("from level {}: {}".format(level, error))
+                    continue
+                self._marching_level_used = level
+                return result
+            raise SolverError("MarchingLevel -1: the marching folds from every level tried; " + "; ".join(folds))
+
+        return run_work("marching the boundary layer and the far field of {}".format(obj.Label), march)
 
     def digest_of(self, volume_mesh):
         return blocks_digest(volume_mesh.blocks)
@@ -240,7 +281,8 @@ class VolumeMeshProxy(RecomputedProxy):
         if made:
             obj.BlockCount = blocks.block_count
             obj.ControlLayers = len(volume_mesh.layer_distance)
-            obj.WallLevelUsed = obj.Fit.Level if obj.WallLevel < 0 else obj.WallLevel
+            obj.WallLevelUsed = wall_level(obj)
+            obj.MarchingLevelUsed = self._marching_level_used
             obj.ReferenceLengthUsed = volume_mesh.reference_length
             obj.BoundaryLayerThicknessUsed = volume_mesh.boundary_layer_thickness
             obj.FarfieldDistanceUsed = volume_mesh.farfield_distance

@@ -128,7 +128,9 @@ class Marcher {
       if (!poor || (repair >= kRepairs && worst > 0.0)) break;
       if (repair >= kRepairs || options_.smoothing == 0.0) {
         fold(worstLayer, worst, worstQuad, front_.points,
-             "in the boundary layer: a thinner boundary layer or a finer wall there keeps its grid lines apart");
+             "in the boundary layer: a thinner boundary layer, a finer wall there or a coarser level of the "
+             "wall to "
+             "march from keeps its grid lines apart");
       }
       smoothDirections(lines, 4, markAround(bad));
       turnFans(lines);
