@@ -13,9 +13,11 @@
 #include <map>
 #include <set>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "core/common/bspline_basis.h"
+#include "core/common/errors.h"
 #include "core/grid/hex_topology.h"
 #include "core/grid/refinement.h"
 #include "core/quality/cell_quality.h"
@@ -271,6 +273,39 @@ TEST(EdgeFans, AKnifeEdgeEndingOnTheSymmetryPlaneEndsItsFanThere) {
     }
   }
   EXPECT_EQ(ends, 2);
+}
+
+TEST(EdgeFans, AKnifeEdgeOnOneOfTheWallAndTheMarchingWallAloneIsRefusedByName) {
+  // The lens's equator is a knife edge; the unsquashed cube's (normals 90 degrees apart) is none.
+  // Marched from a wall a level coarser, only one of the two would have a fan there.
+  const auto squashed = [](surface::QuadControlMesh wall) {
+    for (Eigen::Index v = 0; v < wall.vertices.rows(); ++v) wall.vertices(v, 2) *= 0.1;
+    return wall;
+  };
+  const surface::QuadControlMesh coarse = surface::testing::subdivide(surface::testing::cubeWithCreasedEquator(), 1);
+  const surface::QuadControlMesh fine = surface::testing::subdivide(coarse, 1);
+  VolumeMeshOptions options;
+  options.boundaryLayerThickness = 0.05;
+  options.farfieldDistance = 100.0;
+  options.knifeEdgeFans = true;
+  const auto refusal = [&](const surface::QuadControlMesh& wall, const surface::QuadControlMesh& marching) {
+    try {
+      generateVolumeMesh(wall, options, &marching);
+    } catch (const InvalidInputError& error) {
+      return std::string(error.what());
+    }
+    return std::string("no error");
+  };
+  const std::string wallOnly = refusal(squashed(fine), coarse);
+  EXPECT_NE(wallOnly.find("the wall's crease from control vertex"), std::string::npos) << wallOnly;
+  EXPECT_NE(wallOnly.find("is a knife edge"), std::string::npos) << wallOnly;
+  const std::string marchingOnly = refusal(fine, squashed(coarse));
+  EXPECT_NE(marchingOnly.find("the marching wall's crease from control vertex"), std::string::npos) << marchingOnly;
+  EXPECT_NE(marchingOnly.find("march from the wall itself or without knife_edge_fans"), std::string::npos)
+      << marchingOnly;
+  // The same walls without fans march (the lens from the cube would lie too far off it: both as is).
+  options.knifeEdgeFans = false;
+  EXPECT_NO_THROW(generateVolumeMesh(fine, options, &coarse));
 }
 
 }  // namespace
