@@ -275,6 +275,35 @@ TEST(EdgeFans, AKnifeEdgeEndingOnTheSymmetryPlaneEndsItsFanThere) {
   EXPECT_EQ(ends, 2);
 }
 
+TEST(EdgeFans, AFanTurnsRoundItsEdgeEvenWhereItsSidesLeanAlongIt) {
+  // The edge along y, the outside +x; the upper and lower lines leaning alike along the edge (as
+  // where a fan closes towards a corner whose line runs along the edge).
+  const Vector3d edge(0, 2, 0), back(1, 0, 0);
+  const double lean = 0.8, square = std::sqrt(1.0 - lean * lean);
+  const Vector3d upper(0, lean, square), lower(0, lean, -square);
+  for (double fraction : {0.0, 0.25, 0.5, 0.75, 1.0}) {
+    const Vector3d d = turnedRound(upper, lower, edge, fraction, back);
+    const double angle = fraction * M_PI;  // from up through back to down, about the edge
+    EXPECT_LT((d - Vector3d(square * std::sin(angle), lean, square * std::cos(angle))).norm(), 1e-12)
+        << fraction;
+  }
+  // turnedBetween turns such lines in their own plane, which holds the edge: half way round, the
+  // line runs along the edge instead of leaving it towards the outside.
+  EXPECT_LT((turnedBetween(upper, lower, 0.5, back) - Vector3d(0, 1, 0)).norm(), 1e-12);
+  // Lines square to the edge: the turn is turnedBetween's.
+  const Vector3d up(0, 0, 1), down(0, 0, -1);
+  EXPECT_LT((turnedRound(up, down, edge, 1.0 / 3.0, back) - turnedBetween(up, down, 1.0 / 3.0, back)).norm(),
+            1e-12);
+  // Without an edge direction, or with a line along it: turnedBetween.
+  EXPECT_LT((turnedRound(upper, lower, Vector3d::Zero(), 0.5, back) - turnedBetween(upper, lower, 0.5, back))
+                .norm(),
+            1e-12);
+  EXPECT_LT((turnedRound(Vector3d(0, 1, 0), lower, edge, 0.5, back) -
+             turnedBetween(Vector3d(0, 1, 0), lower, 0.5, back))
+                .norm(),
+            1e-12);
+}
+
 TEST(EdgeFans, AKnifeEdgeOnOneOfTheWallAndTheMarchingWallAloneIsRefusedByName) {
   // The lens's equator is a knife edge; the unsquashed cube's (normals 90 degrees apart) is none.
   // Marched from a wall a level coarser, only one of the two would have a fan there.

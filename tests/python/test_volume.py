@@ -526,6 +526,19 @@ class M6KnifeEdgeFans(unittest.TestCase):
             self.assertLess(np.percentile(report["wall_angle"], 95), p95)
             self.assertLess(np.percentile(report["wall_angle"], 99), 3.0)
 
+    def test_fan_lines_evenly_spaced_round_the_edge_where_it_closes_too(self):
+        # The angles between neighbouring lines of the rans fan off the trailing edge (its first
+        # grid layer), station by station up to the tip corner: 27.5 degrees each along the span,
+        # within a factor 1.61 of each other where the fan closes; 4 when the fan's lines kept
+        # their lean along the edge while its sides turned back onto their faces' normals.
+        fan = next(b for b in range(self.rans.grid.block_count) if self.rans.grid.faces(b)["w_min"]["condition"] == "collapsed")
+        points = self.rans.grid.points(fan)
+        for i in range(points.shape[0] - 1):
+            lines = points[i, :, 1] - points[i, 0, 0]
+            lines /= np.linalg.norm(lines, axis=1)[:, None]
+            angles = np.arccos(np.clip((lines[1:] * lines[:-1]).sum(axis=1), -1.0, 1.0))
+            self.assertLess(angles.max() / angles.min(), 2.0, "station {}: {}".format(i, np.degrees(angles)))
+
     def test_checkmesh_counts_the_prisms_and_passes(self):
         import re
         import shutil

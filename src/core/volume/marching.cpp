@@ -898,6 +898,23 @@ Eigen::Vector3d turnedBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b
   return (turned(fraction * angle) + fraction * (b - turned(angle))).normalized();
 }
 
+Eigen::Vector3d turnedRound(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& axis,
+                            double fraction, const Eigen::Vector3d& outside) {
+  constexpr double kSmall = 1e-6;
+  if (axis.norm() < kSmall) return turnedBetween(a, b, fraction, outside);  // no edge direction (a cusp)
+  Vector3d along = axis.normalized();
+  const Vector3d aSquare = a - a.dot(along) * along, bSquare = b - b.dot(along) * along;
+  if (aSquare.norm() < kSmall || bSquare.norm() < kSmall) return turnedBetween(a, b, fraction, outside);
+  if (along.cross(aSquare).dot(outside) < 0.0) along = -along;  // turning from a towards the outside
+  double angle = std::atan2(aSquare.cross(bSquare).dot(along), aSquare.dot(bSquare));
+  if (angle < 0.0) angle += 2.0 * kPi;
+  const Vector3d unit = aSquare.normalized();
+  const Vector3d square =
+      (std::cos(fraction * angle) * unit + std::sin(fraction * angle) * along.cross(unit)) *
+      ((1.0 - fraction) * aSquare.norm() + fraction * bSquare.norm());
+  return (square + ((1.0 - fraction) * a.dot(along) + fraction * b.dot(along)) * along).normalized();
+}
+
 FarfieldScheme farfieldSchemeOf(const std::string& name) {
   if (name == "smoothed") return FarfieldScheme::Smoothed;
   if (name == "hyperbolic") return FarfieldScheme::Hyperbolic;

@@ -63,6 +63,15 @@ struct MarchingFront {
 Eigen::Vector3d turnedBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double fraction,
                               const Eigen::Vector3d& outside = Eigen::Vector3d::Zero());
 
+// The unit direction at `fraction` of the turn from unit `a` to unit `b` round `axis` (an edge's
+// direction; not unit): their parts square to the axis turn about it at a constant rate, the
+// way round through the side `outside` points to, their lengths and their parts along the axis
+// blended linearly. Two lines leaning alike along the axis give lines that all lean so, evenly
+// spaced round it (turnedBetween would turn them in their own plane, which holds the axis).
+// Without an axis, or with a or b along it, turnedBetween.
+Eigen::Vector3d turnedRound(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& axis,
+                            double fraction, const Eigen::Vector3d& outside);
+
 // How the far field is marched: `Hyperbolic` solves Chan & Steger's orthogonality and cell-volume
 // equations per step (hyperbolic_step.h), whose smoothed volumes open concave corners; a layer it
 // would fold is marched by the smoothed step. `Smoothed` steps along directions blended from the

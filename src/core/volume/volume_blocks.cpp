@@ -651,13 +651,30 @@ void leaveAlongNormals(const std::vector<WallPatch>& patches, const WallGrid& gr
         }
         const Vector3d line = (firstLayer.row(id) - grid.front.points.row(id)).transpose().normalized();
         const double tilt = std::acos(std::clamp(line.dot(normal), -1.0, 1.0)) * 180.0 / kPi;
-        // A fan's lines leave no wall of their own: they keep the turn they were marched with.
+        // A fan's lines leave no wall of their own: they turn with its sides' (below).
         const double share = grid.corner[static_cast<size_t>(id)] != 0 || patches[p].fan
                                  ? 0.0
                                  : std::min(1.0, tilt / kFullTurnDegrees);
         leaving.row(id) += (offset + share * (offset.norm() * normal - offset)).transpose();
       }
     }
+  }
+  // A fan's lines then turn round its edge between its sides' lines as these now leave (on the
+  // symmetry plane, in it). Where the fan closes, its sides' lines turn back onto their faces'
+  // normals from a lean along the edge that the fan's own would keep: its cells, spaced unevenly
+  // round the edge, would taper unevenly along it (thin prisms whose cell centres shift along the
+  // edge: faces of 90 degrees' non-orthogonality).
+  for (const FanPoint& fan : grid.front.fanPoints) {
+    const auto offset = [&](int point) -> Vector3d {
+      return (leaving.row(point) - grid.front.points.row(point)).transpose();
+    };
+    const Vector3d axis =
+        grid.front.onSymmetryPlane[static_cast<size_t>(fan.point)] != 0
+            ? planeNormal
+            : Vector3d(grid.front.normals.row(fan.from).cross(grid.front.normals.row(fan.to)));
+    const Vector3d line = turnedRound(offset(fan.from).normalized(), offset(fan.to).normalized(), axis,
+                                      fan.fraction, fan.outside);
+    leaving.row(fan.point) = grid.front.points.row(fan.point) + offset(fan.point).norm() * line.transpose();
   }
   const std::vector<std::vector<Eigen::MatrixXd>> leavingPoles =
       layerPatchPoles(patches, grid, {grid.front.points, leaving});
