@@ -165,6 +165,16 @@ inline volume::BlockMesh boxInBoxDomain() {
   return volume::BlockMesh(std::move(blocks));
 }
 
+// How fanWedgeBlocks shapes its blocks off the wall: knot spans along w; the fan's lines gathering
+// towards its upper side the farther out they are (at distance t, fraction along^(1 + gather t)
+// of the turn: 0, evenly spaced and alike in every layer); and with `wallAtEnd` the same volume
+// parametrised from the far field in (the walls and the edge at w_max).
+struct FanWedgeShape {
+  int normalSpans = 2;
+  double gather = 0.0;
+  bool wallAtEnd = false;
+};
+
 // A sharp edge as a fan: the y axis (y in [0, 1]) is the edge of a wedge of half angle `alpha`
 // (radians) whose upper and lower faces run along -x; block 0 stands on the upper face (u = y,
 // v from the edge along it to length 2, w along its normal to height 1), block 1 on the lower face
@@ -173,9 +183,12 @@ inline volume::BlockMesh boxInBoxDomain() {
 // edge itself, collapsed along v. Its side faces are the other blocks' edge faces, poles computed
 // by the same expression, so they are identical bit for bit. The face y = 0 is a symmetry plane,
 // the other outer ones far field.
-inline volume::BlockMesh fanWedgeBlocks(double alpha) {
+inline volume::BlockMesh fanWedgeBlocks(double alpha, const FanWedgeShape& shape = {}) {
   const std::vector<double> knots = uniformClampedKnots(3, 2);  // 5 poles, Greville 0 1/3 1 5/3 2 (in halves)
   const std::array<double, 5> greville{0.0, 1.0 / 6.0, 0.5, 5.0 / 6.0, 1.0};
+  const std::vector<double> normalKnots = uniformClampedKnots(3, shape.normalSpans);
+  const std::vector<double> normalGreville = grevilleAbscissae(normalKnots, 3);
+  const int nw = static_cast<int>(normalGreville.size());
   const Eigen::Vector3d upper(std::sin(alpha), 0.0, std::cos(alpha)), lower(std::sin(alpha), 0.0, -std::cos(alpha));
   // A point of the line leaving the edge at span y, distance t along `direction`.
   auto offEdge = [](double y, double t, const Eigen::Vector3d& direction) -> Eigen::Vector3d {
@@ -183,11 +196,12 @@ inline volume::BlockMesh fanWedgeBlocks(double alpha) {
   };
   std::vector<volume::Block> blocks(3);
   for (int b = 0; b < 3; ++b) {
-    RowMatrixX3d poles(125, 3);
-    for (int k = 0; k < 5; ++k) {
+    RowMatrixX3d poles(25 * nw, 3);
+    for (int k = 0; k < nw; ++k) {
+      const double t = normalGreville[static_cast<size_t>(shape.wallAtEnd ? nw - 1 - k : k)] / shape.normalSpans;
       for (int j = 0; j < 5; ++j) {
         for (int i = 0; i < 5; ++i) {
-          const double y = greville[static_cast<size_t>(i)], t = greville[static_cast<size_t>(k)];
+          const double y = greville[static_cast<size_t>(i)];
           const double along = greville[static_cast<size_t>(j)];
           Eigen::Vector3d x;
           if (b == 0) {
@@ -198,7 +212,8 @@ inline volume::BlockMesh fanWedgeBlocks(double alpha) {
             x = s == 0.0 ? offEdge(y, t, lower)
                          : Eigen::Vector3d(-2.0 * s * std::cos(alpha), y, -2.0 * s * std::sin(alpha)) + t * lower;
           } else {
-            const double angle = (2.0 * along - 1.0) * (M_PI / 2.0 - alpha);  // lower normal .. upper normal
+            const double turned = std::pow(along, 1.0 + shape.gather * t);
+            const double angle = (2.0 * turned - 1.0) * (M_PI / 2.0 - alpha);  // lower normal .. upper normal
             const Eigen::Vector3d direction = along == 0.0   ? lower
                                               : along == 1.0 ? upper
                                                              : Eigen::Vector3d(std::cos(angle), 0.0, std::sin(angle));
@@ -209,12 +224,12 @@ inline volume::BlockMesh fanWedgeBlocks(double alpha) {
       }
     }
     volume::Block& block = blocks[static_cast<size_t>(b)];
-    block.volume = volume::BsplineVolume({3, 3, 3}, {knots, knots, knots}, poles);
+    block.volume = volume::BsplineVolume({3, 3, 3}, {knots, knots, normalKnots}, poles);
     using volume::BoundaryCondition;
     for (volume::BlockFace& face : block.faces) face.condition = BoundaryCondition::Farfield;
     block.faces[static_cast<size_t>(volume::BlockFaceSide::UMin)].condition = BoundaryCondition::Symmetry;
-    block.faces[static_cast<size_t>(volume::BlockFaceSide::WMin)].condition =
-        b == 2 ? BoundaryCondition::Collapsed : BoundaryCondition::Wall;
+    block.faces[static_cast<size_t>(shape.wallAtEnd ? volume::BlockFaceSide::WMax : volume::BlockFaceSide::WMin)]
+        .condition = b == 2 ? BoundaryCondition::Collapsed : BoundaryCondition::Wall;
   }
   auto link = [&](int b, volume::BlockFaceSide side, int other, volume::BlockFaceSide otherSide) {
     volume::BlockFace& face = blocks[static_cast<size_t>(b)].faces[static_cast<size_t>(side)];

@@ -37,62 +37,6 @@ grid::RefinedGrid refinedFan(double spacing = 0.5) {
   return grid::refineBlockMesh(test::fanWedgeBlocks(kHalfWedge), options);
 }
 
-// fanWedgeBlocks' three blocks with three knot spans off the wall and a fan whose lines gather
-// towards its upper side the farther out they are (fraction along^(1 + 2 t) of the turn at
-// distance t), so that its spacing round the edge differs from layer to layer; with `wallAtEnd`
-// the same volume parametrised from the far field in (the wall and the edge at w_max).
-BlockMesh unevenFanBlocks(bool wallAtEnd) {
-  const std::vector<double> knots = uniformClampedKnots(3, 2), normalKnots = uniformClampedKnots(3, 3);
-  const std::vector<double> greville = grevilleAbscissae(knots, 3),
-                            normalGreville = grevilleAbscissae(normalKnots, 3);
-  const Vector3d upper(std::sin(kHalfWedge), 0.0, std::cos(kHalfWedge));
-  const Vector3d lower(std::sin(kHalfWedge), 0.0, -std::cos(kHalfWedge));
-  std::vector<Block> blocks(3);
-  for (int b = 0; b < 3; ++b) {
-    RowMatrixX3d poles(5 * 5 * 6, 3);
-    for (int k = 0; k < 6; ++k) {
-      const double t = normalGreville[static_cast<size_t>(wallAtEnd ? 5 - k : k)] / 3.0;
-      for (int j = 0; j < 5; ++j) {
-        for (int i = 0; i < 5; ++i) {
-          const double y = greville[static_cast<size_t>(i)] / 2.0,
-                       along = greville[static_cast<size_t>(j)] / 2.0;
-          Vector3d x(0.0, y, 0.0);
-          if (b == 0) {
-            x += Vector3d(-2.0 * along * std::cos(kHalfWedge), 0.0, 2.0 * along * std::sin(kHalfWedge)) +
-                 t * upper;
-          } else if (b == 1) {
-            const double s = 1.0 - along;
-            x += Vector3d(-2.0 * s * std::cos(kHalfWedge), 0.0, -2.0 * s * std::sin(kHalfWedge)) + t * lower;
-          } else {
-            const double angle = (2.0 * std::pow(along, 1.0 + 2.0 * t) - 1.0) * (M_PI / 2.0 - kHalfWedge);
-            x += t * (along == 0.0   ? lower
-                      : along == 1.0 ? upper
-                                     : Vector3d(std::cos(angle), 0.0, std::sin(angle)));
-          }
-          poles.row(i + 5 * (j + 5 * k)) = x.transpose();
-        }
-      }
-    }
-    Block& block = blocks[static_cast<size_t>(b)];
-    block.volume = BsplineVolume({3, 3, 3}, {knots, knots, normalKnots}, poles);
-    for (BlockFace& face : block.faces) face.condition = BoundaryCondition::Farfield;
-    block.faces[static_cast<size_t>(BlockFaceSide::UMin)].condition = BoundaryCondition::Symmetry;
-    block.faces[static_cast<size_t>(wallAtEnd ? BlockFaceSide::WMax : BlockFaceSide::WMin)].condition =
-        b == 2 ? BoundaryCondition::Collapsed : BoundaryCondition::Wall;
-  }
-  const auto link = [&](int b, BlockFaceSide side, int other, BlockFaceSide otherSide) {
-    BlockFace& face = blocks[static_cast<size_t>(b)].faces[static_cast<size_t>(side)];
-    face.condition = BoundaryCondition::Connected;
-    face.neighbour.block = other;
-    face.neighbour.face = static_cast<int>(otherSide);
-  };
-  link(0, BlockFaceSide::VMin, 2, BlockFaceSide::VMax);
-  link(2, BlockFaceSide::VMax, 0, BlockFaceSide::VMin);
-  link(1, BlockFaceSide::VMax, 2, BlockFaceSide::VMin);
-  link(2, BlockFaceSide::VMin, 1, BlockFaceSide::VMax);
-  return BlockMesh(std::move(blocks));
-}
-
 TEST(CollapsedFace, TheFanTakesItsSpacingRoundTheEdgeFromItsFirstKnotOffTheWallAtEitherEnd) {
   // The same volume parametrised from the wall out and from the far field in: the same grid, point
   // for point (the fan's spacing from the line at the first knot off the wall; taken at the first
@@ -100,8 +44,11 @@ TEST(CollapsedFace, TheFanTakesItsSpacingRoundTheEdgeFromItsFirstKnotOffTheWallA
   grid::RefinementOptions options;
   options.normalPoints = 9;
   options.tangentialSpacing = 0.25;
-  const grid::RefinedGrid out = grid::refineBlockMesh(unevenFanBlocks(false), options);
-  const grid::RefinedGrid in = grid::refineBlockMesh(unevenFanBlocks(true), options);
+  // Three knot spans off the wall, the fan's lines gathering towards its upper side farther out.
+  test::FanWedgeShape shape{3, 2.0, false};
+  const grid::RefinedGrid out = grid::refineBlockMesh(test::fanWedgeBlocks(kHalfWedge, shape), options);
+  shape.wallAtEnd = true;
+  const grid::RefinedGrid in = grid::refineBlockMesh(test::fanWedgeBlocks(kHalfWedge, shape), options);
   const grid::GridBlock& a = out.grid.blocks()[2];
   const grid::GridBlock& b = in.grid.blocks()[2];
   ASSERT_EQ(a.size, b.size);
