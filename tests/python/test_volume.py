@@ -503,6 +503,9 @@ class M6KnifeEdgeFans(unittest.TestCase):
                                                      knife_edge_fans=True)
         cls.euler = bvmesh.grid.refine(cls.mesh, "euler", target_cells=1000000)
         cls.rans = bvmesh.grid.refine(cls.mesh, "rans", target_cells=1000000, reynolds_number=11.72e6)
+        # The fan's block, the same in the blocks and in their grids.
+        cls.fan = next(b for b in range(cls.mesh.blocks.block_count)
+                       if cls.mesh.blocks.faces(b)["w_min"]["condition"] == "collapsed")
 
     def test_one_fan_along_the_trailing_edge(self):
         fans = [b for b in range(self.mesh.blocks.block_count)
@@ -531,8 +534,7 @@ class M6KnifeEdgeFans(unittest.TestCase):
         # grid layer), station by station up to the tip corner: 27.5 degrees each along the span,
         # within a factor 1.61 of each other where the fan closes; 4 when the fan's lines kept
         # their lean along the edge while its sides turned back onto their faces' normals.
-        fan = next(b for b in range(self.rans.grid.block_count) if self.rans.grid.faces(b)["w_min"]["condition"] == "collapsed")
-        points = self.rans.grid.points(fan)
+        points = self.rans.grid.points(self.fan)
         for i in range(points.shape[0] - 1):
             lines = points[i, :, 1] - points[i, 0, 0]
             lines /= np.linalg.norm(lines, axis=1)[:, None]
@@ -545,9 +547,8 @@ class M6KnifeEdgeFans(unittest.TestCase):
 
         if shutil.which("checkMesh") is None:
             self.skipTest("checkMesh (openfoam) is not installed")
-        fan = next(b for b in range(self.euler.grid.block_count) if self.euler.grid.faces(b)["w_min"]["condition"] == "collapsed")
         for refined, allowed in ((self.euler, []), (self.rans, ["aspect ratio"])):
-            ni, nj, nk, _ = refined.grid.points(fan).shape
+            ni, nj, nk, _ = refined.grid.points(self.fan).shape
             with tempfile.TemporaryDirectory() as case:
                 bvmesh.grid.write_openfoam(refined, case)
                 result = subprocess.run(["checkMesh", "-case", case], env=OPENFOAM, capture_output=True,
