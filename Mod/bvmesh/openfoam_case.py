@@ -403,7 +403,7 @@ functions
     if solver == "rhoCentralFoam":
         dictionaries = openfoam_schemes.central_schemes()
     else:
-        dictionaries = openfoam_schemes.pressure_based_schemes(solver == "rhoPimpleFoam", max_courant)
+        dictionaries = openfoam_schemes.pressure_based_schemes(solver == "rhoPimpleFoam", max_courant, model)
     for name, body in dictionaries.items():
         _write(case, "system", name, body)
     fv_options = os.path.join(case, "system", "fvOptions")

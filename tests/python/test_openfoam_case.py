@@ -398,6 +398,12 @@ class DefaultM6Grid(unittest.TestCase):
             ofc.m6_grid("euler", edge_points=5, y_plus=30.0)
 
 
+def pressure_convection(case):
+    """The scheme of the transonic pressure equation's convection term in a case's fvSchemes."""
+    with open(os.path.join(case, "system", "fvSchemes")) as file:
+        return re.search(r"div\(phid,p\)\s+Gauss\s+([^;]+);", file.read()).group(1)
+
+
 def boundary_cells(case, patch):
     """The cells owning a patch's faces (constant/polyMesh/owner as BVMesh writes it, ascii)."""
     entry = ofc.read_boundary(case)[patch]
@@ -460,6 +466,9 @@ class CoarseM6Run(unittest.TestCase):
         # The stages set the run's write interval, not the function objects' (every step).
         self.assertEqual(re.findall(r"(?m)^\s*writeInterval\s+(\d+);", control), ["10", "1", "1"])
         self.assertTrue(os.path.isdir(os.path.join(self.case, "20")))
+        # The euler case's transonic pressure convection at second order, TVD-limited: upwind smeared
+        # the M6's shocks away (docs/cfd.md, Schemes).
+        self.assertEqual(pressure_convection(self.case), "limitedLinear 1")
 
     def test_case_is_in_metres_with_the_m6_patches(self):
         patches = ofc.read_boundary(self.case)
@@ -527,6 +536,7 @@ class CoarseM6Run(unittest.TestCase):
         self.assertRegex(read("0", "U"), r"wall\s*\{\s*type\s+noSlip;")
         self.assertRegex(read("0", "nut"), r"wall\s*\{\s*type\s+nutUSpaldingWallFunction;")
         self.assertIn("limitTemperature", read("system", "fvOptions"))
+        self.assertEqual(pressure_convection(case), "upwind")  # measured with it at y+ 30
         settings = ofc.read_settings(case)
         self.assertAlmostEqual(settings["freestream"]["reynolds_number"] / 11.72e6, 1.0, places=9)
         # Courant 0.5 after the start-up: 2 diverged on a 59 k-cell rans grid (docs/cfd.md).
@@ -627,6 +637,7 @@ class CoarseM6Run(unittest.TestCase):
     def test_simple_run_residuals_finite_and_falling(self):
         case = ofc.write_case(self.case, os.path.join(self.folder.name, "simple"), solver="rhoSimpleFoam",
                               iterations=10, length_unit=1.0)
+        self.assertEqual(pressure_convection(case), "upwind")
         self.check_residuals(ofr.run_case(case), 10)
 
 
