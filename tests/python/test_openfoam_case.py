@@ -157,6 +157,12 @@ class ShockPositions(unittest.TestCase):
         self.assertEqual(post.shock_positions(self.X, recovery), [])
         small = -0.8 + self.jump(self.X, 0.5, 0.1)  # steep but a rise of 0.1 only
         self.assertEqual(post.shock_positions(self.X, small), [])
+        # A sharp trailing edge's recovery: 0.2 over the last 5 % of the chord (4 per chord), steep
+        # up to the last point, after a shock at 0.5.
+        recovering = -1.0 + self.jump(self.X, 0.5, 0.6) + np.where(self.X > 0.95, 4.0 * (self.X - 0.95), 0.0)
+        found = post.shock_positions(self.X, recovering)
+        self.assertEqual(len(found), 1)
+        self.assertAlmostEqual(found[0], 0.5, delta=1e-4)
         # A compression ahead of the suction peak (the stagnation point's side) is not searched.
         ahead = np.where(self.X < 0.1, -0.5 + 10.0 * self.X, -1.2) + self.jump(self.X, 0.6, 0.5)
         found = post.shock_positions(self.X, ahead)
