@@ -76,5 +76,34 @@ TEST(TaubinSmoothing, BadInputIsRejected) {
   EXPECT_THROW(taubinSmooth(points, ringNeighbours(3), bad), InvalidInputError);
 }
 
+// The ring's alternating mode has umbrella eigenvalue -2: one iteration scales it by
+// (1 - 2 lambda)(1 - 2 mu), the figure the check bounds.
+double alternatingModeGain(double lambda, double mu) {
+  const int count = 8;
+  RowMatrixX3d points = RowMatrixX3d::Zero(count, 3);
+  for (int i = 0; i < count; ++i) points(i, 2) = i % 2 == 0 ? 1.0 : -1.0;
+  TaubinOptions options;
+  options.iterations = 1;
+  options.lambda = lambda;
+  options.mu = mu;
+  return taubinSmooth(points, ringNeighbours(count), options)(0, 2);
+}
+
+TEST(TaubinSmoothing, PairsThatAmplifyAWavelengthAreRefusedBeforeMovingAPoint) {
+  EXPECT_NEAR(alternatingModeGain(0.6307, -0.6732), (1 - 2 * 0.6307) * (1 + 2 * 0.6732), 1e-14);
+  EXPECT_NEAR(alternatingModeGain(0.5, 0.0), 0.0, 1e-14);  // a plain Laplacian step
+  EXPECT_NEAR(alternatingModeGain(0.5, -0.5), 0.0, 1e-14);
+  const RowMatrixX3d points = RowMatrixX3d::Zero(3, 3);
+  TaubinOptions bad;
+  for (const auto& [lambda, mu] : {std::pair{2147483648.0, -1.0},  // the fitter's vertices went to 1e27
+                                   std::pair{0.9, -0.95},          // the finest mode 2.3 times per iteration
+                                   std::pair{0.3, -0.6},           // a middle wavelength 1.125 times
+                                   std::pair{-0.5, -0.5}}) {      // growing every wavelength
+    bad.lambda = lambda;
+    bad.mu = mu;
+    EXPECT_THROW(taubinSmooth(points, ringNeighbours(3), bad), InvalidInputError) << lambda << " " << mu;
+  }
+}
+
 }  // namespace
 }  // namespace bvmesh::fit

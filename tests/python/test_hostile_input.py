@@ -627,8 +627,9 @@ class VolumeStageInput(unittest.TestCase):
 
 class FitStepBounds(unittest.TestCase):
     """Step counts that held the caller for days (the workbench's Parameter correction and Smooth
-    run on its main thread: 10**9 passes) and a Subdivide clicked on past max_level (4 times the
-    memory a level) are refused by name, the fit left as it was."""
+    run on its main thread: 10**9 passes), smoothing factors that blow the mesh up and a Subdivide
+    clicked on past max_level (4 times the memory a level) are refused by name, the fit left as it
+    was."""
 
     def test_step_counts_and_levels_are_bounded(self):
         fitter = bvmesh.SurfaceFitter(sphere_target(), bvmesh.ControlMesh(CUBE_VERTICES, CUBE_FACES), max_level=1)
@@ -639,6 +640,9 @@ class FitStepBounds(unittest.TestCase):
             fitter.correct_parameters(10 ** 9)
         with self.assertRaisesRegex(bvmesh.InvalidInputError, r"smoothing iterations must be 0 .. 10000, got 1000000000"):
             fitter.smooth(10 ** 9, 0.6307, -0.6732)
+        # A lambda|mu pair that amplifies took the vertices to 1e27 in three iterations.
+        with self.assertRaisesRegex(bvmesh.InvalidInputError, r"lambda 2.14748e\+09 and mu -1 amplifies"):
+            fitter.smooth(3, 2.0 ** 31, -1.0)
         with self.assertRaisesRegex(bvmesh.InvalidInputError, r"the fit is at its max_level 1: raise max_level"):
             fitter.subdivide()
         self.assertLess(time.time() - start, 5.0)

@@ -41,6 +41,9 @@ class Construction(unittest.TestCase):
         self.assertEqual(sorted(report["sharp_edges"]), sorted(target.sharp_edges(30.0)))
         # The sharp trailing edge is nearly a knife edge; only it passes 150 degrees.
         self.assertEqual(len(target.sharp_edges(150.0)), 1)
+        for angle in (float("nan"), -1.0, 181.0):  # NaN gave an empty list, as if nothing were sharp
+            with self.assertRaisesRegex(ValueError, "angle_deg must be 0 .. 180, got"):
+                target.sharp_edges(angle)
 
     @unittest.skipIf(Part is None, "FreeCAD is not importable")
     def test_from_freecad_brep_text_equals_from_file(self):

@@ -1,9 +1,11 @@
 #include "core/fit/smoothing.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
 #include "core/common/errors.h"
+#include "core/common/number_text.h"
 
 namespace bvmesh::fit {
 namespace {
@@ -23,6 +25,18 @@ void umbrellaStep(const RowMatrixX3d& from, RowMatrixX3d& to, const std::vector<
   }
 }
 
+// The pair of steps scales a mode of the umbrella operator with eigenvalue -k (k in [0, 2]) by
+// (1 - lambda k)(1 - mu k): the largest magnitude over k, at an end or at the parabola's vertex.
+double largestPairGain(double lambda, double mu) {
+  const auto gain = [&](double k) { return std::abs((1.0 - lambda * k) * (1.0 - mu * k)); };
+  double largest = std::max(gain(0.0), gain(2.0));
+  if (lambda * mu != 0.0) {
+    const double vertex = (lambda + mu) / (2.0 * lambda * mu);
+    if (vertex > 0.0 && vertex < 2.0) largest = std::max(largest, gain(vertex));
+  }
+  return largest;
+}
+
 }  // namespace
 
 RowMatrixX3d taubinSmooth(const RowMatrixX3d& points, const std::vector<std::vector<int>>& neighbours,
@@ -33,6 +47,13 @@ RowMatrixX3d taubinSmooth(const RowMatrixX3d& points, const std::vector<std::vec
   }
   if (!std::isfinite(options.lambda) || !std::isfinite(options.mu)) {
     throw InvalidInputError("Taubin smoothing needs finite lambda and mu");
+  }
+  const double gain = largestPairGain(options.lambda, options.mu);
+  if (gain > kMaxTaubinPairGain) {
+    throw InvalidInputError("Taubin smoothing with lambda " + numberText(options.lambda) + " and mu " +
+                            numberText(options.mu) + " amplifies some wavelength " + numberText(gain) +
+                            " times per iteration (the points would run away): take 0 < lambda < 1 and "
+                            "-1 < mu < -lambda, such as 0.6307 and -0.6732");
   }
   // A count past the bound is a typo that would hold the caller (a workbench's main thread) for days.
   if (options.iterations < 0 || options.iterations > kMaxTaubinIterations) {

@@ -14,6 +14,9 @@
 namespace bvmesh::fit {
 
 constexpr int kMaxTaubinIterations = 10000;
+// The most a lambda|mu pair may scale any wavelength per iteration: Taubin's own pairs pass their
+// band at about 1.001; a pair above this makes the points run away (1e27 after three iterations).
+constexpr double kMaxTaubinPairGain = 1.05;
 
 struct TaubinOptions {
   int iterations = 10;   // each iteration is one lambda step and one mu step
@@ -22,7 +25,8 @@ struct TaubinOptions {
 };
 
 // points: #P x 3; neighbours: #P lists of vertex ids (an empty list keeps that point).
-// Throws InvalidInputError for mismatched sizes, ids out of range or non-finite factors.
+// Throws InvalidInputError for mismatched sizes, ids out of range, non-finite factors or a pair that
+// amplifies some wavelength more than kMaxTaubinPairGain per iteration.
 RowMatrixX3d taubinSmooth(const RowMatrixX3d& points, const std::vector<std::vector<int>>& neighbours,
                          const TaubinOptions& options = {});
 

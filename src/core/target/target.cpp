@@ -726,6 +726,9 @@ int Target::edgeCount() const { return static_cast<int>(data_->edges.size()); }
 int Target::vertexCount() const { return static_cast<int>(data_->vertices.size()); }
 
 std::vector<int> Target::sharpEdges(double angleDeg) const {
+  // NaN compares false with every dihedral angle and gave an empty list, as if none were sharp.
+  if (!(angleDeg >= 0.0 && angleDeg <= 180.0))
+    throw InvalidInputError("Target: sharp_edges angle_deg must be 0 .. 180, got " + numberText(angleDeg));
   std::vector<int> result;
   const std::vector<cad::EdgeInfo>& edges = data_->report.shape.edges;
   for (std::size_t i = 0; i < edges.size(); ++i) {
