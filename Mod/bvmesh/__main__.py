@@ -11,7 +11,8 @@ on PYTHONPATH; scripts/setup.sh sets that up).
                   --mesh (an OpenFOAM case directory with patches wall, farfield or a box's
                   inlet / outlet / side, and symmetry on a half model, in
                   --length-unit metres per unit) or the bundled M6 grid built here; --run runs
-                  the solver, --report DIR writes the Cp comparison and convergence report
+                  the solver, --report DIR writes the Cp comparison and convergence report;
+                  --continue --iterations N goes on with a case run before up to step N
 """
 
 import argparse
@@ -32,8 +33,16 @@ def _info(path, sharp_angle_degrees, sew=True, sew_tolerance=0.0):
 
 
 def _openfoam_case(args):
-    from bvmesh import openfoam_case, openfoam_post, openfoam_run
+    from bvmesh import openfoam_case, openfoam_run
 
+    if args.continue_run:
+        if args.mesh:
+            raise ValueError("--continue goes on with the case as it is: it takes no --mesh")
+        case = os.path.abspath(args.case)
+        step = openfoam_run.continue_case(case, args.iterations)
+        print("continuing {} from step {} to {}".format(case, step, args.iterations))
+        _run_and_report(case, args)
+        return
     if args.mesh:
         source = args.mesh
     else:
@@ -52,16 +61,21 @@ def _openfoam_case(args):
         solver=args.solver, max_courant=args.max_courant, initial_solution=args.initial_solution)
     print("case written: {}".format(case))
     if args.run:
-        result = openfoam_run.run_case(case, cores=args.cores, timeout=args.timeout)
-        print("{}: {} iterations in {:.0f} s{}, CL {:.4f}, CD {:.5f}".format(
-            openfoam_case.read_settings(case)["solver"], result["iterations"], result["wall_time"],
-            ", stopped " + result["stopped"] if result["stopped"] else "",
-            result["coefficients"]["Cl"][-1], result["coefficients"]["Cd"][-1]))
-        if args.report:
-            summary = openfoam_post.write_report(case, args.report)
-            print("report: {} (RMS dCp per station: {})".format(
-                os.path.join(args.report, "report.md"),
-                ", ".join("{:.3f}".format(s["rms"]) for s in summary["stations"])))
+        _run_and_report(case, args)
+
+
+def _run_and_report(case, args):
+    from bvmesh import openfoam_case, openfoam_post, openfoam_run
+
+    result = openfoam_run.run_case(case, cores=args.cores, timeout=args.timeout)
+    print("{}: {} iterations in {:.0f} s{}, CL {:.4f}, CD {:.5f}".format(
+        openfoam_case.read_settings(case)["solver"], result["iterations"], result["wall_time"],
+        ", stopped " + result["stopped"] if result["stopped"] else "",
+        result["coefficients"]["Cl"][-1], result["coefficients"]["Cd"][-1]))
+    if args.report:
+        summary = openfoam_post.write_report(case, args.report)
+        print("report: {} (RMS dCp per station: {})".format(
+            os.path.join(args.report, "report.md"), ", ".join("{:.3f}".format(s["rms"]) for s in summary["stations"])))
 
 
 def main(argv=None):
@@ -119,6 +133,9 @@ def main(argv=None):
     cfd.add_argument("--knife-edge-fans", action="store_true",
                      help="M6 grid: the sharp trailing edge cut open with a fan of prisms round it")
     cfd.add_argument("--run", action="store_true", help="run the solver (nice -n 19)")
+    cfd.add_argument("--continue", dest="continue_run", action="store_true",
+                     help="go on with CASE, written and run before (stopped by --timeout, or at its end), from its "
+                          "latest written step to --iterations steps in all, and run it; nothing is written anew")
     cfd.add_argument("--cores", type=int, default=1, help="cores for the solver (default 1)")
     cfd.add_argument("--timeout", type=float, help="stop the solver after this many seconds, keeping its last write")
     cfd.add_argument("--report", help="with --run: folder for the Cp plots, convergence plot and report.md")

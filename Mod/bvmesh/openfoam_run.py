@@ -18,7 +18,7 @@ import signal
 import subprocess
 import time
 
-from .openfoam_case import _time_folders, _write, read_settings
+from .openfoam_case import SETTINGS_FILE, _time_folders, _write, read_settings
 
 OPENFOAM_DIR = "/usr/share/openfoam"
 
@@ -154,10 +154,55 @@ def _run_tool(case, arguments, log_path, prefix, environment, limit=None, mode="
     return text, timed_out
 
 
+def latest_step(case):
+    """The latest step the case has written (0 before its first write)."""
+    written = _time_folders(case)
+    return int(round(float(written[-1]))) if written else 0
+
+
+def _stages_to(settings, iterations):
+    """The case's stages run to `iterations` steps: each ends there at the latest, the last one
+    exactly there; those beyond are left out."""
+    stages = []
+    for number, stage in enumerate(settings["stages"]):
+        last = number == len(settings["stages"]) - 1
+        stages.append(dict(stage, end=iterations if last else min(stage["end"], iterations)))
+        if stages[-1]["end"] == iterations:
+            break
+    return stages
+
+
+def continue_case(case, iterations):
+    """Sets a case that has run before (to its end, or stopped by run_case's timeout) to go on from
+    its latest written step to `iterations` steps in all; run_case then runs what is left through
+    the case's stages, appending to the solver's log; fields, schemes and the other settings stay.
+    Returns the step it goes on from. ValueError when the case has written no step (run_case runs
+    it from its start), when `iterations` is not beyond the latest step, or when the write
+    interval of the stage it ends in does not divide it (OpenFOAM writes only at write times)."""
+    settings = read_settings(case)
+    latest = latest_step(case)
+    if latest == 0:
+        raise ValueError("{} has written no step yet: run it (run_case) instead of continuing it".format(case))
+    if not (isinstance(iterations, int) and iterations > latest):
+        raise ValueError("{} has run to step {}: to continue it, give more iterations than that, got {!r}".format(
+            case, latest, iterations))
+    interval = _stages_to(settings, iterations)[-1]["write_interval"]
+    if iterations % interval:
+        raise ValueError("the case writes every {} steps there: iterations must be a multiple of that, got {}".format(
+            interval, iterations))
+    settings["iterations"] = iterations
+    settings["stages"][-1]["end"] = max(settings["stages"][-1]["end"], iterations)
+    with open(os.path.join(case, SETTINGS_FILE), "w") as file:
+        json.dump(settings, file, indent=2)
+    return latest
+
+
 def run_case(case, cores=1, nice=19, timeout=None, log_name=None):
     """Runs the case's solver (under `nice`, on `cores` cores: decomposePar / mpirun / reconstructPar
     above 1), after the case's start (start_case) on a case not run before, and returns
-    {iterations, wall_time, log, residuals, coefficients, cores, stopped}.
+    {iterations, wall_time, log, residuals, coefficients, cores, stopped}. A case that has written
+    steps before goes on from its latest one through the stages left (continue_case sets how far),
+    its log appended to; one with none left is a ValueError.
     timeout (s) stops the solver and keeps what it wrote (stopped says so).
     OpenFOAM tools can exit 0 after a failure, so the log is read: a FOAM FATAL, a non-zero exit,
     no residuals or a non-finite one raise RuntimeError naming the log."""
@@ -182,9 +227,14 @@ def run_case(case, cores=1, nice=19, timeout=None, log_name=None):
     if cores > 1 and hasattr(os, "geteuid") and os.geteuid() == 0:
         # Open MPI refuses root unless told twice.
         environment.update(OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1")
+    latest = latest_step(case)
+    stages = [stage for stage in _stages_to(settings, settings["iterations"]) if stage["end"] > latest]
+    if not stages:
+        raise ValueError("{} has run to step {}, the end of its last stage: continue_case sets it to go on".format(
+            case, latest))
     start = time.monotonic()
     start_case(case, nice)
-    for number, stage in enumerate(settings["stages"]):
+    for number, stage in enumerate(stages):
         if stopped:
             break
         _set_entries(os.path.join(case, "system", "controlDict"), True,
@@ -194,7 +244,7 @@ def run_case(case, cores=1, nice=19, timeout=None, log_name=None):
         elif solver == "rhoCentralFoam":
             _set_entries(os.path.join(case, "system", "controlDict"), True, maxCo=stage["max_courant"])
         limit = None if timeout is None else max(1.0, timeout - (time.monotonic() - start))
-        mode = "w" if number == 0 else "a"
+        mode = "w" if number == 0 and latest == 0 else "a"
         if cores > 1:
             _write_decompose(case, cores)
             tool(["decomposePar", "-force", "-latestTime"], os.path.join(case, "log.decomposePar"))

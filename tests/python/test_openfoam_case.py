@@ -593,7 +593,7 @@ class CoarseM6Run(unittest.TestCase):
         magnitude = np.linalg.norm(post.read_internal_field(mapped, 0, "U"), axis=1)
         self.assertTrue(np.all(magnitude[boundary_cells(mapped, "wall")] < 0.6 * speed))
 
-    def test_timeout_stops_the_solver_and_keeps_what_it_wrote(self):
+    def test_timeout_stops_the_solver_and_a_continued_run_goes_on_from_its_last_write(self):
         case = ofc.write_case(self.case, os.path.join(self.folder.name, "stopped"), iterations=100000,
                               write_interval=5, length_unit=1.0)
         result = ofr.run_case(case, timeout=4.0)
@@ -601,6 +601,29 @@ class CoarseM6Run(unittest.TestCase):
         self.assertGreater(result["iterations"], 5)
         self.assertLess(result["wall_time"], 40.0)
         post.wall_surface_file(case)  # a written time step is there
+        # Continued from its latest write (past the 50 start-up steps: it wrote a wall surface) to
+        # 10 steps beyond it: the residuals run on without a gap, the first run's log is kept.
+        from bvmesh.__main__ import main
+
+        latest = ofr.latest_step(case)
+        self.assertEqual(latest % 5, 0)
+        with self.assertRaisesRegex(ValueError, "writes every 5 steps there: iterations must be a multiple"):
+            ofr.continue_case(case, latest + 12)
+        self.assertEqual(main(["openfoam-case", case, "--continue", "--iterations", str(latest + 10)]), 0)
+        self.assertEqual(ofr.latest_step(case), latest + 10)
+        np.testing.assert_array_equal(post.read_residuals(case)["iteration"], np.arange(1, latest + 11))
+        with open(os.path.join(case, "log.rhoPimpleFoam")) as file:
+            log = file.read()
+        self.assertIn("\nTime = 1\n", log)
+        self.assertIn("\nTime = {}\n".format(latest + 10), log)
+        with self.assertRaisesRegex(ValueError, "has run to step {}, the end of its last stage".format(latest + 10)):
+            ofr.run_case(case)
+        with self.assertRaisesRegex(ValueError, "give more iterations than that"):
+            ofr.continue_case(case, latest + 10)
+        self.assertEqual(main(["openfoam-case", case, "--continue", "--mesh", self.case]), 1)
+        fresh = ofc.write_case(self.case, os.path.join(self.folder.name, "fresh"), length_unit=1.0)
+        with self.assertRaisesRegex(ValueError, "has written no step yet"):
+            ofr.continue_case(fresh, 100)
 
     def test_default_start_up_runs_on_a_59k_grid(self):
         # Spaced as the default grid, 59 k cells: the start-up at Courant 0.5 diverged at step 5.
