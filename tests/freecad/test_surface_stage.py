@@ -166,6 +166,12 @@ class Fitting(DocumentTest):
             with self.assertRaisesRegex(RuntimeError, "cancelled"):
                 api.fit_to_tolerance(fit)
         self.assertEqual((list(fit.Steps), vectors(fit.ControlVertices), list(fit.HistoryMax)), before)
+        # A Smooth whose lambda|mu pair runs away (the fit's SmoothLambda / SmoothMu set so) is refused
+        # by name; before, its vertices went to 1e27 and the step stayed in the document.
+        fit.SmoothLambda, fit.SmoothMu = 2.0 ** 31, -1.0
+        with self.assertRaisesRegex(RuntimeError, "SurfaceFit failed: .*lambda 2.14748e\+09 and mu -1 amplifies"):
+            api.smooth(fit)
+        self.assertEqual((list(fit.Steps), vectors(fit.ControlVertices), list(fit.HistoryMax)), before)
         api.approximate(fit)  # and it goes on
         self.assertEqual(fit.Steps[-1], "approximate")
 
