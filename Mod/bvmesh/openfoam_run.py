@@ -191,7 +191,6 @@ def continue_case(case, iterations):
         raise ValueError("the case writes every {} steps there: iterations must be a multiple of that, got {}".format(
             interval, iterations))
     settings["iterations"] = iterations
-    settings["stages"][-1]["end"] = max(settings["stages"][-1]["end"], iterations)
     with open(os.path.join(case, SETTINGS_FILE), "w") as file:
         json.dump(settings, file, indent=2)
     return latest
