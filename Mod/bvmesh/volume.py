@@ -25,7 +25,11 @@ def offset_and_farfield(fit_or_mesh, symmetry_plane=None, marching_wall=None, **
 
     fit_or_mesh: a bvmesh.SurfaceFitter (its current control mesh and its symmetry plane are used)
     or an all-quad bvmesh.ControlMesh. symmetry_plane: (point, normal) of a half model; taken from
-    the fitter when not given. marching_wall: the same fit stopped at a lower level (a SurfaceFitter
+    the fitter when not given. outflow_plane (an option): (point, normal) of the outflow boundary a
+    body runs into (a sting, as the hemisphere-cylinder's): the wall's open boundary off the
+    symmetry plane lies on it, the grid lines there run in it, the blocks' faces in it are 'outlet';
+    the domain is then the sphere around a centre on it (domain_centre, or the wall's centre moved
+    onto it), cut by it. marching_wall: the same fit stopped at a lower level (a SurfaceFitter
     or its ControlMesh): the layers are marched from it and carried onto the wall, whose charts stay
     the blocks' wall faces (a fine wall whose own marching folds keeps its accuracy). options: those
     of bvmesh.generate_volume_mesh (reference_length, reynolds_number, boundary_layer_thickness,

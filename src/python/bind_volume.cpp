@@ -46,17 +46,16 @@ std::vector<double> parametersOf(const py::object& object, const char* name) {
   return std::vector<double>(array.data(), array.data() + array.size());
 }
 
-void setSymmetryPlane(const py::object& symmetryPlane, volume::VolumeMeshOptions& options) {
-  if (symmetryPlane.is_none()) return;
-  if (!py::isinstance<py::sequence>(symmetryPlane) || py::isinstance<py::str>(symmetryPlane) ||
-      py::len(symmetryPlane) != 2) {
-    throw py::value_error("symmetry_plane must be (point, normal) or None, got " +
-                          std::string(py::repr(symmetryPlane)));
+// A plane argument, (point, normal) or None: false for None.
+bool planeOf(const py::object& plane, const std::string& name, Eigen::Vector3d& point, Eigen::Vector3d& normal) {
+  if (plane.is_none()) return false;
+  if (!py::isinstance<py::sequence>(plane) || py::isinstance<py::str>(plane) || py::len(plane) != 2) {
+    throw py::value_error(name + " must be (point, normal) or None, got " + std::string(py::repr(plane)));
   }
-  const py::sequence plane = symmetryPlane.cast<py::sequence>();
-  options.planePoint = vector3Of(plane[0], "symmetry_plane point");
-  options.planeNormal = vector3Of(plane[1], "symmetry_plane normal");
-  options.hasSymmetryPlane = true;
+  const py::sequence pair = plane.cast<py::sequence>();
+  point = vector3Of(pair[0], (name + " point").c_str());
+  normal = vector3Of(pair[1], (name + " normal").c_str());
+  return true;
 }
 
 // generate_volume_mesh and control_volume_mesh take the same marching options: one signature,
@@ -65,7 +64,8 @@ template <typename Make>
 void defineMarchingFunction(py::module_& module, const char* name, Make make, const char* doc) {
   module.def(
       name,
-      [make](const ControlMesh& wall, const py::object& symmetryPlane, double referenceLength,
+      [make](const ControlMesh& wall, const py::object& symmetryPlane, const py::object& outflowPlane,
+             double referenceLength,
              double reynoldsNumber, double boundaryLayerThickness, int boundaryLayerLayers,
              double boundaryLayerGrowth, double sharpEdgeSplay, double farfieldDistance,
              double farfieldGrowth, double smoothing, double minScaledJacobian, int maxLayers,
@@ -73,7 +73,8 @@ void defineMarchingFunction(py::module_& module, const char* name, Make make, co
              const std::optional<ControlMesh>& marchingWall, const py::object& domainCentre,
              const std::string& farfieldScheme, bool knifeEdgeFans) {
         volume::VolumeMeshOptions options;
-        setSymmetryPlane(symmetryPlane, options);
+        options.hasSymmetryPlane = planeOf(symmetryPlane, "symmetry_plane", options.planePoint, options.planeNormal);
+        options.hasOutflowPlane = planeOf(outflowPlane, "outflow_plane", options.outflowPoint, options.outflowNormal);
         if (!domainCentre.is_none()) {
           options.domainCentre = vector3Of(domainCentre, "domain_centre");
         }
@@ -99,7 +100,8 @@ void defineMarchingFunction(py::module_& module, const char* name, Make make, co
         const surface::QuadControlMesh coarse = surface::toQuadControlMesh(*marchingWall);
         return make(surface::toQuadControlMesh(wall), options, &coarse);
       },
-      py::arg("wall"), py::arg("symmetry_plane") = py::none(), py::arg("reference_length") = 0.0,
+      py::arg("wall"), py::arg("symmetry_plane") = py::none(), py::arg("outflow_plane") = py::none(),
+      py::arg("reference_length") = 0.0,
       py::arg("reynolds_number") = 5e6, py::arg("boundary_layer_thickness") = 0.0,
       py::arg("boundary_layer_layers") = 4, py::arg("boundary_layer_growth") = 1.2,
       py::arg("sharp_edge_splay") = 2.0, py::arg("farfield_distance") = 0.0, py::arg("farfield_growth") = 1.3,
@@ -246,7 +248,9 @@ void bindVolume(py::module_& module) {
       R"doc(The block-structured B-spline volume mesh around the limit surface of a fitted wall.
 
 wall: an all-quad bvmesh.ControlMesh (e.g. SurfaceFitter.mesh), outward oriented, closed or open only
-on symmetry_plane ((point, normal) of a half model). Boundary layer: boundary_layer_layers control
+on symmetry_plane ((point, normal) of a half model) and outflow_plane ((point, normal) of the domain's
+outflow boundary that the wall runs into, a sting; perpendicular to symmetry_plane, the domain a
+sphere centred on it, the blocks' faces in it 'outlet'). Boundary layer: boundary_layer_layers control
 layers along the wall normals, total thickness boundary_layer_thickness (0: the turbulent flat-plate
 estimate 0.37 L Re^-0.2 with L = reference_length, 0: the wall's largest extent); around sharp convex
 edges the grid lines fan out over a band sharp_edge_splay boundary-layer thicknesses wide, or with

@@ -1,9 +1,10 @@
 // The hyperbolic far-field step (Chan & Steger on an unstructured quad front): radial on a sphere,
-// mirrored ghosts on the symmetry plane equal to the whole model, clear errors for fronts it
-// cannot march.
+// mirrored ghosts on the symmetry plane, and on it and an outflow plane, equal to the whole model,
+// clear errors for fronts it cannot march.
 #include <gtest/gtest.h>
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <string>
@@ -60,7 +61,7 @@ Front quadSphere(int n) {
 TEST(HyperbolicStep, StepsOnASphereAreRadialWhereItsSymmetryFixesThemAndAsLongAsAskedOnAverage) {
   const int n = 8;
   const Front sphere = quadSphere(n);
-  HyperbolicStepper stepper(sphere.points.rows(), sphere.quads, {}, Vector3d::Zero(), Vector3d::UnitY(), {});
+  HyperbolicStepper stepper(sphere.points.rows(), sphere.quads, {}, BoundaryPlanes{}, {});
   const double thickness = 0.1;
   const RowMatrixX3d next = stepper.advance(sphere.points, sphere.points, thickness, 0.1);
   double shortest = 1.0, longest = 0.0, mean = 0.0;
@@ -94,8 +95,8 @@ TEST(HyperbolicStep, AStepperWarmedByAnEarlierStepMarchesAsAFreshOne) {
   const Front sphere = quadSphere(6);
   HyperbolicOptions exact;
   exact.solverTolerance = 1e-10;
-  HyperbolicStepper fresh(sphere.points.rows(), sphere.quads, {}, Vector3d::Zero(), Vector3d::UnitY(), exact);
-  HyperbolicStepper warmed(sphere.points.rows(), sphere.quads, {}, Vector3d::Zero(), Vector3d::UnitY(),
+  HyperbolicStepper fresh(sphere.points.rows(), sphere.quads, {}, BoundaryPlanes{}, exact);
+  HyperbolicStepper warmed(sphere.points.rows(), sphere.quads, {}, BoundaryPlanes{},
                            exact);
   const RowMatrixX3d earlier = warmed.advance(sphere.points, sphere.points, 0.03, 0.6);
   ASSERT_GT((earlier - sphere.points).rowwise().norm().minCoeff(), 0.02);
@@ -105,50 +106,86 @@ TEST(HyperbolicStep, AStepperWarmedByAnEarlierStepMarchesAsAFreshOne) {
   EXPECT_LT((next - expected).rowwise().norm().maxCoeff(), 1e-8 * thickness);
 }
 
-TEST(HyperbolicStep, MirroredGhostsOnTheSymmetryPlaneGiveTheWholeModelsStep) {
-  const Front sphere = quadSphere(8);
-  // The half y >= 0, its points on y = 0 kept on the plane.
-  std::vector<int> halfIndex(static_cast<size_t>(sphere.points.rows()), -1);
-  Front half;
+// The part of `whole` on the positive side of the coordinate planes x[axis] = 0 given with their
+// plane bits, its points on them marked with those bits, and each of its points' index in `whole`.
+struct Part {
+  Front front;
+  std::vector<unsigned char> onPlanes;
   std::vector<int> wholeIndex;
-  for (Eigen::Index p = 0; p < sphere.points.rows(); ++p) {
-    if (sphere.points(p, 1) < -1e-12) continue;
-    halfIndex[static_cast<size_t>(p)] = static_cast<int>(wholeIndex.size());
-    wholeIndex.push_back(static_cast<int>(p));
+};
+
+Part partOf(const Front& whole, const std::vector<std::pair<int, unsigned char>>& planes) {
+  Part part;
+  std::vector<int> partIndex(static_cast<size_t>(whole.points.rows()), -1);
+  for (Eigen::Index p = 0; p < whole.points.rows(); ++p) {
+    bool inside = true;
+    unsigned char on = 0;
+    for (const auto& [axis, bit] : planes) {
+      inside = inside && whole.points(p, axis) > -1e-12;
+      if (std::abs(whole.points(p, axis)) < 1e-12) on = static_cast<unsigned char>(on | bit);
+    }
+    if (!inside) continue;
+    partIndex[static_cast<size_t>(p)] = static_cast<int>(part.wholeIndex.size());
+    part.wholeIndex.push_back(static_cast<int>(p));
+    part.onPlanes.push_back(on);
   }
-  half.points.resize(static_cast<Eigen::Index>(wholeIndex.size()), 3);
-  std::vector<char> onPlane(wholeIndex.size(), 0);
-  for (size_t i = 0; i < wholeIndex.size(); ++i) {
-    half.points.row(static_cast<Eigen::Index>(i)) = sphere.points.row(wholeIndex[i]);
-    onPlane[i] = std::abs(sphere.points(wholeIndex[i], 1)) < 1e-12 ? 1 : 0;
+  part.front.points.resize(static_cast<Eigen::Index>(part.wholeIndex.size()), 3);
+  for (size_t i = 0; i < part.wholeIndex.size(); ++i) {
+    part.front.points.row(static_cast<Eigen::Index>(i)) = whole.points.row(part.wholeIndex[i]);
   }
-  for (const auto& quad : sphere.quads) {
+  for (const auto& quad : whole.quads) {
     std::array<int, 4> mapped{};
     bool inside = true;
     for (int k = 0; k < 4; ++k) {
-      mapped[static_cast<size_t>(k)] = halfIndex[static_cast<size_t>(quad[static_cast<size_t>(k)])];
+      mapped[static_cast<size_t>(k)] = partIndex[static_cast<size_t>(quad[static_cast<size_t>(k)])];
       inside = inside && mapped[static_cast<size_t>(k)] >= 0;
     }
-    if (inside) half.quads.push_back(mapped);
+    if (inside) part.front.quads.push_back(mapped);
   }
-  ASSERT_EQ(half.quads.size(), sphere.quads.size() / 2);
+  return part;
+}
+
+// One step of the part with its mirrored ghosts against the whole model's step: equal, and the
+// part's points on a plane exactly on it.
+void expectTheWholeModelsStep(const Front& whole, const Part& part, const BoundaryPlanes& planes) {
   HyperbolicOptions exact;
   exact.solverTolerance = 1e-10;
-  HyperbolicStepper whole(sphere.points.rows(), sphere.quads, {}, Vector3d::Zero(), Vector3d::UnitY(), exact);
-  HyperbolicStepper halved(half.points.rows(), half.quads, onPlane, Vector3d::Zero(), Vector3d::UnitY(),
-                           exact);
-  // Thin enough for one pseudo-step in both (the half's short edges are not the whole's).
+  HyperbolicStepper wholeStepper(whole.points.rows(), whole.quads, {}, BoundaryPlanes{}, exact);
+  HyperbolicStepper partStepper(part.front.points.rows(), part.front.quads, part.onPlanes, planes, exact);
+  // Thin enough for one pseudo-step in both (the part's short edges are not the whole's).
   const double thickness = 0.05;
-  const RowMatrixX3d wholeNext = whole.advance(sphere.points, sphere.points, thickness, 0.3);
-  const RowMatrixX3d halfNext = halved.advance(half.points, half.points, thickness, 0.3);
-  for (size_t i = 0; i < wholeIndex.size(); ++i) {
+  const RowMatrixX3d wholeNext = wholeStepper.advance(whole.points, whole.points, thickness, 0.3);
+  const RowMatrixX3d partNext = partStepper.advance(part.front.points, part.front.points, thickness, 0.3);
+  for (size_t i = 0; i < part.wholeIndex.size(); ++i) {
     const auto row = static_cast<Eigen::Index>(i);
     // The steps' linear systems are solved to 1e-10 of their right-hand side.
-    EXPECT_LT((halfNext.row(row) - wholeNext.row(wholeIndex[i])).norm(), 1e-8 * thickness) << "point " << i;
-    if (onPlane[i] != 0) {
-      EXPECT_EQ(halfNext(row, 1), 0.0) << "point " << i;
+    EXPECT_LT((partNext.row(row) - wholeNext.row(part.wholeIndex[i])).norm(), 1e-8 * thickness) << "point " << i;
+    for (size_t k = 0; k < 2; ++k) {
+      if ((part.onPlanes[i] & (1u << k)) != 0) {
+        EXPECT_EQ(partNext.row(row).dot(planes.normal[k].transpose()), 0.0) << "point " << i << " plane " << k;
+      }
     }
   }
+}
+
+TEST(HyperbolicStep, MirroredGhostsOnTheSymmetryPlaneGiveTheWholeModelsStep) {
+  const Front sphere = quadSphere(8);
+  // The half y >= 0, its points on y = 0 kept on the plane.
+  const Part half = partOf(sphere, {{1, kSymmetryPlaneBit}});
+  ASSERT_EQ(half.front.quads.size(), sphere.quads.size() / 2);
+  expectTheWholeModelsStep(sphere, half, BoundaryPlanes{});
+}
+
+TEST(HyperbolicStep, GhostsMirroredInTwoPlanesGiveTheWholeModelsStep) {
+  // The quarter x >= 0, y >= 0: the symmetry plane y = 0 and an outflow plane x = 0, the poles
+  // (0, 0, +-1) on both (a quarter of their ring is the front's, three quarters are images).
+  const Front sphere = quadSphere(8);
+  const Part quarter = partOf(sphere, {{1, kSymmetryPlaneBit}, {0, kOutflowPlaneBit}});
+  ASSERT_EQ(quarter.front.quads.size(), sphere.quads.size() / 4);
+  ASSERT_EQ(std::count(quarter.onPlanes.begin(), quarter.onPlanes.end(), kSymmetryPlaneBit | kOutflowPlaneBit), 2);
+  BoundaryPlanes planes;
+  planes.normal = {Vector3d::UnitY(), Vector3d::UnitX()};
+  expectTheWholeModelsStep(sphere, quarter, planes);
 }
 
 TEST(HyperbolicStep, FrontsItCannotMarchAreNamed) {
@@ -156,10 +193,10 @@ TEST(HyperbolicStep, FrontsItCannotMarchAreNamed) {
   // A hole: one quad missing leaves its corners on an open boundary off the symmetry plane.
   std::vector<std::array<int, 4>> open(sphere.quads.begin() + 1, sphere.quads.end());
   try {
-    HyperbolicStepper stepper(sphere.points.rows(), open, {}, Vector3d::Zero(), Vector3d::UnitY(), {});
+    HyperbolicStepper stepper(sphere.points.rows(), open, {}, BoundaryPlanes{}, {});
     FAIL() << "an open front was accepted";
   } catch (const InvalidInputError& error) {
-    EXPECT_NE(std::string(error.what()).find("open boundary off the symmetry plane"), std::string::npos)
+    EXPECT_NE(std::string(error.what()).find("open boundary off the symmetry and outflow planes"), std::string::npos)
         << error.what();
   }
   // Two spheres touching at one point: two fans around it.
@@ -170,7 +207,7 @@ TEST(HyperbolicStep, FrontsItCannotMarchAreNamed) {
     pinched.push_back(quad);
   }
   try {
-    HyperbolicStepper stepper(2 * offset, pinched, {}, Vector3d::Zero(), Vector3d::UnitY(), {});
+    HyperbolicStepper stepper(2 * offset, pinched, {}, BoundaryPlanes{}, {});
     FAIL() << "a pinched front was accepted";
   } catch (const InvalidInputError& error) {
     EXPECT_NE(std::string(error.what()).find("front point 0 has cells that do not form one fan"),
@@ -178,7 +215,7 @@ TEST(HyperbolicStep, FrontsItCannotMarchAreNamed) {
         << error.what();
   }
   // A front collapsed to a point has no tangent plane to march from.
-  HyperbolicStepper stepper(sphere.points.rows(), sphere.quads, {}, Vector3d::Zero(), Vector3d::UnitY(), {});
+  HyperbolicStepper stepper(sphere.points.rows(), sphere.quads, {}, BoundaryPlanes{}, {});
   const RowMatrixX3d collapsed = RowMatrixX3d::Zero(sphere.points.rows(), 3);
   EXPECT_THROW(stepper.advance(collapsed, collapsed, 0.1, 0.5), SolverError);
 }

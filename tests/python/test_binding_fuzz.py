@@ -81,6 +81,7 @@ class MalformedArguments(unittest.TestCase):
         grid = bvmesh.grid.refine(volume, "euler", edge_points=5, normal_points=9).grid
         marching = dict(boundary_layer_thickness=0.05, farfield_distance=20.0)
         control = _core.control_volume_mesh(wall, **marching)
+        marching.update(symmetry_plane=None, outflow_plane=None)  # both planes' parsing fuzzed too
         points = np.asarray(CUBE_VERTICES, float)
         path = lambda name: os.path.join(cls.folder.name, name)  # noqa: E731
         blocks.write(path("blocks.txt"))

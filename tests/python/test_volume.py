@@ -11,7 +11,8 @@ import numpy as np
 import bvmesh
 import bvmesh.volume
 
-from fixtures import CUBE_FACES, CUBE_VERTICES, OPENFOAM, check_mesh, smooth_border_normal_jumps, sphere_target
+from fixtures import (CUBE_FACES, CUBE_VERTICES, OPENFOAM, check_mesh, failed_checks, smooth_border_normal_jumps,
+                      sphere_target)
 
 
 def greville(knots):
@@ -632,6 +633,105 @@ class HemisphereCylinderVolume(unittest.TestCase):
         non_orthogonality = np.asarray(self.quality["non_orthogonality"])
         self.assertGreater(scaled.min(), 0.25)
         self.assertLess(non_orthogonality.max(), 70.0)
+
+
+class HemisphereCylinderIntoItsOutflowPlane(unittest.TestCase):
+    """The hemisphere-cylinder as its flow-domain file has it: the body (faces 3 and 4) runs into
+    the outflow plane x = 10 (face 2), a sting, inside the far-field sphere of radius 100 around
+    (10, 0, 0) (face 0) on the symmetry plane y = 0 (face 1). The wall's open tail lies on the
+    outflow plane, whose points march in it like the symmetry plane's (mirrored ghosts; the tail's
+    two rim points on both planes close their rings with three images). The domain's planes and
+    sphere come from the file's own faces."""
+
+    @classmethod
+    def setUpClass(cls):
+        import Part
+
+        from bvmesh import polyhedra
+
+        import bvmesh.grid
+
+        shape = Part.read(os.path.join(DATA, "hemisph-cyl.stp"))
+        sphere, outflow = shape.Faces[0].Surface, shape.Faces[2].Surface
+        cls.centre, cls.radius = np.array(sphere.Center), sphere.Radius
+        cls.outflow = (tuple(outflow.Position), tuple(outflow.Axis))
+        body = Part.Shell([shape.Faces[4], shape.Faces[3]])
+        body.sewShape()
+        target = bvmesh.Target.from_brep(body.exportBrepToString())
+        placed = polyhedra.place("capsule", target)
+        cls.tail = placed["parameters"]["tail"]
+        cls.fitter = bvmesh.SurfaceFitter(target, placed["mesh"], placed["feature_map"],
+                                          symmetry_plane=placed["symmetry_plane"], max_level=3, tolerance=1e-3)
+        cls.fitter.run()
+        cls.options = dict(reference_length=10.0, reynolds_number=1e6, domain_centre=tuple(cls.centre),
+                           farfield_distance=cls.radius)
+        cls.mesh = bvmesh.volume.offset_and_farfield(cls.fitter, outflow_plane=cls.outflow, **cls.options)
+        cls.grid = bvmesh.grid.refine(cls.mesh, "euler", target_cells=300000)
+        cls.quality = bvmesh.grid.quality(cls.grid)
+
+    def test_blocks_positive_on_both_planes_and_the_far_field(self):
+        self.assertEqual(self.tail, "open")
+        # Measured: samples 0.181 at worst; symmetry faces 1.9e-14 off y = 0; outlet faces 8.2e-10
+        # off x = 10, the fitted wall's rim (its control vertices lie so far off the CAD's circle),
+        # the marched layers' points on the plane exactly.
+        worst, _, symmetry_offset, outer = sampled_blocks(self.mesh)
+        self.assertGreater(worst, 0.15)
+        self.assertLess(symmetry_offset, 1e-12 * self.radius)
+        np.testing.assert_allclose(outer, self.radius, rtol=0.01)
+        blocks = self.mesh.blocks
+        conditions = [face["condition"] for b in range(blocks.block_count) for face in blocks.faces(b).values()]
+        self.assertEqual(conditions.count("outlet"), 3)
+        self.assertEqual(conditions.count("symmetry"), 3)
+        outlet_offset = 0.0
+        for b in range(blocks.block_count):
+            x = sampled_block(blocks, b)[0]
+            for name, face in (("u_min", x[0]), ("u_max", x[-1]), ("v_min", x[:, 0]), ("v_max", x[:, -1])):
+                if blocks.faces(b)[name]["condition"] == "outlet":
+                    outlet_offset = max(outlet_offset, np.abs(face[..., 0] - 10.0).max())
+                    # The marched layers' points lie on the plane: the outer edge to rounding.
+                    self.assertLess(np.abs(face[:, -1, 0] - 10.0).max(), 1e-15 * self.radius)
+        self.assertLess(outlet_offset, 1e-11 * self.radius)
+
+    def test_euler_grid_quality_and_openfoam_patches(self):
+        import shutil
+
+        import bvmesh.grid
+
+        # Measured on the 300 k-cell euler grid: minimum scaled Jacobian 0.446, largest
+        # non-orthogonality 53.2 degrees (the closed-base body above: 0.307 and 62.5).
+        self.assertGreater(np.min(self.quality["scaled_jacobian"]), 0.4)
+        self.assertLess(np.max(self.quality["non_orthogonality"]), 60.0)
+        if shutil.which("checkMesh") is None:
+            self.skipTest("checkMesh (openfoam) is not installed")
+        with tempfile.TemporaryDirectory() as case:
+            bvmesh.grid.write_openfoam(self.grid, case)
+            report = check_mesh(case, timeout=300)
+        patches = {line.split()[0]: int(line.split()[1]) for line in report.splitlines()
+                   if line.strip().split()[:1] in (["wall"], ["symmetry"], ["outlet"], ["farfield"])
+                   and "ok (" in line}
+        self.assertEqual(sorted(patches), ["farfield", "outlet", "symmetry", "wall"])
+        self.assertNotIn("defaultFaces", report)
+        # The only failed check is the thin wall cells' determinant (-allGeometry's, which every
+        # grid with wall cells of aspect ratio above about 30 fails).
+        failed = [line for line in failed_checks(report) if "small determinant" not in line]
+        self.assertEqual(failed, [])
+        self.assertIn("Cell volumes OK", report)
+
+    def test_planes_the_wall_does_not_fit_are_refused(self):
+        cases = [
+            (dict(outflow_plane=((10, 0, 0), (1, 1, 0))), "perpendicular to the symmetry plane"),
+            (dict(outflow_plane=((10.2, 0, 0), (1, 0, 0))), "lies 0.2 off the outflow plane"),
+            (dict(outflow_plane=((10, 0, 0), (0, 0, 0))), "non-zero normal"),
+            (dict(outflow_plane=self.outflow, domain="box"), "needs the sphere domain"),
+            (dict(), "off the symmetry plane .a wall that runs into the domain's outflow boundary needs"),
+        ]
+        for extra, message in cases:
+            with self.subTest(extra=extra):
+                options = dict(self.options, **extra)
+                if "outflow_plane" not in extra:
+                    options.pop("domain_centre")
+                with self.assertRaisesRegex(ValueError, message):
+                    bvmesh.volume.offset_and_farfield(self.fitter, **options)
 
 
 class M6InItsFlowDomain(unittest.TestCase):

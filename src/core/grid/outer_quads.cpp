@@ -7,6 +7,8 @@ namespace bvmesh::grid {
 using volume::BoundaryCondition;
 
 int tagOuterQuads(std::vector<GridBlock>& blocks, const volume::Domain& domain) {
+  // A sphere's boundary is far field all round: its outlet faces lie in an outflow plane.
+  if (domain.shape == volume::DomainShape::Sphere) return 0;
   int split = 0;
   for (GridBlock& block : blocks) {
     for (int f = 0; f < 6; ++f) {

@@ -14,7 +14,8 @@ namespace bvmesh::grid {
 // For every inlet, outlet or side face of `blocks`, the condition of each quad by where its centre
 // lies on the domain's boundary (volume::Domain::conditionAt of the centre's boundary point along
 // the ray from the domain's centre), kept in quadConditions when some quad differs from the face's
-// own. Returns the number of faces so split. A sphere domain has none of these faces.
+// own. Returns the number of faces so split. A sphere domain is left as it is: its boundary is
+// far field all round, and its outlet faces are those of an outflow plane a wall runs into.
 int tagOuterQuads(std::vector<GridBlock>& blocks, const volume::Domain& domain);
 
 }  // namespace bvmesh::grid

@@ -56,11 +56,19 @@ RowMatrixX3d meanLimitNormals(const surface::QuadControlMesh& wall, const Contro
   return normals;
 }
 
+// The wall's open sides all lie on the symmetry plane.
+constexpr std::array<BoundaryCondition, 4> kSymmetrySides{BoundaryCondition::Symmetry, BoundaryCondition::Symmetry,
+                                                          BoundaryCondition::Symmetry, BoundaryCondition::Symmetry};
+
 }  // namespace
 
 ControlVolume controlVolumeMesh(const surface::QuadControlMesh& wall, const VolumeMeshOptions& options) {
   surface::validateQuadControlMesh(wall);
   requireMarchableWall(wall, options.hasSymmetryPlane);
+  if (options.hasOutflowPlane) {
+    throw InvalidInputError("the control volume takes a symmetry plane only: a wall running into an outflow plane "
+                            "is meshed by the B-spline blocks (generate_volume_mesh)");
+  }
   const Vector3d planeNormal = symmetryPlaneNormal(options);
   const auto wallVertices = static_cast<int>(wall.vertices.rows());
   const auto quads = static_cast<int>(wall.faces.rows());
@@ -69,7 +77,7 @@ ControlVolume controlVolumeMesh(const surface::QuadControlMesh& wall, const Volu
   MarchingFront front;
   front.points = wall.vertices;
   front.normals = meanLimitNormals(wall, wallMesh);
-  front.onSymmetryPlane.assign(static_cast<size_t>(wallVertices), 0);
+  front.onPlanes.assign(static_cast<size_t>(wallVertices), 0);
   for (int f = 0; f < quads; ++f) {
     front.quads.push_back({wall.faces(f, 0), wall.faces(f, 1), wall.faces(f, 2), wall.faces(f, 3)});
     front.quadNames.push_back("wall control face " + std::to_string(f));
@@ -95,7 +103,7 @@ ControlVolume controlVolumeMesh(const surface::QuadControlMesh& wall, const Volu
                                 numberText(std::abs(off)) + " off the symmetry plane");
       }
       front.points.row(v) -= off * planeNormal.transpose();
-      front.onSymmetryPlane[static_cast<size_t>(v)] = 1;
+      front.onPlanes[static_cast<size_t>(v)] = kSymmetryPlaneBit;
     }
   }
 
@@ -150,7 +158,7 @@ ControlVolume controlVolumeMesh(const surface::QuadControlMesh& wall, const Volu
     faces[static_cast<size_t>(BlockFaceSide::WMin)].condition = BoundaryCondition::Wall;
     const Vector3d middle = mesh.points.row(block.pointAt[block.point(block.size[0] / 2, block.size[1] / 2, layers - 1)]);
     faces[static_cast<size_t>(BlockFaceSide::WMax)].condition = resolved.marching.domain.conditionAt(middle);
-    setLateralFaces(patch, faces);
+    setLateralFaces(patch, kSymmetrySides, faces);
     result.blocks.push_back(std::move(block));
     result.blockFaces.push_back(faces);
     result.blockChart.push_back(patch.chart);

@@ -122,16 +122,14 @@ struct HyperbolicStepper::StepFactor {
 HyperbolicStepper::~HyperbolicStepper() = default;
 
 HyperbolicStepper::HyperbolicStepper(Eigen::Index pointCount, const std::vector<std::array<int, 4>>& quads,
-                                     const std::vector<char>& onPlane, const Vector3d& planePoint,
-                                     const Vector3d& planeNormal, const HyperbolicOptions& options)
+                                     const std::vector<unsigned char>& onPlanes, const BoundaryPlanes& planes,
+                                     const HyperbolicOptions& options)
     : quads_(quads),
-      onPlane_(onPlane),
-      planePoint_(planePoint),
-      planeNormal_(planeNormal.normalized()),
-      mirror_(Matrix3d::Identity() - 2.0 * planeNormal_ * planeNormal_.transpose()),
+      onPlanes_(onPlanes),
+      planes_(planes),
       options_(options),
       rings_(static_cast<size_t>(pointCount)) {
-  if (onPlane_.empty()) onPlane_.assign(static_cast<size_t>(pointCount), 0);
+  if (onPlanes_.empty()) onPlanes_.assign(static_cast<size_t>(pointCount), 0);
   std::vector<std::vector<FanEdge>> fans(static_cast<size_t>(pointCount));
   for (const auto& quad : quads) {
     // A quad that repeats a corner (a knife edge's fan closing at its end) is a triangle.
@@ -147,7 +145,7 @@ HyperbolicStepper::HyperbolicStepper(Eigen::Index pointCount, const std::vector<
     auto fail = [&](const char* what) {
       throw InvalidInputError(
           "front point " + std::to_string(p) + " " + what +
-          ": hyperbolic marching needs a manifold front, closed or open only on the symmetry plane");
+          ": hyperbolic marching needs a manifold front, closed or open only on its boundary planes");
     };
     if (fan.empty()) fail("lies in no cell");
     // An open fan starts at the neighbour no cell reaches counter-clockwise.
@@ -162,12 +160,12 @@ HyperbolicStepper::HyperbolicStepper(Eigen::Index pointCount, const std::vector<
         break;
       }
     }
-    if (open && onPlane_[static_cast<size_t>(p)] == 0)
-      fail("lies on an open boundary off the symmetry plane");
+    const unsigned planesHere = onPlanes_[static_cast<size_t>(p)];
+    if (open && planesHere == 0) fail("lies on an open boundary off the symmetry and outflow planes");
     auto& ring = rings_[static_cast<size_t>(p)];
     int current = start;
     for (size_t walked = 0; walked <= fan.size(); ++walked) {
-      ring.push_back({current, false});
+      ring.push_back({current, 0});
       const auto edge =
           std::find_if(fan.begin(), fan.end(), [&](const FanEdge& e) { return e.next == current; });
       if (edge == fan.end()) break;
@@ -176,9 +174,22 @@ HyperbolicStepper::HyperbolicStepper(Eigen::Index pointCount, const std::vector<
     }
     if (ring.size() != fan.size() + (open ? 1 : 0)) fail("has cells that do not form one fan around it");
     if (open) {
-      // The mirror image of the fan closes the ring, walked backwards so that it stays counter-clockwise.
+      // Mirror images of the fan close the ring, each walked so that it stays counter-clockwise. On
+      // one plane: the fan's image backwards. On two (perpendicular) planes the fan is a quarter
+      // from its first neighbour (on one plane) to its last (on the other): then its image in the
+      // last one's plane backwards, its image in both forwards, its image in the first one's backwards.
       const size_t real = ring.size();
-      for (size_t m = real - 2; m >= 1; --m) ring.push_back({ring[m].point, true});
+      if (planeCount(planesHere) == 1) {
+        for (size_t m = real - 2; m >= 1; --m) ring.push_back({ring[m].point, static_cast<unsigned char>(planesHere)});
+      } else {
+        const auto first = static_cast<unsigned char>(planesHere & onPlanes_[static_cast<size_t>(ring.front().point)]);
+        const auto last = static_cast<unsigned char>(planesHere & onPlanes_[static_cast<size_t>(ring.back().point)]);
+        if (planeCount(first) != 1 || planeCount(last) != 1 || first == last)
+          fail("lies on both boundary planes, but its cells do not reach from one to the other");
+        for (size_t m = real - 1; m-- > 0;) ring.push_back({ring[m].point, last});
+        for (size_t m = 1; m < real; ++m) ring.push_back({ring[m].point, static_cast<unsigned char>(first | last)});
+        for (size_t m = real - 1; m-- > 1;) ring.push_back({ring[m].point, first});
+      }
     }
     if (ring.size() < 3) fail("has fewer than three neighbours around it");
     const auto valence = static_cast<double>(ring.size());
@@ -196,7 +207,7 @@ HyperbolicStepper::HyperbolicStepper(Eigen::Index pointCount, const std::vector<
     smoothingRowScale_[p] = static_cast<double>(ring.size()) / 4.0;
     entries.emplace_back(p, p, smoothingRowScale_[p] * (1.0 + 4.0 * options_.implicitSmoothing));
     for (const RingEntry& entry : ring) {
-      if (!entry.mirrored) entries.emplace_back(p, entry.point, -options_.implicitSmoothing);
+      if (entry.mirror == 0) entries.emplace_back(p, entry.point, -options_.implicitSmoothing);
     }
   }
   Eigen::SparseMatrix<double> smoothing(pointCount, pointCount);
@@ -208,12 +219,11 @@ HyperbolicStepper::HyperbolicStepper(Eigen::Index pointCount, const std::vector<
 
 Vector3d HyperbolicStepper::ringPoint(const RowMatrixX3d& points, const RingEntry& entry) const {
   const Vector3d x = points.row(entry.point).transpose();
-  if (!entry.mirrored) return x;
-  return x - 2.0 * (x - planePoint_).dot(planeNormal_) * planeNormal_;
+  return entry.mirror == 0 ? x : planes_.mirrored(x, entry.mirror);
 }
 
 // Each quad's area shared equally by its distinct corners (a triangle's by three); a point on the
-// symmetry plane counts its mirrored cells too.
+// boundary plane counts its mirrored cells too (three more on two planes).
 Eigen::VectorXd HyperbolicStepper::nodeAreas(const RowMatrixX3d& points) const {
   Eigen::VectorXd area = Eigen::VectorXd::Zero(points.rows());
   for (const auto& q : quads_) {
@@ -224,7 +234,7 @@ Eigen::VectorXd HyperbolicStepper::nodeAreas(const RowMatrixX3d& points) const {
     for (int k = 0; k < size; ++k) area[corners[static_cast<size_t>(k)]] += share;
   }
   for (Eigen::Index p = 0; p < area.rows(); ++p) {
-    if (onPlane_[static_cast<size_t>(p)] != 0) area[p] *= 2.0;
+    area[p] *= static_cast<double>(1 << planeCount(onPlanes_[static_cast<size_t>(p)]));
   }
   return area;
 }
@@ -357,7 +367,7 @@ RowMatrixX3d HyperbolicStepper::pseudoStep(const RowMatrixX3d& before, const Row
     for (const RingEntry& entry : ring) {
       Matrix3d block = coupling * (entry.xiWeight * b1 + entry.etaWeight * b2) -
                        implicitWeight * (4.0 / valence) * Matrix3d::Identity();
-      if (entry.mirrored) block = block * mirror_;
+      if (entry.mirror != 0) block = block * planes_.mirrorMatrix(entry.mirror);
       addBlock(p, entry.point, block);
     }
   }
@@ -380,10 +390,10 @@ RowMatrixX3d HyperbolicStepper::pseudoStep(const RowMatrixX3d& before, const Row
   // The linearised volume equation undershoots where the front expands (its cross terms count the
   // front's growth over the step twice, Barth's coupling more): the step is scaled back to the
   // asked mean length, which keeps every cell's shape.
-  // (Weighted by each point's own area: a symmetry-plane point's mirrored half is not the front's.)
+  // (Weighted by each point's own area: a boundary-plane point's mirrored cells are not the front's.)
   double weightedLength = 0.0, frontArea = 0.0;
   for (Eigen::Index p = 0; p < n; ++p) {
-    const double own = onPlane_[static_cast<size_t>(p)] != 0 ? 0.5 * area[p] : area[p];
+    const double own = area[p] / static_cast<double>(1 << planeCount(onPlanes_[static_cast<size_t>(p)]));
     weightedLength += own * delta.segment<3>(3 * p).norm();
     frontArea += own;
   }
@@ -393,7 +403,7 @@ RowMatrixX3d HyperbolicStepper::pseudoStep(const RowMatrixX3d& before, const Row
   RowMatrixX3d next = points;
   for (Eigen::Index p = 0; p < n; ++p) {
     Vector3d x = points.row(p).transpose() + scale * delta.segment<3>(3 * p);
-    if (onPlane_[static_cast<size_t>(p)] != 0) x -= (x - planePoint_).dot(planeNormal_) * planeNormal_;
+    x = planes_.onto(x, onPlanes_[static_cast<size_t>(p)]);
     next.row(p) = x.transpose();
   }
   return next;

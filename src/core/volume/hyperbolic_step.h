@@ -7,8 +7,8 @@
 // surrounding area is small (the inside of a corner) takes a longer step than its neighbours.
 // Derivatives at a point of any valence come from its ring of neighbours in counter-clockwise
 // order (Fourier weights: r_xi = 2/M sum cos(2 pi m / M) (x_m - x), r_eta with sin), which at
-// valence 4 are the central differences; a point on the symmetry plane closes its ring with its
-// neighbours mirrored (ghost points).
+// valence 4 are the central differences; a point on a boundary plane (the symmetry plane, an
+// outflow plane) closes its ring with its neighbours mirrored (ghost points).
 #pragma once
 
 #include <Eigen/Core>
@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "core/common/types.h"
+#include "core/volume/boundary_planes.h"
 
 namespace bvmesh::volume {
 
@@ -40,12 +41,12 @@ struct HyperbolicOptions {
 
 class HyperbolicStepper {
  public:
-  // quads: counter-clockwise seen from the side marched to. onPlane (per point, may be empty):
-  // points kept on the plane through planePoint with unit normal planeNormal. Throws
-  // InvalidInputError when a point's cells do not form one fan around it (a non-manifold front).
+  // quads: counter-clockwise seen from the side marched to. onPlanes (per point, may be empty):
+  // the `planes` a point is kept on (bits). Throws InvalidInputError when a point's cells do not
+  // form one fan around it (a non-manifold front), or its fan is open off the planes.
   HyperbolicStepper(Eigen::Index pointCount, const std::vector<std::array<int, 4>>& quads,
-                    const std::vector<char>& onPlane, const Eigen::Vector3d& planePoint,
-                    const Eigen::Vector3d& planeNormal, const HyperbolicOptions& options);
+                    const std::vector<unsigned char>& onPlanes, const BoundaryPlanes& planes,
+                    const HyperbolicOptions& options);
   ~HyperbolicStepper();
 
   // The front `points` advanced by `thickness` (the area-weighted mean of the points' steps), in
@@ -61,7 +62,7 @@ class HyperbolicStepper {
  private:
   struct RingEntry {
     int point;
-    bool mirrored;  // a ghost: the point's mirror image in the symmetry plane
+    unsigned char mirror;  // a ghost: the point's mirror image in these planes (bits; 0: the point itself)
     double xiWeight = 0.0;   // 2/M cos(2 pi m / M): r_xi's weight of this neighbour
     double etaWeight = 0.0;  // 2/M sin(2 pi m / M)
   };
@@ -73,10 +74,8 @@ class HyperbolicStepper {
   double shortEdge(const RowMatrixX3d& points) const;
 
   std::vector<std::array<int, 4>> quads_;
-  std::vector<char> onPlane_;
-  Eigen::Vector3d planePoint_;
-  Eigen::Vector3d planeNormal_;
-  Eigen::Matrix3d mirror_;
+  std::vector<unsigned char> onPlanes_;
+  BoundaryPlanes planes_;
   HyperbolicOptions options_;
   std::vector<std::vector<RingEntry>> rings_;
   // GMRES on the step's system from the last solution scaled to this step; false where it stalls.

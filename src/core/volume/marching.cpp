@@ -172,8 +172,7 @@ class Marcher {
       HyperbolicOptions scaled = options_.hyperbolic;
       scaled.explicitSmoothing *= options_.smoothing;
       scaled.implicitSmoothing *= options_.smoothing;
-      hyperbolic.emplace(front_.points.rows(), front_.quads, front_.onSymmetryPlane, options_.planePoint,
-                         options_.planeNormal, scaled);
+      hyperbolic.emplace(front_.points.rows(), front_.quads, front_.onPlanes, options_.planes, scaled);
     }
     for (int k = 1; k <= nFar; ++k) {
       const double progress = static_cast<double>(k) / nFar;
@@ -246,21 +245,23 @@ class Marcher {
     for (const FanPoint& fan : front_.fanPoints) {
       Vector3d d = turnedBetween(lines.row(fan.from).transpose(), lines.row(fan.to).transpose(), fan.fraction,
                                  fan.outside);
-      if (onPlane(fan.point)) d = (d - d.dot(options_.planeNormal) * options_.planeNormal).normalized();
+      if (onPlane(fan.point)) d = inPlanes(fan.point, d).normalized();
       lines.row(fan.point) = d.transpose();
     }
   }
 
-  bool onPlane(Eigen::Index p) const {
-    return !front_.onSymmetryPlane.empty() && front_.onSymmetryPlane[static_cast<size_t>(p)] != 0;
+  unsigned planesOf(Eigen::Index p) const {
+    return front_.onPlanes.empty() ? 0u : front_.onPlanes[static_cast<size_t>(p)];
   }
+  bool onPlane(Eigen::Index p) const { return planesOf(p) != 0; }
+  // A direction at point p kept in the boundary planes the point lies on.
+  Vector3d inPlanes(Eigen::Index p, const Vector3d& d) const { return options_.planes.along(d, planesOf(p)); }
 
-  // Mirrored ghost points: a symmetric stencil across the plane reduces to the projection.
+  // Mirrored ghost points: a symmetric stencil across a plane reduces to the projection.
   void keepOnPlane(RowMatrixX3d& points) const {
     for (Eigen::Index p = 0; p < points.rows(); ++p) {
       if (!onPlane(p)) continue;
-      const Vector3d x = points.row(p).transpose();
-      points.row(p) = (x - (x - options_.planePoint).dot(options_.planeNormal) * options_.planeNormal).transpose();
+      points.row(p) = options_.planes.onto(points.row(p).transpose(), planesOf(p)).transpose();
     }
   }
 
@@ -274,7 +275,7 @@ class Marcher {
     }
     for (Eigen::Index p = 0; p < normals.rows(); ++p) {
       Vector3d n = normals.row(p).transpose();
-      if (onPlane(p)) n -= n.dot(options_.planeNormal) * options_.planeNormal;
+      n = inPlanes(p, n);
       normals.row(p) = n.normalized().transpose();
     }
     return normals;
@@ -334,7 +335,7 @@ class Marcher {
         for (int q : near) mean += directions.row(q).transpose();
         mean /= static_cast<double>(near.size());
         Vector3d d = directions.row(p).transpose() + 0.5 * (mean - directions.row(p).transpose());
-        if (onPlane(p)) d -= d.dot(options_.planeNormal) * options_.planeNormal;
+        d = inPlanes(p, d);
         next.row(p) = d.normalized().transpose();
       }
       directions = std::move(next);
@@ -612,7 +613,7 @@ class Marcher {
       const int node = view.node[static_cast<size_t>(p)];
       if (node < 0) continue;
       Vector3d d = solved.row(node).transpose();
-      if (onPlane(p)) d -= d.dot(options_.planeNormal) * options_.planeNormal;
+      d = inPlanes(p, d);
       lines.row(p) = d.normalized().transpose();
     }
     return lines;
@@ -698,7 +699,7 @@ class Marcher {
     RowMatrixX3d smoothed = solver.solve(Eigen::MatrixXd(degree.asDiagonal() * target));
     for (Eigen::Index p = 0; p < n; ++p) {
       Vector3d d = smoothed.row(p).transpose();
-      if (onPlane(p)) d -= d.dot(options_.planeNormal) * options_.planeNormal;
+      d = inPlanes(p, d);
       smoothed.row(p) = d.normalized().transpose();
     }
     return smoothed;

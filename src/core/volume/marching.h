@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/common/types.h"
+#include "core/volume/boundary_planes.h"
 #include "core/volume/domain.h"
 #include "core/volume/hyperbolic_step.h"
 
@@ -42,14 +43,14 @@ struct FanClosing {
 };
 
 // The surface to march: points, quads (counter-clockwise seen from outside, i.e. the side to march
-// to) and, per point, the unit wall normal and whether it lies on the symmetry plane. A quad may
+// to) and, per point, the unit wall normal and the boundary planes it lies on. A quad may
 // repeat a corner (a triangle: a fan closing at the end of its edge), and a fan's quads have no
 // area on the wall itself.
 struct MarchingFront {
   RowMatrixX3d points;
   std::vector<std::array<int, 4>> quads;
   RowMatrixX3d normals;
-  std::vector<char> onSymmetryPlane;
+  std::vector<unsigned char> onPlanes;  // per point, BoundaryPlanes bits (kSymmetryPlaneBit ...), may be empty
   std::vector<std::string> quadNames;  // per quad, where it is (for error messages), may be empty
   std::vector<FanPoint> fanPoints;
   std::vector<KnifeCopies> knifeCopies;
@@ -94,9 +95,8 @@ struct MarchingOptions {
   double farfieldDistance = 0.0;
   double farfieldGrowth = 1.3;
   Domain domain;
-  // Symmetry plane (used when some points are on it): point and unit normal.
-  Eigen::Vector3d planePoint = Eigen::Vector3d::Zero();
-  Eigen::Vector3d planeNormal = Eigen::Vector3d::UnitY();
+  // The symmetry and outflow planes (used when some points are on them).
+  BoundaryPlanes planes;
   // Far-field smoothing: direction smoothing (implicit, grows with the layer) and point smoothing
   // in the front's tangent plane (the cell-size equaliser), both scaled by this factor (0: none).
   double smoothing = 1.0;

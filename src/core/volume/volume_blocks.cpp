@@ -199,7 +199,6 @@ WallGrid wallGrid(const std::vector<WallPatch>& patches) {
   const auto count = static_cast<Eigen::Index>(points.size());
   grid.front.points.resize(count, 3);
   grid.front.normals.resize(count, 3);
-  grid.front.onSymmetryPlane.assign(static_cast<size_t>(count), 0);
   grid.corner.assign(static_cast<size_t>(count), 0);
   std::vector<char> onFan(static_cast<size_t>(count), 0);
   for (const FanPoint& fan : grid.front.fanPoints) onFan[static_cast<size_t>(fan.point)] = 1;
@@ -266,21 +265,30 @@ BoundaryCondition outerCondition(const Domain& domain, const Eigen::MatrixXd& ou
   return domain.conditionAt(outerPoles.row(middle).transpose());
 }
 
-// Marks the wall grid's points on open patch sides as symmetry-plane points; throws when the wall
-// is open without a symmetry plane or an open side lies off it, and when a symmetry plane is given
-// but the wall does not end on it or reaches across it.
-void markSymmetryPoints(const std::vector<WallPatch>& patches, WallGrid& grid, const VolumeMeshOptions& options) {
-  const Vector3d planeNormal = symmetryPlaneNormal(options);
-  if (options.hasSymmetryPlane) {
-    const Eigen::VectorXd side = (grid.front.points.rowwise() - options.planePoint.transpose()) * planeNormal;
+// Marks the wall grid's points on open patch sides with the boundary planes they lie on (the
+// symmetry plane, the outflow plane; a point where the wall's boundary turns from one to the other
+// lies on both) and returns per patch side the condition of an open side's block face (symmetry or
+// outlet; connected for the others). Throws when the wall is open without a plane or an open side
+// lies off the planes, and when a plane is given but the wall does not end on it or reaches across it.
+std::vector<std::array<BoundaryCondition, 4>> markPlanePoints(const std::vector<WallPatch>& patches, WallGrid& grid,
+                                                              const VolumeMeshOptions& options) {
+  const BoundaryPlanes planes = boundaryPlanesOf(options);
+  const std::array<bool, 2> given{options.hasSymmetryPlane, options.hasOutflowPlane};
+  const std::array<const char*, 2> planeName{"symmetry plane", "outflow plane"};
+  for (size_t k = 0; k < 2; ++k) {
+    if (!given[k]) continue;
+    const Eigen::VectorXd side = (grid.front.points.rowwise() - planes.point[k].transpose()) * planes.normal[k];
     if (side.minCoeff() < -1e-6 * grid.size && side.maxCoeff() > 1e-6 * grid.size) {
-      throw InvalidInputError("the wall reaches across the symmetry plane (from " +
+      throw InvalidInputError(std::string("the wall reaches across the ") + planeName[k] + " (from " +
                               numberText(side.minCoeff()) + " to " + numberText(side.maxCoeff()) +
-                              " along its normal): a half model lies on one side of it");
+                              " along its normal): the wall lies on one side of it");
     }
   }
+  grid.front.onPlanes.assign(static_cast<size_t>(grid.front.points.rows()), 0);
+  std::vector<std::array<BoundaryCondition, 4>> conditions(patches.size());
   for (size_t p = 0; p < patches.size(); ++p) {
     for (int s = 0; s < 4; ++s) {
+      conditions[p][static_cast<size_t>(s)] = BoundaryCondition::Connected;
       const WallPatch& patch = patches[p];
       if (patch.sides[static_cast<size_t>(s)].patch >= 0 || patch.collapsedSide[static_cast<size_t>(s)])
         continue;
@@ -288,29 +296,47 @@ void markSymmetryPoints(const std::vector<WallPatch>& patches, WallGrid& grid, c
       const std::vector<int>& chain = patch.sideVertices[static_cast<size_t>(s)];
       const std::string where = "wall patch " + std::to_string(p) + " side " + sideName(side) + " (control vertices " +
                                 std::to_string(chain.front()) + " ... " + std::to_string(chain.back()) + ")";
-      if (!options.hasSymmetryPlane) {
+      if (!given[0] && !given[1]) {
         throw InvalidInputError("the wall is open at " + where +
-                                ": close it, or give the symmetry plane it lies on (a half model)");
+                                ": close it, or give the symmetry plane it lies on (a half model) or the outflow "
+                                "plane it runs into");
+      }
+      // The plane the whole side lies on (the nearer one when it lies on neither).
+      std::array<double, 2> off{0.0, 0.0};
+      for (int t = 0; t < sidePoleCount(patch, side); ++t) {
+        const auto [i, j] = sidePolePosition(patch, side, t);
+        const int id = grid.pointOf[p][static_cast<size_t>(i * patch.surface.vPoles + j)];
+        for (size_t k = 0; k < 2; ++k) {
+          off[k] = std::max(off[k], std::abs((grid.front.points.row(id).transpose() - planes.point[k]).dot(planes.normal[k])));
+        }
+      }
+      const size_t k = !given[1] || (given[0] && off[0] <= off[1]) ? 0 : 1;
+      if (off[k] > 1e-6 * grid.size) {
+        throw InvalidInputError("the wall's open boundary at " + where + " lies " + numberText(off[k]) + " off the " +
+                                planeName[k] +
+                                (given[1] ? "" : " (a wall that runs into the domain's outflow boundary needs that "
+                                                 "outflow plane given)"));
       }
       for (int t = 0; t < sidePoleCount(patch, side); ++t) {
         const auto [i, j] = sidePolePosition(patch, side, t);
         const int id = grid.pointOf[p][static_cast<size_t>(i * patch.surface.vPoles + j)];
-        const double off = std::abs((grid.front.points.row(id).transpose() - options.planePoint).dot(planeNormal));
-        if (off > 1e-6 * grid.size) {
-          throw InvalidInputError("the wall's open boundary at " + where + " lies " + numberText(off) +
-                                  " off the symmetry plane");
-        }
-        grid.front.onSymmetryPlane[static_cast<size_t>(id)] = 1;
+        grid.front.onPlanes[static_cast<size_t>(id)] |= static_cast<unsigned char>(1u << k);
       }
+      conditions[p][static_cast<size_t>(s)] = k == 0 ? BoundaryCondition::Symmetry : BoundaryCondition::Outlet;
     }
   }
-  if (options.hasSymmetryPlane &&
-      std::none_of(grid.front.onSymmetryPlane.begin(), grid.front.onSymmetryPlane.end(),
-                   [](char on) { return on != 0; })) {
-    throw InvalidInputError(
-        "a symmetry plane is given, but the wall is closed and does not end on it: a closed body "
-        "needs no symmetry plane (a half model is open on it)");
+  const bool open = std::any_of(grid.front.onPlanes.begin(), grid.front.onPlanes.end(),
+                                [](unsigned char on) { return on != 0; });
+  for (size_t k = 0; k < 2; ++k) {
+    if (given[k] && std::none_of(grid.front.onPlanes.begin(), grid.front.onPlanes.end(),
+                                 [k](unsigned char on) { return (on & (1u << k)) != 0; })) {
+      throw InvalidInputError(std::string("a ") + planeName[k] + " is given, but the wall " +
+                              (open ? "does not end on it" : "is closed and does not end on it") + ": " +
+                              (k == 0 ? "a closed body needs no symmetry plane (a half model is open on it)"
+                                      : "only a wall that runs into the outflow boundary (a sting) needs it"));
+    }
   }
+  return conditions;
 }
 
 // Per patch and layer the poles of the bicubic surface interpolating the layer's points at the
@@ -617,7 +643,7 @@ MarchingResult transferLayers(const MarchingResult& coarse, const std::vector<Wa
 // the far field's lines too), and a corner of three or more wall faces, without a normal, keeps its own. At a
 // sharp edge the normal is the mean of both sides', the bisector its line runs along.
 void leaveAlongNormals(const std::vector<WallPatch>& patches, const WallGrid& grid,
-                       const RowMatrixX3d& firstLayer, const Vector3d& planeNormal,
+                       const RowMatrixX3d& firstLayer, const BoundaryPlanes& planes,
                        std::vector<RowMatrixX3d>& blockPoles) {
   // A marched line this far off the normal or more is turned fully, one closer by its share; the
   // lines outside the band are the normals and keep the offsets exactly as interpolated.
@@ -645,10 +671,9 @@ void leaveAlongNormals(const std::vector<WallPatch>& patches, const WallGrid& gr
         done[static_cast<size_t>(id)] = 1;
         const Vector3d offset = offsets.point(gu[static_cast<size_t>(i)], gv[static_cast<size_t>(j)]);
         Vector3d normal = grid.front.normals.row(id).transpose();
-        // On the symmetry plane the wall meets the plane at a right angle: its normal lies in it.
-        if (grid.front.onSymmetryPlane[static_cast<size_t>(id)] != 0) {
-          normal = (normal - normal.dot(planeNormal) * planeNormal).normalized();
-        }
+        // On a boundary plane the wall meets the plane at a right angle: its normal lies in it.
+        const unsigned onPlanes = grid.front.onPlanes[static_cast<size_t>(id)];
+        if (onPlanes != 0) normal = planes.along(normal, onPlanes).normalized();
         const Vector3d line = (firstLayer.row(id) - grid.front.points.row(id)).transpose().normalized();
         const double tilt = std::acos(std::clamp(line.dot(normal), -1.0, 1.0)) * 180.0 / kPi;
         // A fan's lines leave no wall of their own: they turn with its sides' (below).
@@ -668,10 +693,10 @@ void leaveAlongNormals(const std::vector<WallPatch>& patches, const WallGrid& gr
     const auto offset = [&](int point) -> Vector3d {
       return (leaving.row(point) - grid.front.points.row(point)).transpose();
     };
+    const unsigned onPlanes = grid.front.onPlanes[static_cast<size_t>(fan.point)];
     const Vector3d axis =
-        grid.front.onSymmetryPlane[static_cast<size_t>(fan.point)] != 0
-            ? planeNormal
-            : Vector3d(grid.front.normals.row(fan.from).cross(grid.front.normals.row(fan.to)));
+        onPlanes != 0 ? planes.normal[(onPlanes & kSymmetryPlaneBit) != 0 ? 0 : 1]
+                      : Vector3d(grid.front.normals.row(fan.from).cross(grid.front.normals.row(fan.to)));
     const Vector3d line = turnedRound(offset(fan.from).normalized(), offset(fan.to).normalized(), axis,
                                       fan.fraction, fan.outside);
     leaving.row(fan.point) = grid.front.points.row(fan.point) + offset(fan.point).norm() * line.transpose();
@@ -758,12 +783,12 @@ int refinementSteps(const surface::QuadControlMesh& coarse, const surface::QuadC
 VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const VolumeMeshOptions& options,
                               const surface::QuadControlMesh* marchingWall) {
   surface::validateQuadControlMesh(wall);
-  requireMarchableWall(wall, options.hasSymmetryPlane);
+  requireMarchableWall(wall, options.hasSymmetryPlane || options.hasOutflowPlane);
   const surface::LimitBSplines bsplines = surface::limitSurfaceToBSplines(wall);
   std::vector<WallPatch> patches = conformingWallPatches(bsplines, wall);
   if (options.knifeEdgeFans) insertEdgeFans(patches);
   WallGrid grid = wallGrid(patches);
-  markSymmetryPoints(patches, grid, options);
+  const std::vector<std::array<BoundaryCondition, 4>> openSides = markPlanePoints(patches, grid, options);
 
   VolumeMesh result;
   for (double distance : bsplines.maxDistance) result.wallMaxDistance = std::max(result.wallMaxDistance, distance);
@@ -783,7 +808,7 @@ VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const Volume
     coarsePatches = conformingWallPatches(surface::limitSurfaceToBSplines(*marchingWall), *marchingWall);
     if (options.knifeEdgeFans) insertEdgeFans(coarsePatches);
     coarseGrid = wallGrid(coarsePatches);
-    markSymmetryPoints(coarsePatches, coarseGrid, options);
+    markPlanePoints(coarsePatches, coarseGrid, options);
   }
   const MarchingFront& front = marchingWall != nullptr ? coarseGrid.front : grid.front;
   const ResolvedVolumeOptions resolved = resolveVolumeOptions(options, front);
@@ -827,7 +852,7 @@ VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const Volume
       }
     }
   }
-  leaveAlongNormals(patches, grid, layers.layers[1], symmetryPlaneNormal(options), blockPoles);
+  leaveAlongNormals(patches, grid, layers.layers[1], boundaryPlanesOf(options), blockPoles);
   std::vector<Block> blocks;
   for (size_t p = 0; p < patches.size(); ++p) {
     const WallPatch& patch = patches[p];
@@ -838,7 +863,7 @@ VolumeMesh generateVolumeMesh(const surface::QuadControlMesh& wall, const Volume
         patch.fan ? BoundaryCondition::Collapsed : BoundaryCondition::Wall;
     block.faces[static_cast<size_t>(BlockFaceSide::WMax)].condition =
         outerCondition(result.domain, layerPoles[p].back(), result.farfieldFacesAcrossDomainEdges);
-    setLateralFaces(patch, block.faces);
+    setLateralFaces(patch, openSides[p], block.faces);
     blocks.push_back(std::move(block));
     result.blockChart.push_back(patch.chart);
   }

@@ -2,12 +2,14 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <string>
 
 #include "core/common/errors.h"
 #include "core/common/input_checks.h"
+#include "core/common/math_constants.h"
 #include "core/common/number_text.h"
 
 namespace bvmesh::volume {
@@ -37,6 +39,26 @@ Vector3d symmetryPlaneNormal(const VolumeMeshOptions& options) {
   return normal;
 }
 
+BoundaryPlanes boundaryPlanesOf(const VolumeMeshOptions& options) {
+  BoundaryPlanes planes;
+  planes.point[0] = options.planePoint;
+  planes.normal[0] = symmetryPlaneNormal(options);
+  if (!options.hasOutflowPlane) return planes;
+  const Vector3d normal = options.outflowNormal.normalized();
+  if (!(options.outflowNormal.norm() > 0 && options.outflowPoint.allFinite() && normal.allFinite())) {
+    throw InvalidInputError("the outflow plane needs a finite point and a non-zero normal");
+  }
+  // Mirror images in both planes close a ring only when they commute.
+  if (options.hasSymmetryPlane && std::abs(normal.dot(planes.normal[0])) > 1e-9) {
+    throw InvalidInputError("the outflow plane must be perpendicular to the symmetry plane (they meet at " +
+                            numberText(std::acos(std::clamp(std::abs(normal.dot(planes.normal[0])), 0.0, 1.0)) * 180.0 / kPi) +
+                            " degrees)");
+  }
+  planes.point[1] = options.outflowPoint;
+  planes.normal[1] = normal;
+  return planes;
+}
+
 double flatPlateBoundaryLayerThickness(double reynoldsNumber, double length) {
   if (!(std::isfinite(reynoldsNumber) && reynoldsNumber > 0.0 && std::isfinite(length) && length > 0.0)) {
     throw InvalidInputError(
@@ -47,12 +69,14 @@ double flatPlateBoundaryLayerThickness(double reynoldsNumber, double length) {
 }
 
 ResolvedVolumeOptions resolveVolumeOptions(const VolumeMeshOptions& options, const MarchingFront& front) {
-  const Vector3d planeNormal = symmetryPlaneNormal(options);
+  const BoundaryPlanes planes = boundaryPlanesOf(options);
+  const unsigned planeBits =
+      (options.hasSymmetryPlane ? kSymmetryPlaneBit : 0u) | (options.hasOutflowPlane ? kOutflowPlaneBit : 0u);
   const Vector3d lo = front.points.colwise().minCoeff().transpose();
   const Vector3d hi = front.points.colwise().maxCoeff().transpose();
   ResolvedVolumeOptions result;
-  Vector3d centre = 0.5 * (lo + hi);
-  if (options.hasSymmetryPlane) centre -= (centre - options.planePoint).dot(planeNormal) * planeNormal;
+  // On the planes, which then close the wall for the enclosed volume's sign.
+  Vector3d centre = planes.onto(0.5 * (lo + hi), planeBits);
   if (enclosedVolume(front, centre) <= 0.0) {
     throw InvalidInputError("the wall surface is oriented inwards (its faces' normals point into the body): "
                             "reverse the order of every face's vertices");
@@ -81,9 +105,12 @@ ResolvedVolumeOptions resolveVolumeOptions(const VolumeMeshOptions& options, con
   if (options.domainCentre) {
     const Vector3d& asked = *options.domainCentre;
     if (!asked.allFinite()) throw InvalidInputError("the domain centre must be a finite point");
-    if (options.hasSymmetryPlane && std::abs((asked - options.planePoint).dot(planeNormal)) > 1e-9 * (extent.norm() + asked.norm())) {
-      throw InvalidInputError("the domain centre must lie on the symmetry plane (it is " +
-                              numberText((asked - options.planePoint).dot(planeNormal)) + " off it)");
+    for (size_t k = 0; k < 2; ++k) {
+      const double off = (asked - planes.point[k]).dot(planes.normal[k]);
+      if ((planeBits & (1u << k)) != 0 && std::abs(off) > 1e-9 * (extent.norm() + asked.norm())) {
+        throw InvalidInputError(std::string("the domain centre must lie on the ") + (k == 0 ? "symmetry" : "outflow") +
+                                " plane (it is " + numberText(off) + " off it)");
+      }
     }
     centre = asked;
   }
@@ -123,6 +150,10 @@ ResolvedVolumeOptions resolveVolumeOptions(const VolumeMeshOptions& options, con
     marching.farfieldDistance = marching.domain.halfExtent.minCoeff();
     result.farfieldDistance = marching.farfieldDistance;
   }
+  if (options.hasOutflowPlane && options.domain != DomainShape::Sphere) {
+    throw InvalidInputError(std::string("a wall running into an outflow plane needs the sphere domain, not the ") +
+                            domainShapeName(options.domain) + " (the sphere's centre on the plane)");
+  }
   const double flow = options.flowDirection.norm();
   if (!std::isfinite(flow) || !(flow > 0.0)) throw InvalidInputError("the flow direction must be a finite, non-zero vector");
   marching.domain.flowDirection = options.flowDirection / flow;
@@ -145,8 +176,7 @@ ResolvedVolumeOptions resolveVolumeOptions(const VolumeMeshOptions& options, con
       throw InvalidInputError(message.str());
     }
   }
-  marching.planePoint = options.planePoint;
-  marching.planeNormal = planeNormal;
+  marching.planes = planes;
   marching.smoothing = options.smoothing;
   marching.farfieldScheme = options.farfieldScheme;
   marching.minScaledJacobian = options.minScaledJacobian;

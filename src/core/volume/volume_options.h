@@ -49,6 +49,13 @@ struct VolumeMeshOptions {
   bool hasSymmetryPlane = false;
   Eigen::Vector3d planePoint = Eigen::Vector3d::Zero();
   Eigen::Vector3d planeNormal = Eigen::Vector3d::UnitY();
+  // Outflow plane of a body that runs into the domain's outflow boundary (a sting): the wall's
+  // open boundary off the symmetry plane lies on it, the points there march in it and the blocks'
+  // faces in it are tagged outlet. Perpendicular to the symmetry plane; the domain a sphere whose
+  // centre lies on it (the domain is the part of the sphere on the wall's side).
+  bool hasOutflowPlane = false;
+  Eigen::Vector3d outflowPoint = Eigen::Vector3d::Zero();
+  Eigen::Vector3d outflowNormal = Eigen::Vector3d::UnitX();
 };
 
 struct ResolvedVolumeOptions {
@@ -67,6 +74,10 @@ double flatPlateBoundaryLayerThickness(double reynoldsNumber, double length);
 // The unit normal of the options' symmetry plane. Throws InvalidInputError when the model is a
 // half model whose plane has a non-finite point or a zero normal.
 Eigen::Vector3d symmetryPlaneNormal(const VolumeMeshOptions& options);
+
+// The options' symmetry and outflow planes (unit normals). Throws InvalidInputError for a plane
+// with a non-finite point or a zero normal, and for two planes that are not perpendicular.
+BoundaryPlanes boundaryPlanesOf(const VolumeMeshOptions& options);
 
 // The marching set-up for `front` (the wall to march, its symmetry-plane points marked). Throws
 // InvalidInputError naming the option for a bad value, and for a front oriented inwards.

@@ -274,7 +274,8 @@ Eigen::Vector3d sideOutward(const WallPatch& patch, ChartSide side, int t) {
   return (polePoint(patch, i, j) - polePoint(patch, ii, ji)).normalized();
 }
 
-void setLateralFaces(const WallPatch& patch, std::array<BlockFace, 6>& faces) {
+void setLateralFaces(const WallPatch& patch, const std::array<BoundaryCondition, 4>& openSides,
+                     std::array<BlockFace, 6>& faces) {
   for (int s = 0; s < 4; ++s) {
     const PatchSideLink& link = patch.sides[static_cast<size_t>(s)];
     BlockFace& face = faces[static_cast<size_t>(blockFaceOf(static_cast<ChartSide>(s)))];
@@ -283,7 +284,7 @@ void setLateralFaces(const WallPatch& patch, std::array<BlockFace, 6>& faces) {
       continue;
     }
     if (link.patch < 0) {
-      face.condition = BoundaryCondition::Symmetry;
+      face.condition = openSides[static_cast<size_t>(s)];
       continue;
     }
     face.condition = BoundaryCondition::Connected;

@@ -82,8 +82,9 @@ std::vector<WallPatch> conformingWallPatches(const surface::LimitBSplines& bspli
                                              const surface::QuadControlMesh& mesh);
 
 // The lateral faces (u_min ... v_max) of the block standing on `patch` (block numbers = patch
-// numbers): connected to the block on the neighbouring patch, collapsed where the side is, or
-// symmetry where it is open.
-void setLateralFaces(const WallPatch& patch, std::array<BlockFace, 6>& faces);
+// numbers): connected to the block on the neighbouring patch, collapsed where the side is, or,
+// where it is open, the condition of the plane it lies on (`openSides`, per ChartSide).
+void setLateralFaces(const WallPatch& patch, const std::array<BoundaryCondition, 4>& openSides,
+                     std::array<BlockFace, 6>& faces);
 
 }  // namespace bvmesh::volume
