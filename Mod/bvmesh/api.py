@@ -77,6 +77,9 @@ def format_shape_report(report):
         lines.append("flow domain: {}{} around ({:.6g}, {:.6g}, {:.6g}), {}; body (the target): {}; domain: {}".format(
             "half " if domain["symmetry_face"] is not None else "", domain["shape"], *domain["centre"], size,
             faces(domain["body_faces"]), faces(domain["outer_faces"])))
+        if domain.get("outflow_face") is not None:
+            lines.append("the body runs into the outflow plane of Face{} (normal ({:.6g}, {:.6g}, {:.6g}))".format(
+                domain["outflow_face"] + 1, *[c + 0.0 for c in domain["outflow_plane"][1]]))  # no -0
     return lines
 
 
@@ -424,7 +427,12 @@ def _set_fit_parameters(fit, parameters):
 
 def symmetry_plane_guess(target):
     """((point), (normal)) of the first planar face of the target's source left out of the fit
-    (e.g. the root face of a half wing), or None."""
+    (e.g. the root face of a half wing), or of the symmetry plane of the flow domain the target
+    took its body from; else None."""
+    normal = getattr(target, "SymmetryNormal", None)
+    if not target.Faces and normal is not None and normal.Length > 0:
+        point = target.SymmetryPoint
+        return (point.x, point.y, point.z), (normal.x, normal.y, normal.z)
     if not target.Faces:
         return None
     kept = set(target.Faces)

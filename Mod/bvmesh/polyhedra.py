@@ -133,14 +133,16 @@ def flow_domain(shape_or_brep, **target_options):
     whole shape lies on one side of its tangent plane everywhere on it, the others are the body's.
     Returns a dict: 'target' (Target of the body's faces), 'body_faces' and 'outer_faces' (0-based,
     FreeCAD's Face<i+1>), 'shape' ('sphere' or 'box'), 'symmetry_face', 'symmetry_plane'
-    ((point, normal towards the domain) or None), and 'volume_options': the domain as
+    ((point, normal towards the domain) or None), 'outflow_face', 'outflow_plane' (of a sphere
+    domain's plane that the body runs into, a sting, or None), and 'volume_options': the domain as
     bvmesh.volume.offset_and_farfield takes it (domain, domain_centre, farfield_distance or
-    box_half_extent). Raises ValueError naming what is not a flow domain."""
+    box_half_extent, outflow_plane). Raises ValueError naming what is not a flow domain."""
     brep = shape_or_brep if isinstance(shape_or_brep, str) else shape_or_brep.exportBrepToString()
     core = load_core()
     split = core.split_flow_domain(brep)
     split["target"] = core.Target.from_brep(core.select_faces(brep, split["body_faces"]), **target_options)
-    split["volume_options"] = domain_volume_options(split["shape"], split["centre"], domain_size(split))
+    split["volume_options"] = domain_volume_options(split["shape"], split["centre"], domain_size(split),
+                                                    split["outflow_plane"])
     return split
 
 
@@ -149,14 +151,17 @@ def domain_size(split):
     return [split["radius"]] * 3 if split["shape"] == "sphere" else list(split["half_extent"])
 
 
-def domain_volume_options(shape, centre, size):
+def domain_volume_options(shape, centre, size, outflow_plane=None):
     """bvmesh.volume.offset_and_farfield's keywords for a flow domain: 'sphere' of radius size[0]
-    or 'box' of half sizes `size`, around `centre`."""
+    or 'box' of half sizes `size`, around `centre`; with the outflow plane (point, normal) that the
+    body runs into, if any."""
     options = {"domain": shape, "domain_centre": tuple(centre)}
     if shape == "sphere":
         options["farfield_distance"] = size[0]
     else:
         options["box_half_extent"] = tuple(size)
+    if outflow_plane is not None:
+        options["outflow_plane"] = (tuple(outflow_plane[0]), tuple(outflow_plane[1]))
     return options
 
 

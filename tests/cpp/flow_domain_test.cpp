@@ -2,6 +2,7 @@
 // faces found as the target and the domain described for the far field, with no face selection.
 #include <gtest/gtest.h>
 
+#include <BRepAlgoAPI_Common.hxx>
 #include <BRepAlgoAPI_Cut.hxx>
 #include <BRepBndLib.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
@@ -9,6 +10,7 @@
 #include <BRepBuilderAPI_MakeSolid.hxx>
 #include <BRepGProp.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakePrism.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
 #include <Bnd_Box.hxx>
@@ -19,6 +21,7 @@
 #include <TopoDS.hxx>
 #include <TopoDS_Shell.hxx>
 #include <TopoDS_Solid.hxx>
+#include <gp_Ax2.hxx>
 
 #include <cmath>
 #include <string>
@@ -109,6 +112,53 @@ TEST(FlowDomain, HalfSphereOfTheM6FlowDomainFile) {
   EXPECT_NEAR(domain.symmetryPlane->normal.y(), 1.0, 1e-12);
 }
 
+TEST(FlowDomain, HemisphereCylinderRunningIntoItsOutflowPlane) {
+  // ../shared/data's hemisphere-cylinder: the body (faces 3 and 4) lies on the symmetry plane
+  // y = 0 (face 1) and runs into the outflow plane x = 10 (face 2) of the quarter sphere of
+  // radius 100 around (10, 0, 0) (face 0).
+  const TopoDS_Shape shape = cad::readShapeFileRepaired(kData + "/hemisph-cyl.stp").shape;
+  const FlowDomain domain = splitFlowDomain(shape);
+  EXPECT_EQ(domain.shape, "sphere");
+  EXPECT_EQ(domain.outerFaces, (std::vector<int>{0, 1, 2}));
+  EXPECT_EQ(domain.bodyFaces, (std::vector<int>{3, 4}));
+  EXPECT_NEAR(domain.radius, 100.0, 1e-9);
+  EXPECT_LT((domain.centre - Eigen::Vector3d(10.0, 0.0, 0.0)).norm(), 1e-9);
+  EXPECT_EQ(domain.symmetryFace, 1);
+  ASSERT_TRUE(domain.symmetryPlane.has_value());
+  EXPECT_NEAR(domain.symmetryPlane->normal.y(), 1.0, 1e-12);
+  EXPECT_EQ(domain.outflowFace, 2);
+  ASSERT_TRUE(domain.outflowPlane.has_value());
+  EXPECT_NEAR(domain.outflowPlane->normal.x(), -1.0, 1e-12);  // towards the domain, upstream
+  EXPECT_NEAR(domain.outflowPlane->point.x(), 10.0, 1e-9);
+}
+
+// A quarter of a sphere of radius 20 around `centre` (y >= 0, x <= 5) with a half rod of radius 1
+// from x = -3 into the plane x = 5 cut out.
+TopoDS_Shape rodIntoQuarterSphere(const gp_Pnt& centre) {
+  const TopoDS_Shape half = BRepPrimAPI_MakeBox(gp_Pnt(-40.0, 0.0, -40.0), gp_Pnt(5.0, 40.0, 40.0)).Shape();
+  const TopoDS_Shape quarter = BRepAlgoAPI_Common(BRepPrimAPI_MakeSphere(centre, 20.0).Shape(), half).Shape();
+  const TopoDS_Shape rod = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(-3.0, 0.0, 0.0), gp_Dir(1, 0, 0)), 1.0, 8.0).Shape();
+  return BRepAlgoAPI_Cut(quarter, rod).Shape();
+}
+
+TEST(FlowDomain, RodRunningIntoTheOutflowPlaneOfAQuarterSphere) {
+  const FlowDomain domain = splitFlowDomain(rodIntoQuarterSphere(gp_Pnt(5.0, 0.0, 0.0)));
+  EXPECT_EQ(domain.shape, "sphere");
+  EXPECT_EQ(domain.bodyFaces.size(), 2u);  // the half cylinder and its front half disc
+  ASSERT_TRUE(domain.symmetryPlane.has_value());
+  ASSERT_TRUE(domain.outflowPlane.has_value());
+  EXPECT_NEAR(domain.symmetryPlane->normal.y(), 1.0, 1e-12);
+  EXPECT_NEAR(domain.outflowPlane->normal.x(), -1.0, 1e-12);
+  EXPECT_LT((domain.centre - Eigen::Vector3d(5.0, 0.0, 0.0)).norm(), 1e-9);
+  // The sphere's centre off the outflow plane: no domain the volume stage can march to.
+  try {
+    splitFlowDomain(rodIntoQuarterSphere(gp_Pnt(0.0, 0.0, 0.0)));
+    FAIL() << "a sphere centred off the outflow plane was accepted";
+  } catch (const InvalidInputError& error) {
+    EXPECT_NE(std::string(error.what()).find("centre is off the outflow plane"), std::string::npos) << error.what();
+  }
+}
+
 TEST(FlowDomain, M6FlowDomainFileWrittenFaceByFaceToIges) {
   // The same file as design tools write IGES (every face on its own), sewn on reading.
   const std::string iges = kOutput + "/onera-m6-sharp-te_faces.igs";
@@ -163,7 +213,7 @@ TEST(FlowDomain, WhatIsNotAFlowDomainIsNamed) {
         }
       },
       InvalidInputError);
-  // A body that runs into the domain on two faces (root and outflow) is refused naming both.
+  // A body that runs into a box on two faces (root and outflow) is refused naming both.
   const TopoDS_Shape box = BRepPrimAPI_MakeBox(gp_Pnt(-10.0, 0.0, -5.0), gp_Pnt(4.0, 5.0, 5.0)).Shape();
   const TopoDS_Shape rod = BRepPrimAPI_MakeBox(gp_Pnt(0.0, 0.0, -0.5), gp_Pnt(4.0, 1.0, 0.5)).Shape();
   EXPECT_THROW(
@@ -171,8 +221,9 @@ TEST(FlowDomain, WhatIsNotAFlowDomainIsNamed) {
         try {
           splitFlowDomain(BRepAlgoAPI_Cut(box, rod).Shape());
         } catch (const InvalidInputError& error) {
-          EXPECT_NE(std::string(error.what()).find("the body touches the domain on face"), std::string::npos)
+          EXPECT_NE(std::string(error.what()).find("the body touches the box on face"), std::string::npos)
               << error.what();
+          EXPECT_NE(std::string(error.what()).find("needs a sphere domain"), std::string::npos) << error.what();
           throw;
         }
       },

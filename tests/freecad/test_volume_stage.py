@@ -16,6 +16,7 @@ from bvmesh.features.common import is_type
 from console_capture import console_errors
 
 RADIUS = 1.0
+DATA = os.environ.get("BVMESH_TEST_DATA_DIR", os.path.join(os.path.dirname(__file__), "..", "data"))
 
 
 def enumerations(objects):
@@ -707,6 +708,38 @@ class FlowDomainDocument(unittest.TestCase):
             target.Faces = ["Face1", "Face2"]
             doc.recompute()
             self.assertEqual(target.FlowDomain, "")
+        finally:
+            FreeCAD.closeDocument(doc.Name)
+
+    def test_body_running_into_the_outflow_plane(self):
+        # The hemisphere-cylinder's flow-domain file: the body lies on the symmetry plane y = 0 and
+        # runs into the outflow plane x = 10 of a quarter sphere; the target finds both planes, the
+        # volume mesh marches in both and tags the faces in the outflow plane outlet.
+        doc = FreeCAD.newDocument("Sting")
+        try:
+            domain = doc.addObject("Part::Feature", "Domain")
+            domain.Shape = Part.read(os.path.join(DATA, "hemisph-cyl.stp"))
+            target = api.make_target(doc, domain)
+            self.assertEqual(target.FlowDomain, "sphere")
+            self.assertEqual(len(target.Shape.Faces), 2)
+            self.assertLess((target.OutflowNormal - FreeCAD.Vector(-1.0, 0.0, 0.0)).Length, 1e-12)
+            self.assertAlmostEqual(target.OutflowPoint.x, 10.0, places=9)
+            polyhedron = api.make_polyhedron_from_template(doc, target, "capsule")
+            # The fit takes the flow domain's symmetry plane as the workbench's command does.
+            point, normal = api.symmetry_plane_guess(target)
+            self.assertAlmostEqual(point[1], 0.0, places=12)
+            np.testing.assert_allclose(normal, (0.0, 1.0, 0.0), atol=1e-12)
+            fit = api.fit_to_tolerance(api.make_surface_fit(doc, target, polyhedron, relative_tolerance=1e-4,
+                                                            max_level=2,
+                                                            symmetry_plane=api.symmetry_plane_guess(target)))
+            vm = api.make_volume_mesh(fit, reference_length=10.0, reynolds_number=1e6)
+            self.assertEqual(vm.Domain, "cad")
+            mesh = api.volume_mesh_of(vm)
+            conditions = [face["condition"] for b in range(mesh.blocks.block_count)
+                          for face in mesh.blocks.faces(b).values()]
+            self.assertEqual(conditions.count("outlet"), 3)
+            np.testing.assert_allclose(mesh.domain_centre, [10.0, 0.0, 0.0], atol=1e-9)
+            self.assertAlmostEqual(mesh.farfield_distance, 100.0, places=9)
         finally:
             FreeCAD.closeDocument(doc.Name)
 

@@ -137,6 +137,14 @@ class SewnIges(unittest.TestCase):
         self.assertIn("flow domain: half sphere around (0, 0, 0), radius 100; body (the target): Face3, Face4,",
                       out.stdout)
         self.assertIn("domain: Face1, Face2", out.stdout)
+        self.assertNotIn("outflow plane", out.stdout)
+        # The hemisphere-cylinder runs into its domain's outflow plane.
+        sting = subprocess.run([sys.executable, "-m", "bvmesh", "info", os.path.join(DATA, "hemisph-cyl.stp")],
+                               env=env, capture_output=True, text=True, timeout=120)
+        self.assertEqual(sting.returncode, 0, sting.stderr)
+        self.assertIn("flow domain: half sphere around (10, 0, 0), radius 100; body (the target): Face4, Face5;",
+                      sting.stdout)
+        self.assertIn("the body runs into the outflow plane of Face3 (normal (-1, 0, 0))", sting.stdout)
         # A body alone (the wing) is no flow domain: no such line.
         wing = subprocess.run([sys.executable, "-m", "bvmesh", "info", WING], env=env, capture_output=True, text=True,
                               timeout=120)

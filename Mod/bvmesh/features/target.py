@@ -56,6 +56,15 @@ class TargetProxy(Proxy):
         add_property(obj, "App::PropertyVector", "DomainSize", "Flow domain",
                      "A box domain's half sizes (from the symmetry plane for a half box), a sphere's radius thrice",
                      mode=READ_ONLY)
+        add_property(obj, "App::PropertyVector", "SymmetryPoint", "Flow domain",
+                     "A point of the flow domain's symmetry plane that the body lies on", mode=READ_ONLY)
+        add_property(obj, "App::PropertyVector", "SymmetryNormal", "Flow domain",
+                     "The symmetry plane's normal, towards the domain; zero: a whole body", mode=READ_ONLY)
+        add_property(obj, "App::PropertyVector", "OutflowPoint", "Flow domain",
+                     "A point of the domain's outflow plane that the body runs into (a sting)", mode=READ_ONLY)
+        add_property(obj, "App::PropertyVector", "OutflowNormal", "Flow domain",
+                     "The outflow plane's normal, towards the domain; zero: the body does not run into one",
+                     mode=READ_ONLY)
         add_property(obj, "App::PropertyString", "Geometry", "Result",
                      "BREP text of the fitted faces, exactly as the core gets it", mode=HIDDEN)
         add_property(obj, "App::PropertyString", "BrepHash", "Result",
@@ -112,6 +121,10 @@ class TargetProxy(Proxy):
         obj.FlowDomain = domain["shape"] if domain else ""
         obj.DomainCentre = FreeCAD.Vector(*domain["centre"]) if domain else FreeCAD.Vector()
         obj.DomainSize = FreeCAD.Vector(*polyhedra.domain_size(domain)) if domain else FreeCAD.Vector()
+        for prefix, key in (("Symmetry", "symmetry_plane"), ("Outflow", "outflow_plane")):
+            plane = domain[key] if domain else None
+            setattr(obj, prefix + "Point", FreeCAD.Vector(*plane[0]) if plane else FreeCAD.Vector())
+            setattr(obj, prefix + "Normal", FreeCAD.Vector(*plane[1]) if plane else FreeCAD.Vector())
 
     def core_target(self, obj):
         """The bvmesh.Target of the fitted faces, built once per geometry and options."""

@@ -76,7 +76,9 @@ def cad_domain(fit):
                          "out, its Faces left empty): choose sphere, box or cylinder")
     from bvmesh import polyhedra
 
-    return polyhedra.domain_volume_options(target.FlowDomain, target.DomainCentre, tuple(target.DomainSize))
+    normal = tuple(getattr(target, "OutflowNormal", (0.0, 0.0, 0.0)))
+    outflow = (tuple(target.OutflowPoint), normal) if any(normal) else None
+    return polyhedra.domain_volume_options(target.FlowDomain, target.DomainCentre, tuple(target.DomainSize), outflow)
 
 
 def symmetry_plane(fit):

@@ -19,6 +19,7 @@
 #include <Eigen/QR>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <string>
@@ -247,22 +248,58 @@ FlowDomain splitFlowDomain(const TopoDS_Shape& shape) {
       });
       if (onPlane >= 2) touched.emplace_back(f, plane);
     }
-    if (touched.size() > 1) {
-      throw InvalidInputError("splitFlowDomain: the body touches the domain on " + faceText(touched[0].first) + " and " +
-                              faceText(touched[1].first) +
-                              ": only a root on one symmetry plane is supported (a body that runs into the "
-                              "outflow needs a closed tail)");
+    if (touched.size() > 2) {
+      throw InvalidInputError("splitFlowDomain: the body touches the domain on " + faceText(touched[0].first) + ", " +
+                              faceText(touched[1].first) + " and " + faceText(touched[2].first) +
+                              ": a body lies on one symmetry plane and runs into at most one outflow plane");
     }
-    if (!touched.empty()) {
-      fit::SymmetryPlane symmetry;
-      symmetry.normal = touched[0].second.normal;
-      // Towards the domain: the side the body lies on; the point: the body's mean on the plane.
+    if (touched.size() == 2) {
+      if (!sphere) {
+        throw InvalidInputError("splitFlowDomain: the body touches the box on " + faceText(touched[0].first) + " and " +
+                                faceText(touched[1].first) +
+                                ": a body that runs into the outflow boundary (a sting) needs a sphere domain");
+      }
+      if (std::abs(touched[0].second.normal.dot(touched[1].second.normal)) > 1e-6) {
+        throw InvalidInputError("splitFlowDomain: the body touches " + faceText(touched[0].first) + " and " +
+                                faceText(touched[1].first) + ", which are not perpendicular");
+      }
+      // The symmetry plane holds the body's profile, the outflow plane a section of it.
+      std::array<double, 2> width{0.0, 0.0};
+      for (size_t k = 0; k < 2; ++k) {
+        const Plane& plane = touched[k].second;
+        Eigen::Vector3d lo = Eigen::Vector3d::Constant(HUGE_VAL), hi = -lo;
+        for (const Eigen::Vector3d& p : body) {
+          if (std::abs(plane.normal.dot(p - plane.point)) > tolerance) continue;
+          lo = lo.cwiseMin(p);
+          hi = hi.cwiseMax(p);
+        }
+        width[k] = (hi - lo).norm();
+      }
+      if (std::max(width[0], width[1]) < 1.5 * std::min(width[0], width[1])) {
+        throw InvalidInputError("splitFlowDomain: the body touches " + faceText(touched[0].first) + " and " +
+                                faceText(touched[1].first) + " over similar widths (" + numberText(width[0]) +
+                                " and " + numberText(width[1]) +
+                                "): which one is the symmetry plane and which the outflow plane is not clear");
+      }
+      if (width[1] > width[0]) std::swap(touched[0], touched[1]);
+    }
+    // Towards the domain: the side the body lies on; the point: the body's mean on the plane.
+    const auto planeTowardsBody = [&](const Plane& plane) {
+      fit::SymmetryPlane result;
+      result.normal = plane.normal;
       const Eigen::Vector3d mean = meanOf(body);
-      const double side = symmetry.normal.dot(mean - touched[0].second.point);
-      symmetry.point = mean - side * symmetry.normal;
-      if (side < 0.0) symmetry.normal = -symmetry.normal;
+      const double side = result.normal.dot(mean - plane.point);
+      result.point = mean - side * result.normal;
+      if (side < 0.0) result.normal = -result.normal;
+      return result;
+    };
+    if (!touched.empty()) {
       domain.symmetryFace = touched[0].first;
-      domain.symmetryPlane = symmetry;
+      domain.symmetryPlane = planeTowardsBody(touched[0].second);
+    }
+    if (touched.size() == 2) {
+      domain.outflowFace = touched[1].first;
+      domain.outflowPlane = planeTowardsBody(touched[1].second);
     }
 
     const auto onSymmetryPlane = [&](const Eigen::Vector3d& p) {
@@ -276,6 +313,11 @@ FlowDomain splitFlowDomain(const TopoDS_Shape& shape) {
       if ((domain.centre - sphere->centre).norm() > tolerance) {
         throw InvalidInputError("splitFlowDomain: the far-field sphere's centre is off the symmetry plane of " +
                                 faceText(domain.symmetryFace) + ": not a half sphere");
+      }
+      if (domain.outflowPlane &&
+          std::abs((domain.centre - domain.outflowPlane->point).dot(domain.outflowPlane->normal)) > tolerance) {
+        throw InvalidInputError("splitFlowDomain: the far-field sphere's centre is off the outflow plane of " +
+                                faceText(domain.outflowFace) + ", which the body runs into");
       }
       return domain;
     }
