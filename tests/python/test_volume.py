@@ -657,8 +657,8 @@ class HemisphereCylinderIntoItsOutflowPlane(unittest.TestCase):
         cls.outflow = (tuple(outflow.Position), tuple(outflow.Axis))
         body = Part.Shell([shape.Faces[4], shape.Faces[3]])
         body.sewShape()
-        target = bvmesh.Target.from_brep(body.exportBrepToString())
-        placed = polyhedra.place("capsule", target)
+        target = cls.target = bvmesh.Target.from_brep(body.exportBrepToString())
+        placed = cls.placed = polyhedra.place("capsule", target)
         cls.tail = placed["parameters"]["tail"]
         cls.fitter = bvmesh.SurfaceFitter(target, placed["mesh"], placed["feature_map"],
                                           symmetry_plane=placed["symmetry_plane"], max_level=3, tolerance=1e-3)
@@ -716,6 +716,27 @@ class HemisphereCylinderIntoItsOutflowPlane(unittest.TestCase):
         failed = [line for line in failed_checks(report) if "small determinant" not in line]
         self.assertEqual(failed, [])
         self.assertIn("Cell volumes OK", report)
+
+    def test_control_volume_and_its_subdivision(self):
+        import bvmesh.grid
+
+        # The fit's own control mesh marched (level 2) and refined once by volumetric subdivision:
+        # the rim's control vertices put on the outflow plane, the faces swept from them outlet.
+        fitter = bvmesh.SurfaceFitter(self.target, self.placed["mesh"], self.placed["feature_map"],
+                                      symmetry_plane=self.placed["symmetry_plane"], max_level=2, tolerance=1e-3)
+        fitter.run()
+        volume = bvmesh.volume.control_volume(fitter, outflow_plane=self.outflow, **self.options)
+        mesh = volume.hex_mesh()
+        conditions = np.asarray(mesh["boundary_conditions"])
+        self.assertEqual(sorted(set(conditions)), ["farfield", "outlet", "symmetry", "wall"])
+        points = np.asarray(mesh["points"])
+        outlet = np.unique(np.asarray(mesh["boundary_faces"])[conditions == "outlet"])
+        self.assertEqual(np.abs(points[outlet, 0] - 10.0).max(), 0.0)
+        refined = bvmesh.grid.refine(volume, method="subdivision", steps=1)
+        quality = bvmesh.grid.quality(refined)
+        # Measured: minimum scaled Jacobian 0.442, largest non-orthogonality 54.3 degrees.
+        self.assertGreater(np.min(quality["scaled_jacobian"]), 0.4)
+        self.assertLess(np.max(quality["non_orthogonality"]), 60.0)
 
     def test_planes_the_wall_does_not_fit_are_refused(self):
         cases = [

@@ -56,20 +56,13 @@ RowMatrixX3d meanLimitNormals(const surface::QuadControlMesh& wall, const Contro
   return normals;
 }
 
-// The wall's open sides all lie on the symmetry plane.
-constexpr std::array<BoundaryCondition, 4> kSymmetrySides{BoundaryCondition::Symmetry, BoundaryCondition::Symmetry,
-                                                          BoundaryCondition::Symmetry, BoundaryCondition::Symmetry};
-
 }  // namespace
 
 ControlVolume controlVolumeMesh(const surface::QuadControlMesh& wall, const VolumeMeshOptions& options) {
   surface::validateQuadControlMesh(wall);
-  requireMarchableWall(wall, options.hasSymmetryPlane);
-  if (options.hasOutflowPlane) {
-    throw InvalidInputError("the control volume takes a symmetry plane only: a wall running into an outflow plane "
-                            "is meshed by the B-spline blocks (generate_volume_mesh)");
-  }
-  const Vector3d planeNormal = symmetryPlaneNormal(options);
+  requireMarchableWall(wall, options.hasSymmetryPlane || options.hasOutflowPlane);
+  const BoundaryPlanes planes = boundaryPlanesOf(options);
+  const std::array<bool, 2> given{options.hasSymmetryPlane, options.hasOutflowPlane};
   const auto wallVertices = static_cast<int>(wall.vertices.rows());
   const auto quads = static_cast<int>(wall.faces.rows());
 
@@ -82,8 +75,8 @@ ControlVolume controlVolumeMesh(const surface::QuadControlMesh& wall, const Volu
     front.quads.push_back({wall.faces(f, 0), wall.faces(f, 1), wall.faces(f, 2), wall.faces(f, 3)});
     front.quadNames.push_back("wall control face " + std::to_string(f));
   }
-  // The open boundary must lie on the symmetry plane; its vertices are put on it exactly, so that
-  // the symmetry faces swept from it are planar (volumetric subdivision keeps them so).
+  // The open boundary must lie on the symmetry plane or the outflow plane; its vertices are put on
+  // them exactly, so that the faces swept from it are planar (volumetric subdivision keeps them so).
   std::vector<std::pair<int, int>> openEdges;  // as their face runs them
   for (int e : wallMesh.boundaryEdges()) openEdges.emplace_back(wallMesh.edges()(e, 0), wallMesh.edges()(e, 1));
   const double size = (front.points.colwise().maxCoeff() - front.points.colwise().minCoeff()).norm();
@@ -91,20 +84,37 @@ ControlVolume controlVolumeMesh(const surface::QuadControlMesh& wall, const Volu
   for (int f = 0; f < quads; ++f) {
     for (int k = 0; k < 4; ++k) ++facesAt[static_cast<size_t>(wall.faces(f, k))];
   }
+  const std::array<const char*, 2> planeName{"symmetry plane", "outflow plane"};
+  std::vector<BoundaryCondition> openEdgeCondition;  // per open edge, the plane it lies on
   for (const auto& [a, b] : openEdges) {
-    for (int v : {a, b}) {
-      if (!options.hasSymmetryPlane) {
-        throw InvalidInputError("the wall is open at control vertex " + std::to_string(v) +
-                                ": close it, or give the symmetry plane it lies on (a half model)");
-      }
-      const double off = (front.points.row(v).transpose() - options.planePoint).dot(planeNormal);
-      if (std::abs(off) > 1e-6 * size) {
-        throw InvalidInputError("the wall's open boundary at control vertex " + std::to_string(v) + " lies " +
-                                numberText(std::abs(off)) + " off the symmetry plane");
-      }
-      front.points.row(v) -= off * planeNormal.transpose();
-      front.onPlanes[static_cast<size_t>(v)] = kSymmetryPlaneBit;
+    if (!given[0] && !given[1]) {
+      throw InvalidInputError("the wall is open at control vertex " + std::to_string(a) +
+                              ": close it, or give the symmetry plane it lies on (a half model) or the outflow "
+                              "plane it runs into");
     }
+    // The plane the edge lies on (the nearer one when it lies on neither).
+    std::array<double, 2> off{0.0, 0.0};
+    std::array<int, 2> farthest{a, a};
+    for (int v : {a, b}) {
+      for (size_t k = 0; k < 2; ++k) {
+        const double d = std::abs((front.points.row(v).transpose() - planes.point[k]).dot(planes.normal[k]));
+        if (d > off[k]) {
+          off[k] = d;
+          farthest[k] = v;
+        }
+      }
+    }
+    const size_t k = !given[1] || (given[0] && off[0] <= off[1]) ? 0 : 1;
+    if (off[k] > 1e-6 * size) {
+      throw InvalidInputError("the wall's open boundary at control vertex " + std::to_string(farthest[k]) + " lies " +
+                              numberText(off[k]) + " off the " + planeName[k]);
+    }
+    for (int v : {a, b}) front.onPlanes[static_cast<size_t>(v)] |= static_cast<unsigned char>(1u << k);
+    openEdgeCondition.push_back(k == 0 ? BoundaryCondition::Symmetry : BoundaryCondition::Outlet);
+  }
+  for (int v = 0; v < wallVertices; ++v) {
+    const unsigned on = front.onPlanes[static_cast<size_t>(v)];
+    if (on != 0) front.points.row(v) = planes.onto(front.points.row(v).transpose(), on).transpose();
   }
 
   const ResolvedVolumeOptions resolved = resolveVolumeOptions(options, front);
@@ -158,7 +168,14 @@ ControlVolume controlVolumeMesh(const surface::QuadControlMesh& wall, const Volu
     faces[static_cast<size_t>(BlockFaceSide::WMin)].condition = BoundaryCondition::Wall;
     const Vector3d middle = mesh.points.row(block.pointAt[block.point(block.size[0] / 2, block.size[1] / 2, layers - 1)]);
     faces[static_cast<size_t>(BlockFaceSide::WMax)].condition = resolved.marching.domain.conditionAt(middle);
-    setLateralFaces(patch, kSymmetrySides, faces);
+    // An open side takes the condition of the plane all its vertices lie on.
+    std::array<BoundaryCondition, 4> openSides{};
+    for (size_t side = 0; side < 4; ++side) {
+      unsigned common = kSymmetryPlaneBit | kOutflowPlaneBit;
+      for (int v : patch.sideVertices[side]) common &= front.onPlanes[static_cast<size_t>(v)];
+      openSides[side] = (common & kSymmetryPlaneBit) != 0 ? BoundaryCondition::Symmetry : BoundaryCondition::Outlet;
+    }
+    setLateralFaces(patch, openSides, faces);
     result.blocks.push_back(std::move(block));
     result.blockFaces.push_back(faces);
     result.blockChart.push_back(patch.chart);
@@ -179,9 +196,10 @@ ControlVolume controlVolumeMesh(const surface::QuadControlMesh& wall, const Volu
     }
   }
   for (int k = 0; k + 1 < layers; ++k) {
-    for (const auto& [a, b] : openEdges) {
+    for (size_t e = 0; e < openEdges.size(); ++e) {
+      const auto& [a, b] = openEdges[e];
       mesh.boundaryFaces.push_back({at(k, a), at(k, b), at(k + 1, b), at(k + 1, a)});
-      mesh.boundaryConditions.push_back(BoundaryCondition::Symmetry);
+      mesh.boundaryConditions.push_back(openEdgeCondition[e]);
     }
   }
   mesh.creases = wall.creases;
