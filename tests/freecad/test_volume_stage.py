@@ -738,6 +738,12 @@ class FlowDomainDocument(unittest.TestCase):
             conditions = [face["condition"] for b in range(mesh.blocks.block_count)
                           for face in mesh.blocks.faces(b).values()]
             self.assertEqual(conditions.count("outlet"), 3)
+            # The far-field display shows the whole domain boundary: the sphere's 4 faces and the
+            # outflow plane's 3.
+            api.set_volume_options(vm, show=("farfield",))
+            self.assertEqual(len(vm.Shape.Faces), 7)
+            self.assertEqual(sum(abs(f.BoundBox.XMin - 10.0) < 1e-6 and abs(f.BoundBox.XMax - 10.0) < 1e-6
+                                 for f in vm.Shape.Faces), 3)
             np.testing.assert_allclose(mesh.domain_centre, [10.0, 0.0, 0.0], atol=1e-9)
             self.assertAlmostEqual(mesh.farfield_distance, 100.0, places=9)
         finally:

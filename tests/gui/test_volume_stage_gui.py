@@ -5,7 +5,8 @@
 # redone; grid, cut plane (coloured by scaled Jacobian, with its legend), quality (histograms) and
 # a CGNS export follow. The recorded macro replayed in `freecadcmd -c` must give the same grid
 # (identical points); the document is saved, reopened and recomputes identically; the main job's
-# document opens with its grid and cut on screen. Screenshots go under the build tree.
+# document opens with its grid and cut on screen; the hemisphere-cylinder's flow-domain file goes
+# from target to volume mesh with its outflow plane. Screenshots go under the build tree.
 # Exits 0 on success, 1 on any failure.
 import json
 import os
@@ -35,6 +36,8 @@ VOLUME_PANEL_PICTURE = os.path.join(OUTPUT_DIR, "gui_volume_mesh_panel.png")
 CUT_WINDOW_PICTURE = os.path.join(OUTPUT_DIR, "gui_volume_cut_window.png")
 MAIN_JOB_DIR = os.path.join(OUTPUT_DIR, "gui_main_job")
 MAIN_JOB_PICTURE = os.path.join(OUTPUT_DIR, "gui_main_job_document.png")
+STING_PICTURE = os.path.join(OUTPUT_DIR, "gui_sting_volume.png")
+DATA = os.environ.get("BVMESH_TEST_DATA_DIR", os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "data"))
 FIT_FACES = ["Face{}".format(i) for i in range(1, 12) if i != 9]  # all but the root plane
 VOLUME_COMMANDS = ["BVMesh_VolumeMesh", "BVMesh_VolumeGrid", "BVMesh_GridCut", "BVMesh_MeshQuality",
                    "BVMesh_ExportGrid"]
@@ -302,6 +305,60 @@ def run():
     doc.saveAs(SAVED)
     reopen_and_recompute(doc)
     main_job_document_shows_its_grid()
+    body_running_into_its_outflow_plane()
+
+
+def body_running_into_its_outflow_plane():
+    """The hemisphere-cylinder's flow-domain file from the toolbar, nothing but the object
+    selected: the target takes the body, the fit the domain's symmetry plane, the volume mesh the
+    quarter sphere and the outflow plane, whose faces it shows with the far field."""
+    import FreeCAD
+    import FreeCADGui
+    import Part
+
+    doc = FreeCAD.newDocument("Sting")
+    try:
+        domain = doc.addObject("Part::Feature", "Domain")
+        domain.Shape = Part.read(os.path.join(DATA, "hemisph-cyl.stp"))
+        doc.recompute()
+        FreeCADGui.Selection.clearSelection()
+        FreeCADGui.Selection.addSelection(domain)
+        click_toolbar("BVMesh_Target")
+        FreeCADGui.Selection.clearSelection()
+        target = doc.getObject("Target")
+        check(target is not None and target.FlowDomain == "sphere" and len(target.Shape.Faces) == 2,
+              "the target took the body of the flow domain")
+        answer_input_dialogs("capsule")
+        click_toolbar("BVMesh_PolyhedronFromTemplate")
+        click_toolbar("BVMesh_SurfaceFit")
+        fit = doc.getObject("SurfaceFit")
+        check(fit is not None and fit.UseSymmetryPlane and abs(fit.SymmetryNormal.y - 1.0) < 1e-12,
+              "the fit took the flow domain's symmetry plane")
+        click_toolbar("BVMesh_FitParameters")
+        panel = form("BVMeshFit")
+        panel.findChild(QtGui.QSpinBox, "spinMaxLevel").setValue(2)
+        panel.findChild(QtGui.QDoubleSpinBox, "spinRelativeTolerance").setValue(1e-4)
+        press_task_ok()
+        click_toolbar("BVMesh_FitToTolerance")
+        click_toolbar("BVMesh_VolumeMesh")
+        panel = form("BVMeshVolumeMesh")
+        domain_choice = panel.findChild(QtGui.QComboBox, "comboDomain").currentText()
+        check(domain_choice == "cad", "the volume panel offers the flow domain's own: {}".format(domain_choice))
+        panel.findChild(QtGui.QDoubleSpinBox, "spinReferenceLength").setValue(10.0)
+        panel.findChild(QtGui.QDoubleSpinBox, "spinReynoldsNumber").setValue(1e6)
+        press_task_ok()
+        volume = doc.getObject("VolumeMesh")
+        check(volume is not None and volume.Domain == "cad" and volume.BlockCount == 4,
+              "the volume mesh marched in the flow domain's quarter sphere")
+        volume.ShowFarfield = True
+        doc.recompute()
+        in_plane = [f for f in volume.Shape.Faces
+                    if abs(f.BoundBox.XMin - 10.0) < 1e-6 and abs(f.BoundBox.XMax - 10.0) < 1e-6]
+        check(len(in_plane) == 3, "it shows the 3 block faces in the outflow plane x = 10 with the far field")
+        save_view(STING_PICTURE, [volume], fit_to=[volume])
+        check(coloured_pixels(STING_PICTURE) > 0.05, "sting view saved to " + STING_PICTURE)
+    finally:
+        FreeCAD.closeDocument(doc.Name)
 
 
 def flow_case_with_the_chosen_solver(grid):

@@ -14,6 +14,18 @@ READ_ONLY = 1
 HIDDEN = 2
 
 
+# The block-face conditions each display switch (ShowWall, ShowSymmetry, ShowFarfield) shows: the
+# far field stands for the whole domain boundary, a box's inlet, outlet and side faces and the
+# outflow plane a body runs into included.
+SHOWN_CONDITIONS = {"wall": ("wall",), "symmetry": ("symmetry",), "farfield": ("farfield", "inlet", "outlet", "side")}
+
+
+def shown_conditions(obj, display):
+    """The block-face conditions an object's display switches (`display`: (property, switch,
+    default) rows) show."""
+    return {shown for prop, switch, _ in display if getattr(obj, prop) for shown in SHOWN_CONDITIONS[switch]}
+
+
 def add_property(obj, type_name, name, group, doc, default=None, mode=None):
     """Adds property `name` unless it exists; sets `default` only when it was added, so a
     restored document keeps its values."""

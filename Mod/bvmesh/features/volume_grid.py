@@ -10,7 +10,7 @@ import hashlib
 import numpy as np
 
 from bvmesh.features import volume_mesh as volume_mesh_feature
-from bvmesh.features.common import READ_ONLY, RecomputedProxy, add_property, run_work
+from bvmesh.features.common import READ_ONLY, RecomputedProxy, add_property, run_work, shown_conditions
 from bvmesh.grid import face_array
 
 TYPE = "BVMesh::VolumeGrid"
@@ -210,7 +210,7 @@ class VolumeGridProxy(RecomputedProxy):
                 obj.FirstCellHeightMax = result.first_cell_height_max
                 obj.GrowthMax = result.growth_max
                 obj.OuterFacesSplit = result.outer_faces_split
-        conditions = {condition for prop, condition, _ in DISPLAY if getattr(obj, prop)}
+        conditions = shown_conditions(obj, DISPLAY)
         obj.Shape = boundary_lines_shape(structured, conditions)
 
 

@@ -9,7 +9,7 @@ import hashlib
 import numpy as np
 
 from bvmesh.features import surface_fit
-from bvmesh.features.common import READ_ONLY, RecomputedProxy, add_property, run_work
+from bvmesh.features.common import READ_ONLY, RecomputedProxy, add_property, run_work, shown_conditions
 from bvmesh.grid import FACE_NAMES, face_array
 
 TYPE = "BVMesh::VolumeMesh"
@@ -295,7 +295,7 @@ class VolumeMeshProxy(RecomputedProxy):
         self._show(obj, blocks)
 
     def _show(self, obj, blocks):
-        conditions = {condition for prop, condition, _ in DISPLAY if getattr(obj, prop)}
+        conditions = shown_conditions(obj, DISPLAY)
         obj.Shape, face_blocks = boundary_faces_shape(blocks, conditions)
         obj.FaceBlocks = face_blocks
 

@@ -324,7 +324,8 @@ class MakeSurfaceFit:
     def GetResources(self):
         return _resources("BVMesh_SurfaceFit", "Surface fit",
                           "Create the surface fit of the control polyhedron to the target (parameters from "
-                          "the preferences; a left-out planar target face becomes the symmetry plane)")
+                          "the preferences; a left-out planar target face, or the symmetry plane of the flow "
+                          "domain the target took its body from, becomes the symmetry plane)")
 
     def IsActive(self):
         return find_object(polyhedron.TYPE) is not None and find_object(target.TYPE) is not None

@@ -314,6 +314,13 @@ class VolumeMeshPanel(_OptionsPanel):
     combos = (("Domain", "domain", volume_mesh.DOMAINS),
               ("FarfieldScheme", "farfield_scheme", volume_mesh.FARFIELD_SCHEMES))
 
+    def __init__(self, obj, source=None):
+        super().__init__(obj, source)
+        # A new volume mesh on a flow domain's body takes that domain, as make_volume_mesh does.
+        target = getattr(source, "Target", None)
+        if obj is None and getattr(target, "FlowDomain", ""):
+            self.widget("combo", "Domain").setCurrentIndex(volume_mesh.DOMAINS.index("cad"))
+
 
 class VolumeGridPanel(_OptionsPanel):
     form_name, title = "volume_grid", "Volume grid"
