@@ -113,16 +113,21 @@ def surface_stage(doc_holder):
     click_toolbar("BVMesh_PolyhedronFromTemplate")
     check(doc.getObject("ControlPolyhedron") is not None, "the half-wing template was placed")
     click_toolbar("BVMesh_SurfaceFit")
-    click_toolbar("BVMesh_FitParameters")
-    panel = form("BVMeshFit")
-    panel.findChild(QtGui.QSpinBox, "spinMaxLevel").setValue(2)
-    panel.findChild(QtGui.QDoubleSpinBox, "spinRelativeTolerance").setValue(1e-5)
-    press_task_ok()
-    click_toolbar("BVMesh_FitToTolerance")
+    fit_to_tolerance(max_level=2, relative_tolerance=1e-5)
     fit = doc.getObject("SurfaceFit")
     check(fit.Level == 2 and fit.UseSymmetryPlane, "the wing was fitted to level 2 on its symmetry plane")
     doc_holder.append(doc)
     return doc, fit
+
+
+def fit_to_tolerance(max_level, relative_tolerance):
+    """The fit's levels and tolerance set in its parameter panel, then Fit to tolerance."""
+    click_toolbar("BVMesh_FitParameters")
+    panel = form("BVMeshFit")
+    panel.findChild(QtGui.QSpinBox, "spinMaxLevel").setValue(max_level)
+    panel.findChild(QtGui.QDoubleSpinBox, "spinRelativeTolerance").setValue(relative_tolerance)
+    press_task_ok()
+    click_toolbar("BVMesh_FitToTolerance")
 
 
 def fill_volume_panel(farfield_scheme="smoothed"):
@@ -334,12 +339,7 @@ def body_running_into_its_outflow_plane():
         fit = doc.getObject("SurfaceFit")
         check(fit is not None and fit.UseSymmetryPlane and abs(fit.SymmetryNormal.y - 1.0) < 1e-12,
               "the fit took the flow domain's symmetry plane")
-        click_toolbar("BVMesh_FitParameters")
-        panel = form("BVMeshFit")
-        panel.findChild(QtGui.QSpinBox, "spinMaxLevel").setValue(2)
-        panel.findChild(QtGui.QDoubleSpinBox, "spinRelativeTolerance").setValue(1e-4)
-        press_task_ok()
-        click_toolbar("BVMesh_FitToTolerance")
+        fit_to_tolerance(max_level=2, relative_tolerance=1e-4)
         click_toolbar("BVMesh_VolumeMesh")
         panel = form("BVMeshVolumeMesh")
         domain_choice = panel.findChild(QtGui.QComboBox, "comboDomain").currentText()

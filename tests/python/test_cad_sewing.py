@@ -131,25 +131,23 @@ class SewnIges(unittest.TestCase):
 
     def test_command_line_info_names_a_flow_domain(self):
         env = dict(os.environ, PYTHONPATH=MOD + os.pathsep + "/usr/lib/freecad-python3/lib")
-        out = subprocess.run([sys.executable, "-m", "bvmesh", "info", os.path.join(DATA, "onera-m6-sharp-te.stp")],
-                             env=env, capture_output=True, text=True, timeout=120)
-        self.assertEqual(out.returncode, 0, out.stderr)
-        self.assertIn("flow domain: half sphere around (0, 0, 0), radius 100; body (the target): Face3, Face4,",
-                      out.stdout)
-        self.assertIn("domain: Face1, Face2", out.stdout)
-        self.assertNotIn("outflow plane", out.stdout)
+
+        def info(path):
+            out = subprocess.run([sys.executable, "-m", "bvmesh", "info", path], env=env, capture_output=True,
+                                 text=True, timeout=120)
+            self.assertEqual(out.returncode, 0, out.stderr)
+            return out.stdout
+
+        m6 = info(os.path.join(DATA, "onera-m6-sharp-te.stp"))
+        self.assertIn("flow domain: half sphere around (0, 0, 0), radius 100; body (the target): Face3, Face4,", m6)
+        self.assertIn("domain: Face1, Face2", m6)
+        self.assertNotIn("outflow plane", m6)
         # The hemisphere-cylinder runs into its domain's outflow plane.
-        sting = subprocess.run([sys.executable, "-m", "bvmesh", "info", os.path.join(DATA, "hemisph-cyl.stp")],
-                               env=env, capture_output=True, text=True, timeout=120)
-        self.assertEqual(sting.returncode, 0, sting.stderr)
-        self.assertIn("flow domain: half sphere around (10, 0, 0), radius 100; body (the target): Face4, Face5;",
-                      sting.stdout)
-        self.assertIn("the body runs into the outflow plane of Face3 (normal (-1, 0, 0))", sting.stdout)
+        sting = info(os.path.join(DATA, "hemisph-cyl.stp"))
+        self.assertIn("flow domain: half sphere around (10, 0, 0), radius 100; body (the target): Face4, Face5;", sting)
+        self.assertIn("the body runs into the outflow plane of Face3 (normal (-1, 0, 0))", sting)
         # A body alone (the wing) is no flow domain: no such line.
-        wing = subprocess.run([sys.executable, "-m", "bvmesh", "info", WING], env=env, capture_output=True, text=True,
-                              timeout=120)
-        self.assertEqual(wing.returncode, 0, wing.stderr)
-        self.assertNotIn("flow domain", wing.stdout)
+        self.assertNotIn("flow domain", info(WING))
 
 
 class M6RootGap(unittest.TestCase):
