@@ -276,15 +276,20 @@ void bindPolyhedron(py::module_& module) {
         result["half_extent"] = std::vector<double>{domain.halfExtent.x(), domain.halfExtent.y(), domain.halfExtent.z()};
         result["symmetry_face"] = domain.symmetryFace < 0 ? py::object(py::none()) : py::object(py::int_(domain.symmetryFace));
         result["symmetry_plane"] = planeObject(domain.symmetryPlane);
-        result["outflow_face"] = domain.outflowFace < 0 ? py::object(py::none()) : py::object(py::int_(domain.outflowFace));
+        result["outflow_face"] =
+            domain.outflowFace < 0 ? py::object(py::none()) : py::object(py::int_(domain.outflowFace));
         result["outflow_plane"] = planeObject(domain.outflowPlane);
         return result;
       },
       py::arg("brep"),
-      "A flow domain's CAD (a box or sphere, or its half on a symmetry plane, with the body cut out) split into "
-      "the body's faces and the domain's: dict with body_faces, outer_faces (0-based), shape ('sphere' or 'box'), "
-      "centre, radius (sphere), half_extent (box; on a symmetry plane the centre lies on it and the size normal "
-      "to it is the half domain's whole), symmetry_face and symmetry_plane ((point, normal towards the domain) "
+      "A flow domain's CAD (a box or sphere, or its half on a symmetry plane, with the body cut out) split "
+      "into "
+      "the body's faces and the domain's: dict with body_faces, outer_faces (0-based), shape ('sphere' or "
+      "'box'), "
+      "centre, radius (sphere), half_extent (box; on a symmetry plane the centre lies on it and the size "
+      "normal "
+      "to it is the half domain's whole), symmetry_face and symmetry_plane ((point, normal towards the "
+      "domain) "
       "or None), outflow_face and outflow_plane (the sphere domain's plane that the body runs into, a sting; "
       "or None).");
 

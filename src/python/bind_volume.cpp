@@ -47,7 +47,8 @@ std::vector<double> parametersOf(const py::object& object, const char* name) {
 }
 
 // A plane argument, (point, normal) or None: false for None.
-bool planeOf(const py::object& plane, const std::string& name, Eigen::Vector3d& point, Eigen::Vector3d& normal) {
+bool planeOf(const py::object& plane, const std::string& name, Eigen::Vector3d& point,
+             Eigen::Vector3d& normal) {
   if (plane.is_none()) return false;
   if (!py::isinstance<py::sequence>(plane) || py::isinstance<py::str>(plane) || py::len(plane) != 2) {
     throw py::value_error(name + " must be (point, normal) or None, got " + std::string(py::repr(plane)));
@@ -65,16 +66,17 @@ void defineMarchingFunction(py::module_& module, const char* name, Make make, co
   module.def(
       name,
       [make](const ControlMesh& wall, const py::object& symmetryPlane, const py::object& outflowPlane,
-             double referenceLength,
-             double reynoldsNumber, double boundaryLayerThickness, int boundaryLayerLayers,
-             double boundaryLayerGrowth, double sharpEdgeSplay, double farfieldDistance,
-             double farfieldGrowth, double smoothing, double minScaledJacobian, int maxLayers,
-             const std::string& domain, const py::object& boxHalfExtent, const py::object& flowDirection,
-             const std::optional<ControlMesh>& marchingWall, const py::object& domainCentre,
-             const std::string& farfieldScheme, bool knifeEdgeFans) {
+             double referenceLength, double reynoldsNumber, double boundaryLayerThickness,
+             int boundaryLayerLayers, double boundaryLayerGrowth, double sharpEdgeSplay,
+             double farfieldDistance, double farfieldGrowth, double smoothing, double minScaledJacobian,
+             int maxLayers, const std::string& domain, const py::object& boxHalfExtent,
+             const py::object& flowDirection, const std::optional<ControlMesh>& marchingWall,
+             const py::object& domainCentre, const std::string& farfieldScheme, bool knifeEdgeFans) {
         volume::VolumeMeshOptions options;
-        options.hasSymmetryPlane = planeOf(symmetryPlane, "symmetry_plane", options.planePoint, options.planeNormal);
-        options.hasOutflowPlane = planeOf(outflowPlane, "outflow_plane", options.outflowPoint, options.outflowNormal);
+        options.hasSymmetryPlane =
+            planeOf(symmetryPlane, "symmetry_plane", options.planePoint, options.planeNormal);
+        options.hasOutflowPlane =
+            planeOf(outflowPlane, "outflow_plane", options.outflowPoint, options.outflowNormal);
         if (!domainCentre.is_none()) {
           options.domainCentre = vector3Of(domainCentre, "domain_centre");
         }
@@ -101,15 +103,14 @@ void defineMarchingFunction(py::module_& module, const char* name, Make make, co
         return make(surface::toQuadControlMesh(wall), options, &coarse);
       },
       py::arg("wall"), py::arg("symmetry_plane") = py::none(), py::arg("outflow_plane") = py::none(),
-      py::arg("reference_length") = 0.0,
-      py::arg("reynolds_number") = 5e6, py::arg("boundary_layer_thickness") = 0.0,
-      py::arg("boundary_layer_layers") = 4, py::arg("boundary_layer_growth") = 1.2,
-      py::arg("sharp_edge_splay") = 2.0, py::arg("farfield_distance") = 0.0, py::arg("farfield_growth") = 1.3,
-      py::arg("smoothing") = 1.0, py::arg("min_scaled_jacobian") = 0.05, py::arg("max_layers") = 400,
-      py::arg("domain") = "sphere", py::arg("box_half_extent") = py::none(),
-      py::arg("flow_direction") = std::vector<double>{1.0, 0.0, 0.0}, py::arg("marching_wall") = py::none(),
-      py::arg("domain_centre") = py::none(), py::arg("farfield_scheme") = "hyperbolic",
-      py::arg("knife_edge_fans") = false, doc);
+      py::arg("reference_length") = 0.0, py::arg("reynolds_number") = 5e6,
+      py::arg("boundary_layer_thickness") = 0.0, py::arg("boundary_layer_layers") = 4,
+      py::arg("boundary_layer_growth") = 1.2, py::arg("sharp_edge_splay") = 2.0,
+      py::arg("farfield_distance") = 0.0, py::arg("farfield_growth") = 1.3, py::arg("smoothing") = 1.0,
+      py::arg("min_scaled_jacobian") = 0.05, py::arg("max_layers") = 400, py::arg("domain") = "sphere",
+      py::arg("box_half_extent") = py::none(), py::arg("flow_direction") = std::vector<double>{1.0, 0.0, 0.0},
+      py::arg("marching_wall") = py::none(), py::arg("domain_centre") = py::none(),
+      py::arg("farfield_scheme") = "hyperbolic", py::arg("knife_edge_fans") = false, doc);
 }
 
 }  // namespace

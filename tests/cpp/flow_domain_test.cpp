@@ -137,7 +137,8 @@ TEST(FlowDomain, HemisphereCylinderRunningIntoItsOutflowPlane) {
 TopoDS_Shape rodIntoQuarterSphere(const gp_Pnt& centre) {
   const TopoDS_Shape half = BRepPrimAPI_MakeBox(gp_Pnt(-40.0, 0.0, -40.0), gp_Pnt(5.0, 40.0, 40.0)).Shape();
   const TopoDS_Shape quarter = BRepAlgoAPI_Common(BRepPrimAPI_MakeSphere(centre, 20.0).Shape(), half).Shape();
-  const TopoDS_Shape rod = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(-3.0, 0.0, 0.0), gp_Dir(1, 0, 0)), 1.0, 8.0).Shape();
+  const TopoDS_Shape rod =
+      BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(-3.0, 0.0, 0.0), gp_Dir(1, 0, 0)), 1.0, 8.0).Shape();
   return BRepAlgoAPI_Cut(quarter, rod).Shape();
 }
 
@@ -155,7 +156,8 @@ TEST(FlowDomain, RodRunningIntoTheOutflowPlaneOfAQuarterSphere) {
     splitFlowDomain(rodIntoQuarterSphere(gp_Pnt(0.0, 0.0, 0.0)));
     FAIL() << "a sphere centred off the outflow plane was accepted";
   } catch (const InvalidInputError& error) {
-    EXPECT_NE(std::string(error.what()).find("centre is off the outflow plane"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("centre is off the outflow plane"), std::string::npos)
+        << error.what();
   }
 }
 
@@ -223,7 +225,8 @@ TEST(FlowDomain, WhatIsNotAFlowDomainIsNamed) {
         } catch (const InvalidInputError& error) {
           EXPECT_NE(std::string(error.what()).find("the body touches the box on face"), std::string::npos)
               << error.what();
-          EXPECT_NE(std::string(error.what()).find("needs a sphere domain"), std::string::npos) << error.what();
+          EXPECT_NE(std::string(error.what()).find("needs a sphere domain"), std::string::npos)
+              << error.what();
           throw;
         }
       },

@@ -96,8 +96,7 @@ TEST(HyperbolicStep, AStepperWarmedByAnEarlierStepMarchesAsAFreshOne) {
   HyperbolicOptions exact;
   exact.solverTolerance = 1e-10;
   HyperbolicStepper fresh(sphere.points.rows(), sphere.quads, {}, BoundaryPlanes{}, exact);
-  HyperbolicStepper warmed(sphere.points.rows(), sphere.quads, {}, BoundaryPlanes{},
-                           exact);
+  HyperbolicStepper warmed(sphere.points.rows(), sphere.quads, {}, BoundaryPlanes{}, exact);
   const RowMatrixX3d earlier = warmed.advance(sphere.points, sphere.points, 0.03, 0.6);
   ASSERT_GT((earlier - sphere.points).rowwise().norm().minCoeff(), 0.02);
   const double thickness = 0.1;
@@ -159,10 +158,12 @@ void expectTheWholeModelsStep(const Front& whole, const Part& part, const Bounda
   for (size_t i = 0; i < part.wholeIndex.size(); ++i) {
     const auto row = static_cast<Eigen::Index>(i);
     // The steps' linear systems are solved to 1e-10 of their right-hand side.
-    EXPECT_LT((partNext.row(row) - wholeNext.row(part.wholeIndex[i])).norm(), 1e-8 * thickness) << "point " << i;
+    EXPECT_LT((partNext.row(row) - wholeNext.row(part.wholeIndex[i])).norm(), 1e-8 * thickness)
+        << "point " << i;
     for (size_t k = 0; k < 2; ++k) {
       if ((part.onPlanes[i] & (1u << k)) != 0) {
-        EXPECT_EQ(partNext.row(row).dot(planes.normal[k].transpose()), 0.0) << "point " << i << " plane " << k;
+        EXPECT_EQ(partNext.row(row).dot(planes.normal[k].transpose()), 0.0)
+            << "point " << i << " plane " << k;
       }
     }
   }
@@ -182,7 +183,8 @@ TEST(HyperbolicStep, GhostsMirroredInTwoPlanesGiveTheWholeModelsStep) {
   const Front sphere = quadSphere(8);
   const Part quarter = partOf(sphere, {{1, kSymmetryPlaneBit}, {0, kOutflowPlaneBit}});
   ASSERT_EQ(quarter.front.quads.size(), sphere.quads.size() / 4);
-  ASSERT_EQ(std::count(quarter.onPlanes.begin(), quarter.onPlanes.end(), kSymmetryPlaneBit | kOutflowPlaneBit), 2);
+  ASSERT_EQ(
+      std::count(quarter.onPlanes.begin(), quarter.onPlanes.end(), kSymmetryPlaneBit | kOutflowPlaneBit), 2);
   BoundaryPlanes planes;
   planes.normal = {Vector3d::UnitY(), Vector3d::UnitX()};
   expectTheWholeModelsStep(sphere, quarter, planes);
@@ -196,7 +198,8 @@ TEST(HyperbolicStep, FrontsItCannotMarchAreNamed) {
     HyperbolicStepper stepper(sphere.points.rows(), open, {}, BoundaryPlanes{}, {});
     FAIL() << "an open front was accepted";
   } catch (const InvalidInputError& error) {
-    EXPECT_NE(std::string(error.what()).find("open boundary off the symmetry and outflow planes"), std::string::npos)
+    EXPECT_NE(std::string(error.what()).find("open boundary off the symmetry and outflow planes"),
+              std::string::npos)
         << error.what();
   }
   // Two spheres touching at one point: two fans around it.

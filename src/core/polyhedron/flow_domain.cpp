@@ -249,15 +249,17 @@ FlowDomain splitFlowDomain(const TopoDS_Shape& shape) {
       if (onPlane >= 2) touched.emplace_back(f, plane);
     }
     if (touched.size() > 2) {
-      throw InvalidInputError("splitFlowDomain: the body touches the domain on " + faceText(touched[0].first) + ", " +
-                              faceText(touched[1].first) + " and " + faceText(touched[2].first) +
+      throw InvalidInputError("splitFlowDomain: the body touches the domain on " +
+                              faceText(touched[0].first) + ", " + faceText(touched[1].first) + " and " +
+                              faceText(touched[2].first) +
                               ": a body lies on one symmetry plane and runs into at most one outflow plane");
     }
     if (touched.size() == 2) {
       if (!sphere) {
-        throw InvalidInputError("splitFlowDomain: the body touches the box on " + faceText(touched[0].first) + " and " +
-                                faceText(touched[1].first) +
-                                ": a body that runs into the outflow boundary (a sting) needs a sphere domain");
+        throw InvalidInputError(
+            "splitFlowDomain: the body touches the box on " + faceText(touched[0].first) + " and " +
+            faceText(touched[1].first) +
+            ": a body that runs into the outflow boundary (a sting) needs a sphere domain");
       }
       if (std::abs(touched[0].second.normal.dot(touched[1].second.normal)) > 1e-6) {
         throw InvalidInputError("splitFlowDomain: the body touches " + faceText(touched[0].first) + " and " +
@@ -276,10 +278,11 @@ FlowDomain splitFlowDomain(const TopoDS_Shape& shape) {
         width[k] = (hi - lo).norm();
       }
       if (std::max(width[0], width[1]) < 1.5 * std::min(width[0], width[1])) {
-        throw InvalidInputError("splitFlowDomain: the body touches " + faceText(touched[0].first) + " and " +
-                                faceText(touched[1].first) + " over similar widths (" + numberText(width[0]) +
-                                " and " + numberText(width[1]) +
-                                "): which one is the symmetry plane and which the outflow plane is not clear");
+        throw InvalidInputError(
+            "splitFlowDomain: the body touches " + faceText(touched[0].first) + " and " +
+            faceText(touched[1].first) + " over similar widths (" + numberText(width[0]) + " and " +
+            numberText(width[1]) +
+            "): which one is the symmetry plane and which the outflow plane is not clear");
       }
       if (width[1] > width[0]) std::swap(touched[0], touched[1]);
     }
@@ -315,9 +318,11 @@ FlowDomain splitFlowDomain(const TopoDS_Shape& shape) {
                                 faceText(domain.symmetryFace) + ": not a half sphere");
       }
       if (domain.outflowPlane &&
-          std::abs((domain.centre - domain.outflowPlane->point).dot(domain.outflowPlane->normal)) > tolerance) {
-        throw InvalidInputError("splitFlowDomain: the far-field sphere's centre is off the outflow plane of " +
-                                faceText(domain.outflowFace) + ", which the body runs into");
+          std::abs((domain.centre - domain.outflowPlane->point).dot(domain.outflowPlane->normal)) >
+              tolerance) {
+        throw InvalidInputError(
+            "splitFlowDomain: the far-field sphere's centre is off the outflow plane of " +
+            faceText(domain.outflowFace) + ", which the body runs into");
       }
       return domain;
     }

@@ -31,7 +31,8 @@ Vector3d BoundaryPlanes::mirrored(const Vector3d& x, unsigned mask) const {
 Eigen::Matrix3d BoundaryPlanes::mirrorMatrix(unsigned mask) const {
   Eigen::Matrix3d result = Eigen::Matrix3d::Identity();
   for (size_t k = 0; k < 2; ++k) {
-    if ((mask & (1u << k)) != 0) result = (Eigen::Matrix3d::Identity() - 2.0 * normal[k] * normal[k].transpose()) * result;
+    if ((mask & (1u << k)) != 0)
+      result = (Eigen::Matrix3d::Identity() - 2.0 * normal[k] * normal[k].transpose()) * result;
   }
   return result;
 }

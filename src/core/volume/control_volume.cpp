@@ -88,9 +88,10 @@ ControlVolume controlVolumeMesh(const surface::QuadControlMesh& wall, const Volu
   std::vector<BoundaryCondition> openEdgeCondition;  // per open edge, the plane it lies on
   for (const auto& [a, b] : openEdges) {
     if (!given[0] && !given[1]) {
-      throw InvalidInputError("the wall is open at control vertex " + std::to_string(a) +
-                              ": close it, or give the symmetry plane it lies on (a half model) or the outflow "
-                              "plane it runs into");
+      throw InvalidInputError(
+          "the wall is open at control vertex " + std::to_string(a) +
+          ": close it, or give the symmetry plane it lies on (a half model) or the outflow "
+          "plane it runs into");
     }
     // The plane the edge lies on (the nearer one when it lies on neither).
     std::array<double, 2> off{0.0, 0.0};
@@ -106,8 +107,8 @@ ControlVolume controlVolumeMesh(const surface::QuadControlMesh& wall, const Volu
     }
     const size_t k = !given[1] || (given[0] && off[0] <= off[1]) ? 0 : 1;
     if (off[k] > 1e-6 * size) {
-      throw InvalidInputError("the wall's open boundary at control vertex " + std::to_string(farthest[k]) + " lies " +
-                              numberText(off[k]) + " off the " + planeName[k]);
+      throw InvalidInputError("the wall's open boundary at control vertex " + std::to_string(farthest[k]) +
+                              " lies " + numberText(off[k]) + " off the " + planeName[k]);
     }
     for (int v : {a, b}) front.onPlanes[static_cast<size_t>(v)] |= static_cast<unsigned char>(1u << k);
     openEdgeCondition.push_back(k == 0 ? BoundaryCondition::Symmetry : BoundaryCondition::Outlet);
@@ -173,7 +174,8 @@ ControlVolume controlVolumeMesh(const surface::QuadControlMesh& wall, const Volu
     for (size_t side = 0; side < 4; ++side) {
       unsigned common = kSymmetryPlaneBit | kOutflowPlaneBit;
       for (int v : patch.sideVertices[side]) common &= front.onPlanes[static_cast<size_t>(v)];
-      openSides[side] = (common & kSymmetryPlaneBit) != 0 ? BoundaryCondition::Symmetry : BoundaryCondition::Outlet;
+      openSides[side] =
+          (common & kSymmetryPlaneBit) != 0 ? BoundaryCondition::Symmetry : BoundaryCondition::Outlet;
     }
     setLateralFaces(patch, openSides, faces);
     result.blocks.push_back(std::move(block));

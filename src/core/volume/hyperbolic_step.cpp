@@ -180,14 +180,18 @@ HyperbolicStepper::HyperbolicStepper(Eigen::Index pointCount, const std::vector<
       // last one's plane backwards, its image in both forwards, its image in the first one's backwards.
       const size_t real = ring.size();
       if (planeCount(planesHere) == 1) {
-        for (size_t m = real - 2; m >= 1; --m) ring.push_back({ring[m].point, static_cast<unsigned char>(planesHere)});
+        for (size_t m = real - 2; m >= 1; --m)
+          ring.push_back({ring[m].point, static_cast<unsigned char>(planesHere)});
       } else {
-        const auto first = static_cast<unsigned char>(planesHere & onPlanes_[static_cast<size_t>(ring.front().point)]);
-        const auto last = static_cast<unsigned char>(planesHere & onPlanes_[static_cast<size_t>(ring.back().point)]);
+        const auto first =
+            static_cast<unsigned char>(planesHere & onPlanes_[static_cast<size_t>(ring.front().point)]);
+        const auto last =
+            static_cast<unsigned char>(planesHere & onPlanes_[static_cast<size_t>(ring.back().point)]);
         if (planeCount(first) != 1 || planeCount(last) != 1 || first == last)
           fail("lies on both boundary planes, but its cells do not reach from one to the other");
         for (size_t m = real - 1; m-- > 0;) ring.push_back({ring[m].point, last});
-        for (size_t m = 1; m < real; ++m) ring.push_back({ring[m].point, static_cast<unsigned char>(first | last)});
+        for (size_t m = 1; m < real; ++m)
+          ring.push_back({ring[m].point, static_cast<unsigned char>(first | last)});
         for (size_t m = real - 1; m-- > 1;) ring.push_back({ring[m].point, first});
       }
     }

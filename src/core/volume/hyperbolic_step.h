@@ -62,7 +62,7 @@ class HyperbolicStepper {
  private:
   struct RingEntry {
     int point;
-    unsigned char mirror;  // a ghost: the point's mirror image in these planes (bits; 0: the point itself)
+    unsigned char mirror;    // a ghost: the point's mirror image in these planes (bits; 0: the point itself)
     double xiWeight = 0.0;   // 2/M cos(2 pi m / M): r_xi's weight of this neighbour
     double etaWeight = 0.0;  // 2/M sin(2 pi m / M)
   };

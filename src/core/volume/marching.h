@@ -50,7 +50,8 @@ struct MarchingFront {
   RowMatrixX3d points;
   std::vector<std::array<int, 4>> quads;
   RowMatrixX3d normals;
-  std::vector<unsigned char> onPlanes;  // per point, BoundaryPlanes bits (kSymmetryPlaneBit ...), may be empty
+  std::vector<unsigned char>
+      onPlanes;                        // per point, BoundaryPlanes bits (kSymmetryPlaneBit ...), may be empty
   std::vector<std::string> quadNames;  // per quad, where it is (for error messages), may be empty
   std::vector<FanPoint> fanPoints;
   std::vector<KnifeCopies> knifeCopies;

@@ -50,9 +50,10 @@ BoundaryPlanes boundaryPlanesOf(const VolumeMeshOptions& options) {
   }
   // Mirror images in both planes close a ring only when they commute.
   if (options.hasSymmetryPlane && std::abs(normal.dot(planes.normal[0])) > 1e-9) {
-    throw InvalidInputError("the outflow plane must be perpendicular to the symmetry plane (they meet at " +
-                            numberText(std::acos(std::clamp(std::abs(normal.dot(planes.normal[0])), 0.0, 1.0)) * 180.0 / kPi) +
-                            " degrees)");
+    throw InvalidInputError(
+        "the outflow plane must be perpendicular to the symmetry plane (they meet at " +
+        numberText(std::acos(std::clamp(std::abs(normal.dot(planes.normal[0])), 0.0, 1.0)) * 180.0 / kPi) +
+        " degrees)");
   }
   planes.point[1] = options.outflowPoint;
   planes.normal[1] = normal;
@@ -108,8 +109,9 @@ ResolvedVolumeOptions resolveVolumeOptions(const VolumeMeshOptions& options, con
     for (size_t k = 0; k < 2; ++k) {
       const double off = (asked - planes.point[k]).dot(planes.normal[k]);
       if ((planeBits & (1u << k)) != 0 && std::abs(off) > 1e-9 * (extent.norm() + asked.norm())) {
-        throw InvalidInputError(std::string("the domain centre must lie on the ") + (k == 0 ? "symmetry" : "outflow") +
-                                " plane (it is " + numberText(off) + " off it)");
+        throw InvalidInputError(std::string("the domain centre must lie on the ") +
+                                (k == 0 ? "symmetry" : "outflow") + " plane (it is " + numberText(off) +
+                                " off it)");
       }
     }
     centre = asked;
@@ -151,8 +153,9 @@ ResolvedVolumeOptions resolveVolumeOptions(const VolumeMeshOptions& options, con
     result.farfieldDistance = marching.farfieldDistance;
   }
   if (options.hasOutflowPlane && options.domain != DomainShape::Sphere) {
-    throw InvalidInputError(std::string("a wall running into an outflow plane needs the sphere domain, not the ") +
-                            domainShapeName(options.domain) + " (the sphere's centre on the plane)");
+    throw InvalidInputError(
+        std::string("a wall running into an outflow plane needs the sphere domain, not the ") +
+        domainShapeName(options.domain) + " (the sphere's centre on the plane)");
   }
   const double flow = options.flowDirection.norm();
   if (!std::isfinite(flow) || !(flow > 0.0)) throw InvalidInputError("the flow direction must be a finite, non-zero vector");
