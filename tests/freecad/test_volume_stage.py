@@ -746,6 +746,11 @@ class FlowDomainDocument(unittest.TestCase):
                                  for f in vm.Shape.Faces), 3)
             np.testing.assert_allclose(mesh.domain_centre, [10.0, 0.0, 0.0], atol=1e-9)
             self.assertAlmostEqual(mesh.farfield_distance, 100.0, places=9)
+            # Another domain cannot take the outflow plane: refused by name, the object as it was.
+            digest = vm.Digest
+            with self.assertRaisesRegex(Exception, "runs into the outflow plane of its flow domain.*choose Domain cad"):
+                api.set_volume_options(vm, domain="sphere")
+            self.assertEqual((vm.Domain, vm.Digest), ("cad", digest))
         finally:
             FreeCAD.closeDocument(doc.Name)
 

@@ -65,6 +65,9 @@ def options(obj):
         settings[option] = tuple(getattr(obj, prop))
     if obj.Domain == "cad":
         settings.update(cad_domain(obj.Fit))
+    elif any(tuple(getattr(getattr(obj.Fit, "Target", None), "OutflowNormal", (0.0, 0.0, 0.0)))):
+        raise ValueError("the fit's target runs into the outflow plane of its flow domain, which only Domain 'cad' "
+                         "marches in: choose Domain cad")
     return settings
 
 
