@@ -65,7 +65,7 @@ def options(obj):
         settings[option] = tuple(getattr(obj, prop))
     if obj.Domain == "cad":
         settings.update(cad_domain(obj.Fit))
-    elif any(tuple(getattr(getattr(obj.Fit, "Target", None), "OutflowNormal", (0.0, 0.0, 0.0)))):
+    elif outflow_plane(getattr(obj.Fit, "Target", None)) is not None:
         raise ValueError("the fit's target runs into the outflow plane of its flow domain, which only Domain 'cad' "
                          "marches in: choose Domain cad")
     return settings
@@ -79,9 +79,14 @@ def cad_domain(fit):
                          "out, its Faces left empty): choose sphere, box or cylinder")
     from bvmesh import polyhedra
 
+    return polyhedra.domain_volume_options(target.FlowDomain, target.DomainCentre, tuple(target.DomainSize),
+                                           outflow_plane(target))
+
+
+def outflow_plane(target):
+    """(point, normal) of the outflow plane that a Target's flow-domain body runs into, or None."""
     normal = tuple(getattr(target, "OutflowNormal", (0.0, 0.0, 0.0)))
-    outflow = (tuple(target.OutflowPoint), normal) if any(normal) else None
-    return polyhedra.domain_volume_options(target.FlowDomain, target.DomainCentre, tuple(target.DomainSize), outflow)
+    return (tuple(target.OutflowPoint), normal) if any(normal) else None
 
 
 def symmetry_plane(fit):

@@ -14,6 +14,8 @@ namespace bvmesh::volume {
 
 constexpr unsigned char kSymmetryPlaneBit = 1;
 constexpr unsigned char kOutflowPlaneBit = 2;
+// Plane k's name in messages.
+constexpr std::array<const char*, 2> kBoundaryPlaneNames{"symmetry plane", "outflow plane"};
 
 struct BoundaryPlanes {
   // Plane 0 the symmetry plane (bit kSymmetryPlaneBit), plane 1 the outflow plane; unit normals.

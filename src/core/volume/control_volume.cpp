@@ -62,7 +62,6 @@ ControlVolume controlVolumeMesh(const surface::QuadControlMesh& wall, const Volu
   surface::validateQuadControlMesh(wall);
   requireMarchableWall(wall, options.hasSymmetryPlane || options.hasOutflowPlane);
   const BoundaryPlanes planes = boundaryPlanesOf(options);
-  const std::array<bool, 2> given{options.hasSymmetryPlane, options.hasOutflowPlane};
   const auto wallVertices = static_cast<int>(wall.vertices.rows());
   const auto quads = static_cast<int>(wall.faces.rows());
 
@@ -84,32 +83,10 @@ ControlVolume controlVolumeMesh(const surface::QuadControlMesh& wall, const Volu
   for (int f = 0; f < quads; ++f) {
     for (int k = 0; k < 4; ++k) ++facesAt[static_cast<size_t>(wall.faces(f, k))];
   }
-  const std::array<const char*, 2> planeName{"symmetry plane", "outflow plane"};
   std::vector<BoundaryCondition> openEdgeCondition;  // per open edge, the plane it lies on
   for (const auto& [a, b] : openEdges) {
-    if (!given[0] && !given[1]) {
-      throw InvalidInputError(
-          "the wall is open at control vertex " + std::to_string(a) +
-          ": close it, or give the symmetry plane it lies on (a half model) or the outflow "
-          "plane it runs into");
-    }
-    // The plane the edge lies on (the nearer one when it lies on neither).
-    std::array<double, 2> off{0.0, 0.0};
-    std::array<int, 2> farthest{a, a};
-    for (int v : {a, b}) {
-      for (size_t k = 0; k < 2; ++k) {
-        const double d = std::abs((front.points.row(v).transpose() - planes.point[k]).dot(planes.normal[k]));
-        if (d > off[k]) {
-          off[k] = d;
-          farthest[k] = v;
-        }
-      }
-    }
-    const size_t k = !given[1] || (given[0] && off[0] <= off[1]) ? 0 : 1;
-    if (off[k] > 1e-6 * size) {
-      throw InvalidInputError("the wall's open boundary at control vertex " + std::to_string(farthest[k]) +
-                              " lies " + numberText(off[k]) + " off the " + planeName[k]);
-    }
+    const size_t k = openSidePlane(options, planes, {front.points.row(a).transpose(), front.points.row(b).transpose()},
+                                   1e-6 * size, "control vertex " + std::to_string(a));
     for (int v : {a, b}) front.onPlanes[static_cast<size_t>(v)] |= static_cast<unsigned char>(1u << k);
     openEdgeCondition.push_back(k == 0 ? BoundaryCondition::Symmetry : BoundaryCondition::Outlet);
   }

@@ -275,13 +275,12 @@ std::vector<std::array<BoundaryCondition, 4>> markPlanePoints(const std::vector<
                                                               const VolumeMeshOptions& options) {
   const BoundaryPlanes planes = boundaryPlanesOf(options);
   const std::array<bool, 2> given{options.hasSymmetryPlane, options.hasOutflowPlane};
-  const std::array<const char*, 2> planeName{"symmetry plane", "outflow plane"};
   for (size_t k = 0; k < 2; ++k) {
     if (!given[k]) continue;
     const Eigen::VectorXd side =
         (grid.front.points.rowwise() - planes.point[k].transpose()) * planes.normal[k];
     if (side.minCoeff() < -1e-6 * grid.size && side.maxCoeff() > 1e-6 * grid.size) {
-      throw InvalidInputError(std::string("the wall reaches across the ") + planeName[k] + " (from " +
+      throw InvalidInputError(std::string("the wall reaches across the ") + kBoundaryPlaneNames[k] + " (from " +
                               numberText(side.minCoeff()) + " to " + numberText(side.maxCoeff()) +
                               " along its normal): the wall lies on one side of it");
     }
@@ -298,37 +297,15 @@ std::vector<std::array<BoundaryCondition, 4>> markPlanePoints(const std::vector<
       const std::vector<int>& chain = patch.sideVertices[static_cast<size_t>(s)];
       const std::string where = "wall patch " + std::to_string(p) + " side " + sideName(side) + " (control vertices " +
                                 std::to_string(chain.front()) + " ... " + std::to_string(chain.back()) + ")";
-      if (!given[0] && !given[1]) {
-        throw InvalidInputError(
-            "the wall is open at " + where +
-            ": close it, or give the symmetry plane it lies on (a half model) or the outflow "
-            "plane it runs into");
-      }
-      // The plane the whole side lies on (the nearer one when it lies on neither).
-      std::array<double, 2> off{0.0, 0.0};
+      std::vector<int> ids;
+      std::vector<Vector3d> points;
       for (int t = 0; t < sidePoleCount(patch, side); ++t) {
         const auto [i, j] = sidePolePosition(patch, side, t);
-        const int id = grid.pointOf[p][static_cast<size_t>(i * patch.surface.vPoles + j)];
-        for (size_t k = 0; k < 2; ++k) {
-          off[k] = std::max(
-              off[k],
-              std::abs((grid.front.points.row(id).transpose() - planes.point[k]).dot(planes.normal[k])));
-        }
+        ids.push_back(grid.pointOf[p][static_cast<size_t>(i * patch.surface.vPoles + j)]);
+        points.push_back(grid.front.points.row(ids.back()).transpose());
       }
-      const size_t k = !given[1] || (given[0] && off[0] <= off[1]) ? 0 : 1;
-      if (off[k] > 1e-6 * grid.size) {
-        throw InvalidInputError("the wall's open boundary at " + where + " lies " + numberText(off[k]) +
-                                " off the " + planeName[k] +
-                                (given[1]
-                                     ? ""
-                                     : " (a wall that runs into the domain's outflow boundary needs that "
-                                       "outflow plane given)"));
-      }
-      for (int t = 0; t < sidePoleCount(patch, side); ++t) {
-        const auto [i, j] = sidePolePosition(patch, side, t);
-        const int id = grid.pointOf[p][static_cast<size_t>(i * patch.surface.vPoles + j)];
-        grid.front.onPlanes[static_cast<size_t>(id)] |= static_cast<unsigned char>(1u << k);
-      }
+      const size_t k = openSidePlane(options, planes, points, 1e-6 * grid.size, where);
+      for (int id : ids) grid.front.onPlanes[static_cast<size_t>(id)] |= static_cast<unsigned char>(1u << k);
       conditions[p][static_cast<size_t>(s)] =
           k == 0 ? BoundaryCondition::Symmetry : BoundaryCondition::Outlet;
     }
@@ -338,7 +315,7 @@ std::vector<std::array<BoundaryCondition, 4>> markPlanePoints(const std::vector<
   for (size_t k = 0; k < 2; ++k) {
     if (given[k] && std::none_of(grid.front.onPlanes.begin(), grid.front.onPlanes.end(),
                                  [k](unsigned char on) { return (on & (1u << k)) != 0; })) {
-      throw InvalidInputError(std::string("a ") + planeName[k] + " is given, but the wall " +
+      throw InvalidInputError(std::string("a ") + kBoundaryPlaneNames[k] + " is given, but the wall " +
                               (open ? "does not end on it" : "is closed and does not end on it") + ": " +
                               (k == 0
                                    ? "a closed body needs no symmetry plane (a half model is open on it)"

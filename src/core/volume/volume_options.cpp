@@ -60,6 +60,28 @@ BoundaryPlanes boundaryPlanesOf(const VolumeMeshOptions& options) {
   return planes;
 }
 
+size_t openSidePlane(const VolumeMeshOptions& options, const BoundaryPlanes& planes,
+                     const std::vector<Vector3d>& points, double tolerance, const std::string& where) {
+  const std::array<bool, 2> given{options.hasSymmetryPlane, options.hasOutflowPlane};
+  if (!given[0] && !given[1]) {
+    throw InvalidInputError("the wall is open at " + where +
+                            ": close it, or give the symmetry plane it lies on (a half model) or the outflow "
+                            "plane it runs into");
+  }
+  std::array<double, 2> off{0.0, 0.0};
+  for (const Vector3d& x : points) {
+    for (size_t k = 0; k < 2; ++k) off[k] = std::max(off[k], std::abs((x - planes.point[k]).dot(planes.normal[k])));
+  }
+  const size_t k = !given[1] || (given[0] && off[0] <= off[1]) ? 0 : 1;
+  if (off[k] > tolerance) {
+    throw InvalidInputError("the wall's open boundary at " + where + " lies " + numberText(off[k]) + " off the " +
+                            kBoundaryPlaneNames[k] +
+                            (given[1] ? "" : " (a wall that runs into the domain's outflow boundary needs that "
+                                             "outflow plane given)"));
+  }
+  return k;
+}
+
 double flatPlateBoundaryLayerThickness(double reynoldsNumber, double length) {
   if (!(std::isfinite(reynoldsNumber) && reynoldsNumber > 0.0 && std::isfinite(length) && length > 0.0)) {
     throw InvalidInputError(

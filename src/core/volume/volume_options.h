@@ -7,6 +7,8 @@
 #include <Eigen/Core>
 
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "core/volume/domain.h"
 #include "core/volume/marching.h"
@@ -78,6 +80,12 @@ Eigen::Vector3d symmetryPlaneNormal(const VolumeMeshOptions& options);
 // The options' symmetry and outflow planes (unit normals). Throws InvalidInputError for a plane
 // with a non-finite point or a zero normal, and for two planes that are not perpendicular.
 BoundaryPlanes boundaryPlanesOf(const VolumeMeshOptions& options);
+
+// The boundary plane (0: symmetry, 1: outflow) that an open side of the wall, `points`, lies on:
+// of the options' planes the one nearer to the side's farthest point, within `tolerance`. Throws
+// InvalidInputError naming `where` when the options give no plane or the side lies off it.
+size_t openSidePlane(const VolumeMeshOptions& options, const BoundaryPlanes& planes,
+                     const std::vector<Eigen::Vector3d>& points, double tolerance, const std::string& where);
 
 // The marching set-up for `front` (the wall to march, its symmetry-plane points marked). Throws
 // InvalidInputError naming the option for a bad value, and for a front oriented inwards.
