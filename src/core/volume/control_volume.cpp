@@ -85,8 +85,9 @@ ControlVolume controlVolumeMesh(const surface::QuadControlMesh& wall, const Volu
   }
   std::vector<BoundaryCondition> openEdgeCondition;  // per open edge, the plane it lies on
   for (const auto& [a, b] : openEdges) {
-    const size_t k = openSidePlane(options, planes, {front.points.row(a).transpose(), front.points.row(b).transpose()},
-                                   1e-6 * size, "control vertex " + std::to_string(a));
+    const size_t k =
+        openSidePlane(options, planes, {front.points.row(a).transpose(), front.points.row(b).transpose()},
+                      1e-6 * size, "control vertex " + std::to_string(a));
     for (int v : {a, b}) front.onPlanes[static_cast<size_t>(v)] |= static_cast<unsigned char>(1u << k);
     openEdgeCondition.push_back(k == 0 ? BoundaryCondition::Symmetry : BoundaryCondition::Outlet);
   }

@@ -280,8 +280,8 @@ std::vector<std::array<BoundaryCondition, 4>> markPlanePoints(const std::vector<
     const Eigen::VectorXd side =
         (grid.front.points.rowwise() - planes.point[k].transpose()) * planes.normal[k];
     if (side.minCoeff() < -1e-6 * grid.size && side.maxCoeff() > 1e-6 * grid.size) {
-      throw InvalidInputError(std::string("the wall reaches across the ") + kBoundaryPlaneNames[k] + " (from " +
-                              numberText(side.minCoeff()) + " to " + numberText(side.maxCoeff()) +
+      throw InvalidInputError(std::string("the wall reaches across the ") + kBoundaryPlaneNames[k] +
+                              " (from " + numberText(side.minCoeff()) + " to " + numberText(side.maxCoeff()) +
                               " along its normal): the wall lies on one side of it");
     }
   }

@@ -70,14 +70,16 @@ size_t openSidePlane(const VolumeMeshOptions& options, const BoundaryPlanes& pla
   }
   std::array<double, 2> off{0.0, 0.0};
   for (const Vector3d& x : points) {
-    for (size_t k = 0; k < 2; ++k) off[k] = std::max(off[k], std::abs((x - planes.point[k]).dot(planes.normal[k])));
+    for (size_t k = 0; k < 2; ++k)
+      off[k] = std::max(off[k], std::abs((x - planes.point[k]).dot(planes.normal[k])));
   }
   const size_t k = !given[1] || (given[0] && off[0] <= off[1]) ? 0 : 1;
   if (off[k] > tolerance) {
-    throw InvalidInputError("the wall's open boundary at " + where + " lies " + numberText(off[k]) + " off the " +
-                            kBoundaryPlaneNames[k] +
-                            (given[1] ? "" : " (a wall that runs into the domain's outflow boundary needs that "
-                                             "outflow plane given)"));
+    throw InvalidInputError("the wall's open boundary at " + where + " lies " + numberText(off[k]) +
+                            " off the " + kBoundaryPlaneNames[k] +
+                            (given[1] ? ""
+                                      : " (a wall that runs into the domain's outflow boundary needs that "
+                                        "outflow plane given)"));
   }
   return k;
 }
