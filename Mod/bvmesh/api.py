@@ -630,13 +630,16 @@ def _set_options(obj, table, options, what):
         setattr(obj, by_option[option], value)
 
 
-def make_volume_mesh(fit, name="VolumeMesh", wall_level=-1, marching_level=-1, show=None, **options):
+def make_volume_mesh(fit, name="VolumeMesh", wall_level=-1, marching_level=-1, marching_point_limit=None, show=None,
+                     **options):
     """The block-structured B-spline volume mesh around a SurfaceFit's wall: boundary-layer control
     layers along the wall normals and the far field marched out to a sphere (half sphere on the
     fit's symmetry plane), one tricubic block per wall patch. wall_level: -1 the fit's level, or a
-    lower one (the same fit refitted to it). marching_level: -1 march the wall itself and, where
-    that folds, each lower level in turn (MarchingLevelUsed says which), or a level below the
-    wall's whose marched layers are carried onto the wall (its charts stay the blocks' wall faces). options: those of bvmesh.volume.offset_and_farfield
+    lower one (the same fit refitted to it). marching_level: -1 march the wall itself, or the
+    highest level below it whose control mesh has at most marching_point_limit points (default
+    features.volume_mesh.MARCHING_POINT_LIMIT; 0: no limit), and, where that folds, each lower level
+    in turn (MarchingLevelUsed says which), or a level below the wall's whose marched layers are
+    carried onto the wall (its charts stay the blocks' wall faces). options: those of bvmesh.volume.offset_and_farfield
     (reference_length, reynolds_number, boundary_layer_thickness, boundary_layer_layers,
     boundary_layer_growth, sharp_edge_splay, farfield_distance, farfield_growth, smoothing,
     min_scaled_jacobian, max_layers, knife_edge_fans; farfield_scheme 'hyperbolic' (default) | 'smoothed'; domain
@@ -652,6 +655,8 @@ def make_volume_mesh(fit, name="VolumeMesh", wall_level=-1, marching_level=-1, s
         obj.Fit = fit
         obj.WallLevel = int(wall_level)
         obj.MarchingLevel = int(marching_level)
+        if marching_point_limit is not None:
+            obj.MarchingPointLimit = int(marching_point_limit)
         _set_options(obj, _volume_option_table(), options, "volume mesh")
         _set_display(obj, volume_mesh.DISPLAY, show)
 
@@ -670,13 +675,15 @@ def _set_display(obj, table, show):
         setattr(obj, prop, condition in show)
 
 
-def set_volume_options(volume_mesh_object, wall_level=None, marching_level=None, show=None, **options):
+def set_volume_options(volume_mesh_object, wall_level=None, marching_level=None, marching_point_limit=None, show=None,
+                       **options):
     """Changes options of a VolumeMesh (as make_volume_mesh) and recomputes; on a failure the
     object keeps its previous options."""
     from bvmesh.features import volume_mesh
 
     return _set_and_recompute(volume_mesh_object, _volume_option_table(), volume_mesh.DISPLAY, options, show,
-                              "volume mesh", {"WallLevel": wall_level, "MarchingLevel": marching_level})
+                              "volume mesh", {"WallLevel": wall_level, "MarchingLevel": marching_level,
+                                              "MarchingPointLimit": marching_point_limit})
 
 
 def _volume_option_table():

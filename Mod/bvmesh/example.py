@@ -144,8 +144,9 @@ def _volume_report(vm, grid_object, quality, cgns, case, verdict, seconds):
         "Wall: the surface fit at level {}{}; the grid's wall points lie within {:.3e} of the CAD faces (fit "
         "tolerance {:.3g}).".format(vm.WallLevelUsed, "" if vm.MarchingLevelUsed == vm.WallLevelUsed else (
             ", layers marched from the fit refitted to level {} and carried onto it (the automatic marching "
-            "level: marched from its own level the boundary layer folds at the trailing edge's tip corner; "
-            "docs/volume.md)".format(vm.MarchingLevelUsed)),
+            "level: the highest with at most {} control points; marched from its own level the boundary layer "
+            "folds at the trailing edge's tip corner; docs/volume.md)".format(vm.MarchingLevelUsed,
+                                                                              vm.MarchingPointLimit)),
             wall_distance(grid_object), vm.Fit.Tolerance),
         "Blocks: {} tricubic B-spline blocks, {} control layers; boundary layer {:.4g} thick (reference length "
         "{:.4g}, Re {:.4g}); far field: sphere of radius {:.6g} ({:.1f} reference lengths), marched {}{}.".format(

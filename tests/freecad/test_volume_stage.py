@@ -798,12 +798,14 @@ class SaveAndReopen(unittest.TestCase):
 
 
 class AutomaticMarchingLevel(unittest.TestCase):
-    """MarchingLevel -1 on the M6 fitted to level 3: marched from its own level, the boundary layer
-    folds at the trailing edge's tip corner; the layers come from level 2, as MarchingLevel 2 gives
-    them."""
+    """MarchingLevel -1 on the M6 fitted to level 3 (11 257 control points, level 2 2 837): with the
+    default point limit the layers are marched from level 2 at once; without a limit the wall's own
+    level is marched first, whose boundary layer folds at the trailing edge's tip corner, and the
+    layers come from level 2 after all. Both give what MarchingLevel 2 gives."""
 
-    def test_a_wall_whose_marching_folds_is_marched_from_the_next_level_down(self):
+    def test_a_wall_too_fine_or_whose_marching_folds_is_marched_from_a_level_down(self):
         from bvmesh import load_core, paths
+        from bvmesh.features import volume_mesh
 
         doc = FreeCAD.newDocument("AutomaticMarchingLevel")
         try:
@@ -816,11 +818,28 @@ class AutomaticMarchingLevel(unittest.TestCase):
                                        tolerance=8e-3, max_level=3)
             api.fit_to_tolerance(fit)
             self.assertEqual(fit.Level, 3)
+            points = volume_mesh.control_points_per_level(fit)
+            self.assertGreater(points[3], volume_mesh.MARCHING_POINT_LIMIT)
+            self.assertLessEqual(points[2], volume_mesh.MARCHING_POINT_LIMIT)
             automatic = api.make_volume_mesh(fit, reference_length=805.0, name="Automatic")
+            self.assertEqual(automatic.MarchingPointLimit, volume_mesh.MARCHING_POINT_LIMIT)
+            self.assertEqual(volume_mesh.marching_levels(automatic), [2, 1])  # level 3 is not tried
             self.assertEqual((automatic.WallLevelUsed, automatic.MarchingLevelUsed), (3, 2))
+            unlimited = api.make_volume_mesh(fit, marching_point_limit=0, reference_length=805.0, name="Unlimited")
+            self.assertEqual(volume_mesh.marching_levels(unlimited), [3, 2, 1])
+            self.assertEqual((unlimited.WallLevelUsed, unlimited.MarchingLevelUsed), (3, 2))  # level 3 folded
             explicit = api.make_volume_mesh(fit, marching_level=2, reference_length=805.0, name="Explicit")
             self.assertEqual(explicit.MarchingLevelUsed, 2)
             self.assertEqual(automatic.Digest, explicit.Digest)
+            self.assertEqual(unlimited.Digest, explicit.Digest)
+            # A limit below every level's size leaves level 1 (the M6's folds there); a negative one is
+            # refused by name and the object keeps its options and blocks.
+            unlimited.MarchingPointLimit = 100
+            self.assertEqual(volume_mesh.marching_levels(unlimited), [1])
+            unlimited.MarchingPointLimit = 0
+            with self.assertRaisesRegex(RuntimeError, "MarchingPointLimit -1 must be 0"):
+                api.set_volume_options(unlimited, marching_point_limit=-1)
+            self.assertEqual((unlimited.MarchingPointLimit, unlimited.Digest), (0, explicit.Digest))
             # The subdivision grid's control volume is marched from the level the layers came from.
             grids = [api.make_volume_grid(vm, method="subdivision", steps=1) for vm in (automatic, explicit)]
             self.assertEqual(grids[0].Digest, grids[1].Digest)

@@ -42,6 +42,12 @@ SWITCHES = (
      "leave the wall along their own normals; the fan closes where the edge ends inside the wall (a wing tip)"),
 )
 DISPLAY = (("ShowWall", "wall", True), ("ShowSymmetry", "symmetry", True), ("ShowFarfield", "farfield", False))
+# MarchingLevel -1 marches from the highest level whose control mesh has at most this many points. The
+# hyperbolic far field's pseudo-steps are as long as the front's short edges, at most 64 per layer: on
+# a finer front its steps are many edges long and most take a direct solve (a waisted body of
+# revolution, fuselage template: 3 586 / 5 922 / 8 834 / 14 338 points marched in 1.4 / 13.7 / 142 /
+# 245 s; the M6's level 2 has 2 837, its level 3 11 257; docs/volume.md).
+MARCHING_POINT_LIMIT = 6000
 # cad: the flow domain of the fit's target (Target.FlowDomain), as its CAD gives it.
 DOMAINS = ["sphere", "box", "cylinder", "cad"]
 # How the far field is marched (bvmesh.volume.offset_and_farfield's farfield_scheme).
@@ -114,14 +120,30 @@ def wall_level(obj):
     return obj.Fit.Level if obj.WallLevel < 0 else obj.WallLevel
 
 
+def control_points_per_level(fit):
+    """{level: control points} of a SurfaceFit object, from its convergence table."""
+    return dict(zip(fit.HistoryLevel, fit.HistoryControlPoints))
+
+
 def marching_levels(obj):
     """The levels a VolumeMesh object's layers may be marched from, in the order they are tried: its
-    MarchingLevel alone, or for -1 (automatic) the wall's own level and then, where the marching
+    MarchingLevel alone, or for -1 (automatic) the highest level up to the wall's whose control mesh
+    has at most MarchingPointLimit points (0: the wall's own level) and then, where the marching
     folds, each lower level down to 1 in turn (for a fit made by one 'Fit to tolerance' step, whose
     lower levels can be refitted; the wall's own alone otherwise)."""
     level = wall_level(obj)
     if obj.MarchingLevel == -1:
-        return [level] + (list(range(level - 1, 0, -1)) if list(obj.Fit.Steps) == ["fit"] else [])
+        if list(obj.Fit.Steps) != ["fit"]:
+            return [level]
+        levels = list(range(level, 0, -1))
+        limit = obj.MarchingPointLimit
+        if limit < 0:
+            raise ValueError("MarchingPointLimit {} must be 0 (no limit) or more".format(limit))
+        if limit > 0:
+            points = control_points_per_level(obj.Fit)
+            small = [lv for lv in levels if points.get(lv, 0) <= limit]
+            levels = levels[levels.index(small[0]):] if small else levels[-1:]
+        return levels
     if not 0 <= obj.MarchingLevel < level:
         raise ValueError("MarchingLevel {} must be below the wall's level {} and 0 or more (or -1: the wall's own "
                          "level, or lower ones where its marching folds)".format(obj.MarchingLevel, level))
@@ -198,10 +220,16 @@ class VolumeMeshProxy(RecomputedProxy):
                      "Subdivision level of the wall: -1 the fit's own; a lower level refits the fit's target "
                      "and polyhedron to that level", -1)
         add_property(obj, "App::PropertyInteger", "MarchingLevel", "Inputs",
-                     "Subdivision level the layers are marched from: -1 the wall's own, or where its marching "
-                     "folds each lower level in turn (MarchingLevelUsed says which); a lower level marches the fit "
-                     "refitted to it and carries the layers onto the wall (whose charts stay the blocks' wall "
-                     "faces)", -1)
+                     "Subdivision level the layers are marched from: -1 the wall's own (or the highest below it "
+                     "within MarchingPointLimit), or where its marching folds each lower level in turn "
+                     "(MarchingLevelUsed says which); a lower level marches the fit refitted to it and carries the "
+                     "layers onto the wall (whose charts stay the blocks' wall faces)", -1)
+        # 0 (no limit, the wall's own level first) in a document saved before the property; create()
+        # gives new meshes MARCHING_POINT_LIMIT.
+        add_property(obj, "App::PropertyInteger", "MarchingPointLimit", "Inputs",
+                     "MarchingLevel -1 starts at the highest level whose control mesh has at most this many "
+                     "points (a finer front makes the hyperbolic far field take minutes); 0: the wall's own "
+                     "level", 0)
         for prop, _, type_name, default, doc in OPTIONS:
             add_property(obj, type_name, prop, "Marching", doc, default)
         for prop, _, default, doc in SWITCHES:
@@ -252,7 +280,8 @@ class VolumeMeshProxy(RecomputedProxy):
         fit = obj.Fit
         data = repr((fit.Name, [(v.x, v.y, v.z) for v in fit.ControlVertices], list(fit.ControlFaceSizes),
                      list(fit.ControlFaceIndices), list(fit.ControlCreases), list(fit.ControlCorners),
-                     symmetry_plane(fit), obj.WallLevel, obj.MarchingLevel, sorted(options(obj).items())))
+                     symmetry_plane(fit), obj.WallLevel, obj.MarchingLevel, obj.MarchingPointLimit,
+                     sorted(options(obj).items())))
         return hashlib.sha1(data.encode()).hexdigest()
 
     def make(self, obj):
@@ -317,4 +346,5 @@ def create(doc, name="VolumeMesh"):
     obj = doc.addObject("Part::FeaturePython", name)
     VolumeMeshProxy(obj)
     obj.FarfieldScheme = "hyperbolic"
+    obj.MarchingPointLimit = MARCHING_POINT_LIMIT
     return obj

@@ -214,7 +214,7 @@ class _OptionsPanel(_Panel):
 
     form_name = title = create_function = set_function = None
     options = display = ()
-    extra_spins = ()  # (property, keyword) outside OPTIONS
+    extra_spins = ()  # (property, keyword, default of a new object) outside OPTIONS
     combos = ()       # (property, keyword, choices)
     switches = ()     # (property, keyword, default, description): check<Property>
 
@@ -227,8 +227,8 @@ class _OptionsPanel(_Panel):
             widget.setCurrentIndex(choices.index(self.current(prop, choices[0])))
         for prop, _, _, default, _ in self.options:
             self.widget("spin", prop, default).setValue(self.current(prop, default))
-        for prop, _ in self.extra_spins:
-            self.widget("spin", prop, -1).setValue(self.current(prop, -1))
+        for prop, _, default in self.extra_spins:
+            self.widget("spin", prop, default).setValue(self.current(prop, default))
         for prop, _, default in self.display:
             self.widget("check", prop).setChecked(self.current(prop, default))
         for prop, _, default, _ in self.switches:
@@ -265,9 +265,9 @@ class _OptionsPanel(_Panel):
             value = self.widget("spin", prop, default).value()
             if value != self.current(prop, default):
                 changed[keyword] = value
-        for prop, keyword in self.extra_spins:
-            value = self.widget("spin", prop, -1).value()
-            if value != self.current(prop, -1):
+        for prop, keyword, default in self.extra_spins:
+            value = self.widget("spin", prop, default).value()
+            if value != self.current(prop, default):
                 changed[keyword] = value
         for prop, keyword, default, _ in self.switches:
             value = self.widget("check", prop).isChecked()
@@ -310,7 +310,8 @@ class VolumeMeshPanel(_OptionsPanel):
     create_function, set_function = "make_volume_mesh", "set_volume_options"
     options, display = volume_mesh.OPTIONS, volume_mesh.DISPLAY
     switches = volume_mesh.SWITCHES
-    extra_spins = (("WallLevel", "wall_level"), ("MarchingLevel", "marching_level"))
+    extra_spins = (("WallLevel", "wall_level", -1), ("MarchingLevel", "marching_level", -1),
+                   ("MarchingPointLimit", "marching_point_limit", volume_mesh.MARCHING_POINT_LIMIT))
     combos = (("Domain", "domain", volume_mesh.DOMAINS),
               ("FarfieldScheme", "farfield_scheme", volume_mesh.FARFIELD_SCHEMES))
 
