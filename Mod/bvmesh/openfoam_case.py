@@ -507,7 +507,8 @@ def write_case(grid_or_refined, case_directory, mach=M6_MACH, alpha_degrees=M6_A
     max_courant: the local time step's Courant number (default 2 for rhoPimpleFoam, 0.5 for it
     on model 'rans', 0.2 for rhoCentralFoam); rhoPimpleFoam runs its first startup_iterations at startup_courant, since
     the impulsive start from the uniform free stream diverged at Courant 2 on the 295 k-cell M6
-    grid and at 0.5 on a 59 k-cell one; rhoCentralFoam runs its last third (from the last write
+    grid and at 0.5 on a 59 k-cell one (a run of no more steps runs at startup_courant
+    throughout, and so does its continuation); rhoCentralFoam runs its last third (from the last write
     before two thirds of the iterations) at half of max_courant, where its CL settles
     (bvmesh.openfoam_run.run_case runs the stages).
     initial_solution: a case written by write_case and run (an euler solution on the same wing,
@@ -601,6 +602,11 @@ def write_case(grid_or_refined, case_directory, mach=M6_MACH, alpha_degrees=M6_A
     if solver == "rhoPimpleFoam" and 0 < startup_iterations < iterations:
         stages.insert(0, dict(end=startup_iterations, max_courant=startup_courant,
                               write_interval=startup_iterations))
+    elif solver == "rhoPimpleFoam" and startup_iterations > 0:
+        # A run no longer than the start-up is all start-up (a continuation goes on at its Courant
+        # number): started at max_courant, a sphere's and the hemisphere-cylinder's euler grids
+        # diverged in their first step.
+        stages = [dict(end=iterations, max_courant=startup_courant, write_interval=write_interval)]
     if solver == "rhoCentralFoam":
         # The last third at half the Courant number: on the 300 k-cell M6 grid CL wandered by 2 %
         # over thousands of steps at 0.2 and settled to 0.15 % at 0.1 (docs/cfd.md).

@@ -670,5 +670,53 @@ class CoarseM6Run(unittest.TestCase):
         self.check_residuals(ofr.run_case(case), 10)
 
 
+@unittest.skipUnless(HAVE_OPENFOAM, "OpenFOAM (package openfoam) is not installed")
+class ShortRunOnTheHemisphereCylinder(unittest.TestCase):
+    """rhoPimpleFoam for fewer steps than its start-up on another body than the M6: the
+    hemisphere-cylinder of tests/data running into its outflow plane (capsule fit to level 2, the
+    euler grid of 29 k cells). Started at Courant 2 (a 40-step run skipped the 50-step start-up) it
+    diverged in its first step; a run no longer than the start-up runs at the start-up's Courant
+    number throughout."""
+
+    def test_forty_steps_run_at_the_start_up_courant_number(self):
+        try:
+            import Part
+        except ImportError:  # pragma: no cover - FreeCAD is installed on the test machines
+            self.skipTest("FreeCAD is not importable")
+        import bvmesh
+        import bvmesh.volume
+        from bvmesh import polyhedra
+
+        data = os.environ.get("BVMESH_TEST_DATA_DIR") or os.path.join(os.path.dirname(__file__), "..", "data")
+        shape = Part.read(os.path.join(data, "hemisph-cyl.stp"))
+        sphere, outflow = shape.Faces[0].Surface, shape.Faces[2].Surface
+        body = Part.Shell([shape.Faces[4], shape.Faces[3]])
+        body.sewShape()
+        target = bvmesh.Target.from_brep(body.exportBrepToString())
+        placed = polyhedra.place("capsule", target)
+        fitter = bvmesh.SurfaceFitter(target, placed["mesh"], placed["feature_map"],
+                                      symmetry_plane=placed["symmetry_plane"], max_level=2, tolerance=1e-3)
+        fitter.run()
+        mesh = bvmesh.volume.offset_and_farfield(
+            fitter, outflow_plane=(tuple(outflow.Position), tuple(outflow.Axis)), reference_length=10.0,
+            reynolds_number=1e6, domain_centre=tuple(sphere.Center), farfield_distance=sphere.Radius)
+        grid = bvmesh.grid.refine(mesh, "euler", target_cells=30000)
+        with tempfile.TemporaryDirectory() as folder:
+            case = ofc.write_case(grid, os.path.join(folder, "sting"), mach=0.6, alpha_degrees=5.0, length_unit=1.0,
+                                  reference_length=1.0, reference_area=0.4, moment_point=(0.0, 0.0, 0.0),
+                                  semispan=0.5, iterations=40)
+            self.assertEqual([(stage["end"], stage["max_courant"]) for stage in ofc.read_settings(case)["stages"]],
+                             [(40, 0.25)])
+            self.assertEqual(sorted(ofc.read_boundary(case)), ["farfield", "outlet", "symmetry", "wall"])
+            result = ofr.run_case(case)
+            self.assertEqual(result["iterations"], 40)
+            for field in ("U", "e", "p"):
+                values = result["residuals"][field]
+                self.assertTrue(np.all(np.isfinite(values)), field)
+                self.assertLess(values[-1], 0.1 * values.max(), field)
+            with open(result["log"]) as file:
+                self.assertTrue(file.read().rstrip().endswith("End"))
+
+
 if __name__ == "__main__":
     unittest.main()
