@@ -21,7 +21,7 @@
 #include "core/grid/subdivision_refinement.h"
 #include "core/quality/cell_quality.h"
 #include "core/volume/block_mesh_io.h"
-#include "core/volume/marching.h"
+#include "core/volume/hex_scaled_jacobian.h"
 
 namespace bvmesh::volume {
 namespace {

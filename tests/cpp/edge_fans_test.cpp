@@ -23,7 +23,7 @@
 #include "core/quality/cell_quality.h"
 #include "core/surface/limit_bsplines.h"
 #include "core/volume/edge_fans.h"
-#include "core/volume/marching.h"
+#include "core/volume/turning.h"
 #include "core/volume/volume_blocks.h"
 #include "core/volume/wall_patches.h"
 #include "surface_test_meshes.h"

@@ -9,7 +9,7 @@
 
 #include "core/common/errors.h"
 #include "core/common/parallel.h"
-#include "core/volume/marching.h"
+#include "core/volume/hex_scaled_jacobian.h"
 
 namespace bvmesh::quality {
 namespace {

@@ -58,22 +58,6 @@ struct MarchingFront {
   std::vector<FanClosing> fanClosings;
 };
 
-// The unit direction at `fraction` of the turn from unit `a` to unit `b` at a constant rate: in
-// their plane the short way round, or, with `outside` given, the way round through the side
-// `outside` points to (opposite a and b: in the plane of a and `outside`; without it they must
-// not be opposite).
-Eigen::Vector3d turnedBetween(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double fraction,
-                              const Eigen::Vector3d& outside = Eigen::Vector3d::Zero());
-
-// The unit direction at `fraction` of the turn from unit `a` to unit `b` round `axis` (an edge's
-// direction; not unit): their parts square to the axis turn about it at a constant rate, the
-// way round through the side `outside` points to, their lengths and their parts along the axis
-// blended linearly. Two lines leaning alike along the axis give lines that all lean so, evenly
-// spaced round it (turnedBetween would turn them in their own plane, which holds the axis).
-// Without an axis, or with a or b along it, turnedBetween.
-Eigen::Vector3d turnedRound(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& axis,
-                            double fraction, const Eigen::Vector3d& outside);
-
 // How the far field is marched: `Hyperbolic` solves Chan & Steger's orthogonality and cell-volume
 // equations per step (hyperbolic_step.h), whose smoothed volumes open concave corners; a layer it
 // would fold is marched by the smoothed step. `Smoothed` steps along directions blended from the
@@ -117,13 +101,5 @@ struct MarchingResult {
 };
 
 MarchingResult marchLayers(const MarchingFront& front, const MarchingOptions& options);
-
-// Scaled Jacobian of the hexahedron with corners 000 100 110 010 001 101 111 011: the minimum
-// over its corners of det(e1, e2, e3) / (|e1| |e2| |e3|) with the three edges leaving each corner.
-// A cell on a collapsed face has corners merged with their neighbours (bit-identical points): a
-// corner merged along one direction is a prism's, measured with its neighbour's differing edge as
-// its third (signed by the cell's orientation there); one merged along more is no corner; a cell
-// without any measurable corner, or pinched without a collapsed face, gets -1.
-double hexScaledJacobian(const std::array<Eigen::Vector3d, 8>& corners);
 
 }  // namespace bvmesh::volume

@@ -17,6 +17,8 @@
 #include "core/common/number_text.h"
 #include "core/surface/limit_bsplines.h"
 #include "core/volume/edge_fans.h"
+#include "core/volume/hex_scaled_jacobian.h"
+#include "core/volume/turning.h"
 #include "core/volume/wall_patches.h"
 #include "core/volume/wall_topology.h"
 
