@@ -58,6 +58,15 @@ struct MarchingFront {
   std::vector<FanClosing> fanClosings;
 };
 
+// Per point its neighbours along the front's quads' edges (a quad's repeated corner is no edge);
+// with `withoutFans`, the wall's points alone, connected as if the knife edges' fans were not
+// there (a fan's points have none, and an edge's two copies are apart).
+std::vector<std::vector<int>> frontNeighbours(const MarchingFront& front, bool withoutFans = false);
+
+// A knife edge's fan: its points' lines turn from one copy's line to the other's (kept in the
+// boundary planes a point lies on).
+void turnFans(const MarchingFront& front, const BoundaryPlanes& planes, RowMatrixX3d& lines);
+
 // How the far field is marched: `Hyperbolic` solves Chan & Steger's orthogonality and cell-volume
 // equations per step (hyperbolic_step.h), whose smoothed volumes open concave corners; a layer it
 // would fold is marched by the smoothed step. `Smoothed` steps along directions blended from the

@@ -1,0 +1,318 @@
+#include "core/volume/boundary_layer_lines.h"
+
+#include <Eigen/Geometry>
+#include <Eigen/SparseLU>
+
+#include <algorithm>
+#include <cmath>
+#include <functional>
+#include <limits>
+#include <numeric>
+#include <queue>
+#include <set>
+
+#include "core/common/errors.h"
+#include "core/common/math_constants.h"
+#include "core/volume/turning.h"
+
+namespace bvmesh::volume {
+namespace {
+
+using Eigen::Vector3d;
+
+// A wall cell turned further than this from a point's normal (or from another cell at the point)
+// makes the point sharp.
+constexpr double kSharpAngle = kPi / 6.0;
+
+// The wall as the splay bands see it: per point the node standing for it (itself; another point
+// where a knife edge's copies are one; -1 for none, a fan's point), the nodes' normals and their
+// neighbours.
+struct WallView {
+  std::vector<int> node;
+  RowMatrixX3d normals;
+  std::vector<std::vector<int>> neighbours;
+};
+
+class SplayBands {
+ public:
+  SplayBands(const MarchingFront& front, const BoundaryPlanes& planes, double thickness)
+      : front_(front),
+        planes_(planes),
+        thickness_(thickness),
+        wallNeighbours_(frontNeighbours(front, true)) {}
+
+  // Points where the wall turns sharply: an adjacent cell's normal more than 30 degrees off the
+  // point's (averaged) normal, per node of `view`.
+  std::vector<char> sharpEdgePoints(const WallView& view) const {
+    std::vector<char> sharp(static_cast<size_t>(front_.points.rows()), 0);
+    for (const auto& q : front_.quads) {
+      const Vector3d a = front_.points.row(q[0]).transpose(), b = front_.points.row(q[1]).transpose();
+      const Vector3d c = front_.points.row(q[2]).transpose(), d = front_.points.row(q[3]).transpose();
+      const Vector3d area = (c - a).cross(d - b);
+      if (area.norm() == 0.0) continue;  // a fan's quad: no wall cell
+      const Vector3d n = area.normalized();
+      for (int p : q) {
+        const int node = view.node[static_cast<size_t>(p)];
+        if (node >= 0 && n.dot(view.normals.row(node).transpose()) < std::cos(kSharpAngle))
+          sharp[static_cast<size_t>(node)] = 1;
+      }
+    }
+    return sharp;
+  }
+
+  // Per sharp point on a concave crease (a wing-body junction, where a trailing edge ends on the
+  // fuselage), the direction that sees its wall cells best: the largest smallest dot product with
+  // their normals, found among the directions that one, two or three of the normals fix (the axis
+  // of the smallest cone holding them). Zero elsewhere. The band's harmonic interpolation there
+  // mixes the fuselage's normal with the trailing edge's cancelling ones and leaves a line nearly in
+  // the wing's surface; this one runs along the fuselage, downstream, between both.
+  RowMatrixX3d concaveCornerLines(const WallView& view, const std::vector<char>& sharp) const {
+    const Eigen::Index n = front_.points.rows();
+    std::vector<std::vector<Vector3d>> normals(static_cast<size_t>(n)), centres(static_cast<size_t>(n));
+    for (const auto& q : front_.quads) {
+      const Vector3d a = front_.points.row(q[0]).transpose(), b = front_.points.row(q[1]).transpose();
+      const Vector3d c = front_.points.row(q[2]).transpose(), d = front_.points.row(q[3]).transpose();
+      const Vector3d normal = (c - a).cross(d - b);
+      if (normal.norm() == 0.0) continue;
+      for (int corner : q) {
+        const int p = view.node[static_cast<size_t>(corner)];
+        if (p < 0 || sharp[static_cast<size_t>(p)] == 0) continue;
+        normals[static_cast<size_t>(p)].push_back(normal.normalized());
+        centres[static_cast<size_t>(p)].push_back(0.25 * (a + b + c + d));
+      }
+    }
+    RowMatrixX3d lines = RowMatrixX3d::Zero(n, 3);
+    for (Eigen::Index p = 0; p < n; ++p) {
+      const auto& around = normals[static_cast<size_t>(p)];
+      // Beyond a few cells (a wall point has 4 per patch meeting there) the cubic candidate search
+      // would cost more than the marching; such a point keeps the band's line.
+      constexpr size_t kMostCells = 16;
+      if (onPlane(p) || around.size() > kMostCells ||
+          !onConcaveCrease(front_.points.row(p).transpose(), around, centres[static_cast<size_t>(p)])) {
+        continue;
+      }
+      std::vector<Vector3d> candidates(around.begin(), around.end());
+      for (size_t i = 0; i < around.size(); ++i) {
+        for (size_t j = i + 1; j < around.size(); ++j) {
+          candidates.push_back(around[i] + around[j]);
+          for (size_t k = j + 1; k < around.size(); ++k) {
+            const Vector3d axis = (around[i] - around[j]).cross(around[i] - around[k]);
+            candidates.push_back(axis.dot(around[i]) >= 0.0 ? axis : Vector3d(-axis));
+          }
+        }
+      }
+      double best = 0.0;  // a point no direction sees all cells from keeps the band's line
+      for (const Vector3d& candidate : candidates) {
+        if (candidate.norm() < 1e-12) continue;
+        const Vector3d d = candidate.normalized();
+        double seen = 1.0;
+        for (const Vector3d& normal : around) seen = std::min(seen, normal.dot(d));
+        if (seen > best) {
+          best = seen;
+          lines.row(p) = d.transpose();
+        }
+      }
+    }
+    return lines;
+  }
+
+  // Whether some wall cell at `point` lies in front of another's plane (by more than a quarter of
+  // its distance) where the two turn by more than the sharp angle: a concave crease.
+  static bool onConcaveCrease(const Vector3d& point, const std::vector<Vector3d>& normals,
+                              const std::vector<Vector3d>& centres) {
+    for (const Vector3d& normal : normals) {
+      for (size_t j = 0; j < normals.size(); ++j) {
+        const Vector3d toCell = centres[j] - point;
+        if (normal.dot(normals[j]) < std::cos(kSharpAngle) && normal.dot(toCell) > 0.25 * toCell.norm())
+          return true;
+      }
+    }
+    return false;
+  }
+
+  // Per front point the splay band's width in its smooth region (the points connected without
+  // crossing a sharp-edge point): `width`, or half the region's largest distance from the sharp
+  // edges where that is less. Sharp-edge points keep `width`.
+  std::vector<double> regionBandWidths(const WallView& view, const std::vector<char>& sharp,
+                                       const std::vector<double>& distance, double width) const {
+    const size_t n = sharp.size();
+    std::vector<double> result(n, width);
+    std::vector<char> seen(n, 0);
+    std::vector<int> members;
+    for (size_t seed = 0; seed < n; ++seed) {
+      if (sharp[seed] != 0 || seen[seed] != 0) continue;
+      members.assign(1, static_cast<int>(seed));
+      seen[seed] = 1;
+      double reach = 0.0;
+      for (size_t next = 0; next < members.size(); ++next) {
+        const auto p = static_cast<size_t>(members[next]);
+        reach = std::max(reach, distance[p]);
+        for (int q : view.neighbours[p]) {
+          if (sharp[static_cast<size_t>(q)] != 0 || seen[static_cast<size_t>(q)] != 0) continue;
+          seen[static_cast<size_t>(q)] = 1;
+          members.push_back(q);
+        }
+      }
+      for (int p : members) result[static_cast<size_t>(p)] = std::min(width, 0.5 * reach);
+    }
+    return result;
+  }
+
+  // Boundary-layer grid-line directions: the wall normals, except in a band of geodesic width
+  // `width` around sharp convex edges (a tip; a knife edge without a fan), where they are the
+  // harmonic interpolation between the normals at the band's rim. A single grid line leaving such
+  // an edge along the mean normal would fan the cells next to it over ~90 degrees in one cell,
+  // which the blocks' cubic interpolation of the layers turns into folds; the band spreads the fan
+  // over several cells and keeps the wall orthogonal everywhere outside it. The band covers at
+  // most half of the smooth region it lies in (half its farthest point's distance from the sharp
+  // edges): a face narrower than the band, such as a body's flat base inside its rim, would
+  // otherwise have no rim of its own in the band, and every line on it would take its
+  // neighbours' normals, leaving the first cells flat. On the nodes of `view`; every point gets
+  // its node's line (a fan's points none: turnFans sets them).
+  RowMatrixX3d splayedAtSharpEdges(const WallView& view, double width) const {
+    const Eigen::Index n = front_.points.rows();
+    const std::vector<char> sharp = sharpEdgePoints(view);
+    std::vector<double> distance(static_cast<size_t>(n), std::numeric_limits<double>::infinity());
+    using Entry = std::pair<double, int>;
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+    for (Eigen::Index p = 0; p < n; ++p) {
+      if (sharp[static_cast<size_t>(p)] != 0) {
+        distance[static_cast<size_t>(p)] = 0.0;
+        queue.emplace(0.0, static_cast<int>(p));
+      }
+    }
+    while (!queue.empty()) {
+      const auto [d, p] = queue.top();
+      queue.pop();
+      if (d > distance[static_cast<size_t>(p)]) continue;
+      for (int q : view.neighbours[static_cast<size_t>(p)]) {
+        const double through = d + (front_.points.row(p) - front_.points.row(q)).norm();
+        if (through < distance[static_cast<size_t>(q)]) {
+          distance[static_cast<size_t>(q)] = through;
+          queue.emplace(through, q);
+        }
+      }
+    }
+    const std::vector<double> bandWidth = regionBandWidths(view, sharp, distance, width);
+    const RowMatrixX3d cornerLines = concaveCornerLines(view, sharp);
+    auto heldAtCorner = [&](Eigen::Index p) { return cornerLines.row(p).squaredNorm() > 0.0; };
+    auto isNode = [&](Eigen::Index p) { return view.node[static_cast<size_t>(p)] == p; };
+    auto inBand = [&](Eigen::Index p) {
+      return isNode(p) && !heldAtCorner(p) &&
+             distance[static_cast<size_t>(p)] < bandWidth[static_cast<size_t>(p)];
+    };
+    std::vector<Eigen::Triplet<double>> entries;
+    for (Eigen::Index p = 0; p < n; ++p) {
+      if (!inBand(p)) {
+        entries.emplace_back(p, p, 1.0);
+        continue;
+      }
+      const auto& near = view.neighbours[static_cast<size_t>(p)];
+      entries.emplace_back(p, p, static_cast<double>(near.size()));
+      for (int q : near) entries.emplace_back(p, q, -1.0);
+    }
+    Eigen::SparseMatrix<double> matrix(n, n);
+    matrix.setFromTriplets(entries.begin(), entries.end());
+    Eigen::SparseLU<Eigen::SparseMatrix<double>> solver(matrix);
+    if (solver.info() != Eigen::Success)
+      throw SolverError("the splay at the wall's sharp edges could not be factored");
+    Eigen::MatrixXd rim = view.normals;  // column major, as SparseLU solves
+    for (Eigen::Index p = 0; p < n; ++p) {
+      if (inBand(p) || !isNode(p)) rim.row(p).setZero();
+      if (heldAtCorner(p)) rim.row(p) = cornerLines.row(p);
+    }
+    const RowMatrixX3d solved = Eigen::MatrixXd(solver.solve(rim));
+    RowMatrixX3d lines = front_.normals;
+    for (Eigen::Index p = 0; p < n; ++p) {
+      const int node = view.node[static_cast<size_t>(p)];
+      if (node < 0) continue;
+      Vector3d d = solved.row(node).transpose();
+      d = inPlanes(p, d);
+      lines.row(p) = d.normalized().transpose();
+    }
+    return lines;
+  }
+
+  // The wall as the splay bands see it: with every knife edge cut open for its fan (each copy a
+  // node of its own with its face's normal, the fans' points none), or (`closed`) with each
+  // edge's copies one node again, on their mean normal, as an O-grid's edge.
+  WallView wallView(bool closed) const {
+    const Eigen::Index n = front_.points.rows();
+    WallView view;
+    view.node.resize(static_cast<size_t>(n));
+    std::iota(view.node.begin(), view.node.end(), 0);
+    view.normals = front_.normals;
+    for (const FanPoint& fan : front_.fanPoints) view.node[static_cast<size_t>(fan.point)] = -1;
+    if (closed) {
+      for (const KnifeCopies& copies : front_.knifeCopies) {
+        view.node[static_cast<size_t>(copies.second)] = copies.first;
+        view.normals.row(copies.first) =
+            (front_.normals.row(copies.first) + front_.normals.row(copies.second)).normalized();
+        view.normals.row(copies.second) = view.normals.row(copies.first);
+      }
+    }
+    std::vector<std::set<int>> sets(static_cast<size_t>(n));
+    for (Eigen::Index p = 0; p < n; ++p) {
+      const int node = view.node[static_cast<size_t>(p)];
+      if (node < 0) continue;
+      for (int q : wallNeighbours_[static_cast<size_t>(p)]) {
+        const int other = view.node[static_cast<size_t>(q)];
+        if (other >= 0 && other != node) sets[static_cast<size_t>(node)].insert(other);
+      }
+    }
+    view.neighbours.resize(static_cast<size_t>(n));
+    for (Eigen::Index p = 0; p < n; ++p)
+      view.neighbours[static_cast<size_t>(p)].assign(sets[static_cast<size_t>(p)].begin(),
+                                                     sets[static_cast<size_t>(p)].end());
+    return view;
+  }
+
+  // The boundary layer's grid lines: splayed at sharp edges with the knife edges cut open; where
+  // fans close (their edge ending in a sharp corner inside the wall), blended from the O-grid's
+  // lines at that corner (the knife edge closed, as if it had no fan) to them in proportion to
+  // the distance, over the length on which the fans' arc at the top of the boundary layer (their
+  // widest angle times the thickness) equals the distance: straight lines nearer than that would
+  // turn the fan's cells at the corner over, were they the fan's own. The fan narrows to nothing
+  // at the corner, whose cells are the O-grid's.
+  RowMatrixX3d lines(double width) const {
+    RowMatrixX3d lines = splayedAtSharpEdges(wallView(false), width);
+    if (!front_.fanClosings.empty()) {
+      const RowMatrixX3d closed = splayedAtSharpEdges(wallView(true), width);
+      for (Eigen::Index p = 0; p < lines.rows(); ++p) {
+        double share = 1.0;
+        for (const FanClosing& closing : front_.fanClosings) {
+          const double length = closing.widestAngle * thickness_;
+          share = std::min(share, (front_.points.row(p) - front_.points.row(closing.point)).norm() / length);
+        }
+        if (share < 1.0)
+          lines.row(p) =
+              turnedBetween(closed.row(p).transpose(), lines.row(p).transpose(), share).transpose();
+      }
+    }
+    turnFans(front_, planes_, lines);
+    return lines;
+  }
+
+ private:
+  bool onPlane(Eigen::Index p) const {
+    return !front_.onPlanes.empty() && front_.onPlanes[static_cast<size_t>(p)] != 0;
+  }
+  // A direction at point p kept in the boundary planes the point lies on.
+  Vector3d inPlanes(Eigen::Index p, const Vector3d& d) const {
+    return front_.onPlanes.empty() ? d : planes_.along(d, front_.onPlanes[static_cast<size_t>(p)]);
+  }
+
+  const MarchingFront& front_;
+  const BoundaryPlanes& planes_;
+  double thickness_;
+  std::vector<std::vector<int>> wallNeighbours_;  // without the knife edges' fans
+};
+
+}  // namespace
+
+RowMatrixX3d boundaryLayerLines(const MarchingFront& front, const BoundaryPlanes& planes, double thickness,
+                                double width) {
+  return SplayBands(front, planes, thickness).lines(width);
+}
+
+}  // namespace bvmesh::volume
