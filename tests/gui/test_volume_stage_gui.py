@@ -131,13 +131,20 @@ def fit_to_tolerance(max_level, relative_tolerance):
 
 
 def fill_volume_panel(farfield_scheme="smoothed"):
+    from bvmesh.features import volume_mesh
+
     panel = form("BVMeshVolumeMesh")
     panel.findChild(QtGui.QDoubleSpinBox, "spinReferenceLength").setValue(810.5)
     panel.findChild(QtGui.QDoubleSpinBox, "spinReynoldsNumber").setValue(11.72e6)
     scheme = panel.findChild(QtGui.QComboBox, "comboFarfieldScheme")
     offered = [scheme.itemText(i) for i in range(scheme.count())] if scheme is not None else []
-    check(offered == ["smoothed", "hyperbolic"] and scheme.currentText() == "smoothed",
-          "the volume panel offers the far-field schemes, smoothed first: {}".format(offered))
+    # A new mesh starts at make_volume_mesh's defaults: the hyperbolic scheme, the point limit.
+    check(offered == ["smoothed", "hyperbolic"] and scheme.currentText() == "hyperbolic",
+          "the volume panel offers the far-field schemes, hyperbolic chosen: {} ({})".format(
+              offered, scheme.currentText() if scheme is not None else None))
+    limit = panel.findChild(QtGui.QSpinBox, "spinMarchingPointLimit")
+    check(limit is not None and limit.value() == volume_mesh.MARCHING_POINT_LIMIT,
+          "the volume panel offers the marching point limit at {}".format(volume_mesh.MARCHING_POINT_LIMIT))
     scheme.setCurrentIndex(offered.index(farfield_scheme))
     fans = panel.findChild(QtGui.QCheckBox, "checkKnifeEdgeFans")
     check(fans is not None and not fans.isChecked(), "the volume panel offers fans at knife edges, off")

@@ -50,8 +50,10 @@ DISPLAY = (("ShowWall", "wall", True), ("ShowSymmetry", "symmetry", True), ("Sho
 MARCHING_POINT_LIMIT = 6000
 # cad: the flow domain of the fit's target (Target.FlowDomain), as its CAD gives it.
 DOMAINS = ["sphere", "box", "cylinder", "cad"]
-# How the far field is marched (bvmesh.volume.offset_and_farfield's farfield_scheme).
+# How the far field is marched (bvmesh.volume.offset_and_farfield's farfield_scheme), and the scheme of
+# a new mesh (create(), the task panel; "smoothed" in documents saved before the property).
 FARFIELD_SCHEMES = ["smoothed", "hyperbolic"]
+NEW_MESH_FARFIELD_SCHEME = "hyperbolic"
 # The domain's vector options: (property, option, default, description).
 VECTORS = (
     ("FlowDirection", "flow_direction", (1.0, 0.0, 0.0),
@@ -345,6 +347,6 @@ def volume_mesh(obj):
 def create(doc, name="VolumeMesh"):
     obj = doc.addObject("Part::FeaturePython", name)
     VolumeMeshProxy(obj)
-    obj.FarfieldScheme = "hyperbolic"
+    obj.FarfieldScheme = NEW_MESH_FARFIELD_SCHEME
     obj.MarchingPointLimit = MARCHING_POINT_LIMIT
     return obj

@@ -216,6 +216,7 @@ class _OptionsPanel(_Panel):
     options = display = ()
     extra_spins = ()  # (property, keyword, default of a new object) outside OPTIONS
     combos = ()       # (property, keyword, choices)
+    combo_defaults = {}  # property: the choice a new object starts with (else the first)
     switches = ()     # (property, keyword, default, description): check<Property>
 
     def __init__(self, obj, source=None):
@@ -224,7 +225,7 @@ class _OptionsPanel(_Panel):
         for prop, keyword, choices in self.combos:
             widget = self.widget("combo", prop)
             widget.addItems(choices)
-            widget.setCurrentIndex(choices.index(self.current(prop, choices[0])))
+            widget.setCurrentIndex(choices.index(self.current(prop, self.combo_defaults.get(prop, choices[0]))))
         for prop, _, _, default, _ in self.options:
             self.widget("spin", prop, default).setValue(self.current(prop, default))
         for prop, _, default in self.extra_spins:
@@ -314,6 +315,7 @@ class VolumeMeshPanel(_OptionsPanel):
                    ("MarchingPointLimit", "marching_point_limit", volume_mesh.MARCHING_POINT_LIMIT))
     combos = (("Domain", "domain", volume_mesh.DOMAINS),
               ("FarfieldScheme", "farfield_scheme", volume_mesh.FARFIELD_SCHEMES))
+    combo_defaults = {"FarfieldScheme": volume_mesh.NEW_MESH_FARFIELD_SCHEME}  # as make_volume_mesh
 
     def __init__(self, obj, source=None):
         super().__init__(obj, source)
