@@ -18,7 +18,7 @@ from .options import check_options
 WING_MARCHING_LEVEL = 2
 
 
-def offset_and_farfield(fit_or_mesh, symmetry_plane=None, marching_wall=None, **options):
+def offset_and_farfield(fit_or_mesh, symmetry_plane=None, marching_wall=None, marching_level=None, **options):
     """The volume mesh around a fitted wall: boundary-layer control layers along the wall normals,
     the far field marched out to a sphere (half sphere on the symmetry plane), one tricubic
     B-spline block per wall patch.
@@ -31,7 +31,10 @@ def offset_and_farfield(fit_or_mesh, symmetry_plane=None, marching_wall=None, **
     the domain is then the sphere around a centre on it (domain_centre, or the wall's centre moved
     onto it), cut by it. marching_wall: the same fit stopped at a lower level (a SurfaceFitter
     or its ControlMesh): the layers are marched from it and carried onto the wall, whose charts stay
-    the blocks' wall faces (a fine wall whose own marching folds keeps its accuracy). options: those
+    the blocks' wall faces (a fine wall whose own marching folds keeps its accuracy).
+    marching_level: for a SurfaceFitter, the level below its own whose mesh (fitter.mesh_at_level)
+    is the marching wall; a wall of more than a few thousand points marches its hyperbolic far
+    field in minutes, from a level down in seconds (docs/volume.md). options: those
     of bvmesh.generate_volume_mesh (reference_length, reynolds_number, boundary_layer_thickness,
     boundary_layer_layers, boundary_layer_growth, sharp_edge_splay, farfield_distance,
     farfield_growth, farfield_scheme ('hyperbolic', the default, or 'smoothed'), smoothing,
@@ -41,6 +44,8 @@ def offset_and_farfield(fit_or_mesh, symmetry_plane=None, marching_wall=None, **
     option and bvmesh.SolverError when the marching would fold, naming where.
     """
     wall, symmetry_plane = _wall_of(fit_or_mesh, symmetry_plane, "offset_and_farfield")
+    if marching_level is not None:
+        marching_wall = _lower_level_of(fit_or_mesh, marching_level, marching_wall)
     if marching_wall is not None:
         marching_wall, _ = _wall_of(marching_wall, symmetry_plane, "offset_and_farfield's marching_wall")
     core = load_core()
@@ -64,6 +69,21 @@ def control_volume(fit_or_mesh, symmetry_plane=None, **options):
     core = load_core()
     check_options(core.control_volume_mesh, "control_volume", options)
     return core.control_volume_mesh(wall, symmetry_plane=symmetry_plane, **options)
+
+
+def _lower_level_of(fit_or_mesh, marching_level, marching_wall):
+    """The mesh of a SurfaceFitter at marching_level, below its own level."""
+    core = load_core()
+    if marching_wall is not None:
+        raise ValueError("offset_and_farfield takes marching_wall or marching_level, not both")
+    if not isinstance(fit_or_mesh, core.SurfaceFitter):
+        raise TypeError("marching_level needs a bvmesh.SurfaceFitter (its lower levels' meshes), got {}".format(
+            type(fit_or_mesh).__name__))
+    if isinstance(marching_level, bool) or not isinstance(marching_level, int) or \
+            not 0 <= marching_level < fit_or_mesh.level:
+        raise ValueError("marching_level must be a level below the fit's level {} and 0 or more, got {!r}".format(
+            fit_or_mesh.level, marching_level))
+    return fit_or_mesh.mesh_at_level(marching_level)
 
 
 def _wall_of(fit_or_mesh, symmetry_plane, caller):

@@ -223,6 +223,11 @@ void bindFit(py::module_& module) {
            "check_samples_per_face (4), subdivision.")
       .def_property_readonly("mesh", [](const SharedFitter& f) { return exclusive(f, [&] { return ControlMesh(f.mesh()); }); },
                              "the current control mesh (a copy: editing it leaves the fitter as it is)")
+      .def("mesh_at_level", [](const SharedFitter& f, int level) {
+             return exclusive(f, [&] { return ControlMesh(f.meshAtLevel(level)); });
+           }, py::arg("level"),
+           "the control mesh as the fit left `level` (0 .. level; a copy): what a fit with max_level `level`\n"
+           "ends with (offset_and_farfield's marching_level)")
       .def_property_readonly("features", [](const SharedFitter& f) {
              return featureMapToDict(exclusive(f, [&] { return fit::FeatureMap(f.features()); }));
            })

@@ -226,6 +226,23 @@ TEST(SurfaceFitter, StepsCanBeCalledOneByOneAndUserEditsAreTakenUp) {
   EXPECT_LT(fitter.record(false).maxDistance, 1.5 * after);
 }
 
+// Each level's mesh as the fit left it is what a fit stopped at that level (maxLevel) ends with.
+TEST(SurfaceFitter, MeshAtALowerLevelIsTheFitStoppedThere) {
+  SurfaceFitter fine(sphereTarget(), cube(), {}, studyOptions(3));
+  fine.run();
+  ASSERT_EQ(fine.level(), 3);
+  for (int level = 0; level < 3; ++level) {
+    SurfaceFitter stopped(sphereTarget(), cube(), {}, studyOptions(level));
+    stopped.run();
+    ASSERT_EQ(stopped.level(), level);
+    EXPECT_EQ(fine.meshAtLevel(level).numFaces(), stopped.mesh().numFaces());
+    EXPECT_EQ(fine.meshAtLevel(level).vertices(), stopped.mesh().vertices()) << "level " << level;
+  }
+  EXPECT_EQ(fine.meshAtLevel(3).vertices(), fine.mesh().vertices());
+  EXPECT_THROW(fine.meshAtLevel(4), InvalidInputError);
+  EXPECT_THROW(fine.meshAtLevel(-1), InvalidInputError);
+}
+
 // The independent check against closed forms on the sphere: limit-to-target is the largest
 // | |p| - 1 | over the evaluation grid; target-to-limit measures the tessellated limit surface,
 // so it may exceed that by the grid's chordal error but not by much.

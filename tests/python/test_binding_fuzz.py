@@ -114,6 +114,7 @@ class MalformedArguments(unittest.TestCase):
             "SurfaceFitter.run": (fitter.run, [], dict(max_level=1)),
             "SurfaceFitter.set_options": (fitter.set_options, [], {name: value for name, value in fitter.options.items()}),
             "SurfaceFitter.set_vertices": (fitter.set_vertices, [np.asarray(wall.vertices)], {}),
+            "SurfaceFitter.mesh_at_level": (fitter.mesh_at_level, [0], {}),
             "SurfaceFitter.smooth": (fitter.smooth, [3, 0.6307, -0.6732], {}),
             "SurfaceFitter.two_sided_distance": (fitter.two_sided_distance, [4, 0], {}),
             "SurfaceFitter.correct_parameters": (fitter.correct_parameters, [1], {}),

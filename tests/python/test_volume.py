@@ -97,6 +97,27 @@ class SphereVolume(unittest.TestCase):
             np.testing.assert_allclose(radii[:, :, 2], 20.0, rtol=1e-10)  # the outer layer put on the sphere
         with self.assertRaisesRegex(ValueError, "is not a coarser level of the wall"):
             bvmesh.volume.offset_and_farfield(coarse, marching_wall=self.fitter, boundary_layer_thickness=0.05)
+        # The fit's own level-3 mesh (mesh_at_level) is the level-3 fit's, bit for bit, and
+        # marching_level 3 gives the blocks that the level-3 fitter as marching_wall gives.
+        np.testing.assert_array_equal(np.asarray(self.fitter.mesh_at_level(3).vertices),
+                                      np.asarray(coarse.mesh.vertices))
+        self.assertEqual(self.fitter.mesh_at_level(3).faces, coarse.mesh.faces)
+        by_level = bvmesh.volume.offset_and_farfield(self.fitter, marching_level=3, boundary_layer_thickness=0.05,
+                                                     boundary_layer_layers=4, farfield_distance=20.0)
+        for b in range(blocks.block_count):
+            np.testing.assert_array_equal(by_level.blocks.poles(b), blocks.poles(b))
+        np.testing.assert_array_equal(np.asarray(self.fitter.mesh_at_level(4).vertices),
+                                      np.asarray(self.fitter.mesh.vertices))
+        for level, error in ((5, "there is no mesh at level 5"), (-1, "there is no mesh at level -1")):
+            with self.assertRaisesRegex(ValueError, error):
+                self.fitter.mesh_at_level(level)
+        for level in (4, -1, 2.0, True):
+            with self.assertRaisesRegex(ValueError, "marching_level must be a level below the fit's level 4"):
+                bvmesh.volume.offset_and_farfield(self.fitter, marching_level=level)
+        with self.assertRaisesRegex(ValueError, "marching_wall or marching_level, not both"):
+            bvmesh.volume.offset_and_farfield(self.fitter, marching_wall=coarse, marching_level=3)
+        with self.assertRaisesRegex(TypeError, "marching_level needs a bvmesh.SurfaceFitter"):
+            bvmesh.volume.offset_and_farfield(self.fitter.mesh, marching_level=3)
 
     def test_arrays_and_block_file(self):
         blocks = self.result.blocks

@@ -114,6 +114,7 @@ struct SurfaceFitter::State {
 
   std::shared_ptr<const target::Target> target;
   ControlMesh mesh;
+  std::vector<ControlMesh> lowerLevels;  // the mesh as each lower level was left
   FeatureMap features;
   FitOptions options;
   double tolerance = 0.0;
@@ -523,6 +524,14 @@ const FeatureMap& SurfaceFitter::features() const { return state_->features; }
 const FitOptions& SurfaceFitter::options() const { return state_->options; }
 int SurfaceFitter::level() const { return state_->level; }
 double SurfaceFitter::absoluteTolerance() const { return state_->tolerance; }
+
+const ControlMesh& SurfaceFitter::meshAtLevel(int level) const {
+  if (level < 0 || level > state_->level) {
+    throw InvalidInputError("the fit is at level " + std::to_string(state_->level) +
+                            ": there is no mesh at level " + std::to_string(level));
+  }
+  return level == state_->level ? state_->mesh : state_->lowerLevels[static_cast<size_t>(level)];
+}
 const std::vector<PassRecord>& SurfaceFitter::history() const { return state_->history; }
 
 void SurfaceFitter::setVertices(const RowMatrixX3d& vertices) {
@@ -542,6 +551,7 @@ void SurfaceFitter::subdivide() {
   FeatureMap features = propagateFeatures(s.features, s.mesh, refined.mesh);
   const bool parentHints = s.haveHints;
   const target::SurfaceHints parent = std::move(s.hints);
+  s.lowerLevels.push_back(std::move(s.mesh));
   s.mesh = std::move(refined.mesh);
   s.features = std::move(features);
   ++s.level;

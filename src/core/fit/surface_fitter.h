@@ -138,6 +138,9 @@ public:
   SurfaceFitter& operator=(SurfaceFitter&&) noexcept;
 
   const ControlMesh& mesh() const;
+  // The control mesh as the fit left `level` (0 .. level()): the fit stopped there, as a run with
+  // maxLevel `level` ends (the volume stage marches a fine wall's layers from a lower level).
+  const ControlMesh& meshAtLevel(int level) const;
   const FeatureMap& features() const;
   const FitOptions& options() const;
   // Replaces the options (e.g. a tighter tolerance or more levels before run()); the sample
