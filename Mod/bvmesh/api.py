@@ -637,7 +637,7 @@ def make_volume_mesh(fit, name="VolumeMesh", wall_level=-1, marching_level=-1, m
     fit's symmetry plane), one tricubic block per wall patch. wall_level: -1 the fit's level, or a
     lower one (the same fit refitted to it). marching_level: -1 march the wall itself, or the
     highest level below it whose control mesh has at most marching_point_limit points (default
-    features.volume_mesh.MARCHING_POINT_LIMIT; 0: no limit), and, where that folds, each lower level
+    bvmesh.volume.MARCHING_POINT_LIMIT; 0: no limit), and, where that folds, each lower level
     in turn (MarchingLevelUsed says which), or a level below the wall's whose marched layers are
     carried onto the wall (its charts stay the blocks' wall faces). options: those of bvmesh.volume.offset_and_farfield
     (reference_length, reynolds_number, boundary_layer_thickness, boundary_layer_layers,

@@ -17,8 +17,45 @@ from .options import check_options
 # there are degenerate; docs/volume.md).
 WING_MARCHING_LEVEL = 2
 
+# The automatic marching level starts at the highest level whose control mesh has at most this many
+# points. The hyperbolic far field's pseudo-steps are as long as the front's short edges, at most 64
+# per layer: on a finer front its steps are many edges long and most take a direct solve (a waisted
+# body of revolution, fuselage template: 3 586 / 5 922 / 8 834 / 14 338 points marched in 1.4 / 13.7
+# / 142 / 245 s; the M6's level 2 has 2 837, its level 3 11 257; docs/volume.md).
+MARCHING_POINT_LIMIT = 6000
 
-def offset_and_farfield(fit_or_mesh, symmetry_plane=None, marching_wall=None, marching_level=None, **options):
+
+def marching_levels(level, points_per_level, point_limit=MARCHING_POINT_LIMIT, limit_name="marching_point_limit"):
+    """The levels a wall at `level` is marched from, in the order they are tried: the highest up to
+    `level` whose control mesh has at most point_limit points (points_per_level: {level: points};
+    0: `level` itself), then, where the marching folds, each lower one down to 1."""
+    if isinstance(point_limit, bool) or not isinstance(point_limit, int) or point_limit < 0:
+        raise ValueError("{} {!r} must be 0 (no limit) or more".format(limit_name, point_limit))
+    levels = list(range(level, 0, -1)) or [level]
+    if point_limit > 0:
+        small = [lv for lv in levels if points_per_level.get(lv, 0) <= point_limit]
+        levels = levels[levels.index(small[0]):] if small else levels[-1:]
+    return levels
+
+
+def march_from_first_level_that_holds(levels, march):
+    """(march(level), level) for the first of `levels` whose marching does not fold (a SolverError
+    "marching folds ..."); a SolverError listing every level's fold when all do."""
+    from . import SolverError
+
+    folds = []
+    for level in levels:
+        try:
+            return march(level), level
+        except SolverError as error:
+            if len(levels) == 1 or not str(error).startswith("marching folds"):
+                raise
+            folds.append("from level {}: {}".format(level, error))
+    raise SolverError("the marching folds from every level tried; " + "; ".join(folds))
+
+
+def offset_and_farfield(fit_or_mesh, symmetry_plane=None, marching_wall=None, marching_level=None,
+                        marching_point_limit=MARCHING_POINT_LIMIT, **options):
     """The volume mesh around a fitted wall: boundary-layer control layers along the wall normals,
     the far field marched out to a sphere (half sphere on the symmetry plane), one tricubic
     B-spline block per wall patch.
@@ -33,8 +70,10 @@ def offset_and_farfield(fit_or_mesh, symmetry_plane=None, marching_wall=None, ma
     or its ControlMesh): the layers are marched from it and carried onto the wall, whose charts stay
     the blocks' wall faces (a fine wall whose own marching folds keeps its accuracy).
     marching_level: for a SurfaceFitter, the level below its own whose mesh (fitter.mesh_at_level)
-    is the marching wall; a wall of more than a few thousand points marches its hyperbolic far
-    field in minutes, from a level down in seconds (docs/volume.md). options: those
+    is the marching wall, or -1: the highest level whose mesh has at most marching_point_limit
+    points (0: the fit's own) and, where that folds, each lower one in turn (marching_levels), as
+    the workbench's MarchingLevel -1 does; a wall of more than a few thousand points marches its
+    hyperbolic far field in minutes, from a level down in seconds (docs/volume.md). options: those
     of bvmesh.generate_volume_mesh (reference_length, reynolds_number, boundary_layer_thickness,
     boundary_layer_layers, boundary_layer_growth, sharp_edge_splay, farfield_distance,
     farfield_growth, farfield_scheme ('hyperbolic', the default, or 'smoothed'), smoothing,
@@ -44,6 +83,16 @@ def offset_and_farfield(fit_or_mesh, symmetry_plane=None, marching_wall=None, ma
     option and bvmesh.SolverError when the marching would fold, naming where.
     """
     wall, symmetry_plane = _wall_of(fit_or_mesh, symmetry_plane, "offset_and_farfield")
+    if marching_level == -1 and not isinstance(marching_level, bool):
+        fitter = _fitter_for_levels(fit_or_mesh, marching_wall)
+        points = {record["level"]: record["control_points"] for record in fitter.history}
+        levels = marching_levels(fitter.level, points, marching_point_limit)
+
+        def march(level):
+            lower = None if level == fitter.level else fitter.mesh_at_level(level)
+            return offset_and_farfield(fitter, symmetry_plane, marching_wall=lower, **options)
+
+        return march_from_first_level_that_holds(levels, march)[0]
     if marching_level is not None:
         marching_wall = _lower_level_of(fit_or_mesh, marching_level, marching_wall)
     if marching_wall is not None:
@@ -71,19 +120,24 @@ def control_volume(fit_or_mesh, symmetry_plane=None, **options):
     return core.control_volume_mesh(wall, symmetry_plane=symmetry_plane, **options)
 
 
-def _lower_level_of(fit_or_mesh, marching_level, marching_wall):
-    """The mesh of a SurfaceFitter at marching_level, below its own level."""
-    core = load_core()
+def _fitter_for_levels(fit_or_mesh, marching_wall):
+    """fit_or_mesh, a SurfaceFitter whose lower levels marching_level takes (without marching_wall)."""
     if marching_wall is not None:
         raise ValueError("offset_and_farfield takes marching_wall or marching_level, not both")
-    if not isinstance(fit_or_mesh, core.SurfaceFitter):
+    if not isinstance(fit_or_mesh, load_core().SurfaceFitter):
         raise TypeError("marching_level needs a bvmesh.SurfaceFitter (its lower levels' meshes), got {}".format(
             type(fit_or_mesh).__name__))
+    return fit_or_mesh
+
+
+def _lower_level_of(fit_or_mesh, marching_level, marching_wall):
+    """The mesh of a SurfaceFitter at marching_level, below its own level."""
+    fitter = _fitter_for_levels(fit_or_mesh, marching_wall)
     if isinstance(marching_level, bool) or not isinstance(marching_level, int) or \
-            not 0 <= marching_level < fit_or_mesh.level:
-        raise ValueError("marching_level must be a level below the fit's level {} and 0 or more, got {!r}".format(
-            fit_or_mesh.level, marching_level))
-    return fit_or_mesh.mesh_at_level(marching_level)
+            not 0 <= marching_level < fitter.level:
+        raise ValueError("marching_level must be a level below the fit's level {} and 0 or more (or -1: "
+                         "automatic), got {!r}".format(fitter.level, marching_level))
+    return fitter.mesh_at_level(marching_level)
 
 
 def _wall_of(fit_or_mesh, symmetry_plane, caller):

@@ -804,7 +804,7 @@ class AutomaticMarchingLevel(unittest.TestCase):
     layers come from level 2 after all. Both give what MarchingLevel 2 gives."""
 
     def test_a_wall_too_fine_or_whose_marching_folds_is_marched_from_a_level_down(self):
-        from bvmesh import load_core, paths
+        from bvmesh import load_core, paths, volume
         from bvmesh.features import volume_mesh
 
         doc = FreeCAD.newDocument("AutomaticMarchingLevel")
@@ -819,10 +819,10 @@ class AutomaticMarchingLevel(unittest.TestCase):
             api.fit_to_tolerance(fit)
             self.assertEqual(fit.Level, 3)
             points = volume_mesh.control_points_per_level(fit)
-            self.assertGreater(points[3], volume_mesh.MARCHING_POINT_LIMIT)
-            self.assertLessEqual(points[2], volume_mesh.MARCHING_POINT_LIMIT)
+            self.assertGreater(points[3], volume.MARCHING_POINT_LIMIT)
+            self.assertLessEqual(points[2], volume.MARCHING_POINT_LIMIT)
             automatic = api.make_volume_mesh(fit, reference_length=805.0, name="Automatic")
-            self.assertEqual(automatic.MarchingPointLimit, volume_mesh.MARCHING_POINT_LIMIT)
+            self.assertEqual(automatic.MarchingPointLimit, volume.MARCHING_POINT_LIMIT)
             self.assertEqual(volume_mesh.marching_levels(automatic), [2, 1])  # level 3 is not tried
             self.assertEqual((automatic.WallLevelUsed, automatic.MarchingLevelUsed), (3, 2))
             unlimited = api.make_volume_mesh(fit, marching_point_limit=0, reference_length=805.0, name="Unlimited")

@@ -131,7 +131,7 @@ def fit_to_tolerance(max_level, relative_tolerance):
 
 
 def fill_volume_panel(farfield_scheme="smoothed"):
-    from bvmesh.features import volume_mesh
+    from bvmesh import volume
 
     panel = form("BVMeshVolumeMesh")
     panel.findChild(QtGui.QDoubleSpinBox, "spinReferenceLength").setValue(810.5)
@@ -143,8 +143,8 @@ def fill_volume_panel(farfield_scheme="smoothed"):
           "the volume panel offers the far-field schemes, hyperbolic chosen: {} ({})".format(
               offered, scheme.currentText() if scheme is not None else None))
     limit = panel.findChild(QtGui.QSpinBox, "spinMarchingPointLimit")
-    check(limit is not None and limit.value() == volume_mesh.MARCHING_POINT_LIMIT,
-          "the volume panel offers the marching point limit at {}".format(volume_mesh.MARCHING_POINT_LIMIT))
+    check(limit is not None and limit.value() == volume.MARCHING_POINT_LIMIT,
+          "the volume panel offers the marching point limit at {}".format(volume.MARCHING_POINT_LIMIT))
     scheme.setCurrentIndex(offered.index(farfield_scheme))
     fans = panel.findChild(QtGui.QCheckBox, "checkKnifeEdgeFans")
     check(fans is not None and not fans.isChecked(), "the volume panel offers fans at knife edges, off")

@@ -111,13 +111,52 @@ class SphereVolume(unittest.TestCase):
         for level, error in ((5, "there is no mesh at level 5"), (-1, "there is no mesh at level -1")):
             with self.assertRaisesRegex(ValueError, error):
                 self.fitter.mesh_at_level(level)
-        for level in (4, -1, 2.0, True):
+        for level in (4, -2, 2.0, True):
             with self.assertRaisesRegex(ValueError, "marching_level must be a level below the fit's level 4"):
                 bvmesh.volume.offset_and_farfield(self.fitter, marching_level=level)
         with self.assertRaisesRegex(ValueError, "marching_wall or marching_level, not both"):
             bvmesh.volume.offset_and_farfield(self.fitter, marching_wall=coarse, marching_level=3)
         with self.assertRaisesRegex(TypeError, "marching_level needs a bvmesh.SurfaceFitter"):
             bvmesh.volume.offset_and_farfield(self.fitter.mesh, marching_level=3)
+        # marching_level -1: the highest level within the point limit (level 4 has 1 538 points,
+        # level 3 386), as the workbench's MarchingLevel -1.
+        options = dict(boundary_layer_thickness=0.05, boundary_layer_layers=4, farfield_distance=20.0)
+        automatic = bvmesh.volume.offset_and_farfield(self.fitter, marching_level=-1, marching_point_limit=1000,
+                                                      **options)
+        own = bvmesh.volume.offset_and_farfield(self.fitter, marching_level=-1, **options)
+        for b in range(blocks.block_count):
+            np.testing.assert_array_equal(automatic.blocks.poles(b), blocks.poles(b))
+            np.testing.assert_array_equal(own.blocks.poles(b), self.result.blocks.poles(b))
+
+    def test_marching_levels_and_the_fold_fallback(self):
+        points = {0: 26, 1: 98, 2: 386, 3: 1538, 4: 6146}
+        self.assertEqual(bvmesh.volume.marching_levels(4, points), [3, 2, 1])
+        self.assertEqual(bvmesh.volume.marching_levels(4, points, 0), [4, 3, 2, 1])
+        self.assertEqual(bvmesh.volume.marching_levels(4, points, 10), [1])
+        self.assertEqual(bvmesh.volume.marching_levels(0, points, 10), [0])
+        for limit in (-1, 2.5, True):
+            with self.assertRaisesRegex(ValueError, "marching_point_limit .* must be 0"):
+                bvmesh.volume.marching_levels(4, points, limit)
+        tried = []
+
+        def march(level):
+            tried.append(level)
+            if level > 2:
+                raise bvmesh.SolverError("marching folds at layer 1 above wall cell 0")
+            return "marched"
+
+        self.assertEqual(bvmesh.volume.march_from_first_level_that_holds([4, 3, 2, 1], march), ("marched", 2))
+        self.assertEqual(tried, [4, 3, 2])
+        with self.assertRaisesRegex(bvmesh.SolverError, "from level 4: marching folds.*from level 3: marching folds"):
+            bvmesh.volume.march_from_first_level_that_holds([4, 3], march)
+        with self.assertRaisesRegex(bvmesh.SolverError, "^marching folds"):  # one level: its own error
+            bvmesh.volume.march_from_first_level_that_holds([4], march)
+
+        def singular(level):
+            raise bvmesh.SolverError("the step's linear system is singular")
+
+        with self.assertRaisesRegex(bvmesh.SolverError, "singular"):  # not a fold: no lower level tried
+            bvmesh.volume.march_from_first_level_that_holds([4, 3], singular)
 
     def test_arrays_and_block_file(self):
         blocks = self.result.blocks

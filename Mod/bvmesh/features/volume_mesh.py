@@ -8,6 +8,7 @@ import hashlib
 
 import numpy as np
 
+from bvmesh import volume
 from bvmesh.features import surface_fit
 from bvmesh.features.common import READ_ONLY, RecomputedProxy, add_property, run_work, shown_conditions
 from bvmesh.grid import FACE_NAMES, face_array
@@ -42,12 +43,6 @@ SWITCHES = (
      "leave the wall along their own normals; the fan closes where the edge ends inside the wall (a wing tip)"),
 )
 DISPLAY = (("ShowWall", "wall", True), ("ShowSymmetry", "symmetry", True), ("ShowFarfield", "farfield", False))
-# MarchingLevel -1 marches from the highest level whose control mesh has at most this many points. The
-# hyperbolic far field's pseudo-steps are as long as the front's short edges, at most 64 per layer: on
-# a finer front its steps are many edges long and most take a direct solve (a waisted body of
-# revolution, fuselage template: 3 586 / 5 922 / 8 834 / 14 338 points marched in 1.4 / 13.7 / 142 /
-# 245 s; the M6's level 2 has 2 837, its level 3 11 257; docs/volume.md).
-MARCHING_POINT_LIMIT = 6000
 # cad: the flow domain of the fit's target (Target.FlowDomain), as its CAD gives it.
 DOMAINS = ["sphere", "box", "cylinder", "cad"]
 # How the far field is marched (bvmesh.volume.offset_and_farfield's farfield_scheme), and the scheme of
@@ -137,15 +132,8 @@ def marching_levels(obj):
     if obj.MarchingLevel == -1:
         if list(obj.Fit.Steps) != ["fit"]:
             return [level]
-        levels = list(range(level, 0, -1))
-        limit = obj.MarchingPointLimit
-        if limit < 0:
-            raise ValueError("MarchingPointLimit {} must be 0 (no limit) or more".format(limit))
-        if limit > 0:
-            points = control_points_per_level(obj.Fit)
-            small = [lv for lv in levels if points.get(lv, 0) <= limit]
-            levels = levels[levels.index(small[0]):] if small else levels[-1:]
-        return levels
+        return volume.marching_levels(level, control_points_per_level(obj.Fit), obj.MarchingPointLimit,
+                                      "MarchingPointLimit")
     if not 0 <= obj.MarchingLevel < level:
         raise ValueError("MarchingLevel {} must be below the wall's level {} and 0 or more (or -1: the wall's own "
                          "level, or lower ones where its marching folds)".format(obj.MarchingLevel, level))
@@ -287,27 +275,18 @@ class VolumeMeshProxy(RecomputedProxy):
         return hashlib.sha1(data.encode()).hexdigest()
 
     def make(self, obj):
-        from bvmesh import SolverError, volume
-
         wall, plane, settings = marching_inputs(obj)
         levels = marching_levels(obj)
-        coarse = [marching_wall(obj, level) for level in levels]  # the properties read here, not in the worker
+        coarse = dict(zip(levels, (marching_wall(obj, level) for level in levels)))  # read here, not in the worker
+
+        def march_from(level):
+            marching = coarse[level]
+            return volume.offset_and_farfield(wall(), symmetry_plane=plane,
+                                              marching_wall=None if marching is None else marching(), **settings)
 
         def march():
-            folds = []
-            for level, marching in zip(levels, coarse):
-                try:
-                    result = volume.offset_and_farfield(wall(), symmetry_plane=plane,
-                                                        marching_wall=None if marching is None else marching(),
-                                                        **settings)
-                except SolverError as error:
-                    if len(levels) == 1 or not str(error).startswith("marching folds"):
-                        raise
-                    folds.append("from level {}: {}".format(level, error))
-                    continue
-                self._marching_level_used = level
-                return result
-            raise SolverError("MarchingLevel -1: the marching folds from every level tried; " + "; ".join(folds))
+            result, self._marching_level_used = volume.march_from_first_level_that_holds(levels, march_from)
+            return result
 
         return run_work("marching the boundary layer and the far field of {}".format(obj.Label), march)
 
@@ -348,5 +327,5 @@ def create(doc, name="VolumeMesh"):
     obj = doc.addObject("Part::FeaturePython", name)
     VolumeMeshProxy(obj)
     obj.FarfieldScheme = NEW_MESH_FARFIELD_SCHEME
-    obj.MarchingPointLimit = MARCHING_POINT_LIMIT
+    obj.MarchingPointLimit = volume.MARCHING_POINT_LIMIT
     return obj

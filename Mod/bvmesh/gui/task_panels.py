@@ -6,7 +6,7 @@ import os
 import FreeCAD
 import FreeCADGui
 
-from bvmesh import paths
+from bvmesh import paths, volume
 from bvmesh.features import polyhedron, surface_fit, volume_grid, volume_mesh
 from bvmesh.features.common import is_type
 from bvmesh.gui.commands import _object_ref, run_in_transaction
@@ -312,7 +312,7 @@ class VolumeMeshPanel(_OptionsPanel):
     options, display = volume_mesh.OPTIONS, volume_mesh.DISPLAY
     switches = volume_mesh.SWITCHES
     extra_spins = (("WallLevel", "wall_level", -1), ("MarchingLevel", "marching_level", -1),
-                   ("MarchingPointLimit", "marching_point_limit", volume_mesh.MARCHING_POINT_LIMIT))
+                   ("MarchingPointLimit", "marching_point_limit", volume.MARCHING_POINT_LIMIT))
     combos = (("Domain", "domain", volume_mesh.DOMAINS),
               ("FarfieldScheme", "farfield_scheme", volume_mesh.FARFIELD_SCHEMES))
     combo_defaults = {"FarfieldScheme": volume_mesh.NEW_MESH_FARFIELD_SCHEME}  # as make_volume_mesh
