@@ -58,7 +58,9 @@ def _openfoam_case(args):
         source, args.case, mach=args.mach, alpha_degrees=args.alpha, pressure=args.pressure,
         temperature=args.temperature, reynolds_number=args.reynolds, model=args.model,
         length_unit=args.length_unit, iterations=args.iterations, write_interval=args.write_interval,
-        solver=args.solver, max_courant=args.max_courant, initial_solution=args.initial_solution)
+        solver=args.solver, max_courant=args.max_courant, initial_solution=args.initial_solution,
+        reference_length=args.reference_length, reference_area=args.reference_area,
+        moment_point=tuple(args.moment_point), semispan=args.semispan)
     print("case written: {}".format(case))
     if args.run:
         _run_and_report(case, args)
@@ -115,7 +117,21 @@ def main(argv=None):
     cfd.add_argument("--temperature", type=float, default=openfoam_case.M6_TEMPERATURE,
                      help="free-stream temperature in K")
     cfd.add_argument("--pressure", type=float, help="free-stream pressure in Pa (default: from --reynolds, else 1e5)")
-    cfd.add_argument("--reynolds", type=float, help="Reynolds number on the mean aerodynamic chord (0.64607 m)")
+    cfd.add_argument("--reynolds", type=float,
+                     help="Reynolds number on the reference length (default the M6's mean aerodynamic chord)")
+    cfd.add_argument("--reference-length", type=float, default=openfoam_case.M6_REFERENCE_LENGTH,
+                     help="force coefficients' reference length in m, and the Reynolds number's (default the "
+                          "M6's mean aerodynamic chord, {} m)".format(openfoam_case.M6_REFERENCE_LENGTH))
+    cfd.add_argument("--reference-area", type=float, default=openfoam_case.M6_REFERENCE_AREA,
+                     help="force coefficients' reference area in m^2 (default the M6 half wing's, {} m^2)".format(
+                         openfoam_case.M6_REFERENCE_AREA))
+    cfd.add_argument("--moment-point", type=float, nargs=3, metavar=("X", "Y", "Z"),
+                     default=openfoam_case.M6_MOMENT_POINT,
+                     help="point in m the moment coefficient is taken about (default the M6's quarter chord of "
+                          "the mean aerodynamic chord)")
+    cfd.add_argument("--semispan", type=float, default=openfoam_case.M6_SEMISPAN,
+                     help="half span in m, for the report's span stations (default the M6's, {} m)".format(
+                         openfoam_case.M6_SEMISPAN))
     cfd.add_argument("--iterations", type=int, default=openfoam_case.DEFAULT_ITERATIONS)
     cfd.add_argument("--write-interval", type=int, help="iterations between writes (default: --iterations)")
     cfd.add_argument("--max-courant", type=float,

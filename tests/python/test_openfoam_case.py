@@ -521,6 +521,22 @@ class CoarseM6Run(unittest.TestCase):
         self.assertAlmostEqual(settings["freestream"]["alpha_degrees"], 2.5)
         self.assertEqual(post.cell_count(target), self.grid.grid.cell_count)
         self.assertEqual(main(["openfoam-case", target, "--mesh", self.case, "--mach", "0"]), 1)
+        # The force references default to the M6's; another body gives its own.
+        self.assertEqual(settings["reference"], dict(length=ofc.M6_REFERENCE_LENGTH, area=ofc.M6_REFERENCE_AREA,
+                                                     moment_point=list(ofc.M6_MOMENT_POINT)))
+        other = os.path.join(self.folder.name, "cli_body")
+        self.assertEqual(main(["openfoam-case", other, "--mesh", self.case, "--length-unit", "1", "--iterations", "10",
+                               "--reference-length", "2", "--reference-area", "0.5", "--moment-point", "1", "0",
+                               "0.25", "--semispan", "3"]), 0)
+        settings = ofc.read_settings(other)
+        self.assertEqual(settings["reference"], dict(length=2.0, area=0.5, moment_point=[1.0, 0.0, 0.25]))
+        self.assertEqual(settings["semispan"], 3.0)
+        with open(os.path.join(other, "system", "controlDict")) as file:
+            control = file.read()
+        self.assertRegex(control, r"lRef\s+2(\.0)?;")
+        self.assertRegex(control, r"Aref\s+0\.5;")
+        self.assertEqual(main(["openfoam-case", other, "--mesh", self.case, "--length-unit", "1",
+                               "--reference-area", "0"]), 1)
         # A case of ours is in metres already: scaling it again would shrink the wing 1000 times.
         with self.assertRaisesRegex(ValueError, "already in metres"):
             ofc.write_case(self.case, os.path.join(self.folder.name, "again"))
