@@ -215,7 +215,7 @@ class VolumeMeshProxy(RecomputedProxy):
                      "(MarchingLevelUsed says which); a lower level marches the fit refitted to it and carries the "
                      "layers onto the wall (whose charts stay the blocks' wall faces)", -1)
         # 0 (no limit, the wall's own level first) in a document saved before the property; create()
-        # gives new meshes MARCHING_POINT_LIMIT.
+        # gives new meshes bvmesh.volume.MARCHING_POINT_LIMIT.
         add_property(obj, "App::PropertyInteger", "MarchingPointLimit", "Inputs",
                      "MarchingLevel -1 starts at the highest level whose control mesh has at most this many "
                      "points (a finer front makes the hyperbolic far field take minutes); 0: the wall's own "
