@@ -21,8 +21,9 @@ WING_MARCHING_LEVEL = 2
 # points. The hyperbolic far field's pseudo-steps are as long as the front's short edges, at most 64
 # per layer: on a finer front its steps are many edges long and most take a direct solve (a waisted
 # body of revolution, fuselage template: 3 586 / 5 922 / 8 834 / 14 338 points marched in 1.4 / 13.7
-# / 142 / 245 s; the M6's level 2 has 2 837, its level 3 11 257; docs/volume.md).
-MARCHING_POINT_LIMIT = 6000
+# / 142 / 245 s); one level down took 0.5-2.7 s with cells as good or better. The M6's level 2 has
+# 2 837 points, its level 3 11 257 (docs/volume.md, "Layers marched from a coarser level").
+MARCHING_POINT_LIMIT = 4000
 
 
 def marching_levels(level, points_per_level, point_limit=MARCHING_POINT_LIMIT, limit_name="marching_point_limit"):
