@@ -282,16 +282,12 @@ void bindPolyhedron(py::module_& module) {
         return result;
       },
       py::arg("brep"),
-      "A flow domain's CAD (a box or sphere, or its half on a symmetry plane, with the body cut out) split "
-      "into "
-      "the body's faces and the domain's: dict with body_faces, outer_faces (0-based), shape ('sphere' or "
-      "'box'), "
-      "centre, radius (sphere), half_extent (box; on a symmetry plane the centre lies on it and the size "
-      "normal "
-      "to it is the half domain's whole), symmetry_face and symmetry_plane ((point, normal towards the "
-      "domain) "
-      "or None), outflow_face and outflow_plane (the sphere domain's plane that the body runs into, a sting; "
-      "or None).");
+      "A flow domain's CAD (a box or sphere, or its half on a symmetry plane, with the body cut out) "
+      "split into the body's faces and the domain's: dict with body_faces, outer_faces (0-based), shape "
+      "('sphere' or 'box'), centre, radius (sphere), half_extent (box; on a symmetry plane the centre "
+      "lies on it and the size normal to it is the half domain's whole), symmetry_face and "
+      "symmetry_plane ((point, normal towards the domain) or None), outflow_face and outflow_plane (the "
+      "sphere domain's plane that the body runs into, a sting; or None).");
 
   module.def(
       "symmetry_plane",

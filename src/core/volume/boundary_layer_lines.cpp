@@ -294,13 +294,9 @@ class SplayBands {
   }
 
  private:
-  bool onPlane(Eigen::Index p) const {
-    return !front_.onPlanes.empty() && front_.onPlanes[static_cast<size_t>(p)] != 0;
-  }
+  bool onPlane(Eigen::Index p) const { return front_.planesAt(p) != 0; }
   // A direction at point p kept in the boundary planes the point lies on.
-  Vector3d inPlanes(Eigen::Index p, const Vector3d& d) const {
-    return front_.onPlanes.empty() ? d : planes_.along(d, front_.onPlanes[static_cast<size_t>(p)]);
-  }
+  Vector3d inPlanes(Eigen::Index p, const Vector3d& d) const { return planes_.along(d, front_.planesAt(p)); }
 
   const MarchingFront& front_;
   const BoundaryPlanes& planes_;

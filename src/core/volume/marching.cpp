@@ -198,9 +198,7 @@ class Marcher {
     }
   }
 
-  unsigned planesOf(Eigen::Index p) const {
-    return front_.onPlanes.empty() ? 0u : front_.onPlanes[static_cast<size_t>(p)];
-  }
+  unsigned planesOf(Eigen::Index p) const { return front_.planesAt(p); }
   bool onPlane(Eigen::Index p) const { return planesOf(p) != 0; }
   // A direction at point p kept in the boundary planes the point lies on.
   Vector3d inPlanes(Eigen::Index p, const Vector3d& d) const { return options_.planes.along(d, planesOf(p)); }
@@ -532,8 +530,7 @@ void turnFans(const MarchingFront& front, const BoundaryPlanes& planes, RowMatri
   for (const FanPoint& fan : front.fanPoints) {
     Vector3d d = turnedBetween(lines.row(fan.from).transpose(), lines.row(fan.to).transpose(), fan.fraction,
                                fan.outside);
-    const unsigned on = front.onPlanes.empty() ? 0u : front.onPlanes[static_cast<size_t>(fan.point)];
-    if (on != 0) d = planes.along(d, on).normalized();
+    if (front.planesAt(fan.point) != 0) d = planes.along(d, front.planesAt(fan.point)).normalized();
     lines.row(fan.point) = d.transpose();
   }
 }

@@ -50,12 +50,14 @@ struct MarchingFront {
   RowMatrixX3d points;
   std::vector<std::array<int, 4>> quads;
   RowMatrixX3d normals;
-  std::vector<unsigned char>
-      onPlanes;                        // per point, BoundaryPlanes bits (kSymmetryPlaneBit ...), may be empty
+  std::vector<unsigned char> onPlanes;  // per point, BoundaryPlanes bits; may be empty (none)
   std::vector<std::string> quadNames;  // per quad, where it is (for error messages), may be empty
   std::vector<FanPoint> fanPoints;
   std::vector<KnifeCopies> knifeCopies;
   std::vector<FanClosing> fanClosings;
+
+  // The BoundaryPlanes bits of point p (0: on none).
+  unsigned planesAt(Eigen::Index p) const { return onPlanes.empty() ? 0u : onPlanes[static_cast<size_t>(p)]; }
 };
 
 // Per point its neighbours along the front's quads' edges (a quad's repeated corner is no edge);

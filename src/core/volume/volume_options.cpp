@@ -133,9 +133,8 @@ ResolvedVolumeOptions resolveVolumeOptions(const VolumeMeshOptions& options, con
     for (size_t k = 0; k < 2; ++k) {
       const double off = (asked - planes.point[k]).dot(planes.normal[k]);
       if ((planeBits & (1u << k)) != 0 && std::abs(off) > 1e-9 * (extent.norm() + asked.norm())) {
-        throw InvalidInputError(std::string("the domain centre must lie on the ") +
-                                (k == 0 ? "symmetry" : "outflow") + " plane (it is " + numberText(off) +
-                                " off it)");
+        throw InvalidInputError(std::string("the domain centre must lie on the ") + kBoundaryPlaneNames[k] +
+                                " (it is " + numberText(off) + " off it)");
       }
     }
     centre = asked;
