@@ -83,7 +83,6 @@ def offset_and_farfield(fit_or_mesh, symmetry_plane=None, marching_wall=None, ma
     Returns a bvmesh.VolumeMesh; raises ValueError (bvmesh.InvalidInputError) for a bad wall or
     option and bvmesh.SolverError when the marching would fold, naming where.
     """
-    wall, symmetry_plane = _wall_of(fit_or_mesh, symmetry_plane, "offset_and_farfield")
     if marching_level == -1 and not isinstance(marching_level, bool):
         fitter = _fitter_for_levels(fit_or_mesh, marching_wall)
         points = {record["level"]: record["control_points"] for record in fitter.history}
@@ -94,6 +93,7 @@ def offset_and_farfield(fit_or_mesh, symmetry_plane=None, marching_wall=None, ma
             return offset_and_farfield(fitter, symmetry_plane, marching_wall=lower, **options)
 
         return march_from_first_level_that_holds(levels, march)[0]
+    wall, symmetry_plane = _wall_of(fit_or_mesh, symmetry_plane, "offset_and_farfield")
     if marching_level is not None:
         marching_wall = _lower_level_of(fit_or_mesh, marching_level, marching_wall)
     if marching_wall is not None:
