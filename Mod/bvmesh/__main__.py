@@ -11,7 +11,8 @@ on PYTHONPATH; scripts/setup.sh sets that up).
                   --mesh (an OpenFOAM case directory with patches wall, farfield or a box's
                   inlet / outlet / side, and symmetry on a half model, in
                   --length-unit metres per unit) or the bundled M6 grid built here; --run runs
-                  the solver, --report DIR writes the Cp comparison and convergence report;
+                  the solver, --report DIR writes the Cp comparison and convergence report
+                  (--no-experiment: without the M6 comparison, for other bodies);
                   --continue --iterations N goes on with a case run before up to step N
 """
 
@@ -75,9 +76,14 @@ def _run_and_report(case, args):
         ", stopped " + result["stopped"] if result["stopped"] else "",
         result["coefficients"]["Cl"][-1], result["coefficients"]["Cd"][-1]))
     if args.report:
-        summary = openfoam_post.write_report(case, args.report)
-        print("report: {} (RMS dCp per station: {})".format(
-            os.path.join(args.report, "report.md"), ", ".join("{:.3f}".format(s["rms"]) for s in summary["stations"])))
+        if args.no_experiment:
+            summary = openfoam_post.write_report(case, args.report, experiment_path=None,
+                                                 title=os.path.basename(os.path.normpath(case)))
+        else:
+            summary = openfoam_post.write_report(case, args.report)
+        stations = summary["stations"]
+        print("report: {}{}".format(os.path.join(args.report, "report.md"), " (RMS dCp per station: {})".format(
+            ", ".join("{:.3f}".format(s["rms"]) for s in stations)) if stations else ""))
 
 
 def main(argv=None):
@@ -155,6 +161,9 @@ def main(argv=None):
     cfd.add_argument("--cores", type=int, default=1, help="cores for the solver (default 1)")
     cfd.add_argument("--timeout", type=float, help="stop the solver after this many seconds, keeping its last write")
     cfd.add_argument("--report", help="with --run: folder for the Cp plots, convergence plot and report.md")
+    cfd.add_argument("--no-experiment", action="store_true",
+                     help="with --report: a body other than the ONERA M6; the report leaves out the comparison "
+                          "with the M6 wind-tunnel pressures (convergence, forces and upper-surface Cp only)")
     args = parser.parse_args(argv)
 
     if FREECAD_LIB not in sys.path:

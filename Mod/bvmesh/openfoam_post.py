@@ -579,7 +579,9 @@ def _shock_verdict(stations, up_to_eta=0.90, within=0.05):
 
 def write_report(case, output_directory, experiment_path=EXPERIMENT_FILE, title="ONERA M6"):
     """Plots (cp_eta_<eta>.png per station, convergence.png), report.md and summary.json of a
-    finished (or stopped) run in output_directory. Returns the summary dict."""
+    finished (or stopped) run in output_directory. Returns the summary dict. experiment_path None:
+    a body the M6 measurements do not belong to; the report then has the run's convergence,
+    forces and upper-surface Cp without the station cuts (summary['stations'] empty)."""
     import json
 
     from .openfoam_case import read_settings
@@ -595,11 +597,11 @@ def write_report(case, output_directory, experiment_path=EXPERIMENT_FILE, title=
     log_path = os.path.join(case, "log.{}".format(settings["solver"]))
     log = read_log(log_path) if os.path.isfile(log_path) else dict(wall_time=float("nan"), time_steps=0)
     surface_time = os.path.basename(os.path.dirname(wall_surface_file(case)))
-    stations = station_results(case, experiment_path)
+    stations = station_results(case, experiment_path) if experiment_path is not None else []
     surface = read_vtk_polydata(wall_surface_file(case))
     plot_upper_surface(surface, pressure_coefficient(surface["point_data"]["p"], settings["freestream"]),
-                       os.path.join(output_directory, "upper_surface_cp.png"), STATIONS, settings["semispan"],
-                       title + ", ")
+                       os.path.join(output_directory, "upper_surface_cp.png"), [r["eta"] for r in stations],
+                       settings["semispan"], title + ", ")
     drop_iteration, decades = residual_drop(residuals)
     plot_convergence(residuals, coefficients, os.path.join(output_directory, "convergence.png"))
     for result in stations:
@@ -637,12 +639,24 @@ def write_report(case, output_directory, experiment_path=EXPERIMENT_FILE, title=
              "| CL peak to peak over the last tenth of the iterations | {} |".format(
                  "{:.2e}".format(summary["CL_range_last_tenth"]) if coefficients else "-"),
              "| CD | {} |".format("{:.5f}".format(summary["CD"]) if coefficients else "-"),
-             "| CM (pitch, quarter chord of the MAC) | {} |".format(
+             "| CM (pitch, about ({}) m) | {} |".format(
+                 ", ".join("{:g}".format(c) for c in settings["reference"]["moment_point"]),
                  "{:.4f}".format(summary["CM"]) if coefficients else "-"),
-             "| wall surface from iteration | {} |".format(surface_time), "",
-             "Cp = (p - p_inf) / (0.5 rho_inf U_inf^2) on the wall cut at y = eta * {:g} m, against AGARD AR-138 "
+             "| wall surface from iteration | {} |".format(surface_time), ""]
+    if stations:
+        lines += _station_lines(stations, settings["semispan"])
+    lines += ["![convergence](convergence.png)", "", "![upper surface Cp](upper_surface_cp.png)", ""] + [
+        "![eta {0:.2f}](cp_eta_{0:.2f}.png)".format(r["eta"]) for r in stations]
+    with open(os.path.join(output_directory, "report.md"), "w") as file:
+        file.write("\n".join(lines) + "\n")
+    return summary
+
+
+def _station_lines(stations, semispan):
+    """The report's comparison with the measurements: RMS dCp per station and the shocks."""
+    lines = ["Cp = (p - p_inf) / (0.5 rho_inf U_inf^2) on the wall cut at y = eta * {:g} m, against AGARD AR-138 "
              "test 2308; RMS of the difference at the taps (computed curve interpolated along x/c).".format(
-                 settings["semispan"]), "",
+                 semispan), "",
              "| eta | y (m) | local chord (m) | taps | RMS dCp | plot |", "|---|---|---|---|---|---|"]
     for r in stations:
         lines.append("| {:.2f} | {:.4f} | {:.4f} | {} | {:.3f} | cp_eta_{:.2f}.png |".format(
@@ -656,9 +670,4 @@ def write_report(case, output_directory, experiment_path=EXPERIMENT_FILE, title=
         lines.append("| {:.2f} | {} | {} | {} |".format(
             r["eta"], _positions(shocks["computed"]), _positions(shocks["measured"]),
             ", ".join("none" if o is None else "{:+.3f}".format(o) for o in shocks["offsets"]) or "-"))
-    lines += ["", _shock_verdict(stations)]
-    lines += ["", "![convergence](convergence.png)", "", "![upper surface Cp](upper_surface_cp.png)", ""] + [
-        "![eta {0:.2f}](cp_eta_{0:.2f}.png)".format(r["eta"]) for r in stations]
-    with open(os.path.join(output_directory, "report.md"), "w") as file:
-        file.write("\n".join(lines) + "\n")
-    return summary
+    return lines + ["", _shock_verdict(stations), ""]

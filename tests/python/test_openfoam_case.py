@@ -732,6 +732,19 @@ class ShortRunOnTheHemisphereCylinder(unittest.TestCase):
                 self.assertLess(values[-1], 0.1 * values.max(), field)
             with open(result["log"]) as file:
                 self.assertTrue(file.read().rstrip().endswith("End"))
+            # Its report leaves out the M6's wind-tunnel stations, which cut this body at y = eta * 0.5.
+            report_folder = os.path.join(folder, "report")
+            summary = post.write_report(case, report_folder, experiment_path=None, title="hemisphere-cylinder")
+            self.assertEqual(summary["stations"], [])
+            self.assertEqual(summary["iterations"], 40)
+            self.assertEqual(sorted(os.listdir(report_folder)),
+                             ["convergence.png", "report.md", "summary.json", "upper_surface_cp.png"])
+            with open(os.path.join(report_folder, "report.md")) as file:
+                report = file.read()
+            self.assertTrue(report.startswith("# hemisphere-cylinder: euler (rhoPimpleFoam), Mach 0.6, alpha 5 deg"))
+            self.assertIn("| CM (pitch, about (0, 0, 0) m) |", report)
+            self.assertNotIn("RMS dCp", report)
+            self.assertNotIn("AGARD", report)
 
 
 if __name__ == "__main__":
