@@ -36,6 +36,8 @@ def _info(path, sharp_angle_degrees, sew=True, sew_tolerance=0.0):
 def _openfoam_case(args):
     from bvmesh import openfoam_case, openfoam_run
 
+    if args.no_experiment and not args.report:
+        raise ValueError("--no-experiment shapes the report: it needs --report DIR")
     if args.continue_run:
         if args.mesh:
             raise ValueError("--continue goes on with the case as it is: it takes no --mesh")

@@ -537,6 +537,10 @@ class CoarseM6Run(unittest.TestCase):
         self.assertRegex(control, r"Aref\s+0\.5;")
         self.assertEqual(main(["openfoam-case", other, "--mesh", self.case, "--length-unit", "1",
                                "--reference-area", "0"]), 1)
+        # The report's option without a report to shape is refused before anything is written.
+        refused = os.path.join(self.folder.name, "no_report")
+        self.assertEqual(main(["openfoam-case", refused, "--mesh", self.case, "--no-experiment"]), 1)
+        self.assertFalse(os.path.exists(refused))
         # A case of ours is in metres already: scaling it again would shrink the wing 1000 times.
         with self.assertRaisesRegex(ValueError, "already in metres"):
             ofc.write_case(self.case, os.path.join(self.folder.name, "again"))
