@@ -35,6 +35,11 @@ class MainJob(unittest.TestCase):
                                      "BVMesh::Export", "BVMesh::GridCut", "BVMesh::MeshQuality",
                                      "BVMesh::SurfaceFit", "BVMesh::Target", "BVMesh::VolumeGrid",
                                      "BVMesh::VolumeMesh"])
+            # The STEP shell's charts are tangent-continuous: 0.57 degrees at worst at level 2 (next
+            # to the trailing edge's tip corner), 3.2 fitted on their own.
+            shell = doc.getObject("BsplineShell")
+            self.assertTrue(shell.TangentContinuity)
+            self.assertLess(shell.MaxKinkDegrees, 1.0)
             visible = sorted(o.Name for o in doc.Objects if o.Visibility)
             self.assertEqual(visible, ["GridCut", "VolumeGrid"])
             # The report's figures again from the reopened document (blocks marched and points
@@ -82,6 +87,7 @@ class MainJob(unittest.TestCase):
             text = report.read()
         self.assertIn("| 2 |", text)
         self.assertIn("valid: True", text)
+        self.assertIn("B-spline surface (charts tangent-continuous across their borders)", text)
 
     def test_subdivision_grid_method(self):
         # --grid-method subdivision: the grid is the fit's control mesh marched and refined once.
