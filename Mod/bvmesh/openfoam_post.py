@@ -505,7 +505,9 @@ def plot_upper_surface(surface, cp, path, stations=(), semispan=None, title=""):
     upper = normals[:, 2] > 0.0
     polygons = [c[:, :2] for c, up in zip(corners, upper) if up]
     values = [cp[face].mean() for face, up in zip(surface["faces"], upper) if up]
-    figure, axis = plt.subplots(figsize=(7.0, 6.4))
+    # The figure takes the planform's proportions (a wing's, or a slender body's seen from above).
+    extent = np.ptp(points[:, :2], axis=0)
+    figure, axis = plt.subplots(figsize=(7.0, min(6.4, max(2.4, 1.6 + 5.0 * extent[1] / max(extent[0], 1e-30)))))
     values = np.array(values)
     # Colour range from the inboard faces' 1st to 99th percentile (the tip cap and the tip's
     # trailing-edge corner would flatten the rest), in 0.05 bands so that isobars show.
@@ -523,7 +525,7 @@ def plot_upper_surface(surface, cp, path, stations=(), semispan=None, title=""):
     figure.colorbar(collection, ax=axis, label="Cp (upper surface)")
     axis.set_xlabel("x (m)")
     axis.set_ylabel("y (m)")
-    axis.set_title(title + "upper surface Cp; dashed: measured stations")
+    axis.set_title(title + "upper surface Cp" + ("; dashed: measured stations" if len(stations) else ""))
     figure.tight_layout()
     figure.savefig(path, dpi=110)
     plt.close(figure)
