@@ -136,6 +136,7 @@ int main(int argc, char** argv) {
     options.normalPoints = 49;  // bvmesh.grid.PRESETS
     options.growth = 1.2;
     options.maxSpacingJump = 4.0;
+    options.evenFarField = true;
     presets.emplace_back("euler", options);
     options.normalPoints = 0;
     options.yPlus = 1.0;

@@ -750,7 +750,7 @@ def make_volume_grid(volume_mesh_object, preset="euler", name="VolumeGrid", show
     'euler' (no wall clustering) or 'rans' (first cell for y+ ~ 1). options: those of
     bvmesh.grid.refine (normal_points, first_cell_height, y_plus, reynolds_number, growth,
     edge_points, tangential_spacing, target_cells, edge_end_spacing, max_turning_angle,
-    max_spacing_jump); reynolds_number defaults to the volume mesh's. feature_edges: edges of
+    max_spacing_jump, even_far_field); reynolds_number defaults to the volume mesh's. feature_edges: edges of
     document objects, [(object, "Edge3"), (object, ("Edge1", "Edge5")), ...] (a wing's leading
     edge in its CAD), where the tangential lines leaving them start at feature_spacing (model
     units; bvmesh.grid.refine's feature_spacings). method 'subdivision'
@@ -765,7 +765,8 @@ def make_volume_grid(volume_mesh_object, preset="euler", name="VolumeGrid", show
         obj.Preset = preset
         obj.Distribution = distribution
         obj.Method = method
-        _set_options(obj, volume_grid.OPTIONS + volume_grid.SUBDIVISION_OPTIONS, options, "volume grid")
+        _set_options(obj, volume_grid.OPTIONS + volume_grid.SWITCHES + volume_grid.SUBDIVISION_OPTIONS, options,
+                     "volume grid")
         obj.FeatureEdges = _feature_edge_links(feature_edges or [], volume_mesh_object.Document)
         obj.FeatureSpacing = feature_spacing
         _set_display(obj, volume_grid.DISPLAY, show)
@@ -779,7 +780,8 @@ def set_grid_options(grid_object, preset=None, distribution=None, method=None, s
     and recomputes; on a failure the object keeps its previous options."""
     from bvmesh.features import volume_grid
 
-    return _set_and_recompute(grid_object, volume_grid.OPTIONS + volume_grid.SUBDIVISION_OPTIONS, volume_grid.DISPLAY,
+    return _set_and_recompute(grid_object, volume_grid.OPTIONS + volume_grid.SWITCHES + volume_grid.SUBDIVISION_OPTIONS,
+                              volume_grid.DISPLAY,
                               options, show, "volume grid",
                               {"Preset": preset, "Distribution": distribution, "Method": method,
                                "FeatureEdges": None if feature_edges is None else _feature_edge_links(

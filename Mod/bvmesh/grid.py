@@ -12,7 +12,11 @@ by the same ratio) and `rans` (first cell height for y+ ~ 1 by the flat-plate es
 wall-normal points as keep the growth ratio at most 1.2). `max_turning_angle` (degrees) gathers
 tangential points where the wall bends, a wing's nose (docs/grid.md: what it costs on the M6).
 Both presets cluster a set of tangential lines at an end where the wall edges continuing it are
-more than 4 times finer (`max_spacing_jump`, 0 for none): a wing's span towards its tip cap.
+more than 4 times finer (`max_spacing_jump`, 0 for none): a wing's span towards its tip cap. Both
+slide the far field's wall-normal lines towards points uniform in arc length on the outer
+boundary (`even_far_field`; RefinedGrid.even_far_field_used is False where that would fold a
+cell and the grid was refined without), so that the marching's fan-out at a wing's tip does not
+reach the outer sphere as cells a hundred times apart.
 `refine(..., method="subdivision", steps=k)` is the other refinement: k volumetric Catmull-Clark
 steps of the blocks' control mesh.
 """
@@ -21,8 +25,8 @@ from . import load_core
 from .options import check_options
 
 PRESETS = {
-    "euler": dict(normal_points=49, growth=1.2, max_spacing_jump=4.0),
-    "rans": dict(normal_points=0, y_plus=1.0, growth=1.2, max_spacing_jump=4.0),
+    "euler": dict(normal_points=49, growth=1.2, max_spacing_jump=4.0, even_far_field=True),
+    "rans": dict(normal_points=0, y_plus=1.0, growth=1.2, max_spacing_jump=4.0, even_far_field=True),
 }
 
 METRICS = ("scaled_jacobian", "non_orthogonality", "skewness", "aspect_ratio", "growth_ratio", "determinant",
@@ -79,9 +83,10 @@ def refine(blocks, preset="euler", method="bspline", steps=None, **options):
     'rans' (see the module doc), or None for options alone; options: those of
     bvmesh._core.refine_blocks (normal_points, first_cell_height, y_plus, reynolds_number,
     reference_length, growth, distribution, edge_points, tangential_spacing, target_cells,
-    edge_end_spacing, max_turning_angle, max_spacing_jump, feature_spacings), overriding the
-    preset's. feature_spacings: [{"points": (n, 3) polyline, "spacing": s}, ...] clusters the
-    wall edges that leave a feature line (a leading edge) to s there (docs/grid.md). From a
+    edge_end_spacing, max_turning_angle, max_spacing_jump, even_far_field,
+    feature_spacings), overriding the preset's. feature_spacings: [{"points": (n, 3) polyline,
+    "spacing": s}, ...] clusters the wall edges that leave a feature line (a leading edge) to s
+    there (docs/grid.md). From a
     VolumeMesh in a box or cylinder domain, every outer quad is tagged inlet, outlet or side by
     where it lies (a block face reaching over the domain's edges is split;
     RefinedGrid.outer_faces_split counts them).

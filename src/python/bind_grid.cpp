@@ -184,15 +184,16 @@ void bindGrid(py::module_& module) {
       .def_readonly("first_cell_height_min", &grid::RefinedGrid::firstCellHeightMin)
       .def_readonly("first_cell_height_max", &grid::RefinedGrid::firstCellHeightMax)
       .def_readonly("growth_max", &grid::RefinedGrid::growthMax)
-      .def_readonly("outer_faces_split", &grid::RefinedGrid::outerFacesSplit);
+      .def_readonly("outer_faces_split", &grid::RefinedGrid::outerFacesSplit)
+      .def_readonly("even_far_field_used", &grid::RefinedGrid::evenFarFieldUsed);
 
   module.def(
       "refine_blocks",
       [](const volume::BlockMesh& blocks, int normalPoints, double firstCellHeight, double yPlus,
          double reynoldsNumber, double referenceLength, double growth, const std::string& distribution,
          int edgePoints, double tangentialSpacing, long long targetCells, double edgeEndSpacing,
-         double maxTurningAngle, double maxSpacingJump, const py::object& featureSpacings,
-         const volume::VolumeMesh* outerDomainOf) {
+         double maxTurningAngle, double maxSpacingJump, bool evenFarField,
+         const py::object& featureSpacings, const volume::VolumeMesh* outerDomainOf) {
         grid::RefinementOptions options;
         options.normalPoints = normalPoints;
         options.firstCellHeight = firstCellHeight;
@@ -207,6 +208,7 @@ void bindGrid(py::module_& module) {
         options.edgeEndSpacing = edgeEndSpacing;
         options.maxTurningDegrees = maxTurningAngle;
         options.maxSpacingJump = maxSpacingJump;
+        options.evenFarField = evenFarField;
         options.featureSpacings = featureSpacingsOf(featureSpacings);
         if (outerDomainOf != nullptr) options.outerDomain = outerDomainOf->domain;
         py::gil_scoped_release release;
@@ -217,6 +219,7 @@ void bindGrid(py::module_& module) {
       py::arg("growth") = 1.2, py::arg("distribution") = "geometric", py::arg("edge_points") = 17,
       py::arg("tangential_spacing") = 0.0, py::arg("target_cells") = 0, py::arg("edge_end_spacing") = 0.0,
       py::arg("max_turning_angle") = 0.0, py::arg("max_spacing_jump") = 0.0,
+      py::arg("even_far_field") = false,
       py::arg("feature_spacings") = py::none(), py::arg("outer_domain_of") = nullptr,
       R"doc(Evaluates a BlockMesh on stretched, point-matched grids.
 
@@ -231,6 +234,11 @@ spacing the counts grow to keep it, and the points gather where the wall bends (
 max_spacing_jump (0: none, else a ratio >= 1): a set of tangential edges whose wall edges are
 continued across a block corner (within 45 degrees of straight on) by wall edges spaced more than
 this many times finer is clustered at that end to this many times their spacing.
+even_far_field: the far field's wall-normal lines slide, from a tenth of the wall's size out,
+towards points uniform in arc length on the outer boundary's block edges (all the way there), so
+its cells do not inherit the wall's clustering and the marching's fan-out (docs/grid.md); off
+when some block does not stand on the wall, and the grid is refined without it where the slid
+lines would fold a cell (RefinedGrid.even_far_field_used says which).
 feature_spacings: [{"points": (n, 3) polyline, "spacing": s, "tolerance": t (optional)}, ...]: wall
 edges that end on a feature line (within t; default 1e-3 of the wall's size) and leave it (more than
 45 degrees off it) start there with a spacing of at most s (the longest exactly), by Vinokur's law,

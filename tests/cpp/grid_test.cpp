@@ -279,6 +279,84 @@ TEST(GridRefinement, TangentialCountsFollowTheWallNotTheFarField) {
   }
 }
 
+// The grid points of `refined` with z within `tolerance` of `height`, by block.
+std::vector<std::vector<Vector3d>> pointsAtHeight(const RefinedGrid& refined, double height,
+                                                  double tolerance) {
+  std::vector<std::vector<Vector3d>> result;
+  for (const GridBlock& block : refined.grid.blocks()) {
+    result.emplace_back();
+    for (Eigen::Index p = 0; p < block.points.rows(); ++p) {
+      if (std::abs(block.points(p, 2) - height) <= tolerance)
+        result.back().push_back(block.points.row(p).transpose());
+    }
+  }
+  return result;
+}
+
+// The steps between the sorted x of the points on the line y = 0 of the layer, over all blocks.
+std::vector<double> stepsAlongX(const std::vector<std::vector<Vector3d>>& layer) {
+  std::vector<double> x;
+  for (const auto& block : layer) {
+    for (const Vector3d& point : block) {
+      if (std::abs(point.y()) < 1e-12) x.push_back(point.x());
+    }
+  }
+  std::sort(x.begin(), x.end());
+  x.erase(std::unique(x.begin(), x.end(), [](double a, double b) { return std::abs(a - b) < 1e-12; }),
+          x.end());
+  std::vector<double> steps;
+  for (size_t i = 1; i < x.size(); ++i) steps.push_back(x[i] - x[i - 1]);
+  return steps;
+}
+
+// The ratio of the largest to the smallest of steps [first, last).
+double stepSpread(const std::vector<double>& steps, size_t first, size_t last) {
+  const auto [low, high] = std::minmax_element(steps.begin() + static_cast<std::ptrdiff_t>(first),
+                                               steps.begin() + static_cast<std::ptrdiff_t>(last));
+  return *high / *low;
+}
+
+TEST(GridRefinement, AnEvenFarFieldSpreadsTheOuterPointsAndKeepsTheWall) {
+  // The one-layer box spread unevenly at the top (x -> x (1 + 1.5 z x), the same in y): the wall
+  // (z = 0) keeps its evenly spaced points, and the lines through them reach the top unevenly
+  // (the first block's top edge, x = 0 .. 2.5, takes steps growing 2.5 times). With
+  // even_far_field the lines slide to points uniform in arc length on the outer edges.
+  const volume::BlockMesh spread = mappedOneLayerBox([](const Vector3d& x) {
+    return Vector3d(x.x() * (1.0 + 1.5 * x.z() * x.x()), x.y() * (1.0 + 1.5 * x.z() * x.y()), x.z());
+  });
+  RefinementOptions options;
+  options.edgePoints = 9;
+  options.firstCellHeight = 0.01;
+  options.normalPoints = 0;  // as many as the longest line needs: the slid lines are longer
+  const RefinedGrid plain = refineBlockMesh(spread, options);
+  EXPECT_FALSE(plain.evenFarFieldUsed);
+  options.evenFarField = true;
+  const RefinedGrid even = refineBlockMesh(spread, options);  // point-matched (checked) in every orientation
+  EXPECT_TRUE(even.evenFarFieldUsed);
+
+  const std::vector<double> plainTop = stepsAlongX(pointsAtHeight(plain, 1.0, 1e-12));
+  const std::vector<double> evenTop = stepsAlongX(pointsAtHeight(even, 1.0, 1e-12));
+  ASSERT_EQ(plainTop.size(), 16u);
+  ASSERT_EQ(evenTop.size(), 16u);
+  EXPECT_GT(stepSpread(plainTop, 0, 8), 2.4) << ::testing::PrintToString(plainTop);
+  // Block edges from x = 0 to 2.5 and from 2.5 to 8 (the wall's x = 1 at the top), 8 cells each,
+  // uniform to the accuracy of the edges' arc-length tables.
+  for (size_t i = 0; i < evenTop.size(); ++i) EXPECT_NEAR(evenTop[i] / (i < 8 ? 2.5 / 8 : 5.5 / 8), 1.0, 1e-3) << i;
+
+  // The wall and the first cell heights are untouched, the growth stays within its maximum.
+  EXPECT_EQ(pointsAtHeight(even, 0.0, 0.0), pointsAtHeight(plain, 0.0, 0.0));
+  EXPECT_NEAR(even.firstCellHeightMin, 0.01, 1e-12);
+  EXPECT_NEAR(even.firstCellHeightMax, 0.01, 1e-12);
+  EXPECT_LE(even.growthMax, 1.2 * (1 + 1e-9));
+
+  // A wall clustered at its block edges' ends (edge_end_spacing 0.02): the outer edges stay even.
+  options.edgeEndSpacing = 0.02;
+  const RefinedGrid clustered = refineBlockMesh(spread, options);
+  EXPECT_NEAR(stepsAlongX(pointsAtHeight(clustered, 0.0, 0.0)).front(), 0.02, 1e-9);
+  const std::vector<double> top = stepsAlongX(pointsAtHeight(clustered, 1.0, 1e-12));
+  EXPECT_LT(stepSpread(top, 0, 8), 1.01) << ::testing::PrintToString(top);
+}
+
 TEST(GridRefinement, WallEdgesThatTurnGetTheirPointsFromTheTurningLimit) {
   // The one-layer box bent round the y axis: x in [0, 2] becomes a quarter circle of radius 1 + z
   // (poles mapped, so the wall is close to the unit cylinder), y stays straight. With a coarse

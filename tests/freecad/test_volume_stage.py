@@ -125,6 +125,22 @@ class VolumeObjects(unittest.TestCase):
         finally:
             self.doc.removeObject(grid.Name)
 
+    def test_even_far_field_is_on_for_new_grids_and_off_for_restored_ones(self):
+        # A new grid slides its far-field lines (the presets' default); turning it off gives the
+        # grid of the marching's own distribution, as a grid saved before the property had.
+        grid = api.make_volume_grid(self.volume, "euler", edge_points=5, normal_points=9)
+        try:
+            self.assertTrue(grid.EvenFarField)
+            slid = grid.Digest
+            api.set_grid_options(grid, even_far_field=False)
+            self.assertFalse(grid.EvenFarField)
+            self.assertNotEqual(grid.Digest, slid)
+            grid.removeProperty("EvenFarField")
+            grid.Proxy.setup(grid)
+            self.assertFalse(grid.EvenFarField)
+        finally:
+            self.doc.removeObject(grid.Name)
+
     def test_feature_edges_set_the_spacing_where_lines_leave_them(self):
         # A line along the sphere's normal through a corner of its cube layout, as a document
         # object's edge: the wall lines leaving that corner start at FeatureSpacing.

@@ -254,6 +254,8 @@ def run():
     check(turning is not None and turning.value() == 0.0, "the grid panel offers the turning limit, off")
     jump = panel.findChild(QtGui.QDoubleSpinBox, "spinMaxSpacingJump")
     check(jump is not None and jump.value() == 4.0, "the grid panel offers the spacing jump limit, at 4")
+    even = panel.findChild(QtGui.QCheckBox, "checkEvenFarField")
+    check(even is not None and even.isChecked(), "the grid panel offers the even far field, on")
     # The CAD's leading edge (Edge21, the straight line from the root to the tip) as a feature.
     FreeCADGui.Selection.addSelection(doc.getObject("CAD"), "Edge21")
     panel.findChild(QtGui.QPushButton, "buttonFeatureEdges").click()

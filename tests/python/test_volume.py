@@ -546,6 +546,26 @@ class M6VolumeOnTheConvergedWall(unittest.TestCase):
         # meets the tip, nowhere else.
         check_m6_blocks(self, self.mesh, negatives=8, within=6.0, worst=-0.15, symmetry=False)
 
+    def test_an_even_far_field_leaves_fewer_thin_cells_and_the_same_wall(self):
+        # A 1 M-cell euler grid as the main job's: the marching carries the span's clustering out
+        # and fans the tip out, so the outer sphere's spanwise cells run from 25 mm at the root to
+        # 2 400 mm at the tip; the far field's lines slid towards even outer points leave 9 469
+        # cells with a determinant below 1e-3 (checkMesh -allGeometry's check) instead of 28 820,
+        # and the largest aspect ratio 53 instead of 186. The wall stays.
+        import bvmesh.grid
+
+        grids = {even: bvmesh.grid.refine(self.mesh, "euler", target_cells=1000000, even_far_field=even)
+                 for even in (False, True)}
+        self.assertTrue(grids[True].even_far_field_used)
+        self.assertFalse(grids[False].even_far_field_used)
+        reports = {even: bvmesh.grid.quality(grid) for even, grid in grids.items()}
+        thin = {even: int(np.sum(np.asarray(report["determinant"]) < 1e-3)) for even, report in reports.items()}
+        self.assertLess(thin[True], 0.4 * thin[False])
+        aspect = {even: report["summary"]["aspect_ratio"]["max"] for even, report in reports.items()}
+        self.assertLess(aspect[True], 0.5 * aspect[False])
+        self.assertGreater(np.asarray(reports[True]["scaled_jacobian"]).min(), 0.0)
+        np.testing.assert_array_equal(bvmesh.grid.wall_points(grids[True]), bvmesh.grid.wall_points(grids[False]))
+
 
 class M6KnifeEdgeFans(unittest.TestCase):
     """The main job's volume mesh (the level-3 wall carried from level 2) with the sharp trailing
@@ -885,6 +905,11 @@ class M6InItsFlowDomain(unittest.TestCase):
         mesh = bvmesh.volume.offset_and_farfield(self.fitter, reference_length=805.0, **self.domain["volume_options"])
         refined = bvmesh.grid.refine(mesh, "euler", edge_points=9)
         self.assertGreater(refined.outer_faces_split, 0)
+        # The even far field's slid lines fold cells in the small blocks of the trailing edge's tip
+        # corner (clustered by the spacing-jump limit, they slide far from their neighbours): the
+        # grid is the marching's distribution instead, with no non-positive cell (the writer below
+        # checks).
+        self.assertFalse(refined.even_far_field_used)
         centre = np.array([1300.0, 0.0, 0.0])
         counts = {}
         for b in range(refined.grid.block_count):

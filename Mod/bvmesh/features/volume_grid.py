@@ -43,9 +43,15 @@ OPTIONS = (
      "Largest ratio of tangential spacings across a block corner: lines continued by much finer ones "
      "are clustered at that end (a wing's span at its tip cap); 0: none"),
 )
+# Switches: (property, option, default, description).
+SWITCHES = (
+    ("EvenFarField", "even_far_field", True,
+     "Far-field lines slide towards points uniform in arc length on the outer boundary, so its cells do not "
+     "inherit the wall's clustering and the tip's fan-out (not where that would fold a cell)"),
+)
 # Options added after documents were saved with grids: a restored object without one takes this
 # value, which gives the grid it was saved with (its digest).
-RESTORED_WITHOUT = {"MaxSpacingJump": 0.0}
+RESTORED_WITHOUT = {"MaxSpacingJump": 0.0, "EvenFarField": False}
 # Refinement by subdivision (Method subdivision): (property, option, type, default, description).
 SUBDIVISION_OPTIONS = (
     ("SubdivisionSteps", "steps", "App::PropertyInteger", 1,
@@ -72,6 +78,7 @@ def refine_options(obj):
         if type_name == "App::PropertyFloat" and value == 0.0 and option in ("y_plus", "growth", "reynolds_number"):
             continue
         settings[option] = value
+    settings.update({option: bool(getattr(obj, prop)) for prop, option, _, _ in SWITCHES})
     if "reynolds_number" not in settings:
         settings["reynolds_number"] = obj.VolumeMesh.ReynoldsNumber
     if obj.FeatureSpacing != 0.0 or obj.FeatureEdges:
@@ -141,6 +148,9 @@ class VolumeGridProxy(RecomputedProxy):
         restored = "Digest" in obj.PropertiesList  # an object of a saved document, or a new one
         for prop, _, type_name, default, doc in OPTIONS:
             add_property(obj, type_name, prop, "Refinement", doc, RESTORED_WITHOUT.get(prop, default) if restored else default)
+        for prop, _, default, doc in SWITCHES:
+            add_property(obj, "App::PropertyBool", prop, "Refinement", doc,
+                         RESTORED_WITHOUT.get(prop, default) if restored else default)
         for prop, type_name, doc in FEATURE_PROPERTIES:
             add_property(obj, type_name, prop, "Refinement", doc)
         for prop, condition, default in DISPLAY:

@@ -329,6 +329,7 @@ class VolumeGridPanel(_OptionsPanel):
     form_name, title = "volume_grid", "Volume grid"
     create_function, set_function = "make_volume_grid", "set_grid_options"
     options, display = volume_grid.OPTIONS + volume_grid.SUBDIVISION_OPTIONS, volume_grid.DISPLAY
+    switches = volume_grid.SWITCHES
     combos = (("Method", "method", volume_grid.METHODS), ("Preset", "preset", volume_grid.PRESETS),
               ("Distribution", "distribution", volume_grid.DISTRIBUTIONS))
 

@@ -63,6 +63,16 @@ inline double pointParameter(const BlockPlan& plan, int direction, const std::ar
                           fraction(plan, second, ijk[static_cast<size_t>(second)]));
 }
 
+// The same on the block's outer boundary: the wall-normal direction held at its far end.
+inline double outerParameter(const BlockPlan& plan, int direction, const std::array<int, 3>& ijk) {
+  const auto [first, second] = otherDirections(direction);
+  const auto at = [&](int other) {
+    return other == plan.normalDirection ? 1.0 - plan.wallEnd
+                                         : fraction(plan, other, ijk[static_cast<size_t>(other)]);
+  };
+  return blendedParameter(plan, direction, ijk[static_cast<size_t>(direction)], at(first), at(second));
+}
+
 // How messages name block b.
 inline std::string blockText(size_t b) { return "block " + std::to_string(b); }
 

@@ -549,12 +549,13 @@ std::vector<double> edgeFractions(const SharedMeasure& shared, int root, int par
 }
 
 // The plans' sizes, and the edge parameters of every direction but the wall-normal one, at the
-// fractions of arc length their set shares.
+// fractions of arc length their set shares; with `evenOuterEdges` (even_far_field) an edge on the
+// outer boundary takes its points uniform in arc length instead.
 void placeEdgePoints(const std::vector<volume::Block>& blocks, const DirectionSets& sets,
                      const EdgeTables& edges, const std::vector<int>& counts,
                      const std::vector<std::optional<SharedMeasure>>& setMeasure,
                      const std::vector<std::array<double, 2>>& setSteps, const EdgeSteps& featureSteps,
-                     double edgeEndSpacing, std::vector<BlockPlan>& plans) {
+                     double edgeEndSpacing, bool evenOuterEdges, std::vector<BlockPlan>& plans) {
   FractionsCache fractionsOf;
   for (size_t b = 0; b < blocks.size(); ++b) {
     BlockPlan& plan = plans[b];
@@ -566,11 +567,13 @@ void placeEdgePoints(const std::vector<volume::Block>& blocks, const DirectionSe
       for (int e = 0; e < 4; ++e) {
         const ArcLength& arc = edges.placing(b, d, e);
         const std::vector<double> sigma =
-            edgeFractions(*setMeasure[static_cast<size_t>(root)], root, parity, points,
-                          std::min(edgeEndSpacing / arc.length(), 0.5),
-                          finerSteps(setSteps[static_cast<size_t>(root)],
-                                     featureSteps[3 * b + static_cast<size_t>(d)][static_cast<size_t>(e)]),
-                          fractionsOf);
+            evenOuterEdges && !onWallOrNoWall(plan, d, e)
+                ? vinokurFractions(points, 0.0, 0.0)
+                : edgeFractions(*setMeasure[static_cast<size_t>(root)], root, parity, points,
+                                std::min(edgeEndSpacing / arc.length(), 0.5),
+                                finerSteps(setSteps[static_cast<size_t>(root)],
+                                           featureSteps[3 * b + static_cast<size_t>(d)][static_cast<size_t>(e)]),
+                                fractionsOf);
         auto& parameters = plan.edgeParameters[static_cast<size_t>(d)][static_cast<size_t>(e)];
         parameters.resize(static_cast<size_t>(points));
         for (int i = 0; i < points; ++i)
@@ -614,7 +617,7 @@ std::vector<BlockPlan> planDirectionSets(const std::vector<volume::Block>& block
                                    : std::vector<std::array<double, 2>>(counts.size(), {0.0, 0.0});
   placeEdgePoints(blocks, sets, edges, counts, setMeasure, jumpSteps,
                   featureEdgeSteps(plans, setRoots(sets, counts.size()), ends, features, counts),
-                  options.edgeEndSpacing, plans);
+                  options.edgeEndSpacing, options.evenFarField, plans);
   return plans;
 }
 

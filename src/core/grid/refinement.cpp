@@ -1,8 +1,12 @@
 #include "core/grid/refinement.h"
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <future>
 #include <limits>
 #include <string>
@@ -17,6 +21,7 @@
 #include "core/grid/distribution.h"
 #include "core/grid/outer_quads.h"
 #include "core/grid/wall_lines.h"
+#include "core/volume/hex_scaled_jacobian.h"
 
 namespace bvmesh::grid {
 namespace {
@@ -221,21 +226,59 @@ void makeSharedPointsIdentical(const std::vector<Eigen::Index>& roots, double to
                     " apart: the distributions disagree across a shared face (block layout not supported)");
 }
 
-}  // namespace
+// Whether some cell of the grids has a non-positive scaled Jacobian.
+bool foldsACell(const std::vector<GridBlock>& grids) {
+  // Rows of cells along i, numbered block after block: one pool of threads for all.
+  std::vector<std::int64_t> offset{0};
+  for (const GridBlock& grid : grids) {
+    offset.push_back(offset.back() + static_cast<std::int64_t>(grid.size[1] - 1) * (grid.size[2] - 1));
+  }
+  std::atomic<bool> folded{false};
+  parallelChunks(offset.back(), 64, [&](std::int64_t begin, std::int64_t end) {
+    size_t b = static_cast<size_t>(std::upper_bound(offset.begin(), offset.end(), begin) - offset.begin()) - 1;
+    Eigen::Vector3d x[2][2][2];
+    for (std::int64_t row = begin; row < end && !folded.load(std::memory_order_relaxed); ++row) {
+      while (row >= offset[b + 1]) ++b;
+      const GridBlock& grid = grids[b];
+      const std::int64_t local = row - offset[b], nj = grid.size[1] - 1;
+      const int j0 = static_cast<int>(local % nj), k0 = static_cast<int>(local / nj);
+      for (int i0 = 0; i0 + 1 < grid.size[0]; ++i0) {
+        for (int k = 0; k < 2; ++k) {
+          for (int j = 0; j < 2; ++j) {
+            const Eigen::Index at = grid.index(i0, j0 + j, k0 + k);
+            x[0][j][k] = grid.points.row(at).transpose();
+            x[1][j][k] = grid.points.row(at + 1).transpose();
+          }
+        }
+        // The edges' triple product at every corner first (the scaled Jacobian's sign); only a
+        // cell where one is not positive (folded, or on a collapsed face, whose merged corners
+        // have none) is measured as the quality does.
+        bool positive = true;
+        for (int corner = 0; corner < 8 && positive; ++corner) {
+          const int i = corner & 1, j = (corner >> 1) & 1, k = corner >> 2;
+          positive = (x[1][j][k] - x[0][j][k]).cross(x[i][1][k] - x[i][0][k]).dot(x[i][j][1] - x[i][j][0]) > 0.0;
+        }
+        if (positive) continue;
+        // hexScaledJacobian's corner order: 000 100 110 010 001 101 111 011.
+        const std::array<Eigen::Vector3d, 8> corners{x[0][0][0], x[1][0][0], x[1][1][0], x[0][1][0],
+                                                     x[0][0][1], x[1][0][1], x[1][1][1], x[0][1][1]};
+        if (!(volume::hexScaledJacobian(corners) > 0.0)) folded = true;
+      }
+    }
+  });
+  return folded;
+}
 
-RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& options) {
-  checkOptions(options);
+// The grid of refineBlockMesh with `options` as they are.
+RefinedGrid refineOnce(const BlockMesh& mesh, const RefinementOptions& options, double firstHeight,
+                       const BlocksExtent& extent, bool& folded) {
   const auto& blocks = mesh.blocks();
-  if (blocks.empty()) throw InvalidInputError("the block mesh has no blocks to refine");
-  const double firstHeight = firstCellHeight(options);
-  const BlocksExtent extent = blocksExtent(blocks);
-  checkSpacingsResolvable(extent, options, firstHeight);
-
   const std::vector<BlockPlan> plans = planDirectionSets(blocks, options, firstHeight);
   // Automatic: the edges' estimate served the cell target; the wall-normal lines themselves decide.
-  const int normalPoints = options.normalPoints == 0
-                               ? fewestWallNormalPoints(blocks, plans, firstHeight, options.growth)
-                               : options.normalPoints;
+  const int normalPoints =
+      options.normalPoints == 0
+          ? fewestWallNormalPoints(blocks, plans, firstHeight, options.growth, options.evenFarField)
+          : options.normalPoints;
   std::vector<GridBlock> grids = sizedGrids(blocks, plans, normalPoints);
   std::future<std::vector<Eigen::Index>> sharedRoots = findSharedPoints(grids);
   evaluateBlocksWithoutWall(blocks, plans, grids);
@@ -248,9 +291,33 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
   result.firstCellHeightMin = measured.firstHeightMin;
   result.firstCellHeightMax = measured.firstHeightMax;
   result.growthMax = measured.growthMax;
+  result.evenFarFieldUsed = options.evenFarField && std::all_of(plans.begin(), plans.end(), [](const BlockPlan& plan) {
+                              return plan.normalDirection >= 0;
+                            });
+  folded = result.evenFarFieldUsed && foldsACell(grids);
   if (options.outerDomain) result.outerFacesSplit = tagOuterQuads(grids, *options.outerDomain);
   result.grid = StructuredGrid(std::move(grids), firstHeight > 0.0);
   return result;
+}
+
+}  // namespace
+
+RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& options) {
+  checkOptions(options);
+  const auto& blocks = mesh.blocks();
+  if (blocks.empty()) throw InvalidInputError("the block mesh has no blocks to refine");
+  const double firstHeight = firstCellHeight(options);
+  const BlocksExtent extent = blocksExtent(blocks);
+  checkSpacingsResolvable(extent, options, firstHeight);
+
+  bool folded = false;
+  RefinedGrid refined = refineOnce(mesh, options, firstHeight, extent, folded);
+  if (!folded) return refined;
+  // Slid lines that fold a cell (neighbouring lines sliding far apart grow to different lengths,
+  // and the wall law places their points at different heights): the grid without the slide.
+  RefinementOptions withoutSlide = options;
+  withoutSlide.evenFarField = false;
+  return refineOnce(mesh, withoutSlide, firstHeight, extent, folded);
 }
 
 }  // namespace bvmesh::grid

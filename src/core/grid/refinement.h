@@ -76,6 +76,14 @@ struct RefinementOptions {
   // its longest feature edge needs to grow back to its spacing by at most `growth`. Where a
   // spacing-jump limit clusters the same end, the finer of the two.
   std::vector<FeatureSpacing> featureSpacings;
+  // The far field's wall-normal lines slide, from a tenth of the wall's size out, towards the
+  // lines through points uniform in arc length on the outer boundary's block edges (all the way
+  // at the outer boundary): the marching carries the wall's clustering out and fans the front out
+  // at convex ends (a wing's tip), which reach the outer boundary as neighbouring cells up to a
+  // hundred times apart in width, read by OpenFOAM as small determinants. Only for layouts whose
+  // every block stands on the wall (off otherwise); where the slid lines would fold a cell, the
+  // grid is refined without (RefinedGrid::evenFarFieldUsed).
+  bool evenFarField = false;
   // The flow domain the blocks were marched to: a box's or cylinder's outer faces are then tagged
   // quad by quad (grid::tagOuterQuads), not by their middle alone.
   std::optional<volume::Domain> outerDomain;
@@ -91,6 +99,7 @@ struct RefinedGrid {
   double firstCellHeightMax = 0.0;
   double growthMax = 0.0;
   int outerFacesSplit = 0;  // outer block faces whose quads lie on more than one part of the domain
+  bool evenFarFieldUsed = false;  // the far field's lines slid (RefinementOptions::evenFarField)
 };
 
 // Each wall-normal line runs in one block from the wall to the outer boundary (blocks stacked on

@@ -3,6 +3,7 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <map>
 #include <mutex>
 #include <numeric>
 #include <optional>
@@ -23,6 +24,10 @@ using volume::BsplineVolume;
 // pieces): they are only the start of Newton's placement by straight distances, which corrects them.
 constexpr int kLineIntervalsPerSpan = 1;
 
+// Where the wall-normal lines start sliding towards the outer boundary's even points, in wall
+// sizes.
+constexpr double kSlideStart = 0.1;
+
 // A wall-normal line placed by chords: where its points are, for its neighbour's start.
 struct PlacedLine {
   size_t block = std::numeric_limits<size_t>::max();
@@ -39,6 +44,7 @@ struct WallLine {
   ArcLength arc;
   std::vector<double> distance, parameter;
   std::vector<Eigen::Vector3d> points;
+  RowMatrixX3d outerPoles;  // a sliding line's: the iso-parametric line it slides towards
   ChordPlacer placer;
   // The last three lines placed in this chunk of columns, newest first: the next line along the
   // same row of columns starts from their parameters extrapolated, which needs no arc-length
@@ -126,12 +132,82 @@ void tabulateLine(size_t b, const std::array<int, 3>& ijk, WallLine& line) {
   }
 }
 
+// How far each pole layer of the wall-normal lines slides towards the lines through the outer
+// boundary's even points (RefinementOptions::evenFarField), by pole count along the lines and
+// layer counted from the wall: a smooth step (3 r^2 - 2 r^3) in r = log(d / s) / log(D / s) of the
+// layer's mean distance d from the wall along the pole columns of every wall block, D that of the
+// outer layer and s a tenth of the wall's size (the wall faces' pole box diagonal): none closer
+// than s, all at the outer boundary. One share per layer for every line, so neighbouring lines
+// slide alike and a shared face's lines slide the same in both blocks. Empty when off, or when
+// some block does not stand on the wall: such a block blends its parameters by index and would
+// not meet the slid lines on a shared face.
+std::map<int, std::vector<double>> slideShares(const std::vector<volume::Block>& blocks,
+                                               const std::vector<BlockPlan>& plans, bool on) {
+  std::map<int, std::vector<double>> shares;
+  if (!on) return shares;
+  Eigen::Vector3d lower = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d upper = -lower;
+  std::map<int, std::pair<std::vector<double>, long>> distanceSums;  // by pole count: sums, columns
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    const int n = plans[b].normalDirection;
+    if (n < 0) return {};
+    const BsplineVolume& volume = blocks[b].volume;
+    const int count = volume.poleCount(n);
+    const auto [t1, t2] = otherDirections(n);
+    auto& [sums, columns] = distanceSums[count];
+    sums.resize(static_cast<size_t>(count), 0.0);
+    std::array<int, 3> ijk{};
+    for (int a2 = 0; a2 < volume.poleCount(t2); ++a2) {
+      for (int a1 = 0; a1 < volume.poleCount(t1); ++a1) {
+        ijk[static_cast<size_t>(t1)] = a1;
+        ijk[static_cast<size_t>(t2)] = a2;
+        double distance = 0.0;
+        Eigen::Vector3d before;
+        for (int q = 0; q < count; ++q) {
+          ijk[static_cast<size_t>(n)] = plans[b].wallEnd == 0 ? q : count - 1 - q;
+          const Eigen::Vector3d pole =
+              volume.poles().row(volume.poleIndex(ijk[0], ijk[1], ijk[2])).transpose();
+          if (q == 0) {
+            lower = lower.cwiseMin(pole);
+            upper = upper.cwiseMax(pole);
+          } else {
+            distance += (pole - before).norm();
+          }
+          sums[static_cast<size_t>(q)] += distance;
+          before = pole;
+        }
+        ++columns;
+      }
+    }
+  }
+  const double start = kSlideStart * (upper - lower).norm();
+  for (auto& [count, sumsAndColumns] : distanceSums) {
+    const auto& [sums, columns] = sumsAndColumns;
+    const double outer = sums.back() / static_cast<double>(columns);
+    std::vector<double>& share = shares[count];
+    share.assign(sums.size(), 0.0);
+    if (!(outer > start)) continue;
+    for (size_t q = 0; q < sums.size(); ++q) {
+      const double distance = sums[q] / static_cast<double>(columns);
+      const double r =
+          distance > start ? std::min(1.0, std::log(distance / start) / std::log(outer / start)) : 0.0;
+      share[q] = r * r * (3.0 - 2.0 * r);
+    }
+    share.back() = 1.0;
+  }
+  return shares;
+}
+
 // The columns of every wall block numbered one block after the other, so that one pool of
 // threads shares them all (blocks differ in size by orders of magnitude).
 class Columns {
  public:
-  Columns(const std::vector<volume::Block>& blocks, const std::vector<BlockPlan>& plans)
-      : blocks_(blocks), plans_(plans), spans_(blocks.size()), offset_{0} {
+  Columns(const std::vector<volume::Block>& blocks, const std::vector<BlockPlan>& plans, bool slide)
+      : blocks_(blocks),
+        plans_(plans),
+        spans_(blocks.size()),
+        offset_{0},
+        slideShares_(slideShares(blocks, plans, slide)) {
     for (size_t b = 0; b < blocks.size(); ++b) {
       const int n = plans[b].normalDirection;
       std::int64_t columns = 0;
@@ -175,9 +251,16 @@ class Columns {
       line.curve.degree = volume.degree(n);
       line.curve.knots = volume.knots(n);
     }
-    volume.isoCurvePoles(n, pointParameter(plan, t1, ijk), pointParameter(plan, t2, ijk), line.curve.poles);
+    if (slideShares_.empty()) {
+      volume.isoCurvePoles(n, pointParameter(plan, t1, ijk), pointParameter(plan, t2, ijk), line.curve.poles);
+    } else {
+      slide(plan, volume, ijk, line);
+    }
     line.polynomial.assign(line.curve.poles, *spans_[b]);
   }
+
+  // Whether the lines slide (evenFarField).
+  bool sliding() const { return !slideShares_.empty(); }
 
   // Calls work(b, ijk, line) for every column, `line` holding its wall-normal line; returns what
   // the work measured into the lines. Chunks of columns are fixed whatever the threads, and each
@@ -199,11 +282,48 @@ class Columns {
   }
 
  private:
+  // Instead of the column's iso-parametric line, one whose poles slide from it towards the
+  // iso-parametric line through the outer boundary's parameters (outerParameter), pole layer by
+  // pole layer by their shares: on the chord between the two lines' poles. The line stays a
+  // B-spline curve, so its points are placed by the wall law as before.
+  void slide(const BlockPlan& plan, const BsplineVolume& volume, const std::array<int, 3>& ijk,
+             WallLine& line) const {
+    const int n = plan.normalDirection;
+    const auto [t1, t2] = otherDirections(n);
+    RowMatrixX3d& poles = line.curve.poles;
+    volume.isoCurvePoles(n, pointParameter(plan, t1, ijk), pointParameter(plan, t2, ijk), poles);
+    volume.isoCurvePoles(n, outerParameter(plan, t1, ijk), outerParameter(plan, t2, ijk), line.outerPoles);
+    const std::vector<double>& share = slideShares_.at(static_cast<int>(poles.rows()));
+    for (Eigen::Index m = 0; m < poles.rows(); ++m) {
+      const double s = share[static_cast<size_t>(plan.wallEnd == 0 ? m : poles.rows() - 1 - m)];
+      if (s > 0.0) poles.row(m) += s * (line.outerPoles.row(m) - poles.row(m));
+    }
+  }
+
   const std::vector<volume::Block>& blocks_;
   const std::vector<BlockPlan>& plans_;
   std::vector<std::optional<SpanPolynomials>> spans_;
   std::vector<std::int64_t> offset_;
+  std::map<int, std::vector<double>> slideShares_;  // empty: iso-parametric lines
 };
+
+// Per column, its slid line's control polygon length (with the same margin): the bound when the
+// lines slide, which the pole columns' own polygons do not give.
+std::vector<double> slidLineBounds(const Columns& columns) {
+  std::vector<double> bound(static_cast<size_t>(columns.offset().back()), 0.0);
+  parallelChunks(columns.offset().back(), 256, [&](std::int64_t begin, std::int64_t end) {
+    WallLine line;
+    std::int64_t column = begin;
+    columns.forRange(begin, end, [&](size_t b, const std::array<int, 3>& ijk) {
+      columns.load(b, ijk, line);
+      const RowMatrixX3d& poles = line.curve.poles;
+      double length = 0.0;
+      for (Eigen::Index k = 1; k < poles.rows(); ++k) length += (poles.row(k) - poles.row(k - 1)).norm();
+      bound[static_cast<size_t>(column++)] = length * (1.0 + 1e-6);
+    });
+  });
+  return bound;
+}
 
 // Every line's `points` points by the options' wall law, from the first cell height (0: the
 // growth fixed instead), into the grid blocks.
@@ -385,14 +505,15 @@ class LinePlacement {
 }  // namespace
 
 int fewestWallNormalPoints(const std::vector<volume::Block>& blocks, const std::vector<BlockPlan>& plans,
-                           double firstHeight, double growth) {
+                           double firstHeight, double growth, bool evenFarField) {
   // What the longest line needs. A line is no longer than its control polygon, and that no
   // longer than the longest pole column it is blended from, so each column's need is bounded
   // without its line; lines are measured longest bound first, until no bound left could need
   // more points than the lines measured so far. The count is the same as measuring every line,
   // at a few of them.
-  const Columns columns(blocks, plans);
-  const std::vector<double> bound = columnLengthBounds(blocks, plans, columns.offset());
+  const Columns columns(blocks, plans, evenFarField);
+  const std::vector<double> bound =
+      columns.sliding() ? slidLineBounds(columns) : columnLengthBounds(blocks, plans, columns.offset());
   std::vector<std::int64_t> order(bound.size());
   std::iota(order.begin(), order.end(), std::int64_t{0});
   std::stable_sort(order.begin(), order.end(), [&](std::int64_t a, std::int64_t c) {
@@ -427,7 +548,7 @@ int fewestWallNormalPoints(const std::vector<volume::Block>& blocks, const std::
 LineMeasures placeWallLines(const std::vector<volume::Block>& blocks, const std::vector<BlockPlan>& plans,
                             const RefinementOptions& options, double firstHeight, int points,
                             std::vector<GridBlock>& grids) {
-  const Columns columns(blocks, plans);
+  const Columns columns(blocks, plans, options.evenFarField);
   const LinePlacement placement(blocks, plans, options, firstHeight, points);
   LineMeasures measured = columns.forEvery([&](size_t b, const std::array<int, 3>& base, WallLine& line) {
     placement.place(b, base, line, grids[b]);

@@ -33,7 +33,7 @@ struct LineMeasures {
 // The fewest wall-normal points (at least 2) that keep every line of `plans`' wall blocks within
 // the growth ratio `growth` from the first cell height `firstHeight` (> 0).
 int fewestWallNormalPoints(const std::vector<volume::Block>& blocks, const std::vector<BlockPlan>& plans,
-                           double firstHeight, double growth);
+                           double firstHeight, double growth, bool evenFarField);
 
 // Places `points` points on every wall-normal line into `grids` (sized by `plans`), with the first
 // cell height `firstHeight` (0: every line grows by exactly options.growth) and options' wall law;
