@@ -235,7 +235,8 @@ bool foldsACell(const std::vector<GridBlock>& grids) {
   }
   std::atomic<bool> folded{false};
   parallelChunks(offset.back(), 64, [&](std::int64_t begin, std::int64_t end) {
-    size_t b = static_cast<size_t>(std::upper_bound(offset.begin(), offset.end(), begin) - offset.begin()) - 1;
+    size_t b =
+        static_cast<size_t>(std::upper_bound(offset.begin(), offset.end(), begin) - offset.begin()) - 1;
     Eigen::Vector3d x[2][2][2];
     for (std::int64_t row = begin; row < end && !folded.load(std::memory_order_relaxed); ++row) {
       while (row >= offset[b + 1]) ++b;
@@ -256,7 +257,8 @@ bool foldsACell(const std::vector<GridBlock>& grids) {
         bool positive = true;
         for (int corner = 0; corner < 8 && positive; ++corner) {
           const int i = corner & 1, j = (corner >> 1) & 1, k = corner >> 2;
-          positive = (x[1][j][k] - x[0][j][k]).cross(x[i][1][k] - x[i][0][k]).dot(x[i][j][1] - x[i][j][0]) > 0.0;
+          positive =
+              (x[1][j][k] - x[0][j][k]).cross(x[i][1][k] - x[i][0][k]).dot(x[i][j][1] - x[i][j][0]) > 0.0;
         }
         if (positive) continue;
         // hexScaledJacobian's corner order: 000 100 110 010 001 101 111 011.
@@ -274,15 +276,16 @@ RefinedGrid refineOnce(const BlockMesh& mesh, const RefinementOptions& options, 
                        const BlocksExtent& extent, bool& folded) {
   const auto& blocks = mesh.blocks();
   const std::vector<BlockPlan> plans = planDirectionSets(blocks, options, firstHeight);
+  const SlideShares shares = slideShares(blocks, plans, options.evenFarField);
   // Automatic: the edges' estimate served the cell target; the wall-normal lines themselves decide.
-  const int normalPoints =
-      options.normalPoints == 0
-          ? fewestWallNormalPoints(blocks, plans, firstHeight, options.growth, options.evenFarField)
-          : options.normalPoints;
+  const int normalPoints = options.normalPoints == 0
+                               ? fewestWallNormalPoints(blocks, plans, firstHeight, options.growth, shares)
+                               : options.normalPoints;
   std::vector<GridBlock> grids = sizedGrids(blocks, plans, normalPoints);
   std::future<std::vector<Eigen::Index>> sharedRoots = findSharedPoints(grids);
   evaluateBlocksWithoutWall(blocks, plans, grids);
-  const LineMeasures measured = placeWallLines(blocks, plans, options, firstHeight, normalPoints, grids);
+  const LineMeasures measured =
+      placeWallLines(blocks, plans, options, shares, firstHeight, normalPoints, grids);
   makeSharedPointsIdentical(sharedRoots.get(), sharedTolerance(extent), grids);
 
   RefinedGrid result;
@@ -291,9 +294,7 @@ RefinedGrid refineOnce(const BlockMesh& mesh, const RefinementOptions& options, 
   result.firstCellHeightMin = measured.firstHeightMin;
   result.firstCellHeightMax = measured.firstHeightMax;
   result.growthMax = measured.growthMax;
-  result.evenFarFieldUsed = options.evenFarField && std::all_of(plans.begin(), plans.end(), [](const BlockPlan& plan) {
-                              return plan.normalDirection >= 0;
-                            });
+  result.evenFarFieldUsed = !shares.empty();
   folded = result.evenFarFieldUsed && foldsACell(grids);
   if (options.outerDomain) result.outerFacesSplit = tagOuterQuads(grids, *options.outerDomain);
   result.grid = StructuredGrid(std::move(grids), firstHeight > 0.0);

@@ -132,82 +132,13 @@ void tabulateLine(size_t b, const std::array<int, 3>& ijk, WallLine& line) {
   }
 }
 
-// How far each pole layer of the wall-normal lines slides towards the lines through the outer
-// boundary's even points (RefinementOptions::evenFarField), by pole count along the lines and
-// layer counted from the wall: a smooth step (3 r^2 - 2 r^3) in r = log(d / s) / log(D / s) of the
-// layer's mean distance d from the wall along the pole columns of every wall block, D that of the
-// outer layer and s a tenth of the wall's size (the wall faces' pole box diagonal): none closer
-// than s, all at the outer boundary. One share per layer for every line, so neighbouring lines
-// slide alike and a shared face's lines slide the same in both blocks. Empty when off, or when
-// some block does not stand on the wall: such a block blends its parameters by index and would
-// not meet the slid lines on a shared face.
-std::map<int, std::vector<double>> slideShares(const std::vector<volume::Block>& blocks,
-                                               const std::vector<BlockPlan>& plans, bool on) {
-  std::map<int, std::vector<double>> shares;
-  if (!on) return shares;
-  Eigen::Vector3d lower = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
-  Eigen::Vector3d upper = -lower;
-  std::map<int, std::pair<std::vector<double>, long>> distanceSums;  // by pole count: sums, columns
-  for (size_t b = 0; b < blocks.size(); ++b) {
-    const int n = plans[b].normalDirection;
-    if (n < 0) return {};
-    const BsplineVolume& volume = blocks[b].volume;
-    const int count = volume.poleCount(n);
-    const auto [t1, t2] = otherDirections(n);
-    auto& [sums, columns] = distanceSums[count];
-    sums.resize(static_cast<size_t>(count), 0.0);
-    std::array<int, 3> ijk{};
-    for (int a2 = 0; a2 < volume.poleCount(t2); ++a2) {
-      for (int a1 = 0; a1 < volume.poleCount(t1); ++a1) {
-        ijk[static_cast<size_t>(t1)] = a1;
-        ijk[static_cast<size_t>(t2)] = a2;
-        double distance = 0.0;
-        Eigen::Vector3d before;
-        for (int q = 0; q < count; ++q) {
-          ijk[static_cast<size_t>(n)] = plans[b].wallEnd == 0 ? q : count - 1 - q;
-          const Eigen::Vector3d pole =
-              volume.poles().row(volume.poleIndex(ijk[0], ijk[1], ijk[2])).transpose();
-          if (q == 0) {
-            lower = lower.cwiseMin(pole);
-            upper = upper.cwiseMax(pole);
-          } else {
-            distance += (pole - before).norm();
-          }
-          sums[static_cast<size_t>(q)] += distance;
-          before = pole;
-        }
-        ++columns;
-      }
-    }
-  }
-  const double start = kSlideStart * (upper - lower).norm();
-  for (auto& [count, sumsAndColumns] : distanceSums) {
-    const auto& [sums, columns] = sumsAndColumns;
-    const double outer = sums.back() / static_cast<double>(columns);
-    std::vector<double>& share = shares[count];
-    share.assign(sums.size(), 0.0);
-    if (!(outer > start)) continue;
-    for (size_t q = 0; q < sums.size(); ++q) {
-      const double distance = sums[q] / static_cast<double>(columns);
-      const double r =
-          distance > start ? std::min(1.0, std::log(distance / start) / std::log(outer / start)) : 0.0;
-      share[q] = r * r * (3.0 - 2.0 * r);
-    }
-    share.back() = 1.0;
-  }
-  return shares;
-}
-
 // The columns of every wall block numbered one block after the other, so that one pool of
 // threads shares them all (blocks differ in size by orders of magnitude).
 class Columns {
  public:
-  Columns(const std::vector<volume::Block>& blocks, const std::vector<BlockPlan>& plans, bool slide)
-      : blocks_(blocks),
-        plans_(plans),
-        spans_(blocks.size()),
-        offset_{0},
-        slideShares_(slideShares(blocks, plans, slide)) {
+  Columns(const std::vector<volume::Block>& blocks, const std::vector<BlockPlan>& plans,
+          const SlideShares& shares)
+      : blocks_(blocks), plans_(plans), shares_(shares), spans_(blocks.size()), offset_{0} {
     for (size_t b = 0; b < blocks.size(); ++b) {
       const int n = plans[b].normalDirection;
       std::int64_t columns = 0;
@@ -251,7 +182,7 @@ class Columns {
       line.curve.degree = volume.degree(n);
       line.curve.knots = volume.knots(n);
     }
-    if (slideShares_.empty()) {
+    if (shares_.empty()) {
       volume.isoCurvePoles(n, pointParameter(plan, t1, ijk), pointParameter(plan, t2, ijk), line.curve.poles);
     } else {
       slide(plan, volume, ijk, line);
@@ -259,8 +190,8 @@ class Columns {
     line.polynomial.assign(line.curve.poles, *spans_[b]);
   }
 
-  // Whether the lines slide (evenFarField).
-  bool sliding() const { return !slideShares_.empty(); }
+  // Whether the lines slide.
+  bool sliding() const { return !shares_.empty(); }
 
   // Calls work(b, ijk, line) for every column, `line` holding its wall-normal line; returns what
   // the work measured into the lines. Chunks of columns are fixed whatever the threads, and each
@@ -293,7 +224,7 @@ class Columns {
     RowMatrixX3d& poles = line.curve.poles;
     volume.isoCurvePoles(n, pointParameter(plan, t1, ijk), pointParameter(plan, t2, ijk), poles);
     volume.isoCurvePoles(n, outerParameter(plan, t1, ijk), outerParameter(plan, t2, ijk), line.outerPoles);
-    const std::vector<double>& share = slideShares_.at(static_cast<int>(poles.rows()));
+    const std::vector<double>& share = shares_.at(static_cast<int>(poles.rows()));
     for (Eigen::Index m = 0; m < poles.rows(); ++m) {
       const double s = share[static_cast<size_t>(plan.wallEnd == 0 ? m : poles.rows() - 1 - m)];
       if (s > 0.0) poles.row(m) += s * (line.outerPoles.row(m) - poles.row(m));
@@ -302,9 +233,9 @@ class Columns {
 
   const std::vector<volume::Block>& blocks_;
   const std::vector<BlockPlan>& plans_;
+  const SlideShares& shares_;  // empty: iso-parametric lines
   std::vector<std::optional<SpanPolynomials>> spans_;
   std::vector<std::int64_t> offset_;
-  std::map<int, std::vector<double>> slideShares_;  // empty: iso-parametric lines
 };
 
 // Per column, its slid line's control polygon length (with the same margin): the bound when the
@@ -504,14 +435,71 @@ class LinePlacement {
 
 }  // namespace
 
+SlideShares slideShares(const std::vector<volume::Block>& blocks, const std::vector<BlockPlan>& plans,
+                        bool on) {
+  SlideShares shares;
+  if (!on) return shares;
+  Eigen::Vector3d lower = Eigen::Vector3d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector3d upper = -lower;
+  std::map<int, std::pair<std::vector<double>, long>> distanceSums;  // by pole count: sums, columns
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    const int n = plans[b].normalDirection;
+    if (n < 0) return {};
+    const BsplineVolume& volume = blocks[b].volume;
+    const int count = volume.poleCount(n);
+    const auto [t1, t2] = otherDirections(n);
+    auto& [sums, columns] = distanceSums[count];
+    sums.resize(static_cast<size_t>(count), 0.0);
+    std::array<int, 3> ijk{};
+    for (int a2 = 0; a2 < volume.poleCount(t2); ++a2) {
+      for (int a1 = 0; a1 < volume.poleCount(t1); ++a1) {
+        ijk[static_cast<size_t>(t1)] = a1;
+        ijk[static_cast<size_t>(t2)] = a2;
+        double distance = 0.0;
+        Eigen::Vector3d before;
+        for (int q = 0; q < count; ++q) {
+          ijk[static_cast<size_t>(n)] = plans[b].wallEnd == 0 ? q : count - 1 - q;
+          const Eigen::Vector3d pole =
+              volume.poles().row(volume.poleIndex(ijk[0], ijk[1], ijk[2])).transpose();
+          if (q == 0) {
+            lower = lower.cwiseMin(pole);
+            upper = upper.cwiseMax(pole);
+          } else {
+            distance += (pole - before).norm();
+          }
+          sums[static_cast<size_t>(q)] += distance;
+          before = pole;
+        }
+        ++columns;
+      }
+    }
+  }
+  const double start = kSlideStart * (upper - lower).norm();
+  for (auto& [count, sumsAndColumns] : distanceSums) {
+    const auto& [sums, columns] = sumsAndColumns;
+    const double outer = sums.back() / static_cast<double>(columns);
+    std::vector<double>& share = shares[count];
+    share.assign(sums.size(), 0.0);
+    if (!(outer > start)) continue;
+    for (size_t q = 0; q < sums.size(); ++q) {
+      const double distance = sums[q] / static_cast<double>(columns);
+      const double r =
+          distance > start ? std::min(1.0, std::log(distance / start) / std::log(outer / start)) : 0.0;
+      share[q] = r * r * (3.0 - 2.0 * r);
+    }
+    share.back() = 1.0;
+  }
+  return shares;
+}
+
 int fewestWallNormalPoints(const std::vector<volume::Block>& blocks, const std::vector<BlockPlan>& plans,
-                           double firstHeight, double growth, bool evenFarField) {
+                           double firstHeight, double growth, const SlideShares& shares) {
   // What the longest line needs. A line is no longer than its control polygon, and that no
   // longer than the longest pole column it is blended from, so each column's need is bounded
   // without its line; lines are measured longest bound first, until no bound left could need
   // more points than the lines measured so far. The count is the same as measuring every line,
   // at a few of them.
-  const Columns columns(blocks, plans, evenFarField);
+  const Columns columns(blocks, plans, shares);
   const std::vector<double> bound =
       columns.sliding() ? slidLineBounds(columns) : columnLengthBounds(blocks, plans, columns.offset());
   std::vector<std::int64_t> order(bound.size());
@@ -546,9 +534,9 @@ int fewestWallNormalPoints(const std::vector<volume::Block>& blocks, const std::
 }
 
 LineMeasures placeWallLines(const std::vector<volume::Block>& blocks, const std::vector<BlockPlan>& plans,
-                            const RefinementOptions& options, double firstHeight, int points,
-                            std::vector<GridBlock>& grids) {
-  const Columns columns(blocks, plans, options.evenFarField);
+                            const RefinementOptions& options, const SlideShares& shares, double firstHeight,
+                            int points, std::vector<GridBlock>& grids) {
+  const Columns columns(blocks, plans, shares);
   const LinePlacement placement(blocks, plans, options, firstHeight, points);
   LineMeasures measured = columns.forEvery([&](size_t b, const std::array<int, 3>& base, WallLine& line) {
     placement.place(b, base, line, grids[b]);
