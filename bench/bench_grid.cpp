@@ -2,9 +2,11 @@
 // cells, against per-point evaluation of as many points measured in the same run (each the
 // fastest of 5 runs; the naive way:
 // BsplineVolume::evaluate, basis functions and 64-pole sums for every point on its own, at a
-// lattice of the same size as each block's grid); then each writer and the quality metrics. Each
-// step runs in a child process of its own, so its peak memory is its own and not the largest of
-// the steps before it.
+// lattice of the same size as each block's grid), both in memory new from the kernel and in memory
+// the allocator kept (on a virtual machine a new page's first touch can cost more than the
+// arithmetic done on it; the cost per page is measured first); then each writer and the quality
+// metrics. Each step runs in a child process of its own, so its peak memory is its own and not
+// the largest of the steps before it.
 //
 //   build/bench/bench_grid [target_cells]
 //       the blocks around the limit surface of a cube (refined 3 times), first cell height 1e-5
@@ -12,6 +14,8 @@
 //   build/bench/bench_grid target_cells block_file reference_length reynolds_number
 //       a block file (BlockMesh.write; bench_volume_m6.py writes the M6's) refined with the
 //       euler and rans presets of bvmesh.grid, the writers on the euler grid
+#include <malloc.h>
+#include <sys/mman.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -62,15 +66,54 @@ void measure(const char* name, long long cells, const std::function<void()>& ste
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) std::printf("| %-30s | failed | |\n", name);
 }
 
-// Refinement against per-point evaluation of as many points, block by block, in the same run.
-// Each is timed kRuns times and the fastest run counts (the machine is shared: single runs vary
-// by 2x); the peak memory is the first refinement's.
+// How a run finds its memory. Fresh: every large allocation is pages new from the kernel, as for
+// a process's first grid; kept: the allocator keeps what the run before freed, as for a grid
+// refined again. Both are set explicitly: glibc's own choice (a threshold that moves with what
+// was freed) made the fastest of 5 runs fresh in one build and kept in the next.
+enum class Memory { Fresh, Kept };
+
+const char* memoryName(Memory memory) { return memory == Memory::Fresh ? "fresh" : "kept"; }
+
+void useMemory(Memory memory) {
+  if (memory == Memory::Fresh) {
+    mallopt(M_MMAP_THRESHOLD, 128 * 1024);  // fixed: each large block mapped when allocated, unmapped when freed
+    mallopt(M_TRIM_THRESHOLD, 0);
+  } else {
+    mallopt(M_MMAP_THRESHOLD, 32 * 1024 * 1024);  // glibc's largest: every block of these grids on the heap
+    mallopt(M_TRIM_THRESHOLD, std::numeric_limits<int>::max());
+  }
+}
+
+// Microseconds to touch one page of memory new from the kernel (the fastest of 3 passes over
+// 64 MB): what a grid's fresh memory costs on this machine before any arithmetic.
+double freshPageMicroseconds() {
+  const size_t bytes = size_t{64} << 20;
+  const auto page = static_cast<size_t>(sysconf(_SC_PAGESIZE));
+  double fastest = std::numeric_limits<double>::infinity();
+  for (int run = 0; run < 3; ++run) {
+    void* mapped = mmap(nullptr, bytes, PROT_READ | PROT_WRITE, MAP_PRIVATE | MAP_ANONYMOUS, -1, 0);
+    if (mapped == MAP_FAILED) return std::numeric_limits<double>::quiet_NaN();
+    auto* memory = static_cast<volatile char*>(mapped);
+    const auto start = Clock::now();
+    for (size_t at = 0; at < bytes; at += page) memory[at] = 1;
+    fastest = std::min(fastest, seconds(start));
+    munmap(mapped, bytes);
+  }
+  return 1e6 * fastest / static_cast<double>(bytes / page);
+}
+
+// Refinement against per-point evaluation of as many points, block by block, in the same run and
+// with the same `memory` (the per-point results allocated for every run, as the refinement's
+// grid is). Each is timed kRuns times and the fastest run counts (the machine is shared: single
+// runs vary by 2x); the peak memory is the first refinement's.
 constexpr int kRuns = 5;
 
-void compareWithPerPoint(const char* preset, const bvmesh::volume::BlockMesh& blocks, const RefinementOptions& options) {
+void compareWithPerPoint(const char* preset, const bvmesh::volume::BlockMesh& blocks, const RefinementOptions& options,
+                         Memory memory) {
   std::fflush(stdout);
   const pid_t child = fork();
   if (child == 0) {
+    useMemory(memory);
     const long before = peakKilobytes();
     const auto start = Clock::now();
     const bvmesh::grid::RefinedGrid refined = bvmesh::grid::refineBlockMesh(blocks, options);
@@ -102,17 +145,17 @@ void compareWithPerPoint(const char* preset, const bvmesh::volume::BlockMesh& bl
           }
         }
       }
-      bvmesh::RowMatrixX3d x;
       double fastest = std::numeric_limits<double>::infinity();
       for (int run = 0; run < kRuns; ++run) {
         const auto naiveStart = Clock::now();
+        bvmesh::RowMatrixX3d x;
         volume.evaluate(parameters, x);
         fastest = std::min(fastest, seconds(naiveStart));
       }
       naiveTime += fastest;
     }
-    std::printf("| %-5s | %d | %.0f | %.0f | %d | %.3g..%.3g | %.4f | %.3f | %.1f | %.1f | %.2f | %.1f |\n", preset,
-                grid.blockCount(), cells, points, refined.normalPoints, refined.firstCellHeightMin,
+    std::printf("| %-5s | %-5s | %d | %.0f | %.0f | %d | %.3g..%.3g | %.4f | %.3f | %.1f | %.1f | %.2f | %.1f |\n", preset,
+                memoryName(memory), grid.blockCount(), cells, points, refined.normalPoints, refined.firstCellHeightMin,
                 refined.firstCellHeightMax, refined.growthMax, refineTime, points / refineTime / 1e6,
                 points / naiveTime / 1e6, naiveTime / refineTime, (grown - kCoordinateBytes * points) / cells);
     std::fflush(stdout);
@@ -120,7 +163,7 @@ void compareWithPerPoint(const char* preset, const bvmesh::volume::BlockMesh& bl
   }
   int status = 0;
   waitpid(child, &status, 0);
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) std::printf("| %-5s | failed |\n", preset);
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) std::printf("| %-5s | %-5s | failed |\n", preset, memoryName(memory));
 }
 
 }  // namespace
@@ -152,10 +195,13 @@ int main(int argc, char** argv) {
     options.firstCellHeight = 1e-5 * 2.0;
     presets.emplace_back("wall", options);
   }
-  std::printf("| grid | blocks | cells | points | wall-normal points | first height | growth max | refinement s | "
+  std::printf("memory new from the kernel: %.2f us per page at first touch\n\n", freshPageMicroseconds());
+  std::printf("| grid | memory | blocks | cells | points | wall-normal points | first height | growth max | refinement s | "
               "M points/s | per-point M points/s | ratio | peak bytes/cell beyond coordinates |\n");
-  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|\n");
-  for (const auto& [name, presetOptions] : presets) compareWithPerPoint(name, *blocks, presetOptions);
+  std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const auto& [name, presetOptions] : presets) {
+    for (const Memory memory : {Memory::Fresh, Memory::Kept}) compareWithPerPoint(name, *blocks, presetOptions, memory);
+  }
 
   // The writers on the first preset's grid.
   const bvmesh::grid::StructuredGrid grid = bvmesh::grid::refineBlockMesh(*blocks, presets.front().second).grid;

@@ -16,6 +16,7 @@
 #include "block_fixtures.h"
 #include "core/common/errors.h"
 #include "core/grid/distribution.h"
+#include "core/grid/folded_cells.h"
 #include "core/grid/hex_topology.h"
 #include "core/grid/plane_cut.h"
 #include "core/grid/refinement.h"
@@ -314,6 +315,50 @@ double stepSpread(const std::vector<double>& steps, size_t first, size_t last) {
   const auto [low, high] = std::minmax_element(steps.begin() + static_cast<std::ptrdiff_t>(first),
                                                steps.begin() + static_cast<std::ptrdiff_t>(last));
   return *high / *low;
+}
+
+// A block of 3 x 2 x 2 points (two unit cells along i), corner (i, j, k) of its cells at
+// (i, j, k) before `moved` is added to point `at`.
+std::vector<GridBlock> twoCellRow(const std::array<int, 3>& at, const Vector3d& moved) {
+  GridBlock block;
+  block.size = {3, 2, 2};
+  block.points.resize(block.pointCount(), 3);
+  for (int k = 0; k < 2; ++k) {
+    for (int j = 0; j < 2; ++j) {
+      for (int i = 0; i < 3; ++i) block.points.row(block.index(i, j, k)) << i, j, k;
+    }
+  }
+  block.points.row(block.index(at[0], at[1], at[2])) += moved.transpose();
+  return {block};
+}
+
+TEST(GridFolds, EveryCornerTurnedInsideOutIsFoundAndASkewedOrPrismCellIsNot) {
+  EXPECT_FALSE(hasFoldedCell(twoCellRow({0, 0, 0}, Vector3d::Zero())));
+  // Each point of the row, whichever corner of its cells it is: pushed through them along the
+  // diagonal, its corners turn inside out; a fifth as far, they are skewed but valid.
+  for (int k = 0; k < 2; ++k) {
+    for (int j = 0; j < 2; ++j) {
+      for (int i = 0; i < 3; ++i) {
+        const Vector3d inwards(i == 0 ? 1.0 : -1.0, j == 0 ? 1.0 : -1.0, k == 0 ? 1.0 : -1.0);
+        EXPECT_TRUE(hasFoldedCell(twoCellRow({i, j, k}, 1.5 * inwards))) << i << " " << j << " " << k;
+        EXPECT_FALSE(hasFoldedCell(twoCellRow({i, j, k}, 0.3 * inwards))) << i << " " << j << " " << k;
+        // Across the diagonal of its own i-face: that face folds, and only the corners on it turn
+        // (on the last face, only far corners: each cell's are checked, not only its near ones).
+        const Vector3d acrossFace(0.0, inwards.y(), inwards.z());
+        EXPECT_TRUE(hasFoldedCell(twoCellRow({i, j, k}, 1.5 * acrossFace))) << i << " " << j << " " << k;
+      }
+    }
+  }
+  // A prism: the second cell's far face (i = 2) merged into its edge at j = 0 (a collapsed face's
+  // cells), valid though its merged corners have no triple product; the same with that edge
+  // pulled back behind the cell's near face is folded.
+  std::vector<GridBlock> prism = twoCellRow({2, 1, 0}, Vector3d(0.0, -1.0, 0.0));
+  prism[0].points.row(prism[0].index(2, 1, 1)) << 2.0, 0.0, 1.0;
+  EXPECT_FALSE(hasFoldedCell(prism));
+  for (int k = 0; k < 2; ++k) {
+    for (int j = 0; j < 2; ++j) prism[0].points.row(prism[0].index(2, j, k)) << 0.8, 0.0, k;
+  }
+  EXPECT_TRUE(hasFoldedCell(prism));
 }
 
 TEST(GridRefinement, AnEvenFarFieldSpreadsTheOuterPointsAndKeepsTheWall) {

@@ -1,7 +1,5 @@
 #include "core/grid/refinement.h"
 
-#include <Eigen/Geometry>
-
 #include <algorithm>
 #include <array>
 #include <atomic>
@@ -19,9 +17,9 @@
 #include "core/grid/block_plan.h"
 #include "core/grid/direction_sets.h"
 #include "core/grid/distribution.h"
+#include "core/grid/folded_cells.h"
 #include "core/grid/outer_quads.h"
 #include "core/grid/wall_lines.h"
-#include "core/volume/hex_scaled_jacobian.h"
 
 namespace bvmesh::grid {
 namespace {
@@ -226,51 +224,6 @@ void makeSharedPointsIdentical(const std::vector<Eigen::Index>& roots, double to
                     " apart: the distributions disagree across a shared face (block layout not supported)");
 }
 
-// Whether some cell of the grids has a non-positive scaled Jacobian.
-bool foldsACell(const std::vector<GridBlock>& grids) {
-  // Rows of cells along i, numbered block after block: one pool of threads for all.
-  std::vector<std::int64_t> offset{0};
-  for (const GridBlock& grid : grids) {
-    offset.push_back(offset.back() + static_cast<std::int64_t>(grid.size[1] - 1) * (grid.size[2] - 1));
-  }
-  std::atomic<bool> folded{false};
-  parallelChunks(offset.back(), 64, [&](std::int64_t begin, std::int64_t end) {
-    size_t b =
-        static_cast<size_t>(std::upper_bound(offset.begin(), offset.end(), begin) - offset.begin()) - 1;
-    Eigen::Vector3d x[2][2][2];
-    for (std::int64_t row = begin; row < end && !folded.load(std::memory_order_relaxed); ++row) {
-      while (row >= offset[b + 1]) ++b;
-      const GridBlock& grid = grids[b];
-      const std::int64_t local = row - offset[b], nj = grid.size[1] - 1;
-      const int j0 = static_cast<int>(local % nj), k0 = static_cast<int>(local / nj);
-      for (int i0 = 0; i0 + 1 < grid.size[0]; ++i0) {
-        for (int k = 0; k < 2; ++k) {
-          for (int j = 0; j < 2; ++j) {
-            const Eigen::Index at = grid.index(i0, j0 + j, k0 + k);
-            x[0][j][k] = grid.points.row(at).transpose();
-            x[1][j][k] = grid.points.row(at + 1).transpose();
-          }
-        }
-        // The edges' triple product at every corner first (the scaled Jacobian's sign); only a
-        // cell where one is not positive (folded, or on a collapsed face, whose merged corners
-        // have none) is measured as the quality does.
-        bool positive = true;
-        for (int corner = 0; corner < 8 && positive; ++corner) {
-          const int i = corner & 1, j = (corner >> 1) & 1, k = corner >> 2;
-          positive =
-              (x[1][j][k] - x[0][j][k]).cross(x[i][1][k] - x[i][0][k]).dot(x[i][j][1] - x[i][j][0]) > 0.0;
-        }
-        if (positive) continue;
-        // hexScaledJacobian's corner order: 000 100 110 010 001 101 111 011.
-        const std::array<Eigen::Vector3d, 8> corners{x[0][0][0], x[1][0][0], x[1][1][0], x[0][1][0],
-                                                     x[0][0][1], x[1][0][1], x[1][1][1], x[0][1][1]};
-        if (!(volume::hexScaledJacobian(corners) > 0.0)) folded = true;
-      }
-    }
-  });
-  return folded;
-}
-
 // The grid of refineBlockMesh with `options` as they are.
 RefinedGrid refineOnce(const BlockMesh& mesh, const RefinementOptions& options, double firstHeight,
                        const BlocksExtent& extent, bool& folded) {
@@ -295,7 +248,7 @@ RefinedGrid refineOnce(const BlockMesh& mesh, const RefinementOptions& options, 
   result.firstCellHeightMax = measured.firstHeightMax;
   result.growthMax = measured.growthMax;
   result.evenFarFieldUsed = !shares.empty();
-  folded = result.evenFarFieldUsed && foldsACell(grids);
+  folded = result.evenFarFieldUsed && hasFoldedCell(grids);
   if (options.outerDomain) result.outerFacesSplit = tagOuterQuads(grids, *options.outerDomain);
   result.grid = StructuredGrid(std::move(grids), firstHeight > 0.0);
   return result;
