@@ -76,7 +76,8 @@ const char* memoryName(Memory memory) { return memory == Memory::Fresh ? "fresh"
 
 void useMemory(Memory memory) {
   if (memory == Memory::Fresh) {
-    mallopt(M_MMAP_THRESHOLD, 128 * 1024);  // fixed: each large block mapped when allocated, unmapped when freed
+    // Fixed: each large block mapped when allocated, unmapped when freed.
+    mallopt(M_MMAP_THRESHOLD, 128 * 1024);
     mallopt(M_TRIM_THRESHOLD, 0);
   } else {
     mallopt(M_MMAP_THRESHOLD, 32 * 1024 * 1024);  // glibc's largest: every block of these grids on the heap
@@ -108,8 +109,8 @@ double freshPageMicroseconds() {
 // runs vary by 2x); the peak memory is the first refinement's.
 constexpr int kRuns = 5;
 
-void compareWithPerPoint(const char* preset, const bvmesh::volume::BlockMesh& blocks, const RefinementOptions& options,
-                         Memory memory) {
+void compareWithPerPoint(const char* preset, const bvmesh::volume::BlockMesh& blocks,
+                         const RefinementOptions& options, Memory memory) {
   std::fflush(stdout);
   const pid_t child = fork();
   if (child == 0) {
@@ -154,16 +155,19 @@ void compareWithPerPoint(const char* preset, const bvmesh::volume::BlockMesh& bl
       }
       naiveTime += fastest;
     }
-    std::printf("| %-5s | %-5s | %d | %.0f | %.0f | %d | %.3g..%.3g | %.4f | %.3f | %.1f | %.1f | %.2f | %.1f |\n", preset,
-                memoryName(memory), grid.blockCount(), cells, points, refined.normalPoints, refined.firstCellHeightMin,
-                refined.firstCellHeightMax, refined.growthMax, refineTime, points / refineTime / 1e6,
-                points / naiveTime / 1e6, naiveTime / refineTime, (grown - kCoordinateBytes * points) / cells);
+    std::printf(
+        "| %-5s | %-5s | %d | %.0f | %.0f | %d | %.3g..%.3g | %.4f | %.3f | %.1f | %.1f | %.2f | %.1f |\n",
+        preset, memoryName(memory), grid.blockCount(), cells, points, refined.normalPoints,
+        refined.firstCellHeightMin, refined.firstCellHeightMax, refined.growthMax, refineTime,
+        points / refineTime / 1e6, points / naiveTime / 1e6, naiveTime / refineTime,
+        (grown - kCoordinateBytes * points) / cells);
     std::fflush(stdout);
     _exit(0);
   }
   int status = 0;
   waitpid(child, &status, 0);
-  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) std::printf("| %-5s | %-5s | failed |\n", preset, memoryName(memory));
+  if (!WIFEXITED(status) || WEXITSTATUS(status) != 0)
+    std::printf("| %-5s | %-5s | failed |\n", preset, memoryName(memory));
 }
 
 }  // namespace
@@ -196,11 +200,13 @@ int main(int argc, char** argv) {
     presets.emplace_back("wall", options);
   }
   std::printf("memory new from the kernel: %.2f us per page at first touch\n\n", freshPageMicroseconds());
-  std::printf("| grid | memory | blocks | cells | points | wall-normal points | first height | growth max | refinement s | "
-              "M points/s | per-point M points/s | ratio | peak bytes/cell beyond coordinates |\n");
+  std::printf(
+      "| grid | memory | blocks | cells | points | wall-normal points | first height | growth max | "
+      "refinement s | M points/s | per-point M points/s | ratio | peak bytes/cell beyond coordinates |\n");
   std::printf("|---|---|---|---|---|---|---|---|---|---|---|---|---|\n");
   for (const auto& [name, presetOptions] : presets) {
-    for (const Memory memory : {Memory::Fresh, Memory::Kept}) compareWithPerPoint(name, *blocks, presetOptions, memory);
+    for (const Memory memory : {Memory::Fresh, Memory::Kept})
+      compareWithPerPoint(name, *blocks, presetOptions, memory);
   }
 
   // The writers on the first preset's grid.
@@ -215,6 +221,11 @@ int main(int argc, char** argv) {
   measure("hex topology", cells, [&] { const bvmesh::grid::HexTopology topology(grid); });
   const bvmesh::grid::HexTopology topology(grid);
   measure("quality (all metrics)", cells, [&] { bvmesh::quality::measureCellQuality(topology); });
+  const bvmesh::quality::CellQuality quality = bvmesh::quality::measureCellQuality(topology);
+  measure("quality summaries, all and per block", cells, [&] {
+    bvmesh::quality::summarizeQuality(topology, quality);
+    for (int b = 0; b < grid.blockCount(); ++b) bvmesh::quality::summarizeQuality(topology, quality, b);
+  });
   measure("CGNS", cells, [&] { bvmesh::io::writeCgns(grid, (folder / "grid.cgns").string()); });
   measure("OpenFOAM polyMesh", cells, [&] { bvmesh::io::writeOpenFoamCase(topology, (folder / "case").string()); });
   measure("OpenFOAM with its topology", cells, [&] {

@@ -77,6 +77,43 @@ TEST(CellQuality, UnitCubesAndShearedCellsAgainstHandValues) {
   EXPECT_NEAR(summary[1].max, lean, 1e-9);
 }
 
+// The summary's percentiles interpolate linearly between order statistics (numpy's default): on
+// a stack of 1000 cells whose values are 0..999 shuffled, the q-percentile is 999 q (9.99, 499.5,
+// 989.01: each between two values); per block and over all alike, for every metric.
+TEST(CellQuality, SummaryPercentilesAreTheInterpolatedOrderStatistics) {
+  const int cells = 1000;
+  const StructuredGrid stack = cellGrid(shearedStack(0.0, cells), {2, 2, cells + 1});
+  const HexTopology topology(stack);
+  quality::CellQuality q = quality::measureCellQuality(topology);
+  std::vector<double> shuffled(static_cast<size_t>(cells));
+  for (int c = 0; c < cells; ++c)
+    shuffled[static_cast<size_t>(c)] = (377 * c) % cells;  // 377 is prime to 1000
+  for (std::vector<double>* values : {&q.scaledJacobian, &q.nonOrthogonality, &q.skewness, &q.aspectRatio,
+                                      &q.growthRatio, &q.determinant}) {
+    *values = shuffled;
+  }
+  for (const int block : {-1, 0}) {
+    for (const quality::MetricSummary& s : quality::summarizeQuality(topology, q, block)) {
+      if (s.name == "wall_angle" || s.name == "first_cell_height") continue;
+      EXPECT_EQ(s.count, cells) << s.name;
+      EXPECT_EQ(s.min, 0.0) << s.name;
+      EXPECT_NEAR(s.p01, 9.99, 1e-12) << s.name;
+      EXPECT_NEAR(s.median, 499.5, 1e-12) << s.name;
+      EXPECT_NEAR(s.p99, 989.01, 1e-9) << s.name;
+      EXPECT_EQ(s.max, 999.0) << s.name;
+    }
+  }
+  // Between two order statistics: 0, 10, 20, 30 -> the 1 % point lies 0.03 of the way from 0 to 10.
+  const StructuredGrid four = cellGrid(shearedStack(0.0, 4), {2, 2, 5});
+  const HexTopology fourTopology(four);
+  quality::CellQuality few = quality::measureCellQuality(fourTopology);
+  few.scaledJacobian = {30.0, 0.0, 20.0, 10.0};
+  const quality::MetricSummary s = quality::summarizeQuality(fourTopology, few)[0];
+  EXPECT_NEAR(s.p01, 0.3, 1e-12);
+  EXPECT_NEAR(s.median, 15.0, 1e-12);
+  EXPECT_NEAR(s.p99, 29.7, 1e-12);
+}
+
 // OpenFOAM's cell determinant on 3 x 3 x 3 cells of 1 x 1 x h: the middle cell has six internal
 // faces, sum of a a^T = diag(2 h^2, 2 h^2, 2) over mean |a| = (2 + 4 h) / 6 squared; a corner cell
 // has one internal face per direction (half of that sum); a one-cell stack sees one direction only.
