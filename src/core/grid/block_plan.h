@@ -48,29 +48,30 @@ inline double blendedParameter(const BlockPlan& plan, int direction, int i, doub
          f1 * f2 * edges[3][at];
 }
 
-// Index fraction along `direction`, or the clustered end when that is the wall-normal direction.
-inline double fraction(const BlockPlan& plan, int direction, int index) {
-  if (direction == plan.normalDirection) return plan.wallEnd;
+// Index fraction along `direction`, or `normalEnd` (0 or 1) when that is the wall-normal direction.
+inline double fraction(const BlockPlan& plan, int direction, int index, int normalEnd) {
+  if (direction == plan.normalDirection) return normalEnd;
   return static_cast<double>(index) / (plan.size[static_cast<size_t>(direction)] - 1);
 }
 
-// The parameter along `direction` of grid point ijk: its edges blended by the index fractions of
-// the other two directions (the wall-normal one held at its wall end).
-inline double pointParameter(const BlockPlan& plan, int direction, const std::array<int, 3>& ijk) {
+// The parameter along `direction` of grid point ijk's column at the wall-normal direction's end
+// `normalEnd`: its edges blended by the index fractions of the other two directions.
+inline double parameterAtNormalEnd(const BlockPlan& plan, int direction, const std::array<int, 3>& ijk,
+                                   int normalEnd) {
   const auto [first, second] = otherDirections(direction);
   return blendedParameter(plan, direction, ijk[static_cast<size_t>(direction)],
-                          fraction(plan, first, ijk[static_cast<size_t>(first)]),
-                          fraction(plan, second, ijk[static_cast<size_t>(second)]));
+                          fraction(plan, first, ijk[static_cast<size_t>(first)], normalEnd),
+                          fraction(plan, second, ijk[static_cast<size_t>(second)], normalEnd));
+}
+
+// The parameter along `direction` of grid point ijk, the wall-normal direction held at its wall end.
+inline double pointParameter(const BlockPlan& plan, int direction, const std::array<int, 3>& ijk) {
+  return parameterAtNormalEnd(plan, direction, ijk, plan.wallEnd);
 }
 
 // The same on the block's outer boundary: the wall-normal direction held at its far end.
 inline double outerParameter(const BlockPlan& plan, int direction, const std::array<int, 3>& ijk) {
-  const auto [first, second] = otherDirections(direction);
-  const auto at = [&](int other) {
-    return other == plan.normalDirection ? 1.0 - plan.wallEnd
-                                         : fraction(plan, other, ijk[static_cast<size_t>(other)]);
-  };
-  return blendedParameter(plan, direction, ijk[static_cast<size_t>(direction)], at(first), at(second));
+  return parameterAtNormalEnd(plan, direction, ijk, 1 - plan.wallEnd);
 }
 
 // How messages name block b.
