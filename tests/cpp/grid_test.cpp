@@ -361,6 +361,26 @@ TEST(GridFolds, EveryCornerTurnedInsideOutIsFoundAndASkewedOrPrismCellIsNot) {
   EXPECT_TRUE(hasFoldedCell(prism));
 }
 
+TEST(GridPlaneCut, ACollapsedFaceOrATouchedCornerDrawsNoSegment) {
+  // Two unit cells along x, the second a prism: its far face (x = 2) merged into the edge y = 0.
+  // The plane z = 0.5 crosses the faces normal to x at x = 0 and 1 and those normal to y, one
+  // unit segment each (the prism's slanted face sqrt(2)); the merged face's crossings are one
+  // point, no segment (a CAD line through it would fail: the GridCut feature of a grid with fans).
+  std::vector<GridBlock> prism = twoCellRow({2, 1, 0}, Vector3d(0.0, -1.0, 0.0));
+  prism[0].points.row(prism[0].index(2, 1, 1)) << 2.0, 0.0, 1.0;
+  const StructuredGrid grid(prism);
+  const PlaneCut cut = cutByPlane(grid, Vector3d(0.0, 0.0, 0.5), Vector3d(0.0, 0.0, 1.0));
+  ASSERT_EQ(cut.start.rows(), 6);
+  double length = 0.0;
+  for (Eigen::Index s = 0; s < cut.start.rows(); ++s) {
+    EXPECT_GT((cut.end.row(s) - cut.start.row(s)).norm(), 0.99);
+    length += (cut.end.row(s) - cut.start.row(s)).norm();
+  }
+  EXPECT_NEAR(length, 5.0 + std::sqrt(2.0), 1e-12);
+  // A plane through the corner (0, 0, 0) alone touches three faces there and cuts none.
+  EXPECT_EQ(cutByPlane(grid, Vector3d::Zero(), Vector3d(-1.0, -1.0, -1.0)).start.rows(), 0);
+}
+
 TEST(GridRefinement, AnEvenFarFieldSpreadsTheOuterPointsAndKeepsTheWall) {
   // The one-layer box spread unevenly at the top (x -> x (1 + 1.5 z x), the same in y): the wall
   // (z = 0) keeps its evenly spaced points, and the lines through them reach the top unevenly

@@ -16,8 +16,14 @@ struct Segments {
   std::vector<Eigen::Index> cell;
 };
 
+// Crossings closer than this, relative to the quad's size and coordinates, are one point.
+constexpr double kCoincidentCrossings = 1e-12;
+
 // The cut of one quad (corners in cyclic order, signed distances d) into `out`: no segment, one,
-// or two at a saddle (all four edges crossed), paired by the sign at the quad's centre.
+// or two at a saddle (all four edges crossed), paired by the sign at the quad's centre. A segment
+// whose two ends coincide is left out: a face collapsed into an edge (a fan's wall face, the merged
+// side of a prism) has no grid line of its own, nor has a face the plane touches at a corner alone,
+// and a drawn segment needs two distinct points.
 void cutQuad(const std::array<Eigen::Vector3d, 4>& corner, const std::array<double, 4>& d, Eigen::Index cell, Segments& out) {
   std::array<Eigen::Vector3d, 4> crossing;
   int count = 0;
@@ -28,7 +34,13 @@ void cutQuad(const std::array<Eigen::Vector3d, 4>& corner, const std::array<doub
     crossing[count] = corner[a] + t * (corner[b] - corner[a]);
     ++count;
   }
+  double scale = 0.0;
+  for (int c = 0; c < 4; ++c) {
+    scale = std::max({scale, corner[c].lpNorm<Eigen::Infinity>(),
+                      (corner[(c + 1) % 4] - corner[c]).lpNorm<Eigen::Infinity>()});
+  }
   const auto add = [&](int p, int q) {
+    if ((crossing[p] - crossing[q]).lpNorm<Eigen::Infinity>() <= kCoincidentCrossings * scale) return;
     out.start.push_back(crossing[p]);
     out.end.push_back(crossing[q]);
     out.cell.push_back(cell);

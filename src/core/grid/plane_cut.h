@@ -18,7 +18,8 @@ struct PlaneCut {
 
 // The segments where the plane through `point` with normal `normal` (any length > 0) crosses
 // the faces of the grid's cells. Faces inside a block are cut once; faces on a block boundary
-// once per block that holds them. Throws InvalidInputError for a zero or non-finite normal.
+// once per block that holds them; a crossing of no length (a collapsed face, a face touched at a
+// corner) is no segment. Throws InvalidInputError for a zero or non-finite normal.
 PlaneCut cutByPlane(const StructuredGrid& grid, const Eigen::Vector3d& point, const Eigen::Vector3d& normal);
 
 }  // namespace bvmesh::grid
