@@ -221,6 +221,32 @@ TEST(GridPlaneCut, AffineBoxCutAcrossXHasTheLatticeLines) {
   EXPECT_THROW(cutByPlane(grid, Vector3d::Zero(), Vector3d(0.0, std::nan(""), 1.0)), InvalidInputError);
 }
 
+TEST(GridPlaneCut, APlaneTheGridTouchesFromOneSideDrawsTheGridLinesInIt) {
+  // The box's face x = 0 (as a half model's symmetry plane) cut with the normal pointing into the
+  // grid and away from it: the same lines either way, the face's lattice: in each of the two blocks
+  // on it (y 0..1 and 1..2) 5 lines along z of length 1 and 9 along y of length 1 in 4 steps, each
+  // step a segment on its own (the line y = 1 once per block).
+  const test::BoxBlocks box = test::boxBlocks(0.0, true, 1);
+  RefinementOptions options;
+  options.edgePoints = 5;
+  options.normalPoints = 9;
+  options.growth = 1.3;
+  const StructuredGrid grid = refineBlockMesh(box.mesh, options).grid;
+  for (const double side : {1.0, -1.0}) {
+    const PlaneCut cut = cutByPlane(grid, Vector3d(0.0, 0.3, 0.4), Vector3d(side, 0.0, 0.0));
+    ASSERT_EQ(cut.start.rows(), 2 * (5 * 8 + 9 * 4)) << side;
+    double length = 0.0;
+    for (Eigen::Index s = 0; s < cut.start.rows(); ++s) {
+      EXPECT_EQ(cut.start(s, 0), 0.0);
+      EXPECT_EQ(cut.end(s, 0), 0.0);
+      length += (cut.end.row(s) - cut.start.row(s)).norm();
+    }
+    EXPECT_NEAR(length, 2.0 * (5.0 + 9.0), 1e-12) << side;
+  }
+  // A plane beyond the grid still cuts nothing.
+  EXPECT_EQ(cutByPlane(grid, Vector3d(-0.1, 0.0, 0.0), Vector3d(1.0, 0.0, 0.0)).start.rows(), 0);
+}
+
 TEST(GridRefinement, WarpedBoxIsPointMatchedWithExactWallSpacing) {
   const test::BoxBlocks box = test::boxBlocks(0.08, true, 1);
   RefinementOptions options;

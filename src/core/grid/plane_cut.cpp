@@ -67,6 +67,19 @@ PlaneCut cutByPlane(const StructuredGrid& grid, const Eigen::Vector3d& point, co
   }
   const Eigen::Vector3d unit = normal / length;
   const std::vector<GridBlock>& blocks = grid.blocks();
+  // A plane the grid only touches from its positive side (the symmetry plane of a half model, a
+  // box domain's face) is cut from the other side: points on the plane then count as the plane's
+  // positive side, every other point as its negative one, and the cells along the plane draw the
+  // grid lines lying in it. (Points on the plane always count as its positive side.)
+  std::vector<Eigen::VectorXd> distances(blocks.size());
+  bool anyNegative = false;
+  for (size_t b = 0; b < blocks.size(); ++b) {
+    distances[b] = (blocks[b].points.rowwise() - point.transpose()) * unit;
+    anyNegative = anyNegative || (distances[b].size() > 0 && distances[b].minCoeff() < 0.0);
+  }
+  if (!anyNegative) {
+    for (Eigen::VectorXd& distance : distances) distance = -distance;
+  }
   std::vector<Segments> perBlock(blocks.size());
   std::vector<Eigen::Index> cellOffset(blocks.size() + 1, 0);
   for (size_t b = 0; b < blocks.size(); ++b) cellOffset[b + 1] = cellOffset[b] + blocks[b].cellCount();
@@ -75,7 +88,7 @@ PlaneCut cutByPlane(const StructuredGrid& grid, const Eigen::Vector3d& point, co
     for (std::int64_t b = first; b < last; ++b) {
       const GridBlock& block = blocks[static_cast<size_t>(b)];
       const int ni = block.size[0], nj = block.size[1], nk = block.size[2];
-      Eigen::VectorXd distance = (block.points.rowwise() - point.transpose()) * unit;
+      const Eigen::VectorXd& distance = distances[static_cast<size_t>(b)];
       const auto at = [&](int i, int j, int k) { return Eigen::Vector3d(block.points.row(block.index(i, j, k)).transpose()); };
       const auto sideOf = [&](int i, int j, int k) { return distance(block.index(i, j, k)) >= 0.0; };
       Segments& out = perBlock[static_cast<size_t>(b)];
