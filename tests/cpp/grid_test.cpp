@@ -188,17 +188,23 @@ TEST(GridRefinement, AffineBoxGivesTheExactLattice) {
   EXPECT_NEAR(refined.growthMax, growth, 1e-9);
 }
 
-TEST(GridPlaneCut, AffineBoxCutAcrossXHasTheLatticeLines) {
-  // [0, 2] x [0, 2] x [0, 1] as 2 x 2 blocks (turned and mirrored), 5 points per edge: the plane
-  // x = 0.6 crosses the faces normal to y (5 per block, 1 long in z; y = 1 is in both blocks at
-  // x < 1) and normal to z (9 levels, 2 long in y): 28 in all, every point at x = 0.6, and each
-  // segment's cell straddles the plane.
+// [0, 2] x [0, 2] x [0, 1] as 2 x 2 unwarped blocks (turned and mirrored), 5 points per edge
+// and 9 along z: the lattice the plane-cut tests cut.
+StructuredGrid affineBoxGrid() {
   const test::BoxBlocks box = test::boxBlocks(0.0, true, 1);
   RefinementOptions options;
   options.edgePoints = 5;
   options.normalPoints = 9;
   options.growth = 1.3;
-  const StructuredGrid grid = refineBlockMesh(box.mesh, options).grid;
+  return refineBlockMesh(box.mesh, options).grid;
+}
+
+TEST(GridPlaneCut, AffineBoxCutAcrossXHasTheLatticeLines) {
+  // [0, 2] x [0, 2] x [0, 1] as 2 x 2 blocks (turned and mirrored), 5 points per edge: the plane
+  // x = 0.6 crosses the faces normal to y (5 per block, 1 long in z; y = 1 is in both blocks at
+  // x < 1) and normal to z (9 levels, 2 long in y): 28 in all, every point at x = 0.6, and each
+  // segment's cell straddles the plane.
+  const StructuredGrid grid = affineBoxGrid();
   const PlaneCut cut = cutByPlane(grid, Vector3d(0.6, 7.0, -3.0), Vector3d(2.0, 0.0, 0.0));
   ASSERT_GT(cut.cell.size(), 0u);
   double length = 0.0;
@@ -226,12 +232,7 @@ TEST(GridPlaneCut, APlaneTheGridTouchesFromOneSideDrawsTheGridLinesInIt) {
   // grid and away from it: the same lines either way, the face's lattice: in each of the two blocks
   // on it (y 0..1 and 1..2) 5 lines along z of length 1 and 9 along y of length 1 in 4 steps, each
   // step a segment on its own (the line y = 1 once per block).
-  const test::BoxBlocks box = test::boxBlocks(0.0, true, 1);
-  RefinementOptions options;
-  options.edgePoints = 5;
-  options.normalPoints = 9;
-  options.growth = 1.3;
-  const StructuredGrid grid = refineBlockMesh(box.mesh, options).grid;
+  const StructuredGrid grid = affineBoxGrid();
   for (const double side : {1.0, -1.0}) {
     const PlaneCut cut = cutByPlane(grid, Vector3d(0.0, 0.3, 0.4), Vector3d(side, 0.0, 0.0));
     ASSERT_EQ(cut.start.rows(), 2 * (5 * 8 + 9 * 4)) << side;
