@@ -14,6 +14,10 @@ on PYTHONPATH; scripts/setup.sh sets that up).
                   the solver, --report DIR writes the Cp comparison and convergence report
                   (--no-experiment: without the M6 comparison, for other bodies);
                   --continue --iterations N goes on with a case run before up to step N
+  grid-convergence REPORT REPORT REPORT
+                  Richardson extrapolation, observed order and grid convergence index of CL,
+                  CD and CM over three runs of one grid family (bvmesh.grid_convergence), from
+                  their --report folders
 """
 
 import argparse
@@ -166,6 +170,11 @@ def main(argv=None):
     cfd.add_argument("--no-experiment", action="store_true",
                      help="with --report: a body other than the ONERA M6; the report leaves out the comparison "
                           "with the M6 wind-tunnel pressures (convergence, forces and upper-surface Cp only)")
+    convergence = commands.add_parser(
+        "grid-convergence", help="Richardson extrapolation and grid convergence index of CL, CD and CM over three "
+                                 "runs of one grid family")
+    convergence.add_argument("reports", nargs=3, metavar="REPORT",
+                             help="a run's report folder (openfoam-case --report), one per grid")
     args = parser.parse_args(argv)
 
     if FREECAD_LIB not in sys.path:
@@ -177,6 +186,10 @@ def main(argv=None):
             _info(args.file, args.sharp_angle, not args.no_sew, args.sew_tolerance)
         elif args.command == "openfoam-case":
             _openfoam_case(args)
+        elif args.command == "grid-convergence":
+            from bvmesh import grid_convergence
+
+            print("\n".join(grid_convergence.table(grid_convergence.study_reports(args.reports))))
         else:
             from bvmesh import example as main_job
 
