@@ -229,7 +229,8 @@ def write_gismo(blocks, path):
 
 def plane_cut(grid, point, normal):
     """The grid lines where the plane (point, normal) crosses the cells' faces: 'start' and 'end'
-    (n, 3) per segment and its 'cell' (numbered as quality()'s arrays)."""
+    (n, 3) per segment and its 'cell' (numbered as quality()'s arrays). A plane the grid lies wholly
+    on one side of (a half model's symmetry plane) gives the grid lines lying in it."""
     return load_core().grid_plane_cut(_grid_of(grid), point, normal)
 
 

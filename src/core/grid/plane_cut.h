@@ -19,7 +19,8 @@ struct PlaneCut {
 // The segments where the plane through `point` with normal `normal` (any length > 0) crosses
 // the faces of the grid's cells. Faces inside a block are cut once; faces on a block boundary
 // once per block that holds them; a crossing of no length (a collapsed face, a face touched at a
-// corner) is no segment. Throws InvalidInputError for a zero or non-finite normal.
+// corner) is no segment. A plane the grid lies wholly on one side of (a half model's symmetry
+// plane) gives the grid lines lying in it. Throws InvalidInputError for a zero or non-finite normal.
 PlaneCut cutByPlane(const StructuredGrid& grid, const Eigen::Vector3d& point, const Eigen::Vector3d& normal);
 
 }  // namespace bvmesh::grid
