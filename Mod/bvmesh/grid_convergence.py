@@ -47,7 +47,8 @@ def richardson(values, cells, dimension=3):
     the finest, grid 1, to the coarsest, grid 3). The representative spacing is h = N^(-1/dimension).
     Returns a dict: cells and values finest first, h, the ratios r21 = h2 / h1 and r32, 'convergence'
     ('monotone', 'oscillatory' when the differences change sign, 'none' when the two finer grids
-    agree exactly, 'divergent' when only the two coarser ones do), the observed order p, the extrapolated value, the fine grid's approximate and
+    agree exactly, 'divergent' when the differences grow as the grid is refined, or when only the two
+    coarser grids agree), the observed order p, the extrapolated value, the fine grid's approximate and
     extrapolated relative errors, and gci_fine, its grid convergence index (a relative uncertainty;
     None with the order where it is not defined)."""
     phi, counts = _checked_grids(values, cells, dimension)
@@ -64,18 +65,25 @@ def richardson(values, cells, dimension=3):
         return result
     sign = 1.0 if e32 / e21 > 0 else -1.0
     result["convergence"] = "monotone" if sign > 0 else "oscillatory"
-    order = abs(math.log(abs(e32 / e21))) / math.log(r21)
+    # The order solves p ln r21 = ln |e32 / e21| + q(p). Celik et al. take the absolute value of the
+    # right-hand side, which gives a positive order to values whose differences grow as the grid is
+    # refined; here such values are 'divergent' and get no order.
+    order = math.log(abs(e32 / e21)) / math.log(r21)
     for _ in range(ORDER_ITERATIONS):
-        shift = math.log((r21 ** order - sign) / (r32 ** order - sign))
-        updated = abs(math.log(abs(e32 / e21)) + shift) / math.log(r21)
-        if abs(updated - order) < ORDER_TOLERANCE * max(1.0, order):
-            order = updated
+        if not order > 0.0:
             break
+        shift = math.log((r21 ** order - sign) / (r32 ** order - sign))
+        updated = (math.log(abs(e32 / e21)) + shift) / math.log(r21)
+        settled = abs(updated - order) < ORDER_TOLERANCE * max(1.0, abs(order))
         order = updated
+        if settled:
+            break
     else:
         raise ValueError("the observed order does not settle for values {} (r21 {:.4g}, r32 {:.4g})".format(
             phi, r21, r32))
     if not (order > 0.0 and math.isfinite(order)):
+        if sign > 0:
+            result["convergence"] = "divergent"
         return result
     gain = r21 ** order
     extrapolated = (gain * phi[0] - phi[1]) / (gain - 1.0)

@@ -53,6 +53,12 @@ class Richardson(unittest.TestCase):
         diverging = grid_convergence.richardson([0.26, 0.27, 0.27], cells)
         self.assertEqual(diverging["convergence"], "divergent")
         self.assertIsNone(diverging["extrapolated"])
+        # Differences that grow with refinement (an exact sequence with a negative order): no order
+        # (Celik et al.'s absolute value would give these a positive one).
+        growing = grid_convergence.richardson(exact_sequence(0.25, 0.8, -1.0, cells), cells)
+        self.assertEqual(growing["convergence"], "divergent")
+        self.assertIsNone(growing["order"])
+        self.assertIsNone(growing["gci_fine"])
 
     def test_bad_input_names_the_problem(self):
         with self.assertRaisesRegex(ValueError, "three grids"):
