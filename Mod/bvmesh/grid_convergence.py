@@ -4,7 +4,7 @@ reporting of uncertainty due to discretization in CFD applications", J. Fluids E
 which takes refinement ratios that differ between the two grid pairs.
 
     from bvmesh import grid_convergence
-    study = grid_convergence.richardson([0.2715, 0.2690, 0.2610], [992352, 351648, 124992])
+    study = grid_convergence.richardson([0.2800, 0.2783, 0.2745], [64000, 27000, 8000])
     print(study["order"], study["extrapolated"], study["gci_fine"])
 
 `python3 -m bvmesh grid-convergence REPORT REPORT REPORT` reads the summary.json that
@@ -36,9 +36,9 @@ def _checked_grids(values, cells, dimension):
     for count in cells:
         if not (isinstance(count, int) and count > 0):
             raise ValueError("cell counts must be positive integers, got {}".format(list(cells)))
-    order = sorted(range(3), key=lambda g: -cells[g])
-    if len({cells[g] for g in order}) != 3:
+    if len(set(cells)) != 3:
         raise ValueError("the three grids need different cell counts, got {}".format(list(cells)))
+    order = sorted(range(3), key=lambda g: -cells[g])
     return [values[g] for g in order], [cells[g] for g in order]
 
 
@@ -68,12 +68,13 @@ def richardson(values, cells, dimension=3):
     # The order solves p ln r21 = ln |e32 / e21| + q(p). Celik et al. take the absolute value of the
     # right-hand side, which gives a positive order to values whose differences grow as the grid is
     # refined; here such values are 'divergent' and get no order.
-    order = math.log(abs(e32 / e21)) / math.log(r21)
+    log_ratio, log_r21 = math.log(abs(e32 / e21)), math.log(r21)
+    order = log_ratio / log_r21
     for _ in range(ORDER_ITERATIONS):
         if not order > 0.0:
             break
         shift = math.log((r21 ** order - sign) / (r32 ** order - sign))
-        updated = (math.log(abs(e32 / e21)) + shift) / math.log(r21)
+        updated = (log_ratio + shift) / log_r21
         settled = abs(updated - order) < ORDER_TOLERANCE * max(1.0, abs(order))
         order = updated
         if settled:

@@ -70,7 +70,7 @@ PlaneCut cutByPlane(const StructuredGrid& grid, const Eigen::Vector3d& point, co
   // A plane the grid only touches from its positive side (the symmetry plane of a half model, a
   // box domain's face) is cut from the other side: points on the plane then count as the plane's
   // positive side, every other point as its negative one, and the cells along the plane draw the
-  // grid lines lying in it. (Points on the plane always count as its positive side.)
+  // grid lines lying in it.
   std::vector<Eigen::VectorXd> distances(blocks.size());
   bool anyNegative = false;
   for (size_t b = 0; b < blocks.size(); ++b) {
