@@ -1,6 +1,7 @@
 // Internals of Target shared by its construction (target.cpp) and its projections
-// (target_projection.cpp): per-face and per-edge geometry extracted once, the tessellation
-// with its spatial index, and the per-thread evaluation context.
+// (projection_steps.h): per-face and per-edge geometry extracted once, the tessellation with its
+// spatial index, the trim test (trim_classifier.cpp) and the per-thread evaluation context
+// (face_evaluation.cpp).
 #pragma once
 
 #include <GeomAdaptor_Curve.hxx>
