@@ -6,6 +6,13 @@ on PYTHONPATH; scripts/setup.sh sets that up).
                   meshed; writes the FreeCAD document, the B-spline surface (STEP), the Euler
                   grid (CGNS, OpenFOAM case), pictures and reports into --output (default:
                   bvmesh-example); --surface-only stops after the surface
+  mesh CAD --template NAME
+                  the same job on any STEP / IGES / BREP file, for batch runs
+                  (bvmesh.pipeline): the body (a flow domain's, the shape without its
+                  symmetry-plane face with --half-model, or the whole shape) fitted from the
+                  template, its volume mesh and a grid (--preset euler or rans, about
+                  --target-cells cells) in --formats, with reports and the FreeCAD document
+                  in --output
   openfoam-case CASE
                   a steady compressible OpenFOAM case (bvmesh.openfoam_case): the mesh from
                   --mesh (an OpenFOAM case directory with patches wall, farfield or a box's
@@ -73,6 +80,35 @@ def _openfoam_case(args):
         _run_and_report(case, args)
 
 
+def _parameter_value(text):
+    """A template parameter's value from the command line: a number where it reads as one."""
+    for kind in (int, float):
+        try:
+            return kind(text)
+        except ValueError:
+            pass
+    return text
+
+
+def _mesh(args):
+    from bvmesh import pipeline
+
+    parameters = {}
+    for item in args.template_parameter:
+        key, equals, value = item.partition("=")
+        if not equals or not key:
+            raise ValueError("a template parameter is KEY=VALUE, got {!r}".format(item))
+        parameters[key] = _parameter_value(value)
+    if args.reynolds is None and args.preset == "rans":
+        raise ValueError("the rans preset needs --reynolds (its first cell comes from a y+ of 1)")
+    formats = [f.strip() for f in args.formats.split(",") if f.strip()]
+    _info(args.cad, 30.0)
+    pipeline.run(args.cad, args.output, args.template, name=args.name, template_parameters=parameters,
+                 half_model=args.half_model, reference_length=args.reference_length,
+                 relative_tolerance=args.tolerance, max_level=args.max_level, reynolds_number=args.reynolds,
+                 volume=not args.surface_only, preset=args.preset, target_cells=args.target_cells, formats=formats)
+
+
 def _run_and_report(case, args):
     from bvmesh import openfoam_case, openfoam_post, openfoam_run
 
@@ -114,6 +150,31 @@ def main(argv=None):
                          help="bspline: the blocks evaluated on the Euler grid (default); subdivision: the fit's "
                               "control mesh marched and refined by volumetric Catmull-Clark")
     example.add_argument("--subdivision-steps", type=int, default=1, help="with --grid-method subdivision (default 1)")
+    mesh = commands.add_parser("mesh", help="fit and mesh the body of a CAD file (a batch run of the whole job)")
+    mesh.add_argument("cad", help="STEP, IGES or BREP file")
+    mesh.add_argument("--template", required=True, help="polyhedron template: one of bvmesh.polyhedra.template_names() "
+                                                        "(box, capsule, cylinder, fuselage, half_wing, nacelle, sphere, "
+                                                        "wing, wing_fuselage)")
+    mesh.add_argument("--template-parameter", action="append", default=[], metavar="KEY=VALUE",
+                      help="a template parameter (docs/templates.md), e.g. tip_kinks=follow; repeatable")
+    mesh.add_argument("--half-model", action="store_true",
+                      help="the shape is a half model closed by its symmetry-plane face (e.g. a half wing's root): "
+                           "that face is left out and its plane is the symmetry plane")
+    mesh.add_argument("--output", default="bvmesh-mesh", help="folder for the results (default bvmesh-mesh)")
+    mesh.add_argument("--name", help="the files' base name (default: the CAD file's)")
+    mesh.add_argument("--reference-length", type=float,
+                      help="model units (default: the symmetry face's largest extent on a half model, a wing's root "
+                           "chord, else the body's largest extent)")
+    mesh.add_argument("--tolerance", type=float, default=1e-5,
+                      help="the fit's tolerance relative to the reference length (default 1e-5)")
+    mesh.add_argument("--max-level", type=int, default=5, help="subdivision levels at most (default 5)")
+    mesh.add_argument("--reynolds", type=float, help="Reynolds number on the reference length (the boundary layer's "
+                                                     "thickness and the rans preset's first cell)")
+    mesh.add_argument("--preset", choices=("euler", "rans"), default="euler", help="grid preset (default euler)")
+    mesh.add_argument("--target-cells", type=int, default=1_000_000, help="about this many cells (default 1000000)")
+    mesh.add_argument("--formats", default="cgns,openfoam",
+                      help="comma-separated: cgns, openfoam, plot3d, vtk, gismo, blocks (default cgns,openfoam)")
+    mesh.add_argument("--surface-only", action="store_true", help="stop after the surface stage")
     cfd = commands.add_parser("openfoam-case", help="write (and run) an OpenFOAM case on a BVMesh grid")
     cfd.add_argument("case", help="case directory to write")
     cfd.add_argument("--mesh", help="OpenFOAM case directory whose constant/polyMesh is used "
@@ -186,6 +247,8 @@ def main(argv=None):
             _info(args.file, args.sharp_angle, not args.no_sew, args.sew_tolerance)
         elif args.command == "openfoam-case":
             _openfoam_case(args)
+        elif args.command == "mesh":
+            _mesh(args)
         elif args.command == "grid-convergence":
             from bvmesh import grid_convergence
 

@@ -12,7 +12,7 @@ import unittest
 import FreeCAD
 import Part
 
-from bvmesh import api, example, grid
+from bvmesh import api, example, grid, pipeline
 
 
 class MainJob(unittest.TestCase):
@@ -64,7 +64,7 @@ class MainJob(unittest.TestCase):
             self.assertLess(float(non_orthogonality.max()), 77.0)
             # The wall's distance from the CAD, measured on the grid (here the level-2 wall: 1.2e-2).
             reported = re.search(r"wall points lie within ([-+.e0-9]+) of the CAD faces", volume_report)
-            self.assertAlmostEqual(float(reported.group(1)), example.wall_distance(grid_object), delta=1e-5)
+            self.assertAlmostEqual(float(reported.group(1)), pipeline.wall_distance(grid_object), delta=1e-5)
             self.assertLess(float(reported.group(1)), 0.02)
         finally:
             FreeCAD.closeDocument(doc.Name)
@@ -72,7 +72,7 @@ class MainJob(unittest.TestCase):
         cgns = subprocess.run(["cgnscheck", files["cgns"]], capture_output=True, text=True, timeout=600).stdout
         self.assertIn("checking complete", cgns)
         self.assertNotRegex(cgns, r"(?i)error", cgns)
-        verdict = example.check_mesh(files["openfoam"])
+        verdict = pipeline.check_mesh(files["openfoam"])
         self.assertEqual(verdict, "Mesh OK.")
         self.assertIn("checkMesh on M6_openfoam: Mesh OK.", volume_report)
         self.assertEqual(result["check_mesh"], verdict)

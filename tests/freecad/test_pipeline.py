@@ -1,0 +1,155 @@
+"""`python3 -m bvmesh mesh`: the whole job on any CAD file, as a batch run would call it. The
+body of a flow domain's file in every solver format, a closed body as a whole, a half model's
+surface with a template parameter, and bad input refused with a message and exit status 1."""
+
+import os
+import re
+import subprocess
+import tempfile
+import unittest
+import xml.etree.ElementTree as ElementTree
+
+import FreeCAD
+import Part
+
+import bvmesh
+from bvmesh import grid
+
+DATA = os.environ.get("BVMESH_TEST_DATA_DIR", os.path.join(os.environ["BVMESH_SOURCE_DIR"], "tests", "data"))
+ENV = dict(os.environ, PYTHONPATH=os.pathsep.join([os.path.join(os.environ["BVMESH_SOURCE_DIR"], "Mod"),
+                                                   "/usr/lib/freecad-python3/lib"]))
+
+
+def mesh(*arguments, timeout=600):
+    return subprocess.run(["/usr/bin/python3", "-m", "bvmesh", "mesh"] + [str(a) for a in arguments], env=ENV,
+                          capture_output=True, text=True, timeout=timeout)
+
+
+def read(path):
+    with open(path) as text:
+        return text.read()
+
+
+class FlowDomainInEveryFormat(unittest.TestCase):
+    """The hemisphere-cylinder's flow-domain file: the body is found, fitted from the capsule
+    template and meshed inside the file's own half sphere, in all six formats."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.output = tempfile.mkdtemp(prefix="bvmesh-mesh-")
+        cls.done = mesh(os.path.join(DATA, "hemisph-cyl.stp"), "--template", "capsule", "--output", cls.output,
+                        "--max-level", "2", "--target-cells", "20000",
+                        "--formats", "cgns,openfoam,plot3d,vtk,gismo,blocks")
+
+    def path(self, name):
+        return os.path.join(self.output, name)
+
+    def test_runs_and_writes_every_file(self):
+        self.assertEqual(self.done.returncode, 0, self.done.stderr)
+        for name in ("hemisph-cyl.FCStd", "hemisph-cyl_surface.step", "hemisph-cyl_convergence.png",
+                     "hemisph-cyl_report.md", "hemisph-cyl_volume_report.md", "hemisph-cyl_cut.png",
+                     "hemisph-cyl_quality.png", "hemisph-cyl.cgns", "hemisph-cyl.xyz", "hemisph-cyl.vtm",
+                     "hemisph-cyl.xml", "hemisph-cyl.blocks"):
+            self.assertTrue(os.path.isfile(self.path(name)), name)
+        self.assertTrue(os.path.isfile(self.path("hemisph-cyl_openfoam/constant/polyMesh/owner")))
+        self.assertIn("the body inside the CAD's flow domain (sphere, 2 faces)", read(self.path("hemisph-cyl_report.md")))
+
+    def test_volume_report_matches_the_document_and_the_files(self):
+        report = read(self.path("hemisph-cyl_volume_report.md"))
+        self.assertIn("checkMesh on hemisph-cyl_openfoam: Mesh OK.", report)
+        # The file's own domain: a half sphere of radius 100 around (10, 0, 0).
+        self.assertIn("far field: sphere of radius 100 ", report)
+        cells = int(re.search(r"Grid: preset euler, (\d+) cells", report).group(1))
+        self.assertTrue(10000 < cells < 30000, cells)
+        doc = FreeCAD.openDocument(self.path("hemisph-cyl.FCStd"))
+        try:
+            kinds = [o.Proxy.Type for o in doc.Objects if hasattr(o, "Proxy") and hasattr(o.Proxy, "Type")]
+            self.assertEqual(kinds.count("BVMesh::Export"), 6)
+            self.assertEqual(kinds.count("BVMesh::GridCut"), 1)
+            grid_object = doc.getObject("VolumeGrid")
+            self.assertEqual(grid_object.CellCount, cells)
+            blocks = grid_object.VolumeMesh.BlockCount
+        finally:
+            FreeCAD.closeDocument(doc.Name)
+        # The block file and the G+Smo file hold the volume mesh's blocks, Plot3D the grid's cells.
+        self.assertEqual(bvmesh.read_block_mesh(self.path("hemisph-cyl.blocks")).block_count, blocks)
+        patches = ElementTree.parse(self.path("hemisph-cyl.xml")).getroot().findall(".//Geometry[@type='TensorBSpline3']")
+        self.assertEqual(len(patches), blocks)
+        sizes = grid.read_plot3d(self.path("hemisph-cyl.xyz"))
+        self.assertEqual(sum((a.shape[0] - 1) * (a.shape[1] - 1) * (a.shape[2] - 1) for a in sizes), cells)
+
+    def test_cgns_passes_cgnscheck(self):
+        checked = subprocess.run(["cgnscheck", self.path("hemisph-cyl.cgns")], capture_output=True, text=True,
+                                 timeout=300).stdout
+        self.assertIn("checking complete", checked)
+        self.assertNotRegex(checked, r"(?i)error|warning", checked)
+
+
+class ClosedBodyAsAWhole(unittest.TestCase):
+    def test_sphere_meshed_out_to_twenty_diameters(self):
+        folder = tempfile.mkdtemp(prefix="bvmesh-mesh-ball-")
+        cad = os.path.join(folder, "ball.step")
+        Part.makeSphere(1.0).exportStep(cad)
+        output = os.path.join(folder, "out")
+        done = mesh(cad, "--template", "sphere", "--output", output, "--max-level", "3", "--tolerance", "1e-3",
+                    "--target-cells", "20000", "--formats", "openfoam")
+        self.assertEqual(done.returncode, 0, done.stderr)
+        report = read(os.path.join(output, "ball_report.md"))
+        self.assertIn("Target: all 1 faces of the CAD; reference length 2;", report)
+        self.assertIn("closed shells: 1, free edges: 0", report)
+        volume_report = read(os.path.join(output, "ball_volume_report.md"))
+        # The reference length is the body's largest extent; the far field 20 of them.
+        self.assertIn("far field: sphere of radius 40 (20.0 reference lengths)", volume_report)
+        self.assertIn("checkMesh on ball_openfoam: Mesh OK.", volume_report)
+        self.assertIn("Cells with a non-positive scaled Jacobian: 0;", volume_report)
+        self.assertFalse(os.path.exists(os.path.join(output, "ball.cgns")))
+
+
+class HalfModelSurface(unittest.TestCase):
+    def test_half_wing_without_its_root_face_and_with_a_template_parameter(self):
+        output = tempfile.mkdtemp(prefix="bvmesh-mesh-m6-")
+        done = mesh(os.path.join(DATA, "AileM6_with_sharp_TE.stp"), "--template", "half_wing", "--half-model",
+                    "--template-parameter", "tip_kinks=follow", "--output", output, "--name", "wing",
+                    "--max-level", "1", "--surface-only")
+        self.assertEqual(done.returncode, 0, done.stderr)
+        report = read(os.path.join(output, "wing_report.md"))
+        # The root face is left out and its largest extent, the root chord, is the reference length.
+        match = re.search(r"Target: the CAD's faces without Face(\d+), its symmetry-plane face; reference length "
+                          r"([0-9.]+);", report)
+        self.assertIsNotNone(match, report)
+        self.assertAlmostEqual(float(match.group(2)), 810.5, delta=0.5)
+        self.assertEqual(sorted(os.listdir(output)),
+                         ["wing.FCStd", "wing_convergence.png", "wing_report.md", "wing_surface.step"])
+        doc = FreeCAD.openDocument(os.path.join(output, "wing.FCStd"))
+        try:
+            self.assertIn(doc.getObject("ControlPolyhedron").Summary, done.stdout)
+            fit = doc.getObject("SurfaceFit")
+            self.assertTrue(fit.UseSymmetryPlane)
+            self.assertAlmostEqual(abs(fit.SymmetryNormal.y), 1.0, places=9)
+        finally:
+            FreeCAD.closeDocument(doc.Name)
+
+
+class BadInput(unittest.TestCase):
+    def test_refused_with_a_message(self):
+        domain = os.path.join(DATA, "hemisph-cyl.stp")
+        output = tempfile.mkdtemp(prefix="bvmesh-mesh-bad-")
+        cases = [
+            ((domain, "--template", "nosuch"), "no template named 'nosuch'"),
+            ((domain, "--template", "capsule", "--half-model"), "leave out the half model"),
+            ((domain, "--template", "capsule", "--template-parameter", "axial"), "KEY=VALUE"),
+            ((domain, "--template", "capsule", "--template-parameter", "nosuch=3"), "has no parameter 'nosuch'"),
+            ((domain, "--template", "capsule", "--preset", "rans"), "needs --reynolds"),
+            ((domain, "--template", "capsule", "--formats", "cgns,stl"), "unknown format 'stl'"),
+            ((os.path.join(output, "missing.step"), "--template", "capsule"), "does not exist"),
+        ]
+        for arguments, message in cases:
+            with self.subTest(arguments=arguments):
+                done = mesh(*arguments, "--output", output, "--max-level", "1", timeout=300)
+                self.assertEqual(done.returncode, 1, done.stdout + done.stderr)
+                self.assertIn(message, done.stderr)
+                self.assertNotIn("Traceback", done.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()
