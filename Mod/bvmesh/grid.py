@@ -12,7 +12,8 @@ by the same ratio) and `rans` (first cell height for y+ ~ 1 by the flat-plate es
 wall-normal points as keep the growth ratio at most 1.2). `max_turning_angle` (degrees) gathers
 tangential points where the wall bends, a wing's nose (docs/grid.md: what it costs on the M6).
 Both presets cluster a set of tangential lines at an end where the wall edges continuing it are
-more than 4 times finer (`max_spacing_jump`, 0 for none): a wing's span towards its tip cap. Both
+more than 3 (euler) or 4 (rans) times finer (`max_spacing_jump`, 0 for none): a wing's span
+towards its tip cap (docs/grid.md: why the two differ). Both
 slide the far field's wall-normal lines towards points uniform in arc length on the outer
 boundary (`even_far_field`; RefinedGrid.even_far_field_used is False where that would fold a
 cell and the grid was refined without), so that the marching's fan-out at a wing's tip does not
@@ -25,7 +26,7 @@ from . import load_core
 from .options import check_options
 
 PRESETS = {
-    "euler": dict(normal_points=49, growth=1.2, max_spacing_jump=4.0, even_far_field=True),
+    "euler": dict(normal_points=49, growth=1.2, max_spacing_jump=3.0, even_far_field=True),
     "rans": dict(normal_points=0, y_plus=1.0, growth=1.2, max_spacing_jump=4.0, even_far_field=True),
 }
 

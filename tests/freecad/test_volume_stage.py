@@ -115,10 +115,16 @@ class VolumeObjects(unittest.TestCase):
 
     def test_spacing_jump_limit_is_on_for_new_grids_and_off_for_restored_ones(self):
         # A grid saved before the option existed is restored without the property: it gets 0, the
-        # limit off, so its grid is the one it was saved with (its digest); a new grid gets 4.
+        # limit off, so its grid is the one it was saved with (its digest); a new grid gets -1, the
+        # preset's limit (euler 3, rans 4), which it passes on by leaving the option out.
+        from bvmesh.features import volume_grid
+
         grid = api.make_volume_grid(self.volume, "euler", edge_points=5, normal_points=5)
         try:
-            self.assertEqual(grid.MaxSpacingJump, 4.0)
+            self.assertEqual(grid.MaxSpacingJump, -1.0)
+            self.assertNotIn("max_spacing_jump", volume_grid.refine_options(grid))
+            grid.MaxSpacingJump = 4.0
+            self.assertEqual(volume_grid.refine_options(grid)["max_spacing_jump"], 4.0)
             grid.removeProperty("MaxSpacingJump")
             grid.Proxy.setup(grid)
             self.assertEqual(grid.MaxSpacingJump, 0.0)

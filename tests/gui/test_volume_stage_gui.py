@@ -253,7 +253,7 @@ def run():
     turning = panel.findChild(QtGui.QDoubleSpinBox, "spinMaxTurningAngle")
     check(turning is not None and turning.value() == 0.0, "the grid panel offers the turning limit, off")
     jump = panel.findChild(QtGui.QDoubleSpinBox, "spinMaxSpacingJump")
-    check(jump is not None and jump.value() == 4.0, "the grid panel offers the spacing jump limit, at 4")
+    check(jump is not None and jump.value() == -1.0, "the grid panel offers the spacing jump limit, the preset's")
     even = panel.findChild(QtGui.QCheckBox, "checkEvenFarField")
     check(even is not None and even.isChecked(), "the grid panel offers the even far field, on")
     # The CAD's leading edge (Edge21, the straight line from the root to the tip) as a feature.

@@ -18,8 +18,8 @@ PRESETS = ["euler", "rans"]
 METHODS = ["bspline", "subdivision"]
 DISTRIBUTIONS = ["geometric", "tanh"]
 
-# (property, option of bvmesh.grid.refine, type, default, description); a value of -1 (counts) or
-# 0 (sizes) leaves the option to the preset.
+# (property, option of bvmesh.grid.refine, type, default, description); a value of -1 (counts, the
+# spacing jump) or 0 (sizes) leaves the option to the preset.
 OPTIONS = (
     ("NormalPoints", "normal_points", "App::PropertyInteger", -1,
      "Points on the wall-normal lines; -1: the preset's (euler 49, rans: as many as the growth needs)"),
@@ -39,9 +39,9 @@ OPTIONS = (
     ("MaxTurningAngle", "max_turning_angle", "App::PropertyFloat", 0.0,
      "Largest turning of the wall per tangential cell in degrees, points gathered where the wall bends "
      "(a wing's nose); 0: none"),
-    ("MaxSpacingJump", "max_spacing_jump", "App::PropertyFloat", 4.0,
+    ("MaxSpacingJump", "max_spacing_jump", "App::PropertyFloat", -1.0,
      "Largest ratio of tangential spacings across a block corner: lines continued by much finer ones "
-     "are clustered at that end (a wing's span at its tip cap); 0: none"),
+     "are clustered at that end (a wing's span at its tip cap); -1: the preset's (euler 3, rans 4); 0: none"),
 )
 # Switches: (property, option, default, description).
 SWITCHES = (
@@ -73,7 +73,7 @@ def refine_options(obj):
     settings = {"distribution": obj.Distribution}
     for prop, option, type_name, default, _ in OPTIONS:
         value = getattr(obj, prop)
-        if type_name == "App::PropertyInteger" and default < 0 and value < 0:
+        if default < 0 and value < 0:
             continue
         if type_name == "App::PropertyFloat" and value == 0.0 and option in ("y_plus", "growth", "reynolds_number"):
             continue
