@@ -81,24 +81,40 @@ def _openfoam_case(args):
 
 
 def _parameter_value(text):
-    """A template parameter's value from the command line: a number where it reads as one."""
+    """An option's value from the command line: a number where it reads as one, true / false, a
+    tuple of numbers for comma-separated ones, else the text."""
     for kind in (int, float):
         try:
             return kind(text)
         except ValueError:
             pass
+    if text.lower() in ("true", "false"):
+        return text.lower() == "true"
+    if "," in text:
+        try:
+            return tuple(float(part) for part in text.split(","))
+        except ValueError:
+            pass
     return text
+
+
+def _key_values(items, what):
+    """{key: value} of the KEY=VALUE items of an option given on the command line."""
+    values = {}
+    for item in items:
+        key, equals, value = item.partition("=")
+        if not equals or not key:
+            raise ValueError("a {} is KEY=VALUE, got {!r}".format(what, item))
+        values[key] = _parameter_value(value)
+    return values
 
 
 def _mesh(args):
     from bvmesh import pipeline
 
-    parameters = {}
-    for item in args.template_parameter:
-        key, equals, value = item.partition("=")
-        if not equals or not key:
-            raise ValueError("a template parameter is KEY=VALUE, got {!r}".format(item))
-        parameters[key] = _parameter_value(value)
+    parameters = _key_values(args.template_parameter, "template parameter")
+    volume_options = _key_values(args.volume_option, "volume option")
+    grid_options = _key_values(args.grid_option, "grid option")
     if args.reynolds is None and args.preset == "rans":
         raise ValueError("the rans preset needs --reynolds (its first cell comes from a y+ of 1)")
     formats = [f.strip() for f in args.formats.split(",") if f.strip()]
@@ -106,7 +122,8 @@ def _mesh(args):
     pipeline.run(args.cad, args.output, args.template, name=args.name, template_parameters=parameters,
                  half_model=args.half_model, reference_length=args.reference_length,
                  relative_tolerance=args.tolerance, max_level=args.max_level, reynolds_number=args.reynolds,
-                 volume=not args.surface_only, preset=args.preset, target_cells=args.target_cells, formats=formats)
+                 volume=not args.surface_only, preset=args.preset, target_cells=args.target_cells, formats=formats,
+                 volume_options=volume_options, grid_options=grid_options)
 
 
 def _run_and_report(case, args):
@@ -174,6 +191,13 @@ def main(argv=None):
     mesh.add_argument("--target-cells", type=int, default=1_000_000, help="about this many cells (default 1000000)")
     mesh.add_argument("--formats", default="cgns,openfoam",
                       help="comma-separated: cgns, openfoam, plot3d, vtk, gismo, blocks (default cgns,openfoam)")
+    mesh.add_argument("--volume-option", action="append", default=[], metavar="KEY=VALUE",
+                      help="an option of the volume mesh (bvmesh.api.make_volume_mesh: domain=box, "
+                           "flow_direction=1,0,0.1, farfield_distance=..., boundary_layer_thickness=..., "
+                           "knife_edge_fans=true, ...); repeatable")
+    mesh.add_argument("--grid-option", action="append", default=[], metavar="KEY=VALUE",
+                      help="an option of the grid (bvmesh.grid.refine: normal_points=65, y_plus=30, "
+                           "distribution=tanh, ...); repeatable")
     mesh.add_argument("--surface-only", action="store_true", help="stop after the surface stage")
     cfd = commands.add_parser("openfoam-case", help="write (and run) an OpenFOAM case on a BVMesh grid")
     cfd.add_argument("case", help="case directory to write")

@@ -625,9 +625,27 @@ def _set_options(obj, table, options, what):
     for option, value in options.items():
         if option not in by_option:
             raise ValueError("unknown {} option '{}'; known: {}".format(what, option, ", ".join(sorted(by_option))))
-        if isinstance(getattr(obj, by_option[option]), FreeCAD.Vector):
-            value = FreeCAD.Vector(*map(float, value))
-        setattr(obj, by_option[option], value)
+        prop = by_option[option]
+        try:
+            if isinstance(getattr(obj, prop), FreeCAD.Vector):
+                numbers = tuple(map(float, value))
+                if len(numbers) != 3:
+                    raise ValueError("not three numbers")
+                value = FreeCAD.Vector(*numbers)
+            setattr(obj, prop, value)
+        except (TypeError, ValueError):
+            # FreeCAD's own message is a dict of its internals: say what the option takes.
+            raise ValueError("{} option '{}' takes {}, got {!r}".format(what, option, _property_kind(obj, prop),
+                                                                       value)) from None
+
+
+def _property_kind(obj, prop):
+    """What a property takes, in words."""
+    type_id = obj.getTypeIdOfProperty(prop)
+    if type_id == "App::PropertyEnumeration":
+        return "one of " + ", ".join(obj.getEnumerationsOfProperty(prop))
+    return {"App::PropertyInteger": "a whole number", "App::PropertyBool": "true or false",
+            "App::PropertyVector": "three numbers"}.get(type_id, "a number")
 
 
 def make_volume_mesh(fit, name="VolumeMesh", wall_level=-1, marching_level=-1, marching_point_limit=None, show=None,

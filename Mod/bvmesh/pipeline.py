@@ -89,7 +89,7 @@ def _report_lines(title, what, fit, shell, reference_length, tolerance, seconds,
             what, reference_length, tolerance, tolerance / reference_length),
         "Stop: **{}** at level {} after {:.1f} s; {} control points.{}".format(
             fit.StopReason, fit.Level, seconds, len(fit.ControlVertices),
-            " " + fit.StopDetail + "." if fit.StopDetail else ""),
+            " " + fit.StopDetail[:1].upper() + fit.StopDetail[1:] + "." if fit.StopDetail else ""),
         "'converged' means the limit samples and the two-sided check (denser limit points to the CAD, "
         "CAD tessellation nodes to the limit surface) are both within the tolerance; a CAD node on an "
         "edge counts beyond the CAD's own tolerance there (OCCT's edge tolerance: the faces meeting at "
@@ -214,27 +214,34 @@ def body_cut(grid_object, path, title):
 
 
 def run_volume(fit, files, title, reference_length, reynolds_number, preset="euler", target_cells=1_000_000,
-               formats=DEFAULT_FORMATS, cut=None, log=print, grid_method="bspline", subdivision_steps=1):
+               formats=DEFAULT_FORMATS, cut=None, log=print, grid_method="bspline", subdivision_steps=1,
+               volume_options=None, grid_options=None):
     """The volume stage on a fitted target: volume mesh, grid (`preset` at about `target_cells`
     cells, or the control volume refined by `subdivision_steps` volumetric Catmull-Clark steps
     with grid_method 'subdivision'), quality, a cut, the grid in `formats` (checkMesh on the
     OpenFOAM case), pictures and report, into `files` (the keys 'quality', 'cut', 'volume_report'
     and one per format). cut: a function (grid object, path) -> (path, point, normal) for the cut
-    picture, body_cut's by default. Returns the volume objects by name and checkMesh's verdict."""
+    picture, body_cut's by default. volume_options, grid_options: more keywords of
+    api.make_volume_mesh and api.make_volume_grid (bvmesh.grid.refine's options). Returns the
+    volume objects by name and checkMesh's verdict."""
     started = time.time()
     stage = time.time()
     options = {"reference_length": reference_length}
     if reynolds_number:
         options["reynolds_number"] = reynolds_number
-    vm = api.make_volume_mesh(fit, **options)
+    vm = api.make_volume_mesh(fit, **dict(options, **(volume_options or {})))
     log("volume mesh: {} blocks, {} control layers, far field {:.0f} ({:.1f} s)".format(
         vm.BlockCount, vm.ControlLayers, vm.FarfieldDistanceUsed, time.time() - stage))
     stage = time.time()
     if grid_method == "subdivision":
-        grid_object = api.make_volume_grid(vm, method="subdivision", steps=subdivision_steps, show=("wall",))
+        grid_object = api.make_volume_grid(vm, method="subdivision", steps=subdivision_steps, show=("wall",),
+                                           **(grid_options or {}))
         what = "{} subdivision step(s) of the control volume".format(subdivision_steps)
     else:
-        grid_object = api.make_volume_grid(vm, preset, target_cells=target_cells, show=("wall",))
+        options = dict(grid_options or {})
+        if not {"edge_points", "tangential_spacing", "target_cells"} & set(options):
+            options["target_cells"] = target_cells  # the tangential counts, unless the options set them
+        grid_object = api.make_volume_grid(vm, preset, show=("wall",), **options)
         what = preset
     log("grid: {}, {} cells ({:.1f} s)".format(what, grid_object.CellCount, time.time() - stage))
     stage = time.time()
@@ -267,11 +274,12 @@ def run_volume(fit, files, title, reference_length, reynolds_number, preset="eul
 def run(cad_path, output_dir, template, name=None, title=None, template_parameters=None, half_model=False,
         reference_length=None, relative_tolerance=1e-5, max_level=5, reynolds_number=None, volume=True,
         preset="euler", target_cells=1_000_000, formats=DEFAULT_FORMATS, cut=None, log=print,
-        grid_method="bspline", subdivision_steps=1, file_names=None):
+        grid_method="bspline", subdivision_steps=1, file_names=None, volume_options=None, grid_options=None):
     """Runs the whole job on the CAD file and returns a dict: 'files' (what was written, by kind),
     the fit's 'stop_reason', 'level', 'max_distance', the 'reference_length', and with the volume
     stage its objects and 'check_mesh'. file_names: a file's name by kind instead of the NAME-based
-    one (e.g. {'cut': 'M6_cut_eta044.png'}). template: a polyhedron template's name
+    one (e.g. {'cut': 'M6_cut_eta044.png'}). volume_options, grid_options: as run_volume takes
+    them. template: a polyhedron template's name
     (bvmesh.polyhedra.template_names()) with its parameters; the fit's tolerance is
     relative_tolerance times the reference length (given, or the symmetry face's largest extent on
     a half model, or the body's). reynolds_number: for the boundary layer's estimate (None: the
@@ -330,8 +338,8 @@ def run(cad_path, output_dir, template, name=None, title=None, template_paramete
                 })
                 files.update({kind: os.path.join(output_dir, file_name)
                               for kind, file_name in (file_names or {}).items()})
-                outcome.update(run_volume(fit, files, title, length, reynolds_number,
-                                          preset, target_cells, formats, cut, log, grid_method, subdivision_steps))
+                outcome.update(run_volume(fit, files, title, length, reynolds_number, preset, target_cells, formats,
+                                          cut, log, grid_method, subdivision_steps, volume_options, grid_options))
                 _show_final_objects(doc, outcome["grid"])
             else:
                 _show_final_objects(doc, shell)

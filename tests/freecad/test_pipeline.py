@@ -86,11 +86,16 @@ class FlowDomainInEveryFormat(unittest.TestCase):
 
 
 class ClosedBodyAsAWhole(unittest.TestCase):
-    def test_sphere_meshed_out_to_twenty_diameters(self):
+    @staticmethod
+    def ball():
+        """A STEP file of the unit sphere and a folder for the results."""
         folder = tempfile.mkdtemp(prefix="bvmesh-mesh-ball-")
         cad = os.path.join(folder, "ball.step")
         Part.makeSphere(1.0).exportStep(cad)
-        output = os.path.join(folder, "out")
+        return cad, os.path.join(folder, "out")
+
+    def test_sphere_meshed_out_to_twenty_diameters(self):
+        cad, output = self.ball()
         done = mesh(cad, "--template", "sphere", "--output", output, "--max-level", "3", "--tolerance", "1e-3",
                     "--target-cells", "20000", "--formats", "openfoam")
         self.assertEqual(done.returncode, 0, done.stderr)
@@ -103,6 +108,23 @@ class ClosedBodyAsAWhole(unittest.TestCase):
         self.assertIn("checkMesh on ball_openfoam: Mesh OK.", volume_report)
         self.assertIn("Cells with a non-positive scaled Jacobian: 0;", volume_report)
         self.assertFalse(os.path.exists(os.path.join(output, "ball.cgns")))
+
+    def test_volume_and_grid_options_reach_their_objects(self):
+        # A box domain facing a flow 0.1 rad off x, 9 points on every tangential edge and 33 on
+        # the wall-normal lines: 6 blocks of 8 x 8 x 32 cells, the box's faces as inlet, outlet
+        # and side patches.
+        cad, output = self.ball()
+        done = mesh(cad, "--template", "sphere", "--output", output, "--max-level", "2", "--tolerance", "1e-2",
+                    "--volume-option", "domain=box", "--volume-option", "flow_direction=1,0,0.1",
+                    "--grid-option", "edge_points=9", "--grid-option", "normal_points=33", "--formats", "openfoam")
+        self.assertEqual(done.returncode, 0, done.stderr)
+        report = read(os.path.join(output, "ball_volume_report.md"))
+        self.assertIn("far field: box at a distance of 40 (20.0 reference lengths)", report)
+        self.assertIn("Grid: preset euler, 12288 cells", report)
+        self.assertIn("checkMesh on ball_openfoam: Mesh OK.", report)
+        patches = read(os.path.join(output, "ball_openfoam", "constant", "polyMesh", "boundary"))
+        for patch in ("inlet", "outlet", "side", "wall"):
+            self.assertRegex(patches, r"\n\s*{}\s*\n\s*{{".format(patch))
 
 
 class HalfModelSurface(unittest.TestCase):
@@ -141,6 +163,11 @@ class BadInput(unittest.TestCase):
             ((domain, "--template", "capsule", "--template-parameter", "nosuch=3"), "has no parameter 'nosuch'"),
             ((domain, "--template", "capsule", "--preset", "rans"), "needs --reynolds"),
             ((domain, "--template", "capsule", "--formats", "cgns,stl"), "unknown format 'stl'"),
+            ((domain, "--template", "capsule", "--volume-option", "domain=cube"),
+             "volume mesh option 'domain' takes one of sphere, box, cylinder, cad, got 'cube'"),
+            ((domain, "--template", "capsule", "--volume-option", "farfield=3"), "unknown volume mesh option 'farfield'"),
+            ((domain, "--template", "capsule", "--grid-option", "normal_points=many"),
+             "volume grid option 'normal_points' takes a whole number, got 'many'"),
             ((os.path.join(output, "missing.step"), "--template", "capsule"), "does not exist"),
         ]
         for arguments, message in cases:

@@ -523,6 +523,15 @@ class VolumeObjects(unittest.TestCase):
         names = [o.Name for o in self.doc.Objects]
         with self.assertRaisesRegex(ValueError, "unknown volume mesh option 'farfield'"):
             api.make_volume_mesh(self.fit, farfield=3.0)
+        # A value of the wrong kind is named with what the option takes (FreeCAD's own message is
+        # a dict of its internals).
+        with self.assertRaisesRegex(ValueError, "volume mesh option 'domain' takes one of sphere, box, cylinder, "
+                                                "cad, got 'cube'"):
+            api.make_volume_mesh(self.fit, domain="cube")
+        with self.assertRaisesRegex(ValueError, r"volume mesh option 'flow_direction' takes three numbers, got \(1, 0\)"):
+            api.make_volume_mesh(self.fit, domain="box", flow_direction=(1, 0))
+        with self.assertRaisesRegex(ValueError, "volume grid option 'normal_points' takes a whole number, got 'many'"):
+            api.make_volume_grid(self.volume, "euler", normal_points="many")
         with self.assertRaises(Exception) as raised:
             api.make_volume_mesh(self.fit, boundary_layer_thickness=0.05, farfield_distance=0.01)
         self.assertIn("far", str(raised.exception).lower())
