@@ -592,7 +592,8 @@ class VolumeObjects(unittest.TestCase):
             for patch in ("wall", "inlet", "outlet", "side"):
                 self.assertRegex(text, r"\n\s*{}\s*\n\s*{{".format(patch))
             self.assertNotIn("farfield", text)
-            with self.assertRaisesRegex(Exception, "'cone' is not part of the enumeration"):
+            with self.assertRaisesRegex(ValueError, "volume mesh option 'domain' takes one of sphere, box, cylinder, "
+                                                    "cad, got 'cone'"):
                 api.set_volume_options(vm, domain="cone")
             self.assertEqual(vm.Domain, "box")
         finally:
@@ -613,7 +614,8 @@ class VolumeObjects(unittest.TestCase):
             self.assertEqual(vm.BlockCount, 6)
             self.assertNotEqual(vm.Digest, self.volume.Digest)
             self.assertGreater(min(self.volume.LayerMinScaledJacobian), 0.3)
-            with self.assertRaisesRegex(Exception, "'elliptic' is not part of the enumeration"):
+            with self.assertRaisesRegex(ValueError, "volume mesh option 'farfield_scheme' takes one of smoothed, "
+                                                    "hyperbolic, got 'elliptic'"):
                 api.set_volume_options(vm, farfield_scheme="elliptic")
             self.assertEqual(vm.FarfieldScheme, "smoothed")
             smoothed = vm.Digest
