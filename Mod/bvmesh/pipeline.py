@@ -55,15 +55,16 @@ def _body_target(doc, cad, half_model):
     """(Target object, what it holds in words, reference length or None): the reference length is
     the symmetry face's largest extent on a half model (a wing's root chord, a body's length),
     else left to the volume stage (the wall's largest extent)."""
-    if api.flow_domain_of(cad.Shape) is not None:
-        if half_model:
-            raise ValueError("the CAD is a flow domain, whose symmetry plane the domain itself gives: "
-                             "leave out the half model")
-        target = api.make_target(doc, cad)
-        return target, "the body inside the CAD's flow domain ({}, {} faces)".format(
-            target.FlowDomain, len(target.Shape.Faces)), None
     if not half_model:
-        return api.make_target(doc, cad), "all {} faces of the CAD".format(len(cad.Shape.Faces)), None
+        # A Target on all faces finds a flow domain's body itself (FlowDomain names the domain).
+        target = api.make_target(doc, cad)
+        if target.FlowDomain:
+            return target, "the body inside the CAD's flow domain ({}, {} faces)".format(
+                target.FlowDomain, len(target.Shape.Faces)), None
+        return target, "all {} faces of the CAD".format(len(cad.Shape.Faces)), None
+    if api.flow_domain_of(cad.Shape) is not None:
+        raise ValueError("the CAD is a flow domain, whose symmetry plane the domain itself gives: "
+                         "leave out the half model")
     _, symmetry_face, _ = load_core().remove_symmetry_face(cad.Shape.exportBrepToString())
     faces = ["Face{}".format(i + 1) for i in range(len(cad.Shape.Faces)) if i != symmetry_face]
     box = cad.Shape.Faces[symmetry_face].BoundBox
@@ -196,6 +197,7 @@ def body_cut(grid_object, path, title):
     else:
         lengths = (box.XLength, box.YLength, box.ZLength)
         normal = tuple(1.0 if k == lengths.index(max(lengths)) else 0.0 for k in range(3))
+    across = max(range(3), key=lambda k: abs(normal[k]))  # the axis the plane is most nearly normal to
     point = (box.Center.x, box.Center.y, box.Center.z)
     in_plane = sorted(sorted(range(3), key=lambda k: abs(normal[k]))[:2])
     low = [(box.XMin, box.YMin, box.ZMin)[k] for k in in_plane]
@@ -208,8 +210,7 @@ def body_cut(grid_object, path, title):
         ("body", ((centre[0] - 0.65 * size, centre[1] - 0.65 * size), (centre[0] + 0.65 * size, centre[1] + 0.65 * size))),
     ]
     grid.plot_cut(api.grid_of(grid_object), point, normal, path, views,
-                  title="{}: grid at {} = {:.4g}".format(title, "xyz"[max(range(3), key=lambda k: abs(normal[k]))],
-                                                         point[max(range(3), key=lambda k: abs(normal[k]))]))
+                  title="{}: grid at {} = {:.4g}".format(title, "xyz"[across], point[across]))
     return path, point, normal
 
 
@@ -226,10 +227,10 @@ def run_volume(fit, files, title, reference_length, reynolds_number, preset="eul
     volume objects by name and checkMesh's verdict."""
     started = time.time()
     stage = time.time()
-    options = {"reference_length": reference_length}
+    mesh_options = {"reference_length": reference_length}
     if reynolds_number:
-        options["reynolds_number"] = reynolds_number
-    vm = api.make_volume_mesh(fit, **dict(options, **(volume_options or {})))
+        mesh_options["reynolds_number"] = reynolds_number
+    vm = api.make_volume_mesh(fit, **dict(mesh_options, **(volume_options or {})))
     log("volume mesh: {} blocks, {} control layers, far field {:.0f} ({:.1f} s)".format(
         vm.BlockCount, vm.ControlLayers, vm.FarfieldDistanceUsed, time.time() - stage))
     stage = time.time()
@@ -238,10 +239,10 @@ def run_volume(fit, files, title, reference_length, reynolds_number, preset="eul
                                            **(grid_options or {}))
         what = "{} subdivision step(s) of the control volume".format(subdivision_steps)
     else:
-        options = dict(grid_options or {})
-        if not {"edge_points", "tangential_spacing", "target_cells"} & set(options):
-            options["target_cells"] = target_cells  # the tangential counts, unless the options set them
-        grid_object = api.make_volume_grid(vm, preset, show=("wall",), **options)
+        refine_options = dict(grid_options or {})
+        if not {"edge_points", "tangential_spacing", "target_cells"} & set(refine_options):
+            refine_options["target_cells"] = target_cells  # the tangential counts, unless the options set them
+        grid_object = api.make_volume_grid(vm, preset, show=("wall",), **refine_options)
         what = preset
     log("grid: {}, {} cells ({:.1f} s)".format(what, grid_object.CellCount, time.time() - stage))
     stage = time.time()
