@@ -180,8 +180,8 @@ def main(argv=None):
     mesh.add_argument("--output", default="bvmesh-mesh", help="folder for the results (default bvmesh-mesh)")
     mesh.add_argument("--name", help="the files' base name (default: the CAD file's)")
     mesh.add_argument("--reference-length", type=float,
-                      help="model units (default: the symmetry face's largest extent on a half model, a wing's root "
-                           "chord, else the body's largest extent)")
+                      help="model units (default: on a half model the body's largest extent on its symmetry plane, "
+                           "a wing's root chord, else the body's largest extent)")
     mesh.add_argument("--tolerance", type=float, default=1e-5,
                       help="the fit's tolerance relative to the reference length (default 1e-5)")
     mesh.add_argument("--max-level", type=int, default=5, help="subdivision levels at most (default 5)")

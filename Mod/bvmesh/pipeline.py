@@ -51,16 +51,36 @@ def wall_distance(grid_object):
     return float(target.Proxy.core_target(target).project(grid.wall_points(api.grid_of(grid_object)))["distances"].max())
 
 
+def _extent_in_plane(shape, plane):
+    """Largest extent of the shape's edges that lie in `plane` ((point), (normal)), measured on
+    points along them: a half body's outline on its symmetry plane. None when no edge lies in it."""
+    import FreeCAD
+
+    point, normal = FreeCAD.Vector(*plane[0]), FreeCAD.Vector(*plane[1]).normalize()
+    tolerance = 1e-7 * shape.BoundBox.DiagonalLength
+    box = FreeCAD.BoundBox()
+    for edge in shape.Edges:
+        if edge.Degenerated:  # a pole's seam point
+            continue
+        samples = edge.discretize(65)
+        if all(abs((s - point).dot(normal)) <= max(tolerance, edge.Tolerance) for s in samples):
+            for s in samples:
+                box.add(s)
+    return max(box.XLength, box.YLength, box.ZLength) if box.isValid() else None
+
+
 def _body_target(doc, cad, half_model):
     """(Target object, what it holds in words, reference length or None): the reference length is
-    the symmetry face's largest extent on a half model (a wing's root chord, a body's length),
-    else left to the volume stage (the wall's largest extent)."""
+    the body's largest extent on its symmetry plane in a half model (the symmetry face's, or in a
+    flow domain the outline of the body's open side: a wing's root chord, a body's length), else
+    left to the volume stage (the wall's largest extent)."""
     if not half_model:
         # A Target on all faces finds a flow domain's body itself (FlowDomain names the domain).
         target = api.make_target(doc, cad)
         if target.FlowDomain:
+            plane = api.symmetry_plane_guess(target)
             return target, "the body inside the CAD's flow domain ({}, {} faces)".format(
-                target.FlowDomain, len(target.Shape.Faces)), None
+                target.FlowDomain, len(target.Shape.Faces)), plane and _extent_in_plane(target.Shape, plane)
         return target, "all {} faces of the CAD".format(len(cad.Shape.Faces)), None
     if api.flow_domain_of(cad.Shape) is not None:
         raise ValueError("the CAD is a flow domain, whose symmetry plane the domain itself gives: "
@@ -282,8 +302,8 @@ def run(cad_path, output_dir, template, name=None, title=None, template_paramete
     one (e.g. {'cut': 'M6_cut_eta044.png'}). volume_options, grid_options: as run_volume takes
     them. template: a polyhedron template's name
     (bvmesh.polyhedra.template_names()) with its parameters; the fit's tolerance is
-    relative_tolerance times the reference length (given, or the symmetry face's largest extent on
-    a half model, or the body's). reynolds_number: for the boundary layer's estimate (None: the
+    relative_tolerance times the reference length (given, or on a half model the body's largest
+    extent on its symmetry plane, or the body's). reynolds_number: for the boundary layer's estimate (None: the
     volume stage's default). volume=False stops after the surface stage. The document and the
     surface stage's files are written even when the volume stage fails."""
     import FreeCAD

@@ -57,7 +57,9 @@ class FlowDomainInEveryFormat(unittest.TestCase):
     def test_volume_report_matches_the_document_and_the_files(self):
         report = read(self.path("hemisph-cyl_volume_report.md"))
         self.assertIn("checkMesh on hemisph-cyl_openfoam: Mesh OK.", report)
-        # The file's own domain: a half sphere of radius 100 around (10, 0, 0).
+        # The body's length on the symmetry plane is the reference length; the far field is the
+        # file's own domain, a half sphere of radius 100 around (10, 0, 0).
+        self.assertIn("(reference length 10, ", report)
         self.assertIn("far field: sphere of radius 100 ", report)
         cells = int(re.search(r"Grid: preset euler, (\d+) cells", report).group(1))
         self.assertTrue(10000 < cells < 30000, cells)
@@ -150,6 +152,22 @@ class HalfModelSurface(unittest.TestCase):
             self.assertAlmostEqual(abs(fit.SymmetryNormal.y), 1.0, places=9)
         finally:
             FreeCAD.closeDocument(doc.Name)
+
+
+class WingInItsFlowDomain(unittest.TestCase):
+    def test_reference_length_is_the_root_chord(self):
+        # The M6 inside its half sphere, scaled to a unit root chord: the reference length is the
+        # body's extent on the symmetry plane (the root section), as a half model's root face
+        # gives it, not the wing's largest extent (its span, 1.5).
+        output = tempfile.mkdtemp(prefix="bvmesh-mesh-m6-domain-")
+        done = mesh(os.path.join(DATA, "onera-m6-sharp-te.stp"), "--template", "half_wing", "--output", output,
+                    "--name", "wing", "--max-level", "1", "--surface-only")
+        self.assertEqual(done.returncode, 0, done.stderr)
+        report = read(os.path.join(output, "wing_report.md"))
+        match = re.search(r"Target: the body inside the CAD's flow domain \(sphere, 10 faces\); reference length "
+                          r"([0-9.]+);", report)
+        self.assertIsNotNone(match, report)
+        self.assertAlmostEqual(float(match.group(1)), 1.0, delta=1e-3)
 
 
 class BadInput(unittest.TestCase):
