@@ -283,7 +283,7 @@ def main(argv=None):
             _info(paths.EXAMPLE_WING, 30.0)
             main_job.run(args.output, max_level=args.max_level, volume=not args.surface_only,
                          grid_method=args.grid_method, subdivision_steps=args.subdivision_steps)
-    except (InvalidInputError, SolverError, ValueError, RuntimeError) as error:
+    except (InvalidInputError, SolverError, ValueError, RuntimeError, OSError) as error:
         print("bvmesh: {}".format(error), file=sys.stderr)
         return 1
     return 0

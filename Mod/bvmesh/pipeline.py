@@ -14,6 +14,7 @@ NAME_convergence.png, NAME_report.md; with the volume stage NAME_volume_report.m
 NAME_quality.png, NAME_cut.png and the grid in the formats asked (NAME.cgns, NAME_openfoam/,
 NAME.xyz, NAME.vtm, NAME.xml, NAME.blocks)."""
 
+import math
 import os
 import shutil
 import subprocess
@@ -95,7 +96,9 @@ def _body_target(doc, cad, half_model):
 
 def _reference_length(target, given):
     """The given reference length, or the target's largest extent (the volume stage's default)."""
-    if given:
+    if given is not None:
+        if not (math.isfinite(given) and given > 0):
+            raise ValueError("the reference length must be a positive number, got {!r}".format(given))
         return float(given)
     box = target.Shape.BoundBox
     return max(box.XLength, box.YLength, box.ZLength)
@@ -317,7 +320,12 @@ def run(cad_path, output_dir, template, name=None, title=None, template_paramete
         raise ValueError("no CAD file at {}".format(cad_path))
     name = name or os.path.splitext(os.path.basename(cad_path))[0]
     title = title or name
-    os.makedirs(output_dir, exist_ok=True)
+    if os.path.basename(name) != name or name in ("", ".", ".."):
+        raise ValueError("name {!r} is not a file name (the files go into the output folder)".format(name))
+    try:
+        os.makedirs(output_dir, exist_ok=True)
+    except OSError as error:
+        raise ValueError("cannot create the output folder {}: {}".format(output_dir, error.strerror)) from None
     started = time.time()
     doc = FreeCAD.newDocument(name)
     try:

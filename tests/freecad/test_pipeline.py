@@ -187,6 +187,16 @@ class BadInput(unittest.TestCase):
             ((domain, "--template", "capsule", "--grid-option", "normal_points=many"),
              "volume grid option 'normal_points' takes a whole number, got 'many'"),
             ((os.path.join(output, "missing.step"), "--template", "capsule"), "does not exist"),
+            ((domain, "--template", "capsule", "--name", "a/b"), "name 'a/b' is not a file name"),
+            ((domain, "--template", "capsule", "--reference-length", "nan"),
+             "the reference length must be a positive number, got nan"),
+            ((domain, "--template", "capsule", "--reference-length", "-2"),
+             "the reference length must be a positive number, got -2.0"),
+            # Refused when the volume mesh and the grid are computed.
+            ((domain, "--template", "capsule", "--volume-option", "farfield_distance=5"),
+             "Domain 'cad' takes the far field from the CAD's flow domain"),
+            ((domain, "--template", "capsule", "--grid-option", "normal_points=-4"),
+             "NormalPoints is -1 (the preset's) or not negative, got -4"),
         ]
         for arguments, message in cases:
             with self.subTest(arguments=arguments):
@@ -194,6 +204,13 @@ class BadInput(unittest.TestCase):
                 self.assertEqual(done.returncode, 1, done.stdout + done.stderr)
                 self.assertIn(message, done.stderr)
                 self.assertNotIn("Traceback", done.stderr)
+
+    def test_output_folder_that_cannot_be_made(self):
+        done = mesh(os.path.join(DATA, "hemisph-cyl.stp"), "--template", "capsule", "--output", "/proc/bvmesh-out",
+                    "--max-level", "1")
+        self.assertEqual(done.returncode, 1, done.stdout + done.stderr)
+        self.assertIn("cannot create the output folder /proc/bvmesh-out: No such file or directory", done.stderr)
+        self.assertNotIn("Traceback", done.stderr)
 
 
 if __name__ == "__main__":

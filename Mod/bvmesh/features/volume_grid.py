@@ -74,6 +74,8 @@ def refine_options(obj):
     for prop, option, type_name, default, _ in OPTIONS:
         value = getattr(obj, prop)
         if default < 0 and value < 0:
+            if value != -1:
+                raise ValueError("{} is -1 (the preset's) or not negative, got {:g}".format(prop, value))
             continue
         if type_name == "App::PropertyFloat" and value == 0.0 and option in ("y_plus", "growth", "reynolds_number"):
             continue

@@ -67,7 +67,11 @@ def options(obj):
     for prop, option, _, _ in VECTORS:
         settings[option] = tuple(getattr(obj, prop))
     if obj.Domain == "cad":
-        settings.update(cad_domain(obj.Fit))
+        domain = cad_domain(obj.Fit)
+        if obj.FarfieldDistance != 0.0 or any(obj.BoxHalfExtent):
+            raise ValueError("Domain 'cad' takes the far field from the CAD's flow domain: leave FarfieldDistance "
+                             "and BoxHalfExtent at 0, or choose sphere, box or cylinder to set them")
+        settings.update(domain)
     elif outflow_plane(getattr(obj.Fit, "Target", None)) is not None:
         raise ValueError("the fit's target runs into the outflow plane of its flow domain, which only Domain 'cad' "
                          "marches in: choose Domain cad")
