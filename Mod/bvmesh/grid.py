@@ -20,6 +20,8 @@ cell and the grid was refined without), so that the marching's fan-out at a wing
 reach the outer sphere as cells a hundred times apart.
 `refine(..., method="subdivision", steps=k)` is the other refinement: k volumetric Catmull-Clark
 steps of the blocks' control mesh.
+A grid of more points than the free memory holds (point_budget()) is refused with a ValueError
+before any point is computed, instead of exhausting the memory of the session.
 """
 
 from . import load_core
@@ -35,6 +37,23 @@ METRICS = ("scaled_jacobian", "non_orthogonality", "skewness", "aspect_ratio", "
 
 
 FACE_NAMES = ("u_min", "u_max", "v_min", "v_max", "w_min", "w_max")
+
+# Peak memory per grid point of a grid, its quality and its solver files (190 bytes per cell,
+# measured on the M6's euler grids of 1 M and 4 M cells; docs/grid.md), with some room.
+BYTES_PER_POINT = 256
+
+
+def point_budget():
+    """The most grid points the free memory holds (the kernel's MemAvailable over BYTES_PER_POINT),
+    or 0 (no limit) where the free memory is not known."""
+    try:
+        with open("/proc/meminfo") as info:
+            for line in info:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024 // BYTES_PER_POINT
+    except OSError:
+        pass
+    return 0
 
 
 def face_array(array, face):
@@ -85,9 +104,9 @@ def refine(blocks, preset="euler", method="bspline", steps=None, **options):
     bvmesh._core.refine_blocks (normal_points, first_cell_height, y_plus, reynolds_number,
     reference_length, growth, distribution, edge_points, tangential_spacing, target_cells,
     edge_end_spacing, max_turning_angle, max_spacing_jump, even_far_field,
-    feature_spacings), overriding the preset's. feature_spacings: [{"points": (n, 3) polyline,
-    "spacing": s}, ...] clusters the wall edges that leave a feature line (a leading edge) to s
-    there (docs/grid.md). From a
+    feature_spacings, max_points), overriding the preset's. feature_spacings: [{"points": (n, 3)
+    polyline, "spacing": s}, ...] clusters the wall edges that leave a feature line (a leading
+    edge) to s there (docs/grid.md). max_points: default point_budget(), 0 for no limit. From a
     VolumeMesh in a box or cylinder domain, every outer quad is tagged inlet, outlet or side by
     where it lies (a block face reaching over the domain's edges is split;
     RefinedGrid.outer_faces_split counts them).
@@ -105,8 +124,8 @@ def refine(blocks, preset="euler", method="bspline", steps=None, **options):
         if not isinstance(steps, int) or isinstance(steps, bool) or steps < 1:
             raise ValueError("method='subdivision' needs steps, an int >= 1, got {!r}".format(steps))
         if isinstance(blocks, core.ControlVolume):
-            return core.subdivide_control_volume(blocks, steps)
-        return core.subdivide_blocks(_blocks_of(blocks, "refine"), steps)
+            return core.subdivide_control_volume(blocks, steps, max_points=point_budget())
+        return core.subdivide_blocks(_blocks_of(blocks, "refine"), steps, max_points=point_budget())
     if method != "bspline":
         raise ValueError("method must be 'bspline' or 'subdivision', got {!r}".format(method))
     if steps is not None:
@@ -117,6 +136,7 @@ def refine(blocks, preset="euler", method="bspline", steps=None, **options):
         if preset not in PRESETS:
             raise ValueError("preset must be one of {} or None, got {!r}".format(", ".join(sorted(PRESETS)), preset))
         settings.update(PRESETS[preset])
+    settings["max_points"] = point_budget()
     settings.update(options)
     if isinstance(blocks, core.VolumeMesh):
         settings.setdefault("reference_length", blocks.reference_length)

@@ -183,11 +183,17 @@ def subdivide(mesh, steps=1):
     (#K, 2 point pairs on the boundary) and 'corners' (point ids). Returns a dict of the same keys
     for the refined mesh, plus 'operator': the scipy.sparse.csr_matrix S with
     points' = S @ points (the product of the steps' operators). Raises ValueError naming the cell,
-    face or crease for a mesh it cannot refine."""
+    face or crease for a mesh it cannot refine, and for more points than the free memory holds."""
     core = load_core()
     mesh = _hex_mesh_of(mesh, "subdivide")
     if not isinstance(steps, int) or isinstance(steps, bool) or steps < 1:
         raise ValueError("steps must be an int >= 1, got {!r}".format(steps))
+    from .grid import point_budget
+
+    points, budget = len(mesh["points"]) * 8.0 ** steps, point_budget()
+    if budget and points > budget:
+        raise ValueError("{} subdivision steps would make about {:.3g} points, more than the free memory holds "
+                         "(bvmesh.grid.point_budget(): {})".format(steps, points, budget))
     operator = None
     for _ in range(steps):
         mesh = core.subdivide_hex_mesh(*(mesh.get(key) for key in HEX_MESH_KEYS))

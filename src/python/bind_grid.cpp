@@ -193,7 +193,7 @@ void bindGrid(py::module_& module) {
          double reynoldsNumber, double referenceLength, double growth, const std::string& distribution,
          int edgePoints, double tangentialSpacing, long long targetCells, double edgeEndSpacing,
          double maxTurningAngle, double maxSpacingJump, bool evenFarField,
-         const py::object& featureSpacings, const volume::VolumeMesh* outerDomainOf) {
+         const py::object& featureSpacings, const volume::VolumeMesh* outerDomainOf, long long maxPoints) {
         grid::RefinementOptions options;
         options.normalPoints = normalPoints;
         options.firstCellHeight = firstCellHeight;
@@ -211,6 +211,7 @@ void bindGrid(py::module_& module) {
         options.evenFarField = evenFarField;
         options.featureSpacings = featureSpacingsOf(featureSpacings);
         if (outerDomainOf != nullptr) options.outerDomain = outerDomainOf->domain;
+        options.maxPoints = maxPoints;
         py::gil_scoped_release release;
         return grid::refineBlockMesh(blocks, options);
       },
@@ -220,7 +221,7 @@ void bindGrid(py::module_& module) {
       py::arg("tangential_spacing") = 0.0, py::arg("target_cells") = 0, py::arg("edge_end_spacing") = 0.0,
       py::arg("max_turning_angle") = 0.0, py::arg("max_spacing_jump") = 0.0,
       py::arg("even_far_field") = false,
-      py::arg("feature_spacings") = py::none(), py::arg("outer_domain_of") = nullptr,
+      py::arg("feature_spacings") = py::none(), py::arg("outer_domain_of") = nullptr, py::arg("max_points") = 0,
       R"doc(Evaluates a BlockMesh on stretched, point-matched grids.
 
 Wall-normal lines (from wall faces, and every direction a connection links to them): normal_points
@@ -247,29 +248,32 @@ take the cells to grow back to their spacing by at most `growth`; the finer wher
 asks too.
 outer_domain_of: the VolumeMesh the blocks come from; a box or cylinder domain's outer faces are
 then inlet, outlet or side quad by quad (RefinedGrid.outer_faces_split counts the faces split).
+max_points (0: no limit): a grid of more points is refused (ValueError) when its sizes are planned,
+before any point is computed (bvmesh.grid.refine sets it from the free memory).
 Returns a RefinedGrid.)doc");
 
   module.def(
       "subdivide_blocks",
-      [](const volume::BlockMesh& blocks, int steps) {
+      [](const volume::BlockMesh& blocks, int steps, long long maxPoints) {
         py::gil_scoped_release release;
-        return grid::subdivideBlockMesh(blocks, steps);
+        return grid::subdivideBlockMesh(blocks, steps, maxPoints);
       },
-      py::arg("blocks"), py::arg("steps"),
+      py::arg("blocks"), py::arg("steps"), py::arg("max_points") = 0,
       "`steps` volumetric Catmull-Clark steps of the blocks' control mesh, as a StructuredGrid: each block of "
       "(n_u, n_v, n_w) poles becomes (2^steps (n_u - 1) + 1, ...) points, connections and conditions kept "
-      "(docs/volume.md, 'Refinement of a block mesh by subdivision').");
+      "(docs/volume.md, 'Refinement of a block mesh by subdivision'). max_points (0: no limit): more points are "
+      "refused before the first step.");
 
   module.def(
       "subdivide_control_volume",
-      [](const volume::ControlVolume& volume, int steps) {
+      [](const volume::ControlVolume& volume, int steps, long long maxPoints) {
         py::gil_scoped_release release;
-        return grid::subdivideControlVolume(volume, steps);
+        return grid::subdivideControlVolume(volume, steps, maxPoints);
       },
-      py::arg("volume"), py::arg("steps"),
+      py::arg("volume"), py::arg("steps"), py::arg("max_points") = 0,
       "`steps` volumetric Catmull-Clark steps of a ControlVolume, as a StructuredGrid of its blocks, the wall "
       "points moved to their limit positions: the grid's wall lies on the fit's limit surface "
-      "(docs/volume.md, 'The control volume').");
+      "(docs/volume.md, 'The control volume'). max_points: as subdivide_blocks.");
 
   module.def(
       "grid_quality",

@@ -188,6 +188,32 @@ TEST(GridRefinement, AffineBoxGivesTheExactLattice) {
   EXPECT_NEAR(refined.growthMax, growth, 1e-9);
 }
 
+TEST(GridRefinement, APointBudgetRefusesALargerGridByItsPlannedSize) {
+  // 4 blocks of 5 x 5 x 9 points: allowed at exactly that many, refused one below, and a count
+  // far beyond any machine (100 000 points per edge) refused before a point is computed.
+  const test::BoxBlocks box = test::boxBlocks(0.0, true, 1);
+  RefinementOptions options;
+  options.edgePoints = 5;
+  options.normalPoints = 9;
+  options.growth = 1.3;
+  options.maxPoints = 4 * 5 * 5 * 9;
+  EXPECT_EQ(refineBlockMesh(box.mesh, options).grid.cellCount(), 4 * 4 * 4 * 8);
+  options.maxPoints -= 1;
+  try {
+    refineBlockMesh(box.mesh, options);
+    ADD_FAILURE() << "a grid above its point budget was refined";
+  } catch (const InvalidInputError& error) {
+    EXPECT_NE(std::string(error.what()).find("the grid would have 900 points, more than max_points (899"),
+              std::string::npos)
+        << error.what();
+  }
+  options.edgePoints = kMaxEdgePoints;
+  options.maxPoints = 100000000;
+  EXPECT_THROW(refineBlockMesh(box.mesh, options), InvalidInputError);
+  options.maxPoints = -1;
+  EXPECT_THROW(refineBlockMesh(box.mesh, options), InvalidInputError);
+}
+
 // [0, 2] x [0, 2] x [0, 1] as 2 x 2 unwarped blocks (turned and mirrored), 5 points per edge
 // and 9 along z: the lattice the plane-cut tests cut.
 StructuredGrid affineBoxGrid() {

@@ -572,6 +572,13 @@ class VolumeObjects(unittest.TestCase):
             self.doc.recompute()
         self.assertTrue(self.volume.isValid())
         self.assertEqual(self.volume.Digest, digest)
+        # A grid beyond the free memory is refused by its planned size, the grid as it was (it was
+        # computed until the memory ran out, taking FreeCAD and the document with it).
+        grid_digest, cells = self.grid.Digest, self.grid.CellCount
+        with self.assertRaisesRegex(RuntimeError, r"the grid would have [0-9.e+]+ points, more than max_points"):
+            api.set_grid_options(self.grid, edge_points=100000)
+        self.assertEqual((self.grid.EdgePoints != 100000, self.grid.Digest, self.grid.CellCount),
+                         (True, grid_digest, cells))
 
     def test_box_domain_through_the_document(self):
         vm = api.make_volume_mesh(self.fit, boundary_layer_thickness=0.05, farfield_distance=20.0, domain="box",

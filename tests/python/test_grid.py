@@ -9,6 +9,7 @@ import os
 import re
 import subprocess
 import tempfile
+import time
 import unittest
 
 import numpy as np
@@ -310,6 +311,35 @@ class SphereGrids(unittest.TestCase):
         self.assertAlmostEqual(nearest(clustered, corner) / spacing, 1.0, delta=1e-3)
         self.assertGreater(nearest(wall, corner), 5 * spacing)
         self.assertAlmostEqual(nearest(clustered, -corner), nearest(wall, -corner), delta=1e-9)
+
+    def test_grid_beyond_the_memory_is_refused_before_it_is_computed(self):
+        # The free memory's budget, measured per point (grid.BYTES_PER_POINT), is a positive count
+        # on this machine; a grid beyond it or beyond max_points is refused by its planned size
+        # (2e9 cells would take some 500 GB: refused at once, not computed until the memory runs out).
+        budget = bvmesh.grid.point_budget()
+        self.assertGreater(budget, 1_000_000)
+        with open("/proc/meminfo") as info:
+            available = next(int(line.split()[1]) * 1024 for line in info if line.startswith("MemAvailable:"))
+        self.assertAlmostEqual(budget * bvmesh.grid.BYTES_PER_POINT, available, delta=0.1 * available)
+        started = time.perf_counter()
+        # 6 x 100 000^2 x 49 points are beyond any machine; 2e9 cells beyond this one's budget.
+        asked = [dict(edge_points=100_000)] + ([dict(target_cells=2_000_000_000)] if budget < 2e9 else [])
+        for options in asked:
+            with self.subTest(**options), self.assertRaisesRegex(ValueError, r"the grid would have [0-9.e+]+ points, "
+                                                                             r"more than max_points \(\d+, the memory budget\)"):
+                bvmesh.grid.refine(self.volume, "euler", **options)
+        self.assertLess(time.perf_counter() - started, 30.0)
+        # The euler grid (6 x 9 x 9 x 33 points) against a budget just above and just below it.
+        points = 6 * 9 * 9 * 33
+        bvmesh.grid.refine(self.volume, "euler", edge_points=9, normal_points=33, max_points=points)
+        with self.assertRaisesRegex(ValueError, "the grid would have {} points, more than max_points \\({}".format(
+                points, points - 1)):
+            bvmesh.grid.refine(self.volume, "euler", edge_points=9, normal_points=33, max_points=points - 1)
+        with self.assertRaisesRegex(ValueError, "max_points must be 0"):
+            bvmesh.grid.refine(self.volume, "euler", max_points=-1)
+        # Subdivision steps are held to the budget too: 12 steps would be 8^12 times the control net.
+        with self.assertRaisesRegex(ValueError, "the grid would have .* points, more than max_points"):
+            bvmesh.grid.refine(self.volume, method="subdivision", steps=12)
 
     def test_errors_name_the_problem(self):
         line = [[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]

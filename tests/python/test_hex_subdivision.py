@@ -270,6 +270,10 @@ class HexMeshInterface(unittest.TestCase):
             bvmesh.volume.subdivide({k: v for k, v in mesh.items() if k != "boundary_conditions"})
         with self.assertRaisesRegex(ValueError, "steps must be an int >= 1"):
             bvmesh.volume.subdivide(mesh, steps=0)
+        # 12 points times 8^14 are beyond the free memory: refused before the first step.
+        with self.assertRaisesRegex(ValueError, r"14 subdivision steps would make about 5.28e\+13 points, more than "
+                                                r"the free memory holds"):
+            bvmesh.volume.subdivide(mesh, steps=14)
 
     def test_refine_options_belong_to_their_method(self):
         # The options are checked before the blocks are looked at.

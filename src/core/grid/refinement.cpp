@@ -19,6 +19,7 @@
 #include "core/grid/distribution.h"
 #include "core/grid/folded_cells.h"
 #include "core/grid/outer_quads.h"
+#include "core/grid/point_budget.h"
 #include "core/grid/wall_lines.h"
 
 namespace bvmesh::grid {
@@ -73,6 +74,9 @@ void checkOptions(const RefinementOptions& options) {
     throw InvalidInputError("target_cells must be 0 (none) or up to 2e9, got " +
                             std::to_string(options.targetCells));
   }
+  if (options.maxPoints < 0) {
+    throw InvalidInputError("max_points must be 0 (no limit) or positive, got " + std::to_string(options.maxPoints));
+  }
   if (options.normalPoints == 0 && options.firstCellHeight == 0.0 && options.yPlus == 0.0) {
     throw InvalidInputError("automatic normal_points (0) needs a first cell height or a y+ target");
   }
@@ -84,6 +88,18 @@ double firstCellHeight(const RefinementOptions& options) {
          : options.yPlus > 0.0
              ? flatPlateFirstCellHeight(options.yPlus, options.reynoldsNumber, options.referenceLength)
              : 0.0;
+}
+
+// Points of the grid the plans size (`normalPoints` along wall-normal directions), counted in
+// floating point: a count asked far beyond any machine must not overflow before it is refused.
+double plannedPoints(const std::vector<BlockPlan>& plans, int normalPoints) {
+  double points = 0.0;
+  for (const BlockPlan& plan : plans) {
+    double blockPoints = 1.0;
+    for (int d = 0; d < 3; ++d) blockPoints *= d == plan.normalDirection ? normalPoints : plan.size[static_cast<size_t>(d)];
+    points += blockPoints;
+  }
+  return points;
 }
 
 // The grid blocks at the plans' sizes (`normalPoints` along wall-normal directions), their points
@@ -234,6 +250,7 @@ RefinedGrid refineOnce(const BlockMesh& mesh, const RefinementOptions& options, 
   const int normalPoints = options.normalPoints == 0
                                ? fewestWallNormalPoints(blocks, plans, firstHeight, options.growth, shares)
                                : options.normalPoints;
+  checkPointBudget(plannedPoints(plans, normalPoints), options.maxPoints);
   std::vector<GridBlock> grids = sizedGrids(blocks, plans, normalPoints);
   std::future<std::vector<Eigen::Index>> sharedRoots = findSharedPoints(grids);
   evaluateBlocksWithoutWall(blocks, plans, grids);

@@ -87,6 +87,10 @@ struct RefinementOptions {
   // The flow domain the blocks were marched to: a box's or cylinder's outer faces are then tagged
   // quad by quad (grid::tagOuterQuads), not by their middle alone.
   std::optional<volume::Domain> outerDomain;
+  // At most this many points (0: no limit), checked when the sizes are planned, before any point
+  // is computed: a memory budget, so that a count beyond the machine is refused instead of
+  // exhausting its memory (bvmesh.grid.refine sets it from the free memory).
+  long long maxPoints = 0;
 };
 
 struct RefinedGrid {

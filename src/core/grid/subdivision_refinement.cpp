@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "core/common/errors.h"
+#include "core/grid/point_budget.h"
 #include "core/subdiv/limit_evaluator.h"
 
 namespace bvmesh::grid {
@@ -97,9 +98,10 @@ class VertexLimits {
 // sharp edges) where the interior rules alone tilt the first cells.
 StructuredGrid subdivideHexBlocks(HexMesh mesh, std::vector<volume::HexBlock> lattices,
                                   const std::vector<std::array<volume::BlockFace, 6>>& faces, int steps,
-                                  RowMatrixX3d wallDirections) {
+                                  RowMatrixX3d wallDirections, long long maxPoints) {
   if (steps < 0) throw InvalidInputError("subdivision steps must be >= 0, got " + std::to_string(steps));
   const double pointsAfter = static_cast<double>(mesh.points.rows()) * std::pow(8.0, steps);
+  checkPointBudget(pointsAfter, maxPoints);
   if (pointsAfter > static_cast<double>(std::numeric_limits<int>::max())) {
     throw InvalidInputError(std::to_string(steps) + " subdivision steps would make about " + std::to_string(pointsAfter) +
                             " points, more than the 2^31 a hex mesh can number");
@@ -164,14 +166,15 @@ StructuredGrid subdivideHexBlocks(HexMesh mesh, std::vector<volume::HexBlock> la
 
 HexMesh hexMeshOfBlocks(const volume::BlockMesh& blocks) { return blockHexMesh(blocks).mesh; }
 
-StructuredGrid subdivideBlockMesh(const volume::BlockMesh& blocks, int steps) {
+StructuredGrid subdivideBlockMesh(const volume::BlockMesh& blocks, int steps, long long maxPoints) {
   BlockHexMesh current = blockHexMesh(blocks);
   std::vector<std::array<volume::BlockFace, 6>> faces;
   for (const volume::Block& block : blocks.blocks()) faces.push_back(block.faces);
-  return subdivideHexBlocks(std::move(current.mesh), std::move(current.lattices), faces, steps, RowMatrixX3d());
+  return subdivideHexBlocks(std::move(current.mesh), std::move(current.lattices), faces, steps, RowMatrixX3d(),
+                            maxPoints);
 }
 
-StructuredGrid subdivideControlVolume(const volume::ControlVolume& volume, int steps) {
+StructuredGrid subdivideControlVolume(const volume::ControlVolume& volume, int steps, long long maxPoints) {
   // Every point's wall-normal direction: its column's marched direction off the wall.
   RowMatrixX3d directions(volume.mesh.points.rows(), 3);
   const int wall = volume.wallVertices;
@@ -179,7 +182,7 @@ StructuredGrid subdivideControlVolume(const volume::ControlVolume& volume, int s
     const Eigen::Index v = p % wall;
     directions.row(p) = (volume.mesh.points.row(wall + v) - volume.mesh.points.row(v)).normalized();
   }
-  return subdivideHexBlocks(volume.mesh, volume.blocks, volume.blockFaces, steps, std::move(directions));
+  return subdivideHexBlocks(volume.mesh, volume.blocks, volume.blockFaces, steps, std::move(directions), maxPoints);
 }
 
 }  // namespace bvmesh::grid

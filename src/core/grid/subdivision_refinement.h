@@ -20,14 +20,15 @@ namespace bvmesh::grid {
 volume::HexMesh hexMeshOfBlocks(const volume::BlockMesh& blocks);
 
 // `steps` >= 0 subdivision steps of the control mesh (0: the control net itself). Throws
-// InvalidInputError for steps < 0 or a grid that would pass 2^31 points, and what
-// volume::subdivideHexMesh throws for the control mesh.
-StructuredGrid subdivideBlockMesh(const volume::BlockMesh& blocks, int steps);
+// InvalidInputError for steps < 0 or a grid that would pass 2^31 points or maxPoints (> 0; 0: no
+// limit: a memory budget, point_budget.h), and what volume::subdivideHexMesh throws for the
+// control mesh.
+StructuredGrid subdivideBlockMesh(const volume::BlockMesh& blocks, int steps, long long maxPoints = 0);
 
 // `steps` >= 0 subdivision steps of the control volume marched from the fit's own control mesh
 // (volume/control_volume.h), as a grid with its blocks, and the wall points then moved to their
 // limit positions: the grid's wall lies on the fitted limit surface at level L + steps, which is
 // the surface fit's subdivision to that level. Throws as subdivideBlockMesh.
-StructuredGrid subdivideControlVolume(const volume::ControlVolume& volume, int steps);
+StructuredGrid subdivideControlVolume(const volume::ControlVolume& volume, int steps, long long maxPoints = 0);
 
 }  // namespace bvmesh::grid
