@@ -159,13 +159,20 @@ TEST(GridDistribution, TurningMeasureGathersPointsInTheBend) {
   for (const double x : {0.1, 0.5, 0.77, 0.95}) EXPECT_NEAR(mirrored.at(x), 1.0 - shared.at(1.0 - x), 1e-12);
 }
 
+// The unwarped box's refinement: 5 points per tangential edge, 9 along z.
+RefinementOptions affineBoxOptions() {
+  RefinementOptions options;
+  options.edgePoints = 5;
+  options.normalPoints = 9;
+  options.growth = 1.3;
+  return options;
+}
+
 TEST(GridRefinement, AffineBoxGivesTheExactLattice) {
   // Unwarped, every block is an affine map: uniform arc length along x and y is a uniform
   // lattice, and the wall-normal lines from the wall at z = 0 follow the geometric law exactly.
   const test::BoxBlocks box = test::boxBlocks(0.0, true, 1);
-  RefinementOptions options;
-  options.edgePoints = 5;
-  options.normalPoints = 9;
+  RefinementOptions options = affineBoxOptions();
   options.firstCellHeight = 0.01;
   options.growth = 1.8;
   const RefinedGrid refined = refineBlockMesh(box.mesh, options);
@@ -192,10 +199,7 @@ TEST(GridRefinement, APointBudgetRefusesALargerGridByItsPlannedSize) {
   // 4 blocks of 5 x 5 x 9 points: allowed at exactly that many, refused one below, and a count
   // far beyond any machine (100 000 points per edge) refused before a point is computed.
   const test::BoxBlocks box = test::boxBlocks(0.0, true, 1);
-  RefinementOptions options;
-  options.edgePoints = 5;
-  options.normalPoints = 9;
-  options.growth = 1.3;
+  RefinementOptions options = affineBoxOptions();
   options.maxPoints = 4 * 5 * 5 * 9;
   EXPECT_EQ(refineBlockMesh(box.mesh, options).grid.cellCount(), 4 * 4 * 4 * 8);
   options.maxPoints -= 1;
@@ -217,12 +221,7 @@ TEST(GridRefinement, APointBudgetRefusesALargerGridByItsPlannedSize) {
 // [0, 2] x [0, 2] x [0, 1] as 2 x 2 unwarped blocks (turned and mirrored), 5 points per edge
 // and 9 along z: the lattice the plane-cut tests cut.
 StructuredGrid affineBoxGrid() {
-  const test::BoxBlocks box = test::boxBlocks(0.0, true, 1);
-  RefinementOptions options;
-  options.edgePoints = 5;
-  options.normalPoints = 9;
-  options.growth = 1.3;
-  return refineBlockMesh(box.mesh, options).grid;
+  return refineBlockMesh(test::boxBlocks(0.0, true, 1).mesh, affineBoxOptions()).grid;
 }
 
 TEST(GridPlaneCut, AffineBoxCutAcrossXHasTheLatticeLines) {
