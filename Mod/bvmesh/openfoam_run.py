@@ -212,6 +212,8 @@ def run_case(case, cores=1, nice=19, timeout=None, log_name=None):
     solver = settings["solver"]
     if not (isinstance(cores, int) and cores >= 1):
         raise ValueError("cores must be a positive integer, got {!r}".format(cores))
+    if timeout is not None and not (isinstance(timeout, (int, float)) and timeout > 0):
+        raise ValueError("timeout must be a number of seconds > 0 (or None: no limit), got {!r}".format(timeout))
     log = os.path.join(case, log_name or "log.{}".format(solver))
     command = ["nice", "-n", str(nice)] if nice else []
 

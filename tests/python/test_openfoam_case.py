@@ -250,6 +250,16 @@ class Errors(unittest.TestCase):
             with self.assertRaisesRegex(ValueError, message):
                 ofc.write_case(case, target, **options)
 
+    def test_run_options_are_checked_before_anything_runs(self):
+        # A negative timeout ran the solver into an immediate stop reported as "no residuals".
+        case = self.fake_case([("wall", "wall"), ("symmetry", "symmetryPlane"), ("farfield", "patch")])
+        written = ofc.write_case(case, os.path.join(self.folder.name, "case"), length_unit=1.0)
+        for options, message in ((dict(timeout=-1), r"timeout must be a number of seconds > 0 .* got -1"),
+                                 (dict(timeout="long"), "timeout must be"), (dict(cores=0), "cores must be")):
+            with self.subTest(**options), self.assertRaisesRegex(ValueError, message):
+                ofr.run_case(written, **options)
+        self.assertFalse(any(name.startswith("log.") for name in os.listdir(written)))
+
     def test_missing_or_mistyped_patch(self):
         case = self.fake_case([("wall", "wall"), ("symmetry", "symmetryPlane")])
         with self.assertRaisesRegex(ValueError, "needs a patch 'wall' and an outer patch"):
