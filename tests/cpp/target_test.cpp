@@ -382,6 +382,9 @@ TEST(Target, OptionsAreNamedWithTheirValue) {
   TargetOptions options;
   options.relativeDeflection = std::numeric_limits<double>::infinity();
   expectNamed(options, "relative_deflection must be a finite number > 0, got inf");
+  options.relativeDeflection = 1e-8;  // a tessellation of some 100 GB
+  expectNamed(options, "relative_deflection must be at least 1e-05 (a finer tessellation of the projection index "
+                       "costs memory as its inverse and changes no result), got 1e-08");
   options = {};
   options.angularDeflection = std::nan("");
   expectNamed(options, "angular_deflection must be a finite number > 0, got nan");

@@ -312,6 +312,8 @@ for path in sys.argv[1:]:
         brep = Part.makeSphere(1.0).exportBrepToString()
         for options, message in ((dict(relative_deflection=float("inf")), "relative_deflection must be a finite number > 0, got inf"),
                                  (dict(relative_deflection=0.0), "relative_deflection must be a finite number > 0, got 0"),
+                                 # Finer ran the machine out of memory (a sphere at 1e-6: beyond 8 GB).
+                                 (dict(relative_deflection=1e-7), "relative_deflection must be at least 1e-05"),
                                  (dict(relative_tolerance=float("nan")), "relative_tolerance must be a finite number > 0, got nan"),
                                  (dict(sharp_angle_deg=float("nan")), "sharp_angle_deg must be 0 .. 180, got nan"),
                                  (dict(sharp_angle_deg=200.0), "sharp_angle_deg must be 0 .. 180, got 200"),

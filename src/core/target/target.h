@@ -26,9 +26,13 @@ namespace bvmesh::target {
 using Points = RowMatrixX3d;
 using Params = RowMatrixX2d;
 
+// The finest relative deflection a Target takes (a sphere's tessellation there: 1.3 GB).
+constexpr double kFinestRelativeDeflection = 1e-5;
+
 struct TargetOptions {
-  // Chordal deflection of the tessellation behind the spatial index, relative to the diagonal.
-  // Finer means fewer candidate faces per point and more memory; results do not depend on it.
+  // Chordal deflection of the tessellation behind the spatial index, relative to the diagonal, at
+  // least kFinestRelativeDeflection. Finer means fewer candidate faces per point and more memory;
+  // results do not depend on it.
   double relativeDeflection = 3e-4;
   // Angular deflection of the tessellation (radians).
   double angularDeflection = 0.5;
