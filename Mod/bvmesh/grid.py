@@ -24,7 +24,7 @@ A grid of more points than the free memory holds (point_budget()) is refused wit
 before any point is computed, instead of exhausting the memory of the session.
 """
 
-from . import load_core
+from . import load_core, memory
 from .options import check_options
 
 PRESETS = {
@@ -46,14 +46,7 @@ BYTES_PER_POINT = 256
 def point_budget():
     """The most grid points the free memory holds (the kernel's MemAvailable over BYTES_PER_POINT),
     or 0 (no limit) where the free memory is not known."""
-    try:
-        with open("/proc/meminfo") as info:
-            for line in info:
-                if line.startswith("MemAvailable:"):
-                    return int(line.split()[1]) * 1024 // BYTES_PER_POINT
-    except OSError:
-        pass
-    return 0
+    return memory.budget(BYTES_PER_POINT)
 
 
 def face_array(array, face):

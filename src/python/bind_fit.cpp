@@ -38,6 +38,8 @@ void applyOptions(FitOptions& options, const py::dict& kwargs) {
       options.relativeTolerance = realOption(value, "relative_tolerance");
     } else if (name == "max_level") {
       options.maxLevel = integerOption(value, "max_level");
+    } else if (name == "max_control_points") {
+      options.maxControlPoints = integerOption(value, "max_control_points");
     } else if (name == "max_corrections") {
       options.maxCorrections = integerOption(value, "max_corrections");
     } else if (name == "stagnation_ratio") {
@@ -90,7 +92,8 @@ void applyOptions(FitOptions& options, const py::dict& kwargs) {
       options.subdivision = value.cast<SubdivisionOptions>();
     } else {
       throw py::value_error("unknown fitting option '" + name +
-                            "'; known: tolerance, relative_tolerance, max_level, max_corrections, stagnation_ratio, "
+                            "'; known: tolerance, relative_tolerance, max_level, max_control_points, max_corrections, "
+                            "stagnation_ratio, "
                             "solver, cgls_tolerance, cgls_max_iterations, weights, fixed_vertices, symmetry_plane, relative_plane_tolerance, "
                             "project_along_normals, reject_opposing_feet, check_samples_per_face, subdivision");
     }
@@ -102,6 +105,7 @@ py::dict optionsToDict(const FitOptions& options) {
   dict["tolerance"] = options.tolerance;
   dict["relative_tolerance"] = options.relativeTolerance;
   dict["max_level"] = options.maxLevel;
+  dict["max_control_points"] = options.maxControlPoints;
   dict["max_corrections"] = options.maxCorrections;
   dict["stagnation_ratio"] = options.stagnationRatio;
   dict["solver"] = options.solver.method == fit::LeastSquaresMethod::Cholesky ? "cholesky" : "cgls";
@@ -309,8 +313,9 @@ void bindFit(py::module_& module) {
            "Fits to the tolerance: progress(record) is called after every pass; cancel (a callable\n"
            "returning True, or a threading.Event) stops after the current step. Keyword options\n"
            "override the fitter's (as set_options). Returns {reason: 'converged' | 'stagnated' |\n"
-           "'max_level' | 'check_failed' | 'cancelled', tolerance, detail: which distance is above the\n"
-           "tolerance and where (empty when converged), history: [records]}. 'converged' needs the samples\n"
+           "'max_level' | 'check_failed' | 'cancelled' | 'memory_limit', tolerance, detail: which distance is\n"
+           "above the tolerance and where (empty when converged; for memory_limit also the next level's\n"
+           "control points against max_control_points), history: [records]}. 'converged' needs the samples\n"
            "and the two-sided check (check_samples_per_face > 0) within the tolerance. One fitter may be used from several\n"
            "threads: its calls run one after the other.");
 

@@ -293,6 +293,24 @@ TEST(SurfaceFitter, CancelLeavesAConsistentState) {
   EXPECT_LT(fitter.record(false).maxDistance, summary.history.back().maxDistance * 1.01);
 }
 
+TEST(SurfaceFitter, ALevelPastTheControlPointBudgetIsNotMade) {
+  // The cube's levels 1, 2, 3 have 26, 98, 386 control points: a budget of 98 stops the fit at
+  // level 2 with the count in its detail, and refuses a subdivision by hand.
+  FitOptions options = studyOptions(5);
+  options.tolerance = 1e-12;
+  options.maxControlPoints = 98;
+  SurfaceFitter fitter(sphereTarget(), cube(), {}, options);
+  const FitSummary summary = fitter.run();
+  EXPECT_EQ(summary.reason, StopReason::MemoryLimit);
+  EXPECT_STREQ(stopReasonName(summary.reason), "memory_limit");
+  EXPECT_EQ(fitter.level(), 2);
+  EXPECT_NE(summary.detail.find("level 3 would have 386 control points, more than max_control_points (98"),
+            std::string::npos)
+      << summary.detail;
+  EXPECT_THROW(fitter.subdivide(), InvalidInputError);
+  EXPECT_EQ(fitter.level(), 2);
+}
+
 TEST(SurfaceFitter, RunDoesNotMeasureAStateTwice) {
   SurfaceFitter fitter(sphereTarget(), cube(), {}, studyOptions(2));
   fitter.record(false);

@@ -14,7 +14,7 @@ import Mesh
 import Part
 
 import bvmesh
-from bvmesh import api, extensions, preferences
+from bvmesh import api, extensions, memory, preferences
 from bvmesh.features import polyhedron, surface_fit
 from console_capture import console_errors
 
@@ -149,6 +149,24 @@ class Fitting(DocumentTest):
         path = os.path.join(tempfile.mkdtemp(), "convergence.png")
         api.plot_convergence(fit, path)
         self.assertGreater(os.path.getsize(path), 10000)
+
+    def test_a_level_beyond_the_free_memory_ends_the_fit(self):
+        # A tight tolerance with a high max_level went on subdividing until the session ran out of
+        # memory (the M6 takes 18 kB a control point: level 7 needs some 50 GB). The fitter is made
+        # with the free memory's budget; here the budget is made to hold 100 control points, so the
+        # cube's fit stops at level 2 (98) and says why.
+        self.assertGreater(memory.budget(surface_fit.BYTES_PER_CONTROL_POINT), 10_000)
+        budget = memory.budget
+        memory.budget = lambda bytes_per_item: 100
+        try:
+            fit = self.sphere_fit(tolerance=1e-9, max_level=6)
+            api.fit_to_tolerance(fit)
+        finally:
+            memory.budget = budget
+        self.assertEqual((fit.StopReason, fit.Level, len(fit.ControlVertices)), ("memory_limit", 2, 98))
+        self.assertIn("level 3 would have 386 control points, more than max_control_points (100, the memory budget)",
+                      fit.StopDetail)
+        self.assertTrue(fit.isValid())
 
     def test_failed_or_cancelled_step_leaves_the_fit_as_it_was(self):
         fit = self.sphere_fit()

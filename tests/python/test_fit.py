@@ -65,6 +65,24 @@ class FitterSteps(unittest.TestCase):
         # The fitter can go on after a cancel.
         self.assertEqual(self.fitter.run(tolerance=1e-2)["reason"], "converged")
 
+    def test_a_level_beyond_the_control_point_budget_is_not_made(self):
+        # The cube's levels have 26, 98 and 386 control points: with 100 allowed the fit stops at
+        # level 2 with the reason and the count, and a subdivision by hand is refused the same way.
+        summary = self.fitter.run(tolerance=1e-9, max_control_points=100)
+        self.assertEqual(summary["reason"], "memory_limit")
+        self.assertEqual(self.fitter.level, 2)
+        self.assertIn("at level 2: samples up to", summary["detail"])
+        self.assertIn("; level 3 would have 386 control points, more than max_control_points (100, the memory budget)",
+                      summary["detail"])
+        with self.assertRaisesRegex(bvmesh.InvalidInputError, "level 3 would have 386 control points"):
+            self.fitter.subdivide()
+        self.assertEqual(self.fitter.level, 2)
+        self.fitter.set_options(max_control_points=0)  # no limit
+        self.fitter.subdivide()
+        self.assertEqual(self.fitter.mesh.num_vertices, 386)
+        with self.assertRaisesRegex(ValueError, "max_control_points must be 0 .no limit. or more, got -1"):
+            self.fitter.set_options(max_control_points=-1)
+
     def test_options_round_trip(self):
         self.assertTrue(self.fitter.options["reject_opposing_feet"])
         self.fitter.set_options(reject_opposing_feet=False, solver="cholesky", symmetry_plane=((0, 0, 0), (0, 0, 2)))

@@ -448,6 +448,10 @@ void checkOptions(const FitOptions& options, int vertexCount) {
     throw InvalidInputError("max_level must be 0 .. 10 (each level has 4 times the faces), got " +
                             std::to_string(options.maxLevel));
   }
+  if (options.maxControlPoints < 0) {
+    throw InvalidInputError("max_control_points must be 0 (no limit) or more, got " +
+                            std::to_string(options.maxControlPoints));
+  }
   if (options.maxCorrections < 0 || options.maxCorrections > kMaxCorrectionPasses) {
     throw InvalidInputError("max_corrections must be 0 .. " + std::to_string(kMaxCorrectionPasses) +
                             ", got " + std::to_string(options.maxCorrections));
@@ -539,6 +543,16 @@ void SurfaceFitter::setVertices(const RowMatrixX3d& vertices) {
   state_->dropGeometry();
 }
 
+std::string SurfaceFitter::overBudget() const {
+  const State& s = *state_;
+  // Catmull-Clark makes a point per vertex, edge and face.
+  const long long next = static_cast<long long>(s.mesh.numVertices()) + s.mesh.numEdges() + s.mesh.numFaces();
+  if (s.options.maxControlPoints == 0 || next <= s.options.maxControlPoints) return "";
+  return "level " + std::to_string(s.level + 1) + " would have " + std::to_string(next) +
+         " control points, more than max_control_points (" + std::to_string(s.options.maxControlPoints) +
+         ", the memory budget)";
+}
+
 void SurfaceFitter::subdivide() {
   State& s = *state_;
   // Each level has 4 times the faces: a workbench's Subdivide clicked on past the fit's own
@@ -547,6 +561,7 @@ void SurfaceFitter::subdivide() {
     throw InvalidInputError("the fit is at its max_level " + std::to_string(s.options.maxLevel) +
                             ": raise max_level (at most 10) to subdivide further");
   }
+  if (const std::string over = overBudget(); !over.empty()) throw InvalidInputError(over);
   SubdivisionResult refined = bvmesh::subdivide(s.mesh, s.options.subdivision);
   FeatureMap features = propagateFeatures(s.features, s.mesh, refined.mesh);
   const bool parentHints = s.haveHints;
@@ -690,6 +705,7 @@ const char* stopReasonName(StopReason reason) {
     case StopReason::MaxLevel: return "max_level";
     case StopReason::CheckFailed: return "check_failed";
     case StopReason::Cancelled: return "cancelled";
+    case StopReason::MemoryLimit: return "memory_limit";
   }
   return "max_level";
 }
@@ -776,6 +792,11 @@ FitSummary SurfaceFitter::run(const ProgressCallback& progress, const std::atomi
     }
     if (s.level >= s.options.maxLevel) return finish(samplesWithin ? StopReason::CheckFailed : StopReason::MaxLevel);
     if (cancelled()) return finish(StopReason::Cancelled);
+    if (const std::string over = overBudget(); !over.empty()) {
+      FitSummary stopped = finish(StopReason::MemoryLimit);
+      stopped.detail += "; " + over;
+      return stopped;
+    }
     subdivide();
     double levelBest = std::numeric_limits<double>::infinity();
     for (int pass = 0; pass < std::max(1, s.options.maxCorrections); ++pass) {

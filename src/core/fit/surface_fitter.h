@@ -53,6 +53,10 @@ struct FitOptions {
   double tolerance = 0.0;           // absolute max sample distance to reach; 0: relativeTolerance
   double relativeTolerance = 1e-5;  // of the target's bounding-box diagonal
   int maxLevel = 5;                 // subdivision levels at most
+  // A level whose control mesh would have more control points is not made (0: no limit): a memory
+  // budget (about 18 kB a control point at the M6's level 5), so that a tight tolerance stops the
+  // fit (StopReason::MemoryLimit) instead of running its process out of memory.
+  int maxControlPoints = 0;
   int maxCorrections = 4;           // parameter-correction passes per level at most
   // A pass whose max distance is above this fraction of the previous one ends the level's
   // corrections (stagnation); the run ends when a whole level stagnates like that.
@@ -109,10 +113,11 @@ struct PassRecord {
 };
 
 // Converged: the samples and the two-sided check (when checkSamplesPerFace > 0) are within the
-// tolerance. CheckFailed: the samples are, the check is not, and no level is left.
-enum class StopReason { Converged, Stagnated, MaxLevel, CheckFailed, Cancelled };
+// tolerance. CheckFailed: the samples are, the check is not, and no level is left. MemoryLimit:
+// the next level would pass maxControlPoints.
+enum class StopReason { Converged, Stagnated, MaxLevel, CheckFailed, Cancelled, MemoryLimit };
 
-// "converged", "stagnated", "max_level", "check_failed" or "cancelled".
+// "converged", "stagnated", "max_level", "check_failed", "cancelled" or "memory_limit".
 const char* stopReasonName(StopReason reason);
 
 struct FitSummary {
@@ -151,8 +156,11 @@ public:
   // Moves the control points (same topology), e.g. after a user edit.
   void setVertices(const RowMatrixX3d& vertices);
 
-  // Step 1: one subdivision level; features follow the children.
+  // Step 1: one subdivision level; features follow the children. Throws InvalidInputError past
+  // maxLevel or maxControlPoints.
   void subdivide();
+  // Why the next level may not be made within maxControlPoints ("level 4 would have ..."), or "".
+  std::string overBudget() const;
   // Step 2: limit samples of the current mesh (operators built once per level).
   const LimitSamples& computeLimitSamples();
   // Step 3: projection of the current limit samples onto the target, by sample kind.
