@@ -8,7 +8,7 @@
 Works in plain /usr/bin/python3 and in freecadcmd; the geometry is all in the compiled core.
 """
 
-from . import load_core
+from . import load_core, memory
 from .options import check_options
 
 # The level of a wing's wall its layers are marched from when the fit is finer (then carried onto
@@ -24,6 +24,12 @@ WING_MARCHING_LEVEL = 2
 # / 142 / 245 s); one level down took 0.5-2.7 s with cells as good or better. The M6's level 2 has
 # 2 837 points, its level 3 11 257 (docs/volume.md, "Layers marched from a coarser level").
 MARCHING_POINT_LIMIT = 4000
+
+# Peak memory per layer point (a marched front point in one layer) of the marching and its blocks
+# (about 220 bytes on the sphere's level-4 wall: 27 layers of 1 946 points), with room to spare:
+# offset_and_farfield and control_volume march no more layers times points than the free memory
+# holds (max_layer_points; 0 for no limit).
+BYTES_PER_LAYER_POINT = 512
 
 
 def marching_levels(level, points_per_level, point_limit=MARCHING_POINT_LIMIT, limit_name="marching_point_limit"):
@@ -79,7 +85,7 @@ def offset_and_farfield(fit_or_mesh, symmetry_plane=None, marching_wall=None, ma
     boundary_layer_layers, boundary_layer_growth, sharp_edge_splay, farfield_distance,
     farfield_growth, farfield_scheme ('hyperbolic', the default, or 'smoothed'), smoothing,
     min_scaled_jacobian, max_layers, knife_edge_fans: a sharp trailing edge cut open with a fan of
-    prisms round it, off by default).
+    prisms round it, off by default; max_layer_points, default from the free memory).
     Returns a bvmesh.VolumeMesh; raises ValueError (bvmesh.InvalidInputError) for a bad wall or
     option and bvmesh.SolverError when the marching would fold, naming where.
     """
@@ -100,6 +106,7 @@ def offset_and_farfield(fit_or_mesh, symmetry_plane=None, marching_wall=None, ma
         marching_wall, _ = _wall_of(marching_wall, symmetry_plane, "offset_and_farfield's marching_wall")
     core = load_core()
     check_options(core.generate_volume_mesh, "offset_and_farfield", options)
+    options.setdefault("max_layer_points", memory.budget(BYTES_PER_LAYER_POINT))
     return core.generate_volume_mesh(wall, symmetry_plane=symmetry_plane, marching_wall=marching_wall, **options)
 
 
@@ -118,6 +125,7 @@ def control_volume(fit_or_mesh, symmetry_plane=None, **options):
     wall, symmetry_plane = _wall_of(fit_or_mesh, symmetry_plane, "control_volume")
     core = load_core()
     check_options(core.control_volume_mesh, "control_volume", options)
+    options.setdefault("max_layer_points", memory.budget(BYTES_PER_LAYER_POINT))
     return core.control_volume_mesh(wall, symmetry_plane=symmetry_plane, **options)
 
 

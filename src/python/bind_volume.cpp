@@ -71,7 +71,8 @@ void defineMarchingFunction(py::module_& module, const char* name, Make make, co
              double farfieldDistance, double farfieldGrowth, double smoothing, double minScaledJacobian,
              int maxLayers, const std::string& domain, const py::object& boxHalfExtent,
              const py::object& flowDirection, const std::optional<ControlMesh>& marchingWall,
-             const py::object& domainCentre, const std::string& farfieldScheme, bool knifeEdgeFans) {
+             const py::object& domainCentre, const std::string& farfieldScheme, bool knifeEdgeFans,
+             long long maxLayerPoints) {
         volume::VolumeMeshOptions options;
         options.hasSymmetryPlane =
             planeOf(symmetryPlane, "symmetry_plane", options.planePoint, options.planeNormal);
@@ -98,6 +99,7 @@ void defineMarchingFunction(py::module_& module, const char* name, Make make, co
         options.farfieldScheme = volume::farfieldSchemeOf(farfieldScheme);
         options.minScaledJacobian = minScaledJacobian;
         options.maxLayers = maxLayers;
+        options.maxLayerPoints = maxLayerPoints;
         if (!marchingWall) return make(surface::toQuadControlMesh(wall), options, nullptr);
         const surface::QuadControlMesh coarse = surface::toQuadControlMesh(*marchingWall);
         return make(surface::toQuadControlMesh(wall), options, &coarse);
@@ -110,7 +112,8 @@ void defineMarchingFunction(py::module_& module, const char* name, Make make, co
       py::arg("min_scaled_jacobian") = 0.05, py::arg("max_layers") = 400, py::arg("domain") = "sphere",
       py::arg("box_half_extent") = py::none(), py::arg("flow_direction") = std::vector<double>{1.0, 0.0, 0.0},
       py::arg("marching_wall") = py::none(), py::arg("domain_centre") = py::none(),
-      py::arg("farfield_scheme") = "hyperbolic", py::arg("knife_edge_fans") = false, doc);
+      py::arg("farfield_scheme") = "hyperbolic", py::arg("knife_edge_fans") = false,
+      py::arg("max_layer_points") = 0, doc);
 }
 
 }  // namespace
@@ -269,7 +272,9 @@ farfield_distance (0: 20 L), 'box' of half sizes box_half_extent (x, y, z; farfi
 blocks' outer faces are 'farfield' on a sphere, else 'inlet' / 'outlet' / 'side' by where they face
 the flow. marching_wall: the same fit at a coarser level (wall is its control mesh subdivided and
 refitted); the layers are marched from it and carried onto wall, whose charts are the blocks' wall
-faces. Returns a VolumeMesh; its .blocks is a BlockMesh with one block per wall patch.)doc");
+faces. max_layer_points (0: no limit): more layers times marched points is refused (ValueError) once
+the layer count is known, before the far field is marched (bvmesh.volume sets it from the free
+memory). Returns a VolumeMesh; its .blocks is a BlockMesh with one block per wall patch.)doc");
 
   py::class_<volume::ControlVolume>(module, "ControlVolume",
                                     "The volume control mesh marched from a fit's own control mesh (control_volume_mesh).")

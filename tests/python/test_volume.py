@@ -256,6 +256,27 @@ class SphereVolume(unittest.TestCase):
         with self.assertRaisesRegex(ValueError, "far-field scheme must be 'smoothed' or 'hyperbolic', got 'elliptic'"):
             bvmesh.volume.offset_and_farfield(self.fitter, farfield_scheme="elliptic")
 
+    def test_layers_beyond_the_memory_budget_are_refused_before_the_far_field(self):
+        # Every layer keeps a copy of the front: 2000 layers (a far-field growth of 1.0001) of a
+        # large wall ran the session out of memory. The layer count times the marched points is held
+        # to max_layer_points, by default what the free memory holds (volume.BYTES_PER_LAYER_POINT).
+        # The marched front is the wall's chart grid, not its control mesh: its size from the message.
+        options = dict(boundary_layer_thickness=0.05, boundary_layer_layers=4, farfield_distance=20.0)
+        with self.assertRaises(ValueError) as refused:
+            bvmesh.volume.offset_and_farfield(self.fitter, max_layer_points=1, **options)
+        found = re.search(r"marching (\d+) layers of (\d+) points \((\d+) layer points\) is more than "
+                          r"max_layer_points \(1, the memory budget\): march from a coarser level", str(refused.exception))
+        self.assertIsNotNone(found, str(refused.exception))
+        layers, points, layer_points = map(int, found.groups())
+        self.assertEqual(layers, len(self.result.layer_distance) - 1)
+        self.assertEqual(layer_points, (layers + 1) * points)
+        bvmesh.volume.offset_and_farfield(self.fitter, max_layer_points=layer_points, **options)
+        with self.assertRaisesRegex(ValueError, r"max_layer_points \({}, the memory budget\)".format(layer_points - 1)):
+            bvmesh.volume.offset_and_farfield(self.fitter, max_layer_points=layer_points - 1, **options)
+        with self.assertRaisesRegex(ValueError, "max_layer_points must be 0 .no limit. or more, got -1"):
+            bvmesh.volume.offset_and_farfield(self.fitter, max_layer_points=-1, **options)
+        self.assertGreater(bvmesh.memory.budget(bvmesh.volume.BYTES_PER_LAYER_POINT), 1_000_000)
+
 
 
 DATA = os.environ.get("BVMESH_TEST_DATA_DIR") or os.path.join(os.path.dirname(__file__), "..", "data")

@@ -120,6 +120,15 @@ class Marcher {
                               std::to_string(options_.maxLayers) +
                               "): raise the far-field growth or max_layers");
     }
+    const double layerPoints = static_cast<double>(nBl + nFar + 1) * static_cast<double>(front_.points.rows());
+    if (options_.maxLayerPoints > 0 && layerPoints > static_cast<double>(options_.maxLayerPoints)) {
+      throw InvalidInputError("marching " + std::to_string(nBl + nFar) + " layers of " +
+                              std::to_string(front_.points.rows()) + " points (" + numberText(layerPoints) +
+                              " layer points) is more than max_layer_points (" +
+                              std::to_string(options_.maxLayerPoints) +
+                              ", the memory budget): march from a coarser level of the wall, or with fewer layers "
+                              "(a larger far-field growth)");
+    }
     const double scale = remaining * (g - 1.0) / (first * (std::pow(g, nFar) - 1.0));
     double step = first * scale;
     // Marching directions remember the previous layer's: at a sharp convex edge (a trailing edge)

@@ -100,6 +100,9 @@ struct MarchingOptions {
   HyperbolicOptions hyperbolic;     // its explicit and implicit smoothing are scaled by `smoothing`
   double minScaledJacobian = 0.05;  // a layer with a cell below this is marched again with more smoothing
   int maxLayers = 400;
+  // Layers times front points at most (0: no limit), checked once the layer count is known, before
+  // the far field is marched: a memory budget (about 220 bytes a layer point with the blocks).
+  long long maxLayerPoints = 0;
 };
 
 struct MarchingResult {

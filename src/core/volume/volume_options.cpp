@@ -117,6 +117,10 @@ ResolvedVolumeOptions resolveVolumeOptions(const VolumeMeshOptions& options, con
     throw InvalidInputError("max_layers must be in [2, " + std::to_string(kMaxControlLayers) + "], got " +
                             std::to_string(options.maxLayers));
   }
+  if (options.maxLayerPoints < 0) {
+    throw InvalidInputError("max_layer_points must be 0 (no limit) or more, got " +
+                            std::to_string(options.maxLayerPoints));
+  }
   if (!(options.reynoldsNumber >= 1e3 && options.reynoldsNumber <= 1e10)) {
     throw InvalidInputError("Reynolds number must be in [1e3, 1e10], got " +
                             numberText(options.reynoldsNumber));
@@ -207,6 +211,7 @@ ResolvedVolumeOptions resolveVolumeOptions(const VolumeMeshOptions& options, con
   marching.farfieldScheme = options.farfieldScheme;
   marching.minScaledJacobian = options.minScaledJacobian;
   marching.maxLayers = options.maxLayers;
+  marching.maxLayerPoints = options.maxLayerPoints;
   return result;
 }
 

@@ -44,6 +44,7 @@ struct VolumeMeshOptions {
   FarfieldScheme farfieldScheme = FarfieldScheme::Hyperbolic;  // MarchingOptions::farfieldScheme
   double minScaledJacobian = 0.05;
   int maxLayers = 400;  // at most kMaxControlLayers
+  long long maxLayerPoints = 0;  // MarchingOptions::maxLayerPoints
   // The domain's centre when given (a flow domain's CAD: bvmesh's splitFlowDomain), else the
   // wall's bounding-box centre; on the symmetry plane of a half model.
   std::optional<Eigen::Vector3d> domainCentre;
