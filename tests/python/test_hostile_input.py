@@ -12,7 +12,7 @@ import unittest
 
 import numpy as np
 
-import FreeCAD  # noqa: F401  -- Part needs it loaded first
+import FreeCAD  # Part needs it loaded first
 import Part
 
 import bvmesh
@@ -354,6 +354,15 @@ class TemplatesOnUnsuitableTargets(unittest.TestCase):
         plate = bvmesh.Target.from_brep(Part.makePlane(10, 10).exportBrepToString())
         for name in ("box", "sphere", "capsule", "cylinder"):
             self.assertPlacementRefused(plate, name, r"the target is flat: it is 14.1 across but only 0 thick")
+
+    def test_separate_bodies_are_named(self):
+        # Two spheres in one file: the sphere template was stretched over both (the fit stagnated
+        # 1.27 from them, the volume mesh folded).
+        pair = Part.makeCompound([Part.makeSphere(1.0), Part.makeSphere(1.0, FreeCAD.Vector(5, 0, 0))])
+        target = bvmesh.Target.from_brep(pair.exportBrepToString())
+        for name in ("sphere", "capsule"):
+            self.assertPlacementRefused(target, name, r"it is 2 separate bodies \(1 face from face 0, 1 face from "
+                                                      r"face 1\) that share no edge")
 
     def test_a_needle_is_named_a_line(self):
         needle = bvmesh.Target.from_brep(Part.makeCylinder(1e-7, 10).exportBrepToString())

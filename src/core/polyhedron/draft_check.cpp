@@ -51,6 +51,41 @@ void checkTargetHasVolume(const std::string& templateName, const PrincipalFrame&
                           "; a template encloses a body, so the target must be the faces of a body with volume");
 }
 
+void checkTargetIsOneBody(const std::string& templateName, const target::Target& target) {
+  const target::TargetReport& report = target.report();
+  if (!report.freeEdges.empty()) return;
+  const cad::ShapeSummary& shape = report.shape;
+  // Union-find over the faces, joined by the edges they share.
+  std::vector<int> parent(static_cast<std::size_t>(shape.faceCount()));
+  for (std::size_t f = 0; f < parent.size(); ++f) parent[f] = static_cast<int>(f);
+  const auto root = [&parent](int f) {
+    while (parent[static_cast<std::size_t>(f)] != f) f = parent[static_cast<std::size_t>(f)];
+    return f;
+  };
+  for (const cad::EdgeInfo& edge : shape.edges) {
+    for (std::size_t k = 1; k < edge.faces.size(); ++k) {
+      parent[static_cast<std::size_t>(root(edge.faces[k]))] = root(edge.faces[0]);
+    }
+  }
+  std::map<int, std::vector<int>> bodies;  // root -> its faces
+  for (int f = 0; f < shape.faceCount(); ++f) bodies[root(f)].push_back(f);
+  if (bodies.size() <= 1) return;
+  std::string groups;
+  for (const auto& [first, faces] : bodies) {
+    if (!groups.empty()) groups += ", ";
+    groups += std::to_string(faces.size()) + (faces.size() == 1 ? " face" : " faces") + " from face " +
+              std::to_string(faces.front());
+    if (groups.size() > 200) {
+      groups += ", ...";
+      break;
+    }
+  }
+  throw InvalidInputError("template '" + templateName + "' cannot be placed on this target: it is " +
+                          std::to_string(bodies.size()) + " separate bodies (" + groups +
+                          ") that share no edge; a template encloses one body, so fit each body with a target "
+                          "of its own faces");
+}
+
 void checkCornersOnDistinctVertices(const std::string& templateName, const std::vector<int>& vertexCadVertex,
                                     const target::Target& target) {
   std::map<int, int> cornerAt;  // target vertex -> the first corner mapped to it

@@ -26,6 +26,12 @@ std::string placementFailure(const std::string& templateName, const std::string&
 // frame: principalFrame(target).
 void checkTargetHasVolume(const std::string& templateName, const PrincipalFrame& frame, const target::Target& target);
 
+// Throws InvalidInputError "template '<name>' cannot be placed on this target: it is 2 separate
+// bodies ..." when a watertight target's faces fall apart into groups that share no edge (two
+// spheres in one file): a template encloses one body, and stretched over two it fits neither. A
+// target with free edges is not judged (faces read unsewn share no edges either).
+void checkTargetIsOneBody(const std::string& templateName, const target::Target& target);
+
 // Throws InvalidInputError when two corners map to the same target vertex (vertexCadVertex: per
 // mesh vertex, -1 for none): improving moves both onto it, and the faces or crease chain between
 // them collapse. Named in terms of the target: "it has 2 vertices for the template's 8 corners:

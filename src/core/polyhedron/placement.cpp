@@ -115,6 +115,7 @@ PlacedPolyhedron placeTemplate(const PolyhedronTemplate& polyhedronTemplate, con
   std::optional<WingPlanform> planform;
   const PrincipalFrame frame = principalFrame(target);
   checkTargetHasVolume(polyhedronTemplate.name, frame, target);
+  checkTargetIsOneBody(polyhedronTemplate.name, target);
   Draft draft;
   switch (polyhedronTemplate.generator) {
     case Generator::Box:
