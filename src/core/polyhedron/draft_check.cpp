@@ -6,6 +6,7 @@
 #include <cstdio>
 #include <map>
 
+#include "core/common/disjoint_sets.h"
 #include "core/common/errors.h"
 
 namespace bvmesh::polyhedron {
@@ -55,20 +56,13 @@ void checkTargetIsOneBody(const std::string& templateName, const target::Target&
   const target::TargetReport& report = target.report();
   if (!report.freeEdges.empty()) return;
   const cad::ShapeSummary& shape = report.shape;
-  // Union-find over the faces, joined by the edges they share.
-  std::vector<int> parent(static_cast<std::size_t>(shape.faceCount()));
-  for (std::size_t f = 0; f < parent.size(); ++f) parent[f] = static_cast<int>(f);
-  const auto root = [&parent](int f) {
-    while (parent[static_cast<std::size_t>(f)] != f) f = parent[static_cast<std::size_t>(f)];
-    return f;
-  };
+  // The faces joined by the edges they share.
+  DisjointSets joined(static_cast<std::size_t>(shape.faceCount()));
   for (const cad::EdgeInfo& edge : shape.edges) {
-    for (std::size_t k = 1; k < edge.faces.size(); ++k) {
-      parent[static_cast<std::size_t>(root(edge.faces[k]))] = root(edge.faces[0]);
-    }
+    for (std::size_t k = 1; k < edge.faces.size(); ++k) joined.join(edge.faces[k], edge.faces[0]);
   }
   std::map<int, std::vector<int>> bodies;  // root -> its faces
-  for (int f = 0; f < shape.faceCount(); ++f) bodies[root(f)].push_back(f);
+  for (int f = 0; f < shape.faceCount(); ++f) bodies[joined.find(f)].push_back(f);
   if (bodies.size() <= 1) return;
   std::string groups;
   for (const auto& [first, faces] : bodies) {
