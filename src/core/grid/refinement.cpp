@@ -90,14 +90,20 @@ double firstCellHeight(const RefinementOptions& options) {
              : 0.0;
 }
 
-// Points of the grid the plans size (`normalPoints` along wall-normal directions), counted in
-// floating point: a count asked far beyond any machine must not overflow before it is refused.
+// A block's grid size: the plan's, with `normalPoints` along its wall-normal direction.
+std::array<int, 3> plannedSize(const BlockPlan& plan, int normalPoints) {
+  std::array<int, 3> size = plan.size;
+  if (plan.normalDirection >= 0) size[static_cast<size_t>(plan.normalDirection)] = normalPoints;
+  return size;
+}
+
+// Points of the grid the plans size, counted in floating point: a count asked far beyond any
+// machine must not overflow before it is refused.
 double plannedPoints(const std::vector<BlockPlan>& plans, int normalPoints) {
   double points = 0.0;
   for (const BlockPlan& plan : plans) {
-    double blockPoints = 1.0;
-    for (int d = 0; d < 3; ++d) blockPoints *= d == plan.normalDirection ? normalPoints : plan.size[static_cast<size_t>(d)];
-    points += blockPoints;
+    const std::array<int, 3> size = plannedSize(plan, normalPoints);
+    points += static_cast<double>(size[0]) * size[1] * size[2];
   }
   return points;
 }
@@ -109,9 +115,7 @@ std::vector<GridBlock> sizedGrids(const std::vector<volume::Block>& blocks,
   std::vector<GridBlock> grids(blocks.size());
   for (size_t b = 0; b < blocks.size(); ++b) {
     GridBlock& grid = grids[b];
-    grid.size = plans[b].size;
-    if (plans[b].normalDirection >= 0)
-      grid.size[static_cast<size_t>(plans[b].normalDirection)] = normalPoints;
+    grid.size = plannedSize(plans[b], normalPoints);
     grid.faces = blocks[b].faces;
     grid.points.resize(grid.pointCount(), 3);
   }
