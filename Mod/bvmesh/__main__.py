@@ -25,6 +25,10 @@ on PYTHONPATH; scripts/setup.sh sets that up).
                   Richardson extrapolation, observed order and grid convergence index of CL,
                   CD and CM over three runs of one grid family (bvmesh.grid_convergence), from
                   their --report folders
+
+Exit status: 0 done; 1 bad input or a failed step (the message says which); 2 (example, mesh)
+every file written, but the fit stopped above its tolerance or checkMesh failed a check: a
+warning line says which.
 """
 
 import argparse
@@ -119,11 +123,11 @@ def _mesh(args):
         raise ValueError("the rans preset needs --reynolds (its first cell comes from a y+ of 1)")
     formats = [f.strip() for f in args.formats.split(",") if f.strip()]
     _info(args.cad, 30.0)
-    pipeline.run(args.cad, args.output, args.template, name=args.name, template_parameters=parameters,
-                 half_model=args.half_model, reference_length=args.reference_length,
-                 relative_tolerance=args.tolerance, max_level=args.max_level, reynolds_number=args.reynolds,
-                 volume=not args.surface_only, preset=args.preset, target_cells=args.target_cells, formats=formats,
-                 volume_options=volume_options, grid_options=grid_options)
+    return pipeline.run(args.cad, args.output, args.template, name=args.name, template_parameters=parameters,
+                        half_model=args.half_model, reference_length=args.reference_length,
+                        relative_tolerance=args.tolerance, max_level=args.max_level, reynolds_number=args.reynolds,
+                        volume=not args.surface_only, preset=args.preset, target_cells=args.target_cells,
+                        formats=formats, volume_options=volume_options, grid_options=grid_options)
 
 
 def _run_and_report(case, args):
@@ -266,13 +270,14 @@ def main(argv=None):
         sys.path.append(FREECAD_LIB)
     from bvmesh import InvalidInputError, SolverError, paths
 
+    outcome = None
     try:
         if args.command == "info":
             _info(args.file, args.sharp_angle, not args.no_sew, args.sew_tolerance)
         elif args.command == "openfoam-case":
             _openfoam_case(args)
         elif args.command == "mesh":
-            _mesh(args)
+            outcome = _mesh(args)
         elif args.command == "grid-convergence":
             from bvmesh import grid_convergence
 
@@ -281,11 +286,19 @@ def main(argv=None):
             from bvmesh import example as main_job
 
             _info(paths.EXAMPLE_WING, 30.0)
-            main_job.run(args.output, max_level=args.max_level, volume=not args.surface_only,
-                         grid_method=args.grid_method, subdivision_steps=args.subdivision_steps)
+            outcome = main_job.run(args.output, max_level=args.max_level, volume=not args.surface_only,
+                                   grid_method=args.grid_method, subdivision_steps=args.subdivision_steps)
     except (InvalidInputError, SolverError, ValueError, RuntimeError, OSError) as error:
         print("bvmesh: {}".format(error), file=sys.stderr)
         return 1
+    if outcome is not None:
+        from bvmesh import pipeline
+
+        unmet = pipeline.unmet_goals(outcome)
+        for goal in unmet:
+            print("bvmesh: warning: {}".format(goal), file=sys.stderr)
+        if unmet:
+            return 2
     return 0
 
 

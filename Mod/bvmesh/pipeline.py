@@ -300,8 +300,9 @@ def run(cad_path, output_dir, template, name=None, title=None, template_paramete
         preset="euler", target_cells=1_000_000, formats=DEFAULT_FORMATS, cut=None, log=print,
         grid_method="bspline", subdivision_steps=1, file_names=None, volume_options=None, grid_options=None):
     """Runs the whole job on the CAD file and returns a dict: 'files' (what was written, by kind),
-    the fit's 'stop_reason', 'level', 'max_distance', the 'reference_length', and with the volume
-    stage its objects and 'check_mesh'. file_names: a file's name by kind instead of the NAME-based
+    the fit's 'stop_reason', 'stop_detail', 'level', 'max_distance', the 'reference_length' and the
+    fit's 'tolerance', and with the volume stage its objects and 'check_mesh' (unmet_goals() says
+    what of these missed). file_names: a file's name by kind instead of the NAME-based
     one (e.g. {'cut': 'M6_cut_eta044.png'}). volume_options, grid_options: as run_volume takes
     them. template: a polyhedron template's name
     (bvmesh.polyhedra.template_names()) with its parameters; the fit's tolerance is
@@ -354,8 +355,8 @@ def run(cad_path, output_dir, template, name=None, title=None, template_paramete
         api.export_step(shell, files["step"])
         api.plot_convergence(fit, files["plot"], title=title)
         log("surface stage: {:.1f} s".format(time.time() - started))
-        outcome = {"files": files, "stop_reason": fit.StopReason, "level": fit.Level,
-                   "max_distance": fit.HistoryMax[-1], "reference_length": length}
+        outcome = {"files": files, "stop_reason": fit.StopReason, "stop_detail": fit.StopDetail, "level": fit.Level,
+                   "max_distance": fit.HistoryMax[-1], "reference_length": length, "tolerance": tolerance}
         try:
             if volume:
                 files.update({kind: os.path.join(output_dir, name + ending) for kind, ending in FORMAT_ENDINGS.items()
@@ -384,6 +385,22 @@ def run(cad_path, output_dir, template, name=None, title=None, template_paramete
         return outcome
     finally:
         FreeCAD.closeDocument(doc.Name)
+
+
+def unmet_goals(outcome):
+    """What a finished run of run() missed, one sentence each: the fit stopped before its
+    tolerance, or checkMesh found a failed check. Empty when the surface is within its tolerance
+    and checkMesh says "Mesh OK." (or did not run). The files are written either way; a batch run
+    learns of these from the mesh command's exit status 2."""
+    unmet = []
+    if outcome["stop_reason"] != "converged":
+        unmet.append("the fit stopped as {}: {}".format(
+            outcome["stop_reason"], outcome["stop_detail"] or "at level {}, above its tolerance {:.3g}".format(
+                outcome["level"], outcome["tolerance"])))
+    verdict = outcome.get("check_mesh")
+    if verdict and verdict != "Mesh OK." and not verdict.startswith("checkMesh not installed"):
+        unmet.append("checkMesh on the OpenFOAM case: {}".format(verdict))
+    return unmet
 
 
 def _show_final_objects(doc, final):

@@ -1,6 +1,8 @@
 """`python3 -m bvmesh mesh`: the whole job on any CAD file, as a batch run would call it. The
 body of a flow domain's file in every solver format, a closed body as a whole, a half model's
-surface with a template parameter, and bad input refused with a message and exit status 1."""
+surface with a template parameter, and bad input refused with a message and exit status 1; a
+run whose fit stops above its tolerance writes every file and ends with a warning and exit
+status 2."""
 
 import os
 import re
@@ -45,7 +47,11 @@ class FlowDomainInEveryFormat(unittest.TestCase):
         return os.path.join(self.output, name)
 
     def test_runs_and_writes_every_file(self):
-        self.assertEqual(self.done.returncode, 0, self.done.stderr)
+        # Level 2 is above the 1e-5 tolerance: every file is written, and the exit status and a
+        # warning tell a batch run so.
+        self.assertEqual(self.done.returncode, 2, self.done.stderr)
+        self.assertRegex(self.done.stderr, r"^bvmesh: warning: the fit stopped as max_level: at level 2: samples up to "
+                                           r"[0-9.e-]+ from the target, above the tolerance 0.0001;")
         for name in ("hemisph-cyl.FCStd", "hemisph-cyl_surface.step", "hemisph-cyl_convergence.png",
                      "hemisph-cyl_report.md", "hemisph-cyl_volume_report.md", "hemisph-cyl_cut.png",
                      "hemisph-cyl_quality.png", "hemisph-cyl.cgns", "hemisph-cyl.xyz", "hemisph-cyl.vtm",
@@ -101,6 +107,7 @@ class ClosedBodyAsAWhole(unittest.TestCase):
         done = mesh(cad, "--template", "sphere", "--output", output, "--max-level", "3", "--tolerance", "1e-3",
                     "--target-cells", "20000", "--formats", "openfoam")
         self.assertEqual(done.returncode, 0, done.stderr)
+        self.assertEqual(done.stderr, "")
         report = read(os.path.join(output, "ball_report.md"))
         self.assertIn("Target: all 1 faces of the CAD; reference length 2;", report)
         self.assertIn("closed shells: 1, free edges: 0", report)
@@ -110,6 +117,19 @@ class ClosedBodyAsAWhole(unittest.TestCase):
         self.assertIn("checkMesh on ball_openfoam: Mesh OK.", volume_report)
         self.assertIn("Cells with a non-positive scaled Jacobian: 0;", volume_report)
         self.assertFalse(os.path.exists(os.path.join(output, "ball.cgns")))
+
+    def test_a_grid_that_checkmesh_fails_is_written_with_a_warning(self):
+        # y+ 1 at Re 1e7 on 20 000 cells: wall cells some 35 000 times wider than high, which
+        # checkMesh's default checks fail. The files are there; the exit status says it.
+        cad, output = self.ball()
+        done = mesh(cad, "--template", "sphere", "--output", output, "--max-level", "3", "--tolerance", "1e-3",
+                    "--target-cells", "20000", "--formats", "openfoam", "--preset", "rans", "--reynolds", "1e7")
+        self.assertEqual(done.returncode, 2, done.stderr)
+        self.assertRegex(done.stderr, r"^bvmesh: warning: checkMesh on the OpenFOAM case: \*\*\*High aspect ratio "
+                                      r"cells found, Max aspect ratio: [0-9.]+, number of cells \d+\n$")
+        self.assertTrue(os.path.isfile(os.path.join(output, "ball_openfoam", "constant", "polyMesh", "owner")))
+        self.assertIn("checkMesh on ball_openfoam: ***High aspect ratio cells found",
+                      read(os.path.join(output, "ball_volume_report.md")))
 
     def test_volume_and_grid_options_reach_their_objects(self):
         # A box domain facing a flow 0.1 rad off x, 9 points on every tangential edge and 33 on
@@ -135,7 +155,7 @@ class HalfModelSurface(unittest.TestCase):
         done = mesh(os.path.join(DATA, "AileM6_with_sharp_TE.stp"), "--template", "half_wing", "--half-model",
                     "--template-parameter", "tip_kinks=follow", "--output", output, "--name", "wing",
                     "--max-level", "1", "--surface-only")
-        self.assertEqual(done.returncode, 0, done.stderr)
+        self.assertEqual(done.returncode, 2, done.stderr)  # level 1 is above the tolerance
         report = read(os.path.join(output, "wing_report.md"))
         # The root face is left out and its largest extent, the root chord, is the reference length.
         match = re.search(r"Target: the CAD's faces without Face(\d+), its symmetry-plane face; reference length "
@@ -162,7 +182,7 @@ class WingInItsFlowDomain(unittest.TestCase):
         output = tempfile.mkdtemp(prefix="bvmesh-mesh-m6-domain-")
         done = mesh(os.path.join(DATA, "onera-m6-sharp-te.stp"), "--template", "half_wing", "--output", output,
                     "--name", "wing", "--max-level", "1", "--surface-only")
-        self.assertEqual(done.returncode, 0, done.stderr)
+        self.assertEqual(done.returncode, 2, done.stderr)  # level 1 is above the tolerance
         report = read(os.path.join(output, "wing_report.md"))
         match = re.search(r"Target: the body inside the CAD's flow domain \(sphere, 10 faces\); reference length "
                           r"([0-9.]+);", report)
