@@ -66,10 +66,27 @@ class SimpleBodiesTest(unittest.TestCase):
 
     def test_ellipsoid_of_two_to_one(self):
         # The plain cube left the tips under one face each: the fit stagnated 0.36 from the target
-        # and the boundary layer folded on the bad wall.
+        # and the boundary layer folded on the bad wall. Then a 2 x 1 x 1 lattice (12 vertices):
+        # fit to 3.4e-3 at level 3, minimum scaled Jacobian 0.400.
         placed, quality = self.mesh(ellipsoid(2, 1, 1), "sphere", 4.0)
-        self.assertEqual(placed["mesh"].num_vertices, 12)  # a 2 x 1 x 1 lattice
-        self.check_grid(quality, 0.3)  # measured 0.400 (fit to 3.4e-3 at level 3)
+        self.assertEqual(placed["parameters"]["segments"], "2")  # not round: two across its shortest axis
+        self.assertEqual(placed["mesh"].num_vertices, 42)  # a 4 x 2 x 2 lattice
+        self.check_grid(quality, 0.7)  # measured 0.794 (fit to 1.3e-5 at level 3)
+
+    def test_elongated_and_flat_ellipsoids(self):
+        # With one segment across its shortest axis a 3:1:1 ellipsoid's fit stopped 0.15 from the
+        # target and a 3:3:1's 0.026, and both folded in the boundary layer's first layer.
+        for axes, vertices, measured in (((3, 1, 1), 58, 0.734), ((3, 3, 1), 122, 0.755)):
+            with self.subTest(axes=axes):
+                placed, quality = self.mesh(ellipsoid(*axes), "sphere", 2.0 * max(axes))
+                self.assertEqual(placed["parameters"]["segments"], "2")
+                self.assertEqual(placed["mesh"].num_vertices, vertices)
+                self.check_grid(quality, measured - 0.1)
+
+    def test_sphere_keeps_the_plain_cube(self):
+        placed, fitter, _ = fitted(Part.makeSphere(1.0), "sphere", 1)
+        self.assertEqual(placed["parameters"]["segments"], "1")
+        self.assertEqual(placed["mesh"].num_vertices, 8)
 
     def test_cylinder(self):
         self.check_grid(self.mesh(Part.makeCylinder(0.5, 3), "cylinder", 3.0)[1], 0.5)  # measured 0.597

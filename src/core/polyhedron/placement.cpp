@@ -80,13 +80,28 @@ Draft buildBox(const TemplateValues& values, const target::Target& target,
   return draft;
 }
 
-Draft buildSphere(const TemplateValues& values, const target::Target& target) {
+// Segments along the shortest axis of a sphere template left at 0: the thesis' plain cube on a
+// round body; 2 on a body whose longest extent is kRoundBodyRatio times its shortest or more.
+// With one segment across, an elongated or flat body's tips lie under the middle of a coarse
+// face: from 3:1:1, 3:3:1 and 3:2:1 ellipsoids on, the fit stagnated or stopped 0.4-5 % of the
+// length from the target and the boundary layer folded; with 2 every one of them to 6:3:1 fits and
+// marches (docs/templates.md).
+int sphereShortestSegments(const PrincipalFrame& frame, int given) {
+  constexpr double kRoundBodyRatio = 1.2;
+  if (given > 0) return given;
+  const Vec extent = frame.high - frame.low;
+  return extent.maxCoeff() < kRoundBodyRatio * extent[2] ? 1 : 2;
+}
+
+Draft buildSphere(const TemplateValues& values, const target::Target& target,
+                  std::map<std::string, std::string>& used) {
   const PrincipalFrame frame = principalFrame(target);
   // Segments in proportion to the extents: the plain cube on a 2 x 1 x 1 ellipsoid left its tips
   // under one face each, far inside, and the fit stagnated 0.4 from the target.
+  const int shortest = sphereShortestSegments(frame, values.integer("segments"));
+  used["segments"] = std::to_string(shortest);
   std::array<int, 3> n{};
-  for (int axis = 0; axis < 3; ++axis)
-    n[static_cast<size_t>(axis)] = segmentsByExtent(frame, axis, values.integer("segments"));
+  for (int axis = 0; axis < 3; ++axis) n[static_cast<size_t>(axis)] = segmentsByExtent(frame, axis, shortest);
   const Lattice lattice = latticeSurface(n, {true, true, true, true, true, true});
   const Vec mid = frameMid(frame);
   const Vec half = 0.5 * (frame.high - frame.low);
@@ -122,7 +137,7 @@ PlacedPolyhedron placeTemplate(const PolyhedronTemplate& polyhedronTemplate, con
       draft = buildBox(values, target, used);
       break;
     case Generator::Sphere:
-      draft = buildSphere(values, target);
+      draft = buildSphere(values, target, used);
       break;
     case Generator::Revolution:
       draft = buildRevolution(values, target, curves, plane, used);
