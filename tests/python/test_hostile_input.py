@@ -364,6 +364,18 @@ class TemplatesOnUnsuitableTargets(unittest.TestCase):
             self.assertPlacementRefused(target, name, r"it is 2 separate bodies \(1 face from face 0, 1 face from "
                                                       r"face 1\) that share no edge")
 
+    def test_a_filleted_box_under_the_box_template_is_pointed_to_one_without_creases(self):
+        # All its edges rounded: the box's 12 crease chains and 8 corners were listed one by one,
+        # each "maps to no CAD sharp curve", with nothing said of what would fit.
+        box = Part.makeBox(2, 2, 1)
+        rounded = bvmesh.Target.from_brep(box.makeFillet(0.2, box.Edges).exportBrepToString())
+        with self.assertRaises(polyhedra.UnmappedFeatureError) as caught:
+            polyhedra.place_template(rounded, "box")
+        self.assertIn("template 'box': unmapped features\nthe target has no sharp edges (all its edges are smooth, "
+                      "as on a filleted body) for the 12 crease chains of this polyhedron: a template without "
+                      "creases fits it (sphere; capsule or fuselage with round ends)\n", str(caught.exception))
+        self.assertEqual(polyhedra.place("sphere", rounded)["parameters"]["segments"], "2")
+
     def test_a_needle_is_named_a_line(self):
         needle = bvmesh.Target.from_brep(Part.makeCylinder(1e-7, 10).exportBrepToString())
         self.assertPlacementRefused(needle, "cylinder", r"the target is a line: it is 10 long")

@@ -381,6 +381,18 @@ FeatureMapping mapFeatures(const ControlMesh& mesh, const target::Target& target
 
 std::string FeatureMapping::describeUnmapped() const {
   std::ostringstream out;
+  const auto withoutSharpCurves = [&](int c) {
+    return chains[static_cast<size_t>(c)].kind == FeatureCurveKind::Sharp &&
+           chainMappings[static_cast<size_t>(c)].nearestCurve < 0;
+  };
+  const auto creaseChains = std::count_if(unmappedChains.begin(), unmappedChains.end(), withoutSharpCurves);
+  if (creaseChains > 0) {
+    // A body whose edges are all rounded (a filleted box) under a creased template: say what to
+    // do before the list of every chain and corner.
+    out << "the target has no sharp edges (all its edges are smooth, as on a filleted body) for the " << creaseChains
+        << " crease chain" << (creaseChains == 1 ? "" : "s")
+        << " of this polyhedron: a template without creases fits it (sphere; capsule or fuselage with round ends)\n";
+  }
   for (int c : unmappedChains) {
     const ChainMapping& m = chainMappings[static_cast<size_t>(c)];
     const MeshFeatureChain& chain = chains[static_cast<size_t>(c)];
