@@ -1,7 +1,11 @@
 #include <gtest/gtest.h>
 
 #include <BRepAdaptor_Surface.hxx>
+#include <BRepAlgoAPI_Cut.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCylinder.hxx>
+#include <BRepPrimAPI_MakeSphere.hxx>
+#include <BRepPrimAPI_MakeTorus.hxx>
 #include <BRepTools.hxx>
 #include <GeomAbs_SurfaceType.hxx>
 #include <TopExp.hxx>
@@ -181,6 +185,25 @@ TEST(ShapeSummary, BoxHasTwelveSharpEdges) {
   ShapeSummaryOptions options;
   options.sharpAngleDegrees = 91.0;
   EXPECT_EQ(summarizeShape(BRepPrimAPI_MakeBox(1.0, 2.0, 3.0).Shape(), options).countEdges(EdgeKind::Sharp), 0);
+}
+
+// 2 - 2 genus, whatever the faces: periodic ones with seams, a sphere's degenerate poles, annular
+// faces with a hole each.
+TEST(ShapeSummary, EulerCharacteristicCountsTheHolesThroughTheBody) {
+  const auto characteristic = [](const TopoDS_Shape& shape) { return summarizeShape(shape).eulerCharacteristic(); };
+  EXPECT_EQ(characteristic(BRepPrimAPI_MakeBox(1.0, 2.0, 3.0).Shape()), 2);
+  EXPECT_EQ(characteristic(BRepPrimAPI_MakeSphere(1.0).Shape()), 2);
+  EXPECT_EQ(characteristic(BRepPrimAPI_MakeCylinder(1.0, 2.0).Shape()), 2);
+  EXPECT_EQ(characteristic(BRepPrimAPI_MakeTorus(2.0, 0.5).Shape()), 0);
+  const TopoDS_Shape tube =
+      BRepAlgoAPI_Cut(BRepPrimAPI_MakeCylinder(1.0, 2.0).Shape(), BRepPrimAPI_MakeCylinder(0.3, 2.0).Shape()).Shape();
+  EXPECT_EQ(characteristic(tube), 0);
+  const TopoDS_Shape plate = BRepPrimAPI_MakeBox(4.0, 2.0, 0.5).Shape();
+  const TopoDS_Shape oneHole =
+      BRepAlgoAPI_Cut(plate, BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(1, 1, -1), gp::DZ()), 0.3, 3.0).Shape()).Shape();
+  const TopoDS_Shape twoHoles =
+      BRepAlgoAPI_Cut(oneHole, BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(3, 1, -1), gp::DZ()), 0.3, 3.0).Shape()).Shape();
+  EXPECT_EQ(characteristic(twoHoles), -2);
 }
 
 // A bicubic patch with one interior knot per direction on a paraboloid-like grid.

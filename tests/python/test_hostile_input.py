@@ -376,6 +376,16 @@ class TemplatesOnUnsuitableTargets(unittest.TestCase):
                       "creases fits it (sphere; capsule or fuselage with round ends)\n", str(caught.exception))
         self.assertEqual(polyhedra.place("sphere", rounded)["parameters"]["segments"], "2")
 
+    def test_a_tube_under_a_template_without_a_hole_is_named(self):
+        # The cylinder template round a tube: the fit stagnated 9 % of its length from it and
+        # the boundary layer folded at the first layer.
+        tube = Part.makeCylinder(1, 2).cut(Part.makeCylinder(0.3, 2))
+        target = bvmesh.Target.from_brep(tube.exportBrepToString())
+        for name in ("cylinder", "sphere", "capsule"):
+            self.assertPlacementRefused(target, name, r"it has 1 hole through it \(genus 1\), which the template's "
+                                                      r"closed polyhedron \(genus 0\) cannot wrap; a tube or a ring "
+                                                      r"takes the nacelle template")
+
     def test_a_needle_is_named_a_line(self):
         needle = bvmesh.Target.from_brep(Part.makeCylinder(1e-7, 10).exportBrepToString())
         self.assertPlacementRefused(needle, "cylinder", r"the target is a line: it is 10 long")

@@ -117,6 +117,12 @@ int ShapeSummary::countEdges(EdgeKind kind) const {
                                         [kind](const EdgeInfo& edge) { return edge.kind == kind; }));
 }
 
+int ShapeSummary::eulerCharacteristic() const {
+  int characteristic = vertexCount - (static_cast<int>(edges.size()) - countEdges(EdgeKind::Degenerate));
+  for (int wires : faceWireCounts) characteristic += 2 - wires;
+  return characteristic;
+}
+
 int ShapeSummary::countFacesOfType(const std::string& surfaceType) const {
   return static_cast<int>(std::count(faceSurfaceTypes.begin(), faceSurfaceTypes.end(), surfaceType));
 }
@@ -173,6 +179,9 @@ ShapeSummary summarizeShape(const TopoDS_Shape& shape, const ShapeSummaryOptions
       GProp_GProps props;
       BRepGProp::SurfaceProperties(face, props);
       summary.faceAreas.push_back(props.Mass());
+      TopTools_IndexedMapOfShape wires;
+      TopExp::MapShapes(face, TopAbs_WIRE, wires);
+      summary.faceWireCounts.push_back(wires.Extent());
     }
 
     // Edges in MapShapes order, each with the faces around it.

@@ -40,6 +40,7 @@ struct ShapeSummary {
   int shellCount = 0;
   std::vector<std::string> faceSurfaceTypes;  // per face: "Plane", "BSplineSurface", ...
   std::vector<double> faceAreas;
+  std::vector<int> faceWireCounts;  // per face: its outer boundary and one wire per hole
   std::vector<EdgeInfo> edges;
   int vertexCount = 0;
   std::array<double, 3> boundsMin{};
@@ -48,6 +49,11 @@ struct ShapeSummary {
   int faceCount() const { return static_cast<int>(faceSurfaceTypes.size()); }
   int countEdges(EdgeKind kind) const;
   int countFacesOfType(const std::string& surfaceType) const;
+  // The faces' surface as a cell complex: vertices - edges + the faces' own characteristics, each
+  // face a planar region bounded by its wires (2 - wires; a periodic face cut open along its
+  // seams is a disk), degenerate edges (a sphere's poles) being points. A closed connected
+  // surface of genus g (g holes through the body) has 2 - 2g.
+  int eulerCharacteristic() const;
 };
 
 // Throws InvalidInputError for a null shape.

@@ -80,6 +80,28 @@ void checkTargetIsOneBody(const std::string& templateName, const target::Target&
                           "of its own faces");
 }
 
+void checkTargetGenus(const std::string& templateName, int templateGenus, const target::Target& target) {
+  const target::TargetReport& report = target.report();
+  const cad::ShapeSummary& shape = report.shape;
+  if (!report.freeEdges.empty() || shape.countEdges(cad::EdgeKind::NonManifold) > 0) return;
+  const int characteristic = shape.eulerCharacteristic();
+  if (characteristic % 2 != 0 || characteristic > 2) return;  // not one closed orientable surface
+  const int genus = (2 - characteristic) / 2;
+  if (genus == templateGenus) return;
+  const std::string holes = genus == 0 ? "no hole" : std::to_string(genus) + (genus == 1 ? " hole" : " holes");
+  std::string what = "it has " + holes + " through it (genus " + std::to_string(genus) + "), which the template's " +
+                     (templateGenus == 0 ? "closed polyhedron" : "ring") + " (genus " + std::to_string(templateGenus) +
+                     ") cannot wrap; ";
+  if (genus == 0) {
+    what += "a body without a hole takes the sphere, box or a revolution template";
+  } else if (genus == 1) {
+    what += "a tube or a ring takes the nacelle template (its surface: the volume stage takes bodies without holes)";
+  } else {
+    what += "no template wraps it";
+  }
+  throw InvalidInputError("template '" + templateName + "' cannot be placed on this target: " + what);
+}
+
 void checkCornersOnDistinctVertices(const std::string& templateName, const std::vector<int>& vertexCadVertex,
                                     const target::Target& target) {
   std::map<int, int> cornerAt;  // target vertex -> the first corner mapped to it

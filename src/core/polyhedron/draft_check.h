@@ -32,6 +32,13 @@ void checkTargetHasVolume(const std::string& templateName, const PrincipalFrame&
 // target with free edges is not judged (faces read unsewn share no edges either).
 void checkTargetIsOneBody(const std::string& templateName, const target::Target& target);
 
+// Throws InvalidInputError "template '<name>' cannot be placed on this target: it has 1 hole
+// through it (genus 1 ...)" when a watertight, manifold target's genus (holes through the body,
+// from its faces' Euler characteristic) differs from the template's (templateGenus: 1 for a
+// ring, 0 for the others): a cylinder wrapped round a tube stagnated 9 % of its length from it,
+// and the volume then folded. Other targets are not judged.
+void checkTargetGenus(const std::string& templateName, int templateGenus, const target::Target& target);
+
 // Throws InvalidInputError when two corners map to the same target vertex (vertexCadVertex: per
 // mesh vertex, -1 for none): improving moves both onto it, and the faces or crease chain between
 // them collapse. Named in terms of the target: "it has 2 vertices for the template's 8 corners:

@@ -131,6 +131,7 @@ PlacedPolyhedron placeTemplate(const PolyhedronTemplate& polyhedronTemplate, con
   const PrincipalFrame frame = principalFrame(target);
   checkTargetHasVolume(polyhedronTemplate.name, frame, target);
   checkTargetIsOneBody(polyhedronTemplate.name, target);
+  checkTargetGenus(polyhedronTemplate.name, polyhedronTemplate.generator == Generator::Nacelle ? 1 : 0, target);
   Draft draft;
   switch (polyhedronTemplate.generator) {
     case Generator::Box:
