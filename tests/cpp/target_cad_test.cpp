@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "core/cad/isolated_reader.h"
 #include "core/cad/shape_io.h"
 #include "core/target/target.h"
 #include "core/target/target_data.h"
@@ -374,6 +375,36 @@ TEST(TargetCad, UntrimmedIgesSurface) {
     EXPECT_EQ(result.status[static_cast<std::size_t>(i)], ProjectionStatus::Ok) << "point " << i;
     EXPECT_NEAR(result.distances[i], expected[static_cast<std::size_t>(i)], 1e-9 * target.report().diagonal)
         << "point " << i;
+  }
+}
+
+// A line through an edge between two faces: the M6 written to IGES and read back (sewn), a line
+// along the span at z = 0 across the rounded tip's ridge, the edge between its upper and lower
+// faces. Both faces' trim tests put the crossing outside, so the line missed the tip and went on
+// to the root face at y = 0 (the half-wing template's ridge vertex landed 120 mm from the
+// STEP's and the volume folded).
+TEST(TargetCad, OneraM6FromIgesLinesAcrossTheTipRidgeHitIt) {
+  const TopoDS_Shape wing = cad::readShapeFile(kDataDir + "/AileM6_with_sharp_TE.stp");
+  const std::string path = std::string(BVMESH_TEST_OUTPUT_DIR) + "/target_m6_brep_mode.igs";
+  IGESControl_Writer writer("MM", 0);  // faces mode: trimmed surfaces, read back unsewn and sewn
+  ASSERT_TRUE(writer.AddShape(wing));
+  writer.ComputeModel();
+  ASSERT_TRUE(writer.Write(path.c_str()));
+  const Target fromStep(wing);
+  const Target fromIges(cad::readShapeFileRepaired(path));
+  Points origins(5, 3), directions(5, 3);
+  for (int i = 0; i < 5; ++i) {
+    origins.row(i) << 697.74 + 20.0 * i, 6000.0, 0.0;
+    directions.row(i) << 0.0, -1.0, 0.0;
+  }
+  const ProjectionResult step = fromStep.projectAlong(origins, directions);
+  const ProjectionResult iges = fromIges.projectAlong(origins, directions);
+  for (int i = 0; i < 5; ++i) {
+    EXPECT_GT(step.points(i, 1), 1200.0) << "line " << i;  // on the tip (the span ends at 1196.3)
+    EXPECT_NE(iges.status[static_cast<std::size_t>(i)], ProjectionStatus::Fallback) << "line " << i;
+    EXPECT_LT((iges.points.row(i) - step.points.row(i)).norm(), 1e-6 * fromStep.report().diagonal)
+        << "line " << i << ": " << iges.points.row(i) << " against " << step.points.row(i);
+    EXPECT_NEAR(iges.distances[i], 6000.0 - iges.points(i, 1), 1e-6) << "line " << i;
   }
 }
 

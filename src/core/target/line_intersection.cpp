@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include "core/target/projection_steps.h"
 
@@ -178,13 +179,17 @@ Foot alongLine(const Target::Data& data, ThreadContext& context, const Eigen::Ve
             [](const ThreadContext::Candidate& a, const ThreadContext::Candidate& b) { return a.distance < b.distance; });
   context.anchors.clear();
   Foot best;
+  std::vector<Eigen::Vector3d> outsideTrim;  // crossings of a face's surface that its trim test refused
   // A crossing inside the trim that is nearer than the best so far replaces it.
   auto consider = [&](int faceId, const LineHit& hit) {
     if (!hit.found) return false;
     const FaceData& face = data.faces[static_cast<std::size_t>(faceId)];
     const double u = wrapInto(hit.u, face.uPeriodic, face.uPeriod, face.u0);
     const double v = wrapInto(hit.v, face.vPeriodic, face.vPeriod, face.v0);
-    if (!insideTrim(context, face, faceId, u, v)) return false;
+    if (!insideTrim(context, face, faceId, u, v)) {
+      outsideTrim.push_back(hit.point);
+      return false;
+    }
     context.anchors.push_back({faceId, hit.point});
     const double distance = (hit.point - q).norm();
     if (best.distance < 0 || distance < best.distance) {
@@ -219,6 +224,23 @@ Foot alongLine(const Target::Data& data, ThreadContext& context, const Eigen::Ve
     const Eigen::Vector3d reference =
         (data.nodes.row(nodes[1]).transpose() - a).cross(data.nodes.row(nodes[2]).transpose() - a);
     consider(faceId, bracketOnLine(face, surface, q, d, reference, data.convergence, candidate.u, candidate.v, s, reach));
+  }
+  // A line through an edge between two faces crosses both surfaces on their trim boundaries,
+  // which the trim test may put outside each (the M6 read from IGES: a ray across its tip's
+  // ridge missed, and the template's vertex went to the tip's far end or the root). Such a
+  // crossing nearer than the best counts when the target passes through it (its closest point
+  // within the target's tolerance). Checked after the candidates: the closest-point search
+  // reuses the context's lists.
+  std::sort(outsideTrim.begin(), outsideTrim.end(), [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return (a - q).squaredNorm() < (b - q).squaredNorm();
+  });
+  for (const Eigen::Vector3d& crossing : outsideTrim) {
+    if (best.distance >= 0 && (crossing - q).norm() >= best.distance) break;
+    Foot onTarget = closestOnSurface(data, context, crossing, -1, 0, 0);
+    if (onTarget.distance >= 0 && onTarget.distance <= data.tolerance) {
+      onTarget.distance = (onTarget.point - q).norm();
+      return onTarget;
+    }
   }
   if (best.distance >= 0) return best;
   Foot fallback = closestOnSurface(data, context, q, -1, 0, 0);
