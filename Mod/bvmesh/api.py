@@ -4,7 +4,7 @@ through FreeCADGui.doCommand, so a recorded macro replays them without the GUI."
 
 import numpy as np
 
-from bvmesh import load_core
+from bvmesh import load_core, polyhedra
 from bvmesh.adapters.shapes import as_shape, brep_to_shape, shape_to_brep
 
 
@@ -428,19 +428,22 @@ def _set_fit_parameters(fit, parameters):
 def symmetry_plane_guess(target):
     """((point), (normal)) of the first planar face of the target's source left out of the fit
     (e.g. the root face of a half wing), or of the symmetry plane of the flow domain the target
-    took its body from; else None."""
+    took its body from, or else of the plane the target's open side lies in with the whole target
+    on one side (a half model read without its symmetry face, as the templates find it); else
+    None."""
     normal = getattr(target, "SymmetryNormal", None)
     if not target.Faces and normal is not None and normal.Length > 0:
         point = target.SymmetryPoint
         return (point.x, point.y, point.z), (normal.x, normal.y, normal.z)
-    if not target.Faces:
-        return None
     kept = set(target.Faces)
-    for i, face in enumerate(target.Source.Shape.Faces):
+    for i, face in enumerate(target.Source.Shape.Faces if target.Faces else []):
         if "Face{}".format(i + 1) not in kept and face.Surface.TypeId == "Part::GeomPlane":
             point, normal = face.Surface.Position, face.Surface.Axis
             return (point.x, point.y, point.z), (normal.x, normal.y, normal.z)
-    return None
+    plane = polyhedra.symmetry_plane(target.Proxy.core_target(target))
+    if plane is None:
+        return None
+    return tuple(float(x) for x in plane[0]), tuple(float(x) for x in plane[1])
 
 
 def make_surface_fit(doc, target, polyhedron, name="SurfaceFit", **parameters):

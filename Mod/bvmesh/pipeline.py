@@ -73,8 +73,9 @@ def _extent_in_plane(shape, plane):
 def _body_target(doc, cad, half_model):
     """(Target object, what it holds in words, reference length or None): the reference length is
     the body's largest extent on its symmetry plane in a half model (the symmetry face's, or in a
-    flow domain the outline of the body's open side: a wing's root chord, a body's length), else
-    left to the volume stage (the wall's largest extent)."""
+    flow domain or a half model without its symmetry face the outline of the body's open side: a
+    wing's root chord, a body's length), else left to the volume stage (the wall's largest
+    extent)."""
     if not half_model:
         # A Target on all faces finds a flow domain's body itself (FlowDomain names the domain).
         target = api.make_target(doc, cad)
@@ -82,6 +83,10 @@ def _body_target(doc, cad, half_model):
             plane = api.symmetry_plane_guess(target)
             return target, "the body inside the CAD's flow domain ({}, {} faces)".format(
                 target.FlowDomain, len(target.Shape.Faces)), plane and _extent_in_plane(target.Shape, plane)
+        plane = api.symmetry_plane_guess(target)
+        if plane is not None:  # an open half model: its open side lies on the symmetry plane
+            return target, "all {} faces of the CAD, a half model open on its symmetry plane".format(
+                len(cad.Shape.Faces)), _extent_in_plane(target.Shape, plane)
         return target, "all {} faces of the CAD".format(len(cad.Shape.Faces)), None
     if api.flow_domain_of(cad.Shape) is not None:
         raise ValueError("the CAD is a flow domain, whose symmetry plane the domain itself gives: "

@@ -381,6 +381,27 @@ TEST(TemplatePlacement, ABodyWithAnotherNumberOfHolesIsNamed) {
   }
 }
 
+// The box and the sphere wrap closed bodies: a half model (a dome open at its equator) is named
+// as such; the capsule makes a half body on it.
+TEST(TemplatePlacement, ClosedTemplatesOnAHalfModelAreRefused) {
+  const target::Target dome(removeSymmetryFace(BRepPrimAPI_MakeSphere(1.0, 0.0, M_PI / 2).Shape()).shape);
+  for (const char* name : {"sphere", "box"}) {
+    try {
+      placeTemplate(libraryTemplate(name), dome);
+      ADD_FAILURE() << name << " placed on a dome";
+    } catch (const InvalidInputError& error) {
+      EXPECT_EQ(std::string(error.what()).rfind("template '" + std::string(name) +
+                                                    "' cannot be placed on this target: it is open on a plane with "
+                                                    "the whole target on one side (a half model on its symmetry "
+                                                    "plane, normal (0, 0, 1) through",
+                                                0),
+                0u)
+          << error.what();
+    }
+  }
+  EXPECT_EQ(placeTemplate(libraryTemplate("capsule"), dome).parameters.at("half"), "yes");
+}
+
 // A box on a rod: the rod has two vertices (one per rim), and four box corners map to each; the
 // improvement collapsed face 0 ("vertices 1 and 0 coincide"). Now the target's vertices are named.
 TEST(TemplatePlacement, CornersOnOneTargetVertexAreNamed) {

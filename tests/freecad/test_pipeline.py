@@ -174,6 +174,33 @@ class HalfModelSurface(unittest.TestCase):
             FreeCAD.closeDocument(doc.Name)
 
 
+class OpenHalfModel(unittest.TestCase):
+    def test_half_wing_without_a_root_face_is_meshed_on_its_symmetry_plane(self):
+        # A half wing written without its root face (an open shell): the fit had no symmetry
+        # plane, and the volume stage stopped ("the wall is open at wall patch 0 side v_min ...
+        # give the symmetry plane it lies on"); the reference length was the span, 1219.
+        folder = tempfile.mkdtemp(prefix="bvmesh-mesh-open-")
+        wing = Part.read(os.path.join(DATA, "AileM6_with_sharp_TE.stp"))
+        root = [i for i, face in enumerate(wing.Faces) if face.Surface.TypeId == "Part::GeomPlane"
+                and face.BoundBox.YLength < 1e-6][0]
+        cad = os.path.join(folder, "open_wing.step")
+        Part.Shell([face for i, face in enumerate(wing.Faces) if i != root]).exportStep(cad)
+        output = os.path.join(folder, "out")
+        done = mesh(cad, "--template", "half_wing", "--template-parameter", "tip_kinks=follow", "--output", output,
+                    "--max-level", "2", "--target-cells", "20000", "--formats", "openfoam")
+        self.assertEqual(done.returncode, 2, done.stderr)  # level 2 is above the tolerance
+        self.assertNotIn("VolumeMesh failed", done.stderr)
+        report = read(os.path.join(output, "open_wing_report.md"))
+        match = re.search(r"Target: all 10 faces of the CAD, a half model open on its symmetry plane; reference "
+                          r"length ([0-9.]+);", report)
+        self.assertIsNotNone(match, report)
+        self.assertAlmostEqual(float(match.group(1)), 810.5, delta=0.5)
+        volume_report = read(os.path.join(output, "open_wing_volume_report.md"))
+        self.assertIn("checkMesh on open_wing_openfoam: Mesh OK.", volume_report)
+        self.assertRegex(read(os.path.join(output, "open_wing_openfoam", "constant", "polyMesh", "boundary")),
+                         r"\n\s*symmetry\s*\n\s*{\s*\n\s*type\s+symmetryPlane;")
+
+
 class WingInItsFlowDomain(unittest.TestCase):
     def test_reference_length_is_the_root_chord(self):
         # The M6 inside its half sphere, scaled to a unit root chord: the reference length is the

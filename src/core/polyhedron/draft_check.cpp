@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <map>
+#include <optional>
 
 #include "core/common/disjoint_sets.h"
 #include "core/common/errors.h"
@@ -100,6 +101,20 @@ void checkTargetGenus(const std::string& templateName, int templateGenus, const 
     what += "no template wraps it";
   }
   throw InvalidInputError("template '" + templateName + "' cannot be placed on this target: " + what);
+}
+
+void checkNotAHalfModel(const std::string& templateName, const target::Target& target,
+                        const std::vector<FeatureCurve>& curves) {
+  const std::optional<fit::SymmetryPlane> plane = detectSymmetryPlane(target, curves);
+  if (!plane) return;
+  char where[200];
+  std::snprintf(where, sizeof(where), "normal (%.3g, %.3g, %.3g) through (%.4g, %.4g, %.4g)", plane->normal.x(),
+                plane->normal.y(), plane->normal.z(), plane->point.x(), plane->point.y(), plane->point.z());
+  throw InvalidInputError("template '" + templateName +
+                          "' cannot be placed on this target: it is open on a plane with the whole target on one "
+                          "side (a half model on its symmetry plane, " + where +
+                          "), and the template wraps a closed body; a half body takes a revolution template "
+                          "(capsule, cylinder, fuselage) or a wing template");
 }
 
 void checkCornersOnDistinctVertices(const std::string& templateName, const std::vector<int>& vertexCadVertex,

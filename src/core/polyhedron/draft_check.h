@@ -39,6 +39,13 @@ void checkTargetIsOneBody(const std::string& templateName, const target::Target&
 // and the volume then folded. Other targets are not judged.
 void checkTargetGenus(const std::string& templateName, int templateGenus, const target::Target& target);
 
+// Throws InvalidInputError "template '<name>' cannot be placed on this target: it is open on a
+// plane ..." when the target is a half model (detectSymmetryPlane finds its plane) and the
+// template wraps a closed body only (box, sphere): a cube-sphere fitted over a dome open at its
+// equator folded its lower half onto the rim and the volume stage refused the closed wall.
+void checkNotAHalfModel(const std::string& templateName, const target::Target& target,
+                        const std::vector<FeatureCurve>& curves);
+
 // Throws InvalidInputError when two corners map to the same target vertex (vertexCadVertex: per
 // mesh vertex, -1 for none): improving moves both onto it, and the faces or crease chain between
 // them collapse. Named in terms of the target: "it has 2 vertices for the template's 8 corners:

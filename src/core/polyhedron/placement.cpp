@@ -133,6 +133,8 @@ PlacedPolyhedron placeTemplate(const PolyhedronTemplate& polyhedronTemplate, con
   checkTargetIsOneBody(polyhedronTemplate.name, target);
   checkTargetGenus(polyhedronTemplate.name, polyhedronTemplate.generator == Generator::Nacelle ? 1 : 0, target);
   Draft draft;
+  if (polyhedronTemplate.generator == Generator::Box || polyhedronTemplate.generator == Generator::Sphere)
+    checkNotAHalfModel(polyhedronTemplate.name, target, curves);
   switch (polyhedronTemplate.generator) {
     case Generator::Box:
       draft = buildBox(values, target, used);
