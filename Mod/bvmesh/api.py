@@ -28,7 +28,19 @@ def shape_report(shape_or_object, sharp_angle_degrees=30.0, sew=None, sew_tolera
         report = core.summarize_brep(brep, float(sharp_angle_degrees), bool(sew), float(sew_tolerance))
     # Face numbers as the report's: a sewn copy of a shape given may number its faces otherwise.
     report["flow_domain"] = None if sew and not isinstance(shape_or_object, (str, os.PathLike)) else flow_domain_of(brep)
+    report["overlapping_solids"] = core.overlapping_solids(brep) if report["solids"] > 1 else []
     return report
+
+
+def overlapping_solids_message(overlaps):
+    """The overlaps of core.overlapping_solids in words, or "" for none."""
+    if not overlaps:
+        return ""
+    pairs = ", ".join("{} and {} (at ({:.6g}, {:.6g}, {:.6g}))".format(
+        o["solid"] + 1, o["other_solid"] + 1, *o["where"]) for o in overlaps[:5])
+    return ("solids that run into each other: {}{}; their faces are no body's surface (one solid's faces lie "
+            "inside the other): fuse them into one solid first (FreeCAD: Part, Boolean, Union)").format(
+                pairs, ", ..." if len(overlaps) > 5 else "")
 
 
 def flow_domain_of(shape_or_brep):
@@ -69,6 +81,9 @@ def format_shape_report(report):
     if sharp:
         lines.append("sharp edges: " + ", ".join(sharp))
     lines.extend(report.get("repair", {}).get("lines", []))
+    overlaps = overlapping_solids_message(report.get("overlapping_solids"))
+    if overlaps:
+        lines.append(overlaps)
     domain = report.get("flow_domain")
     if domain:
         faces = lambda indices: ", ".join("Face{}".format(i + 1) for i in indices)  # noqa: E731

@@ -14,6 +14,7 @@
 #include "core/cad/shape_io.h"
 #include "core/cad/shape_repair.h"
 #include "core/cad/shape_summary.h"
+#include "core/cad/solid_overlap.h"
 
 namespace py = pybind11;
 
@@ -206,6 +207,29 @@ void bindCad(py::module_& module) {
       py::arg("brep"), py::arg("seconds") = 10.0, py::arg("megabytes") = cad::ReaderLimits{}.memoryMegabytes,
       "Parses BREP text in a child process under the limits and returns it as OpenCASCADE writes it back; "
       "what Target.from_brep and the other BREP-taking functions do first (their time limit: 10 s + 5 s per MB).");
+  module.def(
+      "overlapping_solids",
+      [](const std::string& brep) {
+        const TopoDS_Shape shape = cad::readBrepStringSafely(brep);
+        std::vector<cad::SolidOverlap> overlaps;
+        {
+          py::gil_scoped_release release;
+          overlaps = cad::overlappingSolids(shape);
+        }
+        py::list result;
+        for (const cad::SolidOverlap& overlap : overlaps) {
+          py::dict item;
+          item["solid"] = overlap.solid;
+          item["other_solid"] = overlap.otherSolid;
+          item["where"] = py::make_tuple(overlap.where[0], overlap.where[1], overlap.where[2]);
+          result.append(item);
+        }
+        return result;
+      },
+      py::arg("brep"),
+      "Pairs of solids of the shape (BREP text) that run into each other: one has a boundary point strictly "
+      "inside the other (a wing and a fuselage written as two solids). Dicts: solid, other_solid (0-based, "
+      "FreeCAD's Shape.Solids order), where (that point). Shapes of more than 32 solids are not checked.");
   module.def(
       "bspline_face_brep",
       [](const py::array_t<double, py::array::c_style | py::array::forcecast>& poles, int uDegree, int vDegree,

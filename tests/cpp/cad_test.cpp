@@ -7,21 +7,26 @@
 #include <BRepPrimAPI_MakeSphere.hxx>
 #include <BRepPrimAPI_MakeTorus.hxx>
 #include <BRepTools.hxx>
+#include <BRep_Builder.hxx>
 #include <GeomAbs_SurfaceType.hxx>
 #include <TopExp.hxx>
 #include <TopTools_IndexedMapOfShape.hxx>
 #include <TopoDS.hxx>
+#include <TopoDS_Compound.hxx>
 
 #include <chrono>
 #include <fstream>
 #include <functional>
+#include <cmath>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "core/cad/bspline_face.h"
 #include "core/cad/isolated_reader.h"
 #include "core/cad/shape_io.h"
 #include "core/cad/shape_summary.h"
+#include "core/cad/solid_overlap.h"
 #include "core/cad/step_scan.h"
 #include "core/common/errors.h"
 
@@ -204,6 +209,41 @@ TEST(ShapeSummary, EulerCharacteristicCountsTheHolesThroughTheBody) {
   const TopoDS_Shape twoHoles =
       BRepAlgoAPI_Cut(oneHole, BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(3, 1, -1), gp::DZ()), 0.3, 3.0).Shape()).Shape();
   EXPECT_EQ(characteristic(twoHoles), -2);
+}
+
+// Solids that run into each other, and solids that do not: apart, touching along a face.
+TEST(SolidOverlap, NamesSolidsOneOfWhichReachesIntoTheOther) {
+  const auto pair = [](const TopoDS_Shape& a, const TopoDS_Shape& b) {
+    TopoDS_Compound compound;
+    BRep_Builder builder;
+    builder.MakeCompound(compound);
+    builder.Add(compound, a);
+    builder.Add(compound, b);
+    return compound;
+  };
+  const TopoDS_Shape fuselage = BRepPrimAPI_MakeCylinder(gp_Ax2(gp::Origin(), gp::DX()), 0.6, 10.0).Shape();
+  const TopoDS_Shape wing = BRepPrimAPI_MakeBox(gp_Pnt(4, -2, -0.1), 2.0, 4.0, 0.2).Shape();
+  const std::vector<SolidOverlap> through = overlappingSolids(pair(fuselage, wing));
+  ASSERT_EQ(through.size(), 1u);
+  EXPECT_EQ(through[0].solid, 0);
+  EXPECT_EQ(through[0].otherSolid, 1);
+  const gp_Pnt where(through[0].where[0], through[0].where[1], through[0].where[2]);
+  EXPECT_LT(std::hypot(where.Y(), where.Z()), 0.6) << "inside the fuselage";
+  EXPECT_GT(where.X(), 4.0 - 1e-9);
+  EXPECT_LT(where.X(), 6.0 + 1e-9);
+  // A box inside another: none of the outer one's points is inside the inner one, but all of
+  // the inner one's are inside the outer one.
+  EXPECT_EQ(overlappingSolids(pair(BRepPrimAPI_MakeBox(4, 4, 4).Shape(),
+                                   BRepPrimAPI_MakeBox(gp_Pnt(1, 1, 1), 1, 1, 1).Shape()))
+                .size(),
+            1u);
+  EXPECT_TRUE(overlappingSolids(pair(BRepPrimAPI_MakeBox(1, 1, 1).Shape(),
+                                     BRepPrimAPI_MakeBox(gp_Pnt(3, 0, 0), 1, 1, 1).Shape()))
+                  .empty());
+  EXPECT_TRUE(overlappingSolids(pair(BRepPrimAPI_MakeBox(1, 1, 1).Shape(),
+                                     BRepPrimAPI_MakeBox(gp_Pnt(1, 0, 0), 1, 1, 1).Shape()))
+                  .empty());
+  EXPECT_TRUE(overlappingSolids(BRepPrimAPI_MakeBox(1, 1, 1).Shape()).empty());
 }
 
 // A bicubic patch with one interior knot per direction on a paraboloid-like grid.

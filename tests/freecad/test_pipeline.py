@@ -252,6 +252,23 @@ class BadInput(unittest.TestCase):
                 self.assertIn(message, done.stderr)
                 self.assertNotIn("Traceback", done.stderr)
 
+    def test_solids_that_run_into_each_other_are_named(self):
+        # A wing through a fuselage written as two solids: the template was fitted over both, the
+        # wing's root face inside the fuselage among the target's faces, and stopped 8e-3 of the
+        # length from them at level 2 with only max_level said.
+        folder = tempfile.mkdtemp(prefix="bvmesh-mesh-solids-")
+        cad = os.path.join(folder, "parts.step")
+        fuselage = Part.makeCylinder(0.6, 10, FreeCAD.Vector(0, 0, 0), FreeCAD.Vector(1, 0, 0))
+        wing = Part.makeBox(2, 4, 0.2, FreeCAD.Vector(4, -2, -0.1))
+        Part.makeCompound([fuselage, wing]).exportStep(cad)
+        done = mesh(cad, "--template", "capsule", "--output", os.path.join(folder, "out"), "--max-level", "1")
+        self.assertEqual(done.returncode, 1, done.stdout + done.stderr)
+        message = ("solids that run into each other: 1 and 2 (at (")
+        self.assertIn("bvmesh: Target failed: ValueError: the Source parts holds " + message, done.stderr)
+        self.assertIn("fuse them into one solid first (FreeCAD: Part, Boolean, Union)", done.stderr)
+        self.assertIn("  " + message, done.stdout)  # the CAD's report says it first
+        self.assertNotIn("Traceback", done.stderr)
+
     def test_output_folder_that_cannot_be_made(self):
         done = mesh(os.path.join(DATA, "hemisph-cyl.stp"), "--template", "capsule", "--output", "/proc/bvmesh-out",
                     "--max-level", "1")

@@ -160,6 +160,7 @@ class MalformedArguments(unittest.TestCase):
             "improve_polyhedron": (_core.improve_polyhedron, [cube, target], {}),
             "limit_surface_to_bsplines": (_core.limit_surface_to_bsplines, [cube], {}),
             "map_features": (_core.map_features, [cube, target], {}),
+            "overlapping_solids": (_core.overlapping_solids, [brep], {}),
             "place_template": (_core.place_template, [os.path.join(TEMPLATES, "sphere.template"), target], {}),
             "read_block_mesh": (_core.read_block_mesh, [path("blocks.txt")], {}),
             "read_cad_file": (_core.read_cad_file, [path("blocks.txt")], {}),

@@ -71,10 +71,15 @@ class TargetProxy(Proxy):
                      "SHA-1 of Geometry (identifies the target)", mode=HIDDEN)
 
     def compute(self, obj):
-        from bvmesh import api
+        from bvmesh import api, load_core
 
         if obj.Source is None or not hasattr(obj.Source, "Shape") or obj.Source.Shape.isNull():
             raise ValueError("the target needs a Source object with a shape")
+        if len(obj.Source.Shape.Solids) > 1:
+            overlaps = load_core().overlapping_solids(obj.Source.Shape.exportBrepToString())
+            if overlaps:
+                raise ValueError("the Source {} holds {}".format(
+                    obj.Source.Label, api.overlapping_solids_message(overlaps)))
         faces = list(obj.Faces)
         domain = None if faces else api.flow_domain_of(obj.Source.Shape)
         if domain is not None:
