@@ -55,6 +55,19 @@ Vec sectionCentre(const PlaneSection& section, const Vec& fallback) {
 }
 
 
+// Mean distance of the section's outline from `centre` (weighted by segment length): a
+// station's radius; `fallback` where the plane misses the target.
+double sectionRadius(const PlaneSection& section, const Vec& centre, double fallback) {
+  double sum = 0.0, weight = 0.0;
+  const target::Points& p = section.points();
+  for (Eigen::Index k = 0; k + 1 < p.rows(); k += 2) {
+    const double w = (p.row(k + 1) - p.row(k)).norm();
+    sum += w * (0.5 * (p.row(k) + p.row(k + 1)).transpose() - centre).norm();
+    weight += w;
+  }
+  return weight > 0.0 ? sum / weight : fallback;
+}
+
 int quarterSegments(const TemplateValues& values) {
   const int circumferential = values.integer("circumferential");
   if (circumferential % 4 != 0) {
@@ -82,7 +95,7 @@ void resolveEnds(const TemplateValues& values, const target::Target& target,
   used["tail"] = body.ends[1];
 }
 
-// A ring-capped flat end's inner ring, as a fraction of the body's radius.
+// A ring-capped flat end's inner ring, as a fraction of the end's radius.
 constexpr double kCapRing = 0.5;
 
 // The stations whose rings are the nose's and the tail's rims (of stations 0 .. last): a
@@ -116,6 +129,16 @@ Draft buildBodyGrid(const target::Target& target, const BodyAxis& body, int n,
                            {body.ends[0] != "open", body.ends[1] != "open", !half, true, true, true});
   const std::array<int, 2> rim = rimStations(body, axial);
   auto capRing = [&](int i) { return (i == 0 && body.ringCapped[0]) || (i == axial && body.ringCapped[1]); };
+  // A flat end's vertices are cast along the axis from within the end's own radius: with the
+  // body's (largest) radius a frustum's small end was missed, its cap ring landed on the side
+  // and the fit crept at first order.
+  std::array<double, 2> endRadius{body.radius, body.radius};
+  for (int side = 0; side < 2; ++side) {
+    if (body.ends[static_cast<size_t>(side)] != "flat") continue;
+    const Vec& centre = centres[static_cast<size_t>(side == 0 ? 0 : axial)];
+    endRadius[static_cast<size_t>(side)] =
+        std::min(body.radius, sectionRadius(PlaneSection(target, centre, body.e1), centre, body.radius));
+  }
   Draft draft;
   draft.faces = lattice.faces;
   RayBatch rays;
@@ -134,9 +157,10 @@ Draft buildBodyGrid(const target::Target& target, const BodyAxis& body, int n,
     // inside the body; the improvement snaps the vertices back onto the plane.
     const Vec lift = half && j == 0 ? Vec(1e-3 * body.radius * body.e2) : Vec::Zero();
     const double outward = i == 0 ? -1.0 : 1.0;
-    if (capRing(i)) {  // the end face: its ring and its inside, pulled in to kCapRing of the radius
-      draft.vertices[static_cast<size_t>(v)] = centre + kCapRing * body.radius * radial;
-      rays.add(v, centre + kCapRing * body.radius * radial + lift, outward * body.e1);
+    const double ownRadius = endRadius[i == 0 ? 0 : 1];
+    if (capRing(i)) {  // the end face: its ring and its inside, pulled in to kCapRing of the end's radius
+      draft.vertices[static_cast<size_t>(v)] = centre + kCapRing * ownRadius * radial;
+      rays.add(v, centre + kCapRing * ownRadius * radial + lift, outward * body.e1);
       continue;
     }
     if (ring) {
@@ -155,7 +179,7 @@ Draft buildBodyGrid(const target::Target& target, const BodyAxis& body, int n,
       const Vec dome = body.radius * radial + outward * cap * std::sqrt(1.0 - rho * rho) * body.e1;
       rays.add(v, centre + lift, dome);
     } else {
-      rays.add(v, centre + body.radius * radial + lift, outward * body.e1);
+      rays.add(v, centre + ownRadius * radial + lift, outward * body.e1);
     }
   }
   rays.resolve(target, draft, firstHit);
