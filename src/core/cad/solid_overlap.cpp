@@ -42,10 +42,14 @@ std::vector<gp_Pnt> boundaryPoints(const TopoDS_Shape& solid) {
   return points;
 }
 
-// A point of `points` strictly inside `solid` (farther inside than `tolerance`), or none.
+// A point of `points` strictly inside `solid` (farther inside than `tolerance`), or none. At most
+// kMostPointsClassified of them, evenly spread, so that solids of many faces stay quick to check.
 bool firstInside(const TopoDS_Shape& solid, const std::vector<gp_Pnt>& points, double tolerance, gp_Pnt& inside) {
+  constexpr std::size_t kMostPointsClassified = 2000;
+  const std::size_t stride = points.size() / kMostPointsClassified + 1;
   BRepClass3d_SolidClassifier classifier(solid);
-  for (const gp_Pnt& p : points) {
+  for (std::size_t k = 0; k < points.size(); k += stride) {
+    const gp_Pnt& p = points[k];
     classifier.Perform(p, tolerance);
     if (classifier.State() == TopAbs_IN) {
       inside = p;

@@ -17,8 +17,9 @@ struct SolidOverlap {
   std::array<double, 3> where{};  // a boundary point of one solid strictly inside the other
 };
 
-// Pairs of solids of which one has a boundary point (a vertex, an edge's or a face's middle)
-// strictly inside the other. Solids that only touch are not overlaps. Shapes with more than
+// Pairs of solids of which one has a boundary point (a vertex, an edge's or a face's middle; at
+// most 2000 of them per solid, evenly spread) strictly inside the other. Solids that only touch
+// are not overlaps. Shapes with more than
 // kMostSolidsChecked solids are not checked (an assembly of many parts; empty result).
 constexpr int kMostSolidsChecked = 32;
 std::vector<SolidOverlap> overlappingSolids(const TopoDS_Shape& shape);
