@@ -45,20 +45,39 @@ def marching_levels(level, points_per_level, point_limit=MARCHING_POINT_LIMIT, l
     return levels
 
 
-def march_from_first_level_that_holds(levels, march):
+def march_from_first_level_that_holds(levels, march, finer=()):
     """(march(level), level) for the first of `levels` whose marching does not fold (a SolverError
-    "marching folds ..."); a SolverError listing every level's fold when all do."""
-    from . import SolverError
+    "marching folds ..."); a SolverError listing every level's failure when all fail. A level whose
+    layers cannot be carried onto the wall (an InvalidInputError "... march a finer wall": the wall
+    lies too far from that level's, as next to a pointed nose's apex) gives way to the levels of
+    `finer` above it, in ascending order, the lower ones lying farther still."""
+    from . import InvalidInputError, SolverError
 
-    folds = []
-    for level in levels:
+    failures = []
+    queue = list(levels)
+    finer = sorted(finer)
+    while queue:
+        level = queue.pop(0)
         try:
             return march(level), level
         except SolverError as error:
-            if len(levels) == 1 or not str(error).startswith("marching folds"):
+            if not str(error).startswith("marching folds"):
                 raise
-            folds.append("from level {}: {}".format(level, error))
-    raise SolverError("the marching folds from every level tried; " + "; ".join(folds))
+            failures.append((level, error))
+        except InvalidInputError as error:
+            higher = [lv for lv in finer if lv > level]
+            if "march a finer wall" not in str(error) or not higher:
+                if not failures:
+                    raise
+                failures.append((level, error))
+                break
+            failures.append((level, error))
+            queue = higher
+    if len(failures) == 1:
+        raise failures[0][1]
+    folded = all(isinstance(error, SolverError) for _, error in failures)
+    raise SolverError("the marching {} from every level tried; ".format("folds" if folded else "fails") +
+                      "; ".join("from level {}: {}".format(level, error) for level, error in failures))
 
 
 def offset_and_farfield(fit_or_mesh, symmetry_plane=None, marching_wall=None, marching_level=None,
@@ -98,7 +117,7 @@ def offset_and_farfield(fit_or_mesh, symmetry_plane=None, marching_wall=None, ma
             lower = None if level == fitter.level else fitter.mesh_at_level(level)
             return offset_and_farfield(fitter, symmetry_plane, marching_wall=lower, **options)
 
-        return march_from_first_level_that_holds(levels, march)[0]
+        return march_from_first_level_that_holds(levels, march, range(levels[0] + 1, fitter.level + 1))[0]
     wall, symmetry_plane = _wall_of(fit_or_mesh, symmetry_plane, "offset_and_farfield")
     if marching_level is not None:
         marching_wall = _lower_level_of(fit_or_mesh, marching_level, marching_wall)

@@ -9,6 +9,7 @@
 #include <BRepBuilderAPI_Sewing.hxx>
 #include <BRepBuilderAPI_Transform.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
+#include <BRepPrimAPI_MakeCone.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
 #include <BRepPrimAPI_MakeTorus.hxx>
@@ -376,6 +377,39 @@ TEST(TemplatePlacement, ABodyWithAnotherNumberOfHolesIsNamed) {
   } catch (const InvalidInputError& error) {
     EXPECT_NE(std::string(error.what()).find("it has 2 holes through it (genus 2), which the template's ring (genus 1) "
                                              "cannot wrap; no template wraps it"),
+              std::string::npos)
+        << error.what();
+  }
+}
+
+// A cone nose on a cylinder: the revolution templates find the nose pointed and put the nose's
+// middle vertex on the apex as a corner (a dome rounded the apex off by 2 % of the length). A
+// round nose stays round, and a pointed nose asked of it is refused by name.
+TEST(TemplatePlacement, APointedNoseGetsACornerOnItsApex) {
+  const TopoDS_Shape nose = BRepPrimAPI_MakeCone(gp_Ax2(gp_Pnt(1.5, 0, 0), -gp::DX()), 0.5, 0.0, 1.5).Shape();
+  const TopoDS_Shape body = BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(1.5, 0, 0), gp::DX()), 0.5, 4.5).Shape();
+  const target::Target rocket(BRepAlgoAPI_Fuse(nose, body).Shape());
+  const PlacedPolyhedron placed = placeTemplate(libraryTemplate("fuselage"), rocket);
+  EXPECT_EQ(placed.parameters.at("nose"), "pointed");
+  EXPECT_EQ(placed.parameters.at("tail"), "flat");
+  ASSERT_EQ(placed.mesh.corners().size(), 1u);
+  EXPECT_LT(placed.mesh.vertices().row(placed.mesh.corners()[0]).norm(), 1e-9);
+  EXPECT_TRUE(placed.mapping.complete()) << placed.mapping.describeUnmapped();
+
+  const target::Target capsule(
+      BRepAlgoAPI_Fuse(BRepAlgoAPI_Fuse(BRepPrimAPI_MakeCylinder(gp_Ax2(gp::Origin(), gp::DX()), 0.5, 3.0).Shape(),
+                                        BRepPrimAPI_MakeSphere(0.5).Shape())
+                           .Shape(),
+                       BRepPrimAPI_MakeSphere(gp_Pnt(3, 0, 0), 0.5).Shape())
+          .Shape());
+  const PlacedPolyhedron round = placeTemplate(libraryTemplate("capsule"), capsule);
+  EXPECT_EQ(round.parameters.at("nose"), "round");
+  EXPECT_TRUE(round.mesh.corners().empty());
+  try {
+    placeTemplate(libraryTemplate("capsule"), capsule, {{{"nose", "pointed"}}, {}, {}, true, {}});
+    ADD_FAILURE() << "a pointed nose on a round one";
+  } catch (const InvalidInputError& error) {
+    EXPECT_NE(std::string(error.what()).find("nose pointed: the target has no vertex on the axis at that end"),
               std::string::npos)
         << error.what();
   }

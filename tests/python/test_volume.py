@@ -159,6 +159,26 @@ class SphereVolume(unittest.TestCase):
         with self.assertRaisesRegex(bvmesh.SolverError, "singular"):  # not a fold: no lower level tried
             bvmesh.volume.march_from_first_level_that_holds([4, 3], singular)
 
+        # Layers that cannot be carried onto the wall (next to a pointed nose's apex the level-2 wall
+        # lay 0.0095 from the level-3 one): the finer levels are tried, not the lower ones.
+        tried.clear()
+
+        def far(level):
+            tried.append(level)
+            if level < 4:
+                raise bvmesh.InvalidInputError("the wall lies 0.0095 from the marching wall at (0.09, -0.03, 0), "
+                                               "more than half the first control layer (0.0189): march a finer wall")
+            return "marched"
+
+        self.assertEqual(bvmesh.volume.march_from_first_level_that_holds([2, 1], far, [3, 4]), ("marched", 4))
+        self.assertEqual(tried, [2, 3, 4])
+        with self.assertRaisesRegex(bvmesh.InvalidInputError, "^the wall lies 0.0095"):  # nothing finer: its own error
+            bvmesh.volume.march_from_first_level_that_holds([2, 1], far)
+        with self.assertRaisesRegex(bvmesh.SolverError, "^the marching fails from every level tried; from level 3: "
+                                                        "marching folds.*from level 2: the wall lies 0.0095"):
+            bvmesh.volume.march_from_first_level_that_holds([3, 2], lambda level: march(level) if level == 3
+                                                            else far(level))
+
     def test_arrays_and_block_file(self):
         blocks = self.result.blocks
         poles = blocks.poles(0)

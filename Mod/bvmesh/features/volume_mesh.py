@@ -281,7 +281,9 @@ class VolumeMeshProxy(RecomputedProxy):
     def make(self, obj):
         wall, plane, settings = marching_inputs(obj)
         levels = marching_levels(obj)
-        coarse = dict(zip(levels, (marching_wall(obj, level) for level in levels)))  # read here, not in the worker
+        # Finer levels for when the wall lies too far from a coarse one's to carry its layers.
+        finer = list(range(levels[0] + 1, wall_level(obj) + 1)) if obj.MarchingLevel == -1 else []
+        coarse = {level: marching_wall(obj, level) for level in levels + finer}  # read here, not in the worker
 
         def march_from(level):
             marching = coarse[level]
@@ -289,7 +291,7 @@ class VolumeMeshProxy(RecomputedProxy):
                                               marching_wall=None if marching is None else marching(), **settings)
 
         def march():
-            result, self._marching_level_used = volume.march_from_first_level_that_holds(levels, march_from)
+            result, self._marching_level_used = volume.march_from_first_level_that_holds(levels, march_from, finer)
             return result
 
         return run_work("marching the boundary layer and the far field of {}".format(obj.Label), march)

@@ -78,22 +78,69 @@ int quarterSegments(const TemplateValues& values) {
 }
 
 // Resolves `auto` nose and tail choices from the target's free boundary and creases, and records them.
+// The target's vertex at the tip of a pointed end (axial position `end`, outward the direction
+// from the body to the end): a vertex within `reach` of the axis there, round which the surface
+// leaves the axis at a slope, not across it as a round end's does (its normals 1e-3 of the
+// length from the tip more than 30 degrees off the axis). None for a round, flat or open end.
+std::optional<int> pointedTip(const target::Target& target, const BodyAxis& body, double end, double outward,
+                              double reach) {
+  const Vec tipPoint = body.origin + end * body.e1;
+  std::optional<int> tip;
+  for (int v = 0; v < target.vertexCount(); ++v) {
+    if ((target.vertexPosition(v) - tipPoint).norm() <= reach &&
+        (!tip || (target.vertexPosition(v) - tipPoint).norm() < (target.vertexPosition(*tip) - tipPoint).norm()))
+      tip = v;
+  }
+  if (!tip) return std::nullopt;
+  const Vec at = target.vertexPosition(*tip);
+  const double step = 1e-3 * (body.hi - body.lo);
+  constexpr int kProbes = 8;
+  target::Points probes(kProbes, 3);
+  for (int k = 0; k < kProbes; ++k) {
+    const double phi = 2.0 * kPi * k / kProbes;
+    probes.row(k) = (at - outward * step * body.e1 + step * (std::cos(phi) * body.e2 + std::sin(phi) * body.e3))
+                        .transpose();
+  }
+  const target::ProjectionResult feet = target.project(probes);
+  for (int k = 0; k < kProbes; ++k) {
+    if (feet.status[static_cast<size_t>(k)] == target::ProjectionStatus::Failed) return std::nullopt;
+    if (std::abs(feet.normals.row(k).dot(body.e1)) > std::cos(kPi / 6.0)) return std::nullopt;  // round there
+  }
+  return tip;
+}
+
 void resolveEnds(const TemplateValues& values, const target::Target& target,
                  const std::vector<FeatureCurve>& curves, const std::optional<fit::SymmetryPlane>& plane,
                  BodyAxis& body, std::map<std::string, std::string>& used) {
   body.ends = {values.choice("nose"), values.choice("tail")};
   for (int side = 0; side < 2; ++side) {
     std::string& end = body.ends[static_cast<size_t>(side)];
+    const double at = side ? body.hi : body.lo, reach = 0.01 * (body.hi - body.lo);
+    const double outward = side ? 1.0 : -1.0;
     if (end == "auto") {
-      const double at = side ? body.hi : body.lo, reach = 0.01 * (body.hi - body.lo);
       end = curveAtEnd(target, curves, FeatureCurveKind::Boundary, plane, body.origin, body.e1, at, reach) ? "open"
             : curveAtEnd(target, curves, FeatureCurveKind::Sharp, plane, body.origin, body.e1, at, reach) ? "flat"
+            : pointedTip(target, body, at, outward, reach)                                               ? "pointed"
                                                                                                          : "round";
+    }
+    if (end == "pointed") {
+      const std::optional<int> tip = pointedTip(target, body, at, outward, reach);
+      if (!tip) {
+        throw InvalidInputError("template '" + values.templateName() + "' cannot be placed on this target: " +
+                                (side ? "tail" : "nose") +
+                                " pointed: the target has no vertex on the axis at that end with a pointed "
+                                "surface round it (choose round, flat or open)");
+      }
+      body.tips[static_cast<size_t>(side)] = target.vertexPosition(*tip);
     }
   }
   used["nose"] = body.ends[0];
   used["tail"] = body.ends[1];
 }
+
+// Whether an end is a dome cast from its rim's centre: a round end, or a pointed one (whose
+// middle vertex then moves onto the tip).
+bool domed(const std::string& end) { return end == "round" || end == "pointed"; }
 
 // A ring-capped flat end's inner ring, as a fraction of the end's radius.
 constexpr double kCapRing = 0.5;
@@ -109,8 +156,7 @@ std::array<double, 2> bodyRims(const BodyAxis& body) {
   const double length = body.hi - body.lo;
   const double cap = std::min(body.radius, 0.25 * length);
   const double inset = 1e-4 * length;
-  return {body.ends[0] == "round" ? body.lo + cap : body.lo + inset,
-          body.ends[1] == "round" ? body.hi - cap : body.hi - inset};
+  return {domed(body.ends[0]) ? body.lo + cap : body.lo + inset, domed(body.ends[1]) ? body.hi - cap : body.hi - inset};
 }
 
 // The body grid: the lattice [0, #stations - 1] x [0, ny] x [0, n] (a half body without its
@@ -168,13 +214,13 @@ Draft buildBodyGrid(const target::Target& target, const BodyAxis& body, int n,
       if ((i == rim[0] && body.ends[0] == "flat") || (i == rim[1] && body.ends[1] == "flat")) flatRim.push_back(v);
       // Half models: where the symmetry boundary meets an open or flat end.
       if (half && j == 0 && (k == 0 || k == n) &&
-          ((i == rim[0] && body.ends[0] != "round") || (i == rim[1] && body.ends[1] != "round"))) {
+          ((i == rim[0] && !domed(body.ends[0])) || (i == rim[1] && !domed(body.ends[1])))) {
         draft.corners.push_back(v);
       }
       continue;
     }
     const std::string& end = body.ends[i == 0 ? 0 : 1];
-    if (end == "round") {
+    if (domed(end)) {
       const double rho = std::min(1.0, std::sqrt(a * a + b * b));
       const Vec dome = body.radius * radial + outward * cap * std::sqrt(1.0 - rho * rho) * body.e1;
       rays.add(v, centre + lift, dome);
@@ -183,6 +229,21 @@ Draft buildBodyGrid(const target::Target& target, const BodyAxis& body, int n,
     }
   }
   rays.resolve(target, draft, firstHit);
+  // A pointed end's middle vertex (s = t = 0 of its dome) sits on the tip as a corner: the limit
+  // surface then comes to a point there instead of rounding it off (a cone's apex by 2 % of the
+  // body's length).
+  for (int side = 0; side < 2; ++side) {
+    const std::optional<Vec>& tip = body.tips[static_cast<size_t>(side)];
+    if (!tip) continue;
+    const int station = side == 0 ? 0 : axial;
+    for (size_t v = 0; v < lattice.coords.size(); ++v) {
+      const auto [i, j, k] = lattice.coords[v];
+      if (i == station && 2 * k == n && (half ? j == 0 : 2 * j == ny)) {
+        draft.vertices[v] = *tip;
+        draft.corners.push_back(static_cast<int>(v));
+      }
+    }
+  }
   for (const auto& [a, b] : latticeEdges(lattice)) {
     const bool aRim = std::find(flatRim.begin(), flatRim.end(), a) != flatRim.end();
     const bool bRim = std::find(flatRim.begin(), flatRim.end(), b) != flatRim.end();

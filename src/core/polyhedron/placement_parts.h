@@ -88,7 +88,8 @@ struct BodyAxis {
   Vec e1 = Vec::UnitX(), e2 = Vec::UnitY(), e3 = Vec::UnitZ();
   double lo = 0.0, hi = 0.0;
   double radius = 0.0;              // largest distance of the body from the axis
-  std::array<std::string, 2> ends;  // nose (at lo) and tail (at hi): round, flat or open
+  std::array<std::string, 2> ends;  // nose (at lo) and tail (at hi): round, pointed, flat or open
+  std::array<std::optional<Vec>, 2> tips;  // a pointed end's tip (the target's vertex there)
   // Per end, whether a flat end is capped O-wise: its first station repeats the rim's and its ring
   // lies on the end face (buildBodyGrid), so that every rim vertex has two end-face quads.
   std::array<bool, 2> ringCapped{false, false};
