@@ -77,7 +77,6 @@ int quarterSegments(const TemplateValues& values) {
   return circumferential / 4;
 }
 
-// Resolves `auto` nose and tail choices from the target's free boundary and creases, and records them.
 // The target's vertex at the tip of a pointed end (axial position `end`, outward the direction
 // from the body to the end): a vertex within `reach` of the axis there, round which the surface
 // leaves the axis at a slope, not across it as a round end's does (its normals 1e-3 of the

@@ -97,7 +97,8 @@ struct BodyAxis {
 
 int quarterSegments(const TemplateValues& values);
 
-// Resolves `auto` nose and tail choices from the target's free boundary and creases, and records them.
+// Resolves `auto` nose and tail choices from the target's free boundary, creases and tips, finds
+// a pointed end's tip (BodyAxis::tips), and records them.
 void resolveEnds(const TemplateValues& values, const target::Target& target,
                  const std::vector<FeatureCurve>& curves, const std::optional<fit::SymmetryPlane>& plane,
                  BodyAxis& body, std::map<std::string, std::string>& used);
