@@ -13,6 +13,7 @@
 #include <gp_Pnt.hxx>
 
 #include <cmath>
+#include <memory>
 
 #include "core/common/occt_errors.h"
 
@@ -42,12 +43,13 @@ std::vector<gp_Pnt> boundaryPoints(const TopoDS_Shape& solid) {
   return points;
 }
 
-// A point of `points` strictly inside `solid` (farther inside than `tolerance`), or none. At most
-// kMostPointsClassified of them, evenly spread, so that solids of many faces stay quick to check.
-bool firstInside(const TopoDS_Shape& solid, const std::vector<gp_Pnt>& points, double tolerance, gp_Pnt& inside) {
+// A point of `points` strictly inside the classifier's solid (farther inside than `tolerance`), or
+// none. At most kMostPointsClassified of them, evenly spread, so that solids of many faces stay
+// quick to check.
+bool firstInside(BRepClass3d_SolidClassifier& classifier, const std::vector<gp_Pnt>& points, double tolerance,
+                 gp_Pnt& inside) {
   constexpr std::size_t kMostPointsClassified = 2000;
   const std::size_t stride = points.size() / kMostPointsClassified + 1;
-  BRepClass3d_SolidClassifier classifier(solid);
   for (std::size_t k = 0; k < points.size(); k += stride) {
     const gp_Pnt& p = points[k];
     classifier.Perform(p, tolerance);
@@ -70,19 +72,23 @@ std::vector<SolidOverlap> overlappingSolids(const TopoDS_Shape& shape) {
   return translateOcctErrors("checking the solids for overlaps", [&] {
     std::vector<Bnd_Box> boxes(static_cast<std::size_t>(solids.Extent()));
     std::vector<std::vector<gp_Pnt>> points(boxes.size());
+    std::vector<std::unique_ptr<BRepClass3d_SolidClassifier>> classifiers;  // one per solid, set up once
     Bnd_Box all;
     for (int i = 0; i < solids.Extent(); ++i) {
       BRepBndLib::Add(solids(i + 1), boxes[static_cast<std::size_t>(i)]);
       all.Add(boxes[static_cast<std::size_t>(i)]);
       points[static_cast<std::size_t>(i)] = boundaryPoints(solids(i + 1));
+      classifiers.push_back(std::make_unique<BRepClass3d_SolidClassifier>(solids(i + 1)));
     }
     const double tolerance = 1e-7 * std::sqrt(all.SquareExtent());
     for (int i = 0; i < solids.Extent(); ++i) {
       for (int j = i + 1; j < solids.Extent(); ++j) {
         if (boxes[static_cast<std::size_t>(i)].IsOut(boxes[static_cast<std::size_t>(j)])) continue;
         gp_Pnt p;
-        if (firstInside(solids(i + 1), points[static_cast<std::size_t>(j)], tolerance, p) ||
-            firstInside(solids(j + 1), points[static_cast<std::size_t>(i)], tolerance, p))
+        if (firstInside(*classifiers[static_cast<std::size_t>(i)], points[static_cast<std::size_t>(j)],
+                        tolerance, p) ||
+            firstInside(*classifiers[static_cast<std::size_t>(j)], points[static_cast<std::size_t>(i)],
+                        tolerance, p))
           overlaps.push_back({i, j, {p.X(), p.Y(), p.Z()}});
       }
     }

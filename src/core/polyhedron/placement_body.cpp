@@ -116,22 +116,26 @@ void resolveEnds(const TemplateValues& values, const target::Target& target,
     std::string& end = body.ends[static_cast<size_t>(side)];
     const double at = side ? body.hi : body.lo, reach = 0.01 * (body.hi - body.lo);
     const double outward = side ? 1.0 : -1.0;
+    std::optional<int> tip;
     if (end == "auto") {
-      end = curveAtEnd(target, curves, FeatureCurveKind::Boundary, plane, body.origin, body.e1, at, reach) ? "open"
-            : curveAtEnd(target, curves, FeatureCurveKind::Sharp, plane, body.origin, body.e1, at, reach) ? "flat"
-            : pointedTip(target, body, at, outward, reach)                                               ? "pointed"
-                                                                                                         : "round";
-    }
-    if (end == "pointed") {
-      const std::optional<int> tip = pointedTip(target, body, at, outward, reach);
+      if (curveAtEnd(target, curves, FeatureCurveKind::Boundary, plane, body.origin, body.e1, at, reach)) {
+        end = "open";
+      } else if (curveAtEnd(target, curves, FeatureCurveKind::Sharp, plane, body.origin, body.e1, at, reach)) {
+        end = "flat";
+      } else {
+        tip = pointedTip(target, body, at, outward, reach);
+        end = tip ? "pointed" : "round";
+      }
+    } else if (end == "pointed") {
+      tip = pointedTip(target, body, at, outward, reach);
       if (!tip) {
         throw InvalidInputError("template '" + values.templateName() + "' cannot be placed on this target: " +
                                 (side ? "tail" : "nose") +
                                 " pointed: the target has no vertex on the axis at that end with a pointed "
                                 "surface round it (choose round, flat or open)");
       }
-      body.tips[static_cast<size_t>(side)] = target.vertexPosition(*tip);
     }
+    if (tip) body.tips[static_cast<size_t>(side)] = target.vertexPosition(*tip);
   }
   used["nose"] = body.ends[0];
   used["tail"] = body.ends[1];
