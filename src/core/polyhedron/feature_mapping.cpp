@@ -278,14 +278,19 @@ FeatureMapping mapFeatures(const ControlMesh& mesh, const target::Target& target
       const Candidate all = evaluate(sameKind);
       if (acceptable(all)) best = all;
     }
-    // A crease no sharp curve takes may lie along a kink (a blunt trailing edge's base folding by
-    // a few degrees where a swept wing's halves meet).
-    if (!best && chain.kind == FeatureCurveKind::Sharp) {
+    // A crease may lie along a kink: a blunt trailing edge's base folding by a few degrees where a
+    // swept wing's halves meet, which no sharp curve takes, or a sharp one's wedge there, 4.6 mm
+    // long on the full M6 and ending where the sharp root seam begins, whose end the seam's
+    // candidate lies within reach of. A kink takes the chain when no sharp curve does or when it
+    // lies at less than half the sharp curve's distance.
+    if (chain.kind == FeatureCurveKind::Sharp) {
+      std::optional<Candidate> kink;
       for (size_t k = 0; k < curves.size(); ++k) {
         if (curves[k].kind != FeatureCurveKind::Kink) continue;
         const Candidate candidate = evaluate({static_cast<int>(k)});
-        if (acceptable(candidate) && (!best || candidate.maxDistance < best->maxDistance)) best = candidate;
+        if (acceptable(candidate) && (!kink || candidate.maxDistance < kink->maxDistance)) kink = candidate;
       }
+      if (kink && (!best || kink->maxDistance < 0.5 * best->maxDistance)) best = kink;
     }
     // Figures of the mapped candidate, or of the nearest one for the report.
     const Candidate& shown = best ? *best : nearest;

@@ -32,12 +32,12 @@ struct PlacementOptions {
 };
 
 // A wing's planform as the placement measured it on the target (sections at the ends of the
-// trailing edge). Chords run from the leading-edge point (farthest section point from the
+// trailing edge; a full wing's root half way between its tips). Chords run from the leading-edge point (farthest section point from the
 // trailing edge) to the trailing edge; sweeps are measured in the plane of span and root chord.
 struct WingPlanform {
   Eigen::Vector3d spanDirection = Eigen::Vector3d::Zero();
-  double span = 0.0;       // between the first and the last station
-  double rootChord = 0.0;  // first station (the root of a half wing)
+  double span = 0.0;       // from the root to the tip (a full wing's half span)
+  double rootChord = 0.0;  // a half wing's first station, a full wing's middle
   double tipChord = 0.0;   // last station
   double leadingEdgeSweepDeg = 0.0;
   double trailingEdgeSweepDeg = 0.0;

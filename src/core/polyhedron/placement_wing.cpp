@@ -605,6 +605,17 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
   for (const auto& [j, line] : kinkRings) {
     const std::vector<int>& ring = rings[static_cast<size_t>(j)];
     creaseAlong(draft, ring, line, kinkTolerance, w.blunt);
+    // The CAD's kinks in the section's plane too: where the two halves of a swept wing meet, the
+    // trailing-edge wedge's seam. Left smooth, the wedge's faces at the trailing edge's corner
+    // span the planform's notch there (more than 180 degrees), and subdivision bulges them behind
+    // the trailing edge (1 mm at level 3 on the full M6).
+    // A kink can be shorter than the placement's reach (the full M6's seam: 4.6 mm, 1.1 mm apart
+    // from the lower surface's): a tenth of its length then.
+    for (const target::Points& kink : kinksInPlane(target, curves, w, spanAt(j))) {
+      double length = 0.0;
+      for (Eigen::Index k = 0; k + 1 < kink.rows(); ++k) length += (kink.row(k + 1) - kink.row(k)).norm();
+      creaseAlong(draft, ring, kink, std::min(kinkTolerance, 0.1 * length), w.blunt);
+    }
     // Where the trailing edge ends on the kink section (its two halves meet at an angle there),
     // its vertex is a corner.
     bool trailingEdgeEnds = false;
@@ -616,6 +627,14 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
     if (trailingEdgeEnds) draft.corners.push_back(ring[0]);
     // A blunt edge's base folds there too (by a few degrees: a kink of the CAD).
     if (trailingEdgeEnds && w.blunt) draft.creases.push_back({ring.back(), ring[0]});
+  }
+  // A full wing's root is half way between its tips (on the kink section there, if any), not its
+  // first station, which is the other tip.
+  if (!half) {
+    double root = 0.5 * (w.low + w.high);
+    for (const auto& [span, line] : w.kinks)
+      if (std::abs(span - root) <= 1e-3 * w.extent()) root = span;
+    wingRing(target, w, root, layout.upper, layout.lower, &rootSection);
   }
   planform = measurePlanform(w, rootSection, tipSection);
   addTipCap(draft, target, w, layout, tipStation, rings.back(), 1.0, rounded);
