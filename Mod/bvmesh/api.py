@@ -674,7 +674,7 @@ def make_volume_mesh(fit, name="VolumeMesh", wall_level=-1, marching_level=-1, m
     lower one (the same fit refitted to it). marching_level: -1 march the wall itself, or the
     highest level below it whose control mesh has at most marching_point_limit points (default
     bvmesh.volume.MARCHING_POINT_LIMIT; 0: no limit), and, where that folds, each lower level
-    in turn (MarchingLevelUsed says which), or a level below the wall's whose marched layers are
+    in turn, then the finer ones up to the wall's (MarchingLevelUsed says which), or a level below the wall's whose marched layers are
     carried onto the wall (its charts stay the blocks' wall faces). options: those of bvmesh.volume.offset_and_farfield
     (reference_length, reynolds_number, boundary_layer_thickness, boundary_layer_layers,
     boundary_layer_growth, sharp_edge_splay, farfield_distance, farfield_growth, smoothing,

@@ -47,15 +47,18 @@ def marching_levels(level, points_per_level, point_limit=MARCHING_POINT_LIMIT, l
 
 def march_from_first_level_that_holds(levels, march, finer=()):
     """(march(level), level) for the first of `levels` whose marching does not fold (a SolverError
-    "marching folds ..."); a SolverError listing every level's failure when all fail. A level whose
-    layers cannot be carried onto the wall (an InvalidInputError "... march a finer wall": the wall
-    lies too far from that level's, as next to a pointed nose's apex) gives way to the levels of
-    `finer` above it, in ascending order, the lower ones lying farther still."""
+    "marching folds ..."), then of `finer` in ascending order: where every level down folds, a finer
+    wall may hold (the full M6 wing, twice a half wing's points, starts a level below the half
+    one, and its level 1 folds at the trailing edge); a SolverError listing every level's failure
+    when all fail. A level whose layers cannot be carried onto the wall (an InvalidInputError
+    "... march a finer wall": the wall lies too far from that level's, as next to a pointed nose's
+    apex) gives way to the levels of `finer` above it at once, the lower ones lying farther still."""
     from . import InvalidInputError, SolverError
 
     failures = []
     queue = list(levels)
     finer = sorted(finer)
+    finer_queued = False
     while queue:
         level = queue.pop(0)
         try:
@@ -73,6 +76,10 @@ def march_from_first_level_that_holds(levels, march, finer=()):
                 break
             failures.append((level, error))
             queue = higher
+            finer_queued = True
+        if not queue and not finer_queued:
+            queue = [lv for lv in finer if lv > max(levels)]
+            finer_queued = True
     if len(failures) == 1:
         raise failures[0][1]
     folded = all(isinstance(error, SolverError) for _, error in failures)
@@ -97,8 +104,8 @@ def offset_and_farfield(fit_or_mesh, symmetry_plane=None, marching_wall=None, ma
     the blocks' wall faces (a fine wall whose own marching folds keeps its accuracy).
     marching_level: for a SurfaceFitter, the level below its own whose mesh (fitter.mesh_at_level)
     is the marching wall, or -1: the highest level whose mesh has at most marching_point_limit
-    points (0: the fit's own) and, where that folds, each lower one in turn (marching_levels), as
-    the workbench's MarchingLevel -1 does; a wall of more than a few thousand points marches its
+    points (0: the fit's own) and, where that folds, each lower one in turn (marching_levels), then
+    the finer ones up to the fit's own (march_from_first_level_that_holds), as the workbench's MarchingLevel -1 does; a wall of more than a few thousand points marches its
     hyperbolic far field in minutes, from a level down in seconds (docs/volume.md). options: those
     of bvmesh.generate_volume_mesh (reference_length, reynolds_number, boundary_layer_thickness,
     boundary_layer_layers, boundary_layer_growth, sharp_edge_splay, farfield_distance,

@@ -153,6 +153,21 @@ class SphereVolume(unittest.TestCase):
         with self.assertRaisesRegex(bvmesh.SolverError, "^marching folds"):  # one level: its own error
             bvmesh.volume.march_from_first_level_that_holds([4], march)
 
+        # Every level down folds (the full M6 wing starts at level 1, which folds at its trailing
+        # edge): the finer ones are tried after them, in ascending order.
+        tried.clear()
+
+        def coarse_folds(level):
+            tried.append(level)
+            if level < 3:
+                raise bvmesh.SolverError("marching folds at layer 1 above wall cell 0")
+            return "marched"
+
+        self.assertEqual(bvmesh.volume.march_from_first_level_that_holds([2, 1], coarse_folds, [3, 4]), ("marched", 3))
+        self.assertEqual(tried, [2, 1, 3])
+        with self.assertRaisesRegex(bvmesh.SolverError, "folds from every level tried; from level 1: .*from level 2: "):
+            bvmesh.volume.march_from_first_level_that_holds([1], coarse_folds, [2])
+
         def singular(level):
             raise bvmesh.SolverError("the step's linear system is singular")
 

@@ -215,8 +215,8 @@ class VolumeMeshProxy(RecomputedProxy):
                      "and polyhedron to that level", -1)
         add_property(obj, "App::PropertyInteger", "MarchingLevel", "Inputs",
                      "Subdivision level the layers are marched from: -1 the wall's own (or the highest below it "
-                     "within MarchingPointLimit), or where its marching folds each lower level in turn "
-                     "(MarchingLevelUsed says which); a lower level marches the fit refitted to it and carries the "
+                     "within MarchingPointLimit), or where its marching folds each lower level in turn, then "
+                     "the finer ones (MarchingLevelUsed says which); a lower level marches the fit refitted to it and carries the "
                      "layers onto the wall (whose charts stay the blocks' wall faces)", -1)
         # 0 (no limit, the wall's own level first) in a document saved before the property; create()
         # gives new meshes bvmesh.volume.MARCHING_POINT_LIMIT.
@@ -281,7 +281,8 @@ class VolumeMeshProxy(RecomputedProxy):
     def make(self, obj):
         wall, plane, settings = marching_inputs(obj)
         levels = marching_levels(obj)
-        # Finer levels for when the wall lies too far from a coarse one's to carry its layers.
+        # Finer levels for when the wall lies too far from a coarse one's to carry its layers, or
+        # every level down folds.
         finer = list(range(levels[0] + 1, wall_level(obj) + 1)) if obj.MarchingLevel == -1 else []
         coarse = {level: marching_wall(obj, level) for level in levels + finer}  # read here, not in the worker
 
