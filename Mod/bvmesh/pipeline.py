@@ -20,7 +20,7 @@ import shutil
 import subprocess
 import time
 
-from bvmesh import api, load_core
+from bvmesh import api, load_core, polyhedra
 
 # Export format -> the file (or folder) name's ending after NAME.
 FORMAT_ENDINGS = {"cgns": ".cgns", "openfoam": "_openfoam", "plot3d": ".xyz", "vtk": ".vtm", "gismo": ".xml",
@@ -180,17 +180,23 @@ def _grid_line(grid_object):
                 grid_object.FirstCellHeightMin, grid_object.FirstCellHeightMax, grid_object.GrowthMax))
 
 
+def _marching_words(vm):
+    if vm.MarchingLevelUsed == vm.WallLevelUsed:
+        return ""
+    how = ("the level asked for" if vm.MarchingLevel != -1 else
+           "the automatic marching level: the first that holds of the highest with at most {} control points, "
+           "the lower ones, then the finer ones".format(vm.MarchingPointLimit))
+    return ", layers marched from the fit refitted to level {} and carried onto it ({}; docs/volume.md)".format(
+        vm.MarchingLevelUsed, how)
+
+
 def _volume_report(title, vm, grid_object, quality, written, case, verdict, seconds):
     lines = [
         "# {}: volume mesh".format(title),
         "",
         "Wall: the surface fit at level {}{}; the grid's wall points lie within {:.3e} of the CAD faces (fit "
-        "tolerance {:.3g}).".format(vm.WallLevelUsed, "" if vm.MarchingLevelUsed == vm.WallLevelUsed else (
-            ", layers marched from the fit refitted to level {} and carried onto it (the automatic marching "
-            "level: the highest with at most {} control points; marched from its own level the boundary layer "
-            "folds at the trailing edge's tip corner; docs/volume.md)".format(vm.MarchingLevelUsed,
-                                                                              vm.MarchingPointLimit)),
-            wall_distance(grid_object), vm.Fit.Tolerance),
+        "tolerance {:.3g}).".format(vm.WallLevelUsed, _marching_words(vm), wall_distance(grid_object),
+                                    vm.Fit.Tolerance),
         "Blocks: {} tricubic B-spline blocks, {} control layers; boundary layer {:.4g} thick (reference length "
         "{:.4g}, Re {:.4g}); far field: {}, marched {}{}.".format(
             vm.BlockCount, vm.ControlLayers, vm.BoundaryLayerThicknessUsed, vm.ReferenceLengthUsed,
@@ -309,11 +315,11 @@ def run(cad_path, output_dir, template, name=None, title=None, template_paramete
     fit's 'tolerance', and with the volume stage its objects and 'check_mesh' (unmet_goals() says
     what of these missed). file_names: a file's name by kind instead of the NAME-based
     one (e.g. {'cut': 'M6_cut_eta044.png'}). volume_options, grid_options: as run_volume takes
-    them. template: a polyhedron template's name
-    (bvmesh.polyhedra.template_names()) with its parameters; the fit's tolerance is
-    relative_tolerance times the reference length (given, or on a half model the body's largest
-    extent on its symmetry plane, or the body's). reynolds_number: for the boundary layer's estimate (None: the
-    volume stage's default). volume=False stops after the surface stage. The document and the
+    them. template: a polyhedron template's name (bvmesh.polyhedra.template_names()) with its
+    parameters; the fit's tolerance is relative_tolerance times the reference length (given, or on
+    a half model the body's largest extent on its symmetry plane, or a wing's root chord, or the
+    body's largest extent). reynolds_number: for the boundary layer's estimate (None: the volume
+    stage's default). volume=False stops after the surface stage. The document and the
     surface stage's files are written even when the volume stage fails."""
     import FreeCAD
 
@@ -338,9 +344,14 @@ def run(cad_path, output_dir, template, name=None, title=None, template_paramete
         cad = api.import_cad(doc, cad_path, name=os.path.splitext(os.path.basename(cad_path))[0])
         target, what, symmetry_length = _body_target(doc, cad, half_model)
         log("target: {}".format(what))
-        polyhedron = api.make_polyhedron_from_template(doc, target, template, **(template_parameters or {}))
+        placed = polyhedra.place(template, target.Proxy.core_target(target), template_parameters)
+        mesh = placed["mesh"]
+        polyhedron = api.make_polyhedron(doc, mesh.vertices, mesh.faces, creases=mesh.creases, corners=mesh.corners,
+                                         features=placed["feature_map"])
         log("polyhedron: " + polyhedron.Summary)
-        length = _reference_length(target, reference_length or symmetry_length)
+        # A wing's reference length is its root chord (a full wing's largest extent is its span).
+        root_chord = placed["planform"]["root_chord"] if placed.get("planform") else None
+        length = _reference_length(target, reference_length or symmetry_length or root_chord)
         tolerance = relative_tolerance * length
         fit = api.make_surface_fit(doc, target, polyhedron, symmetry_plane=api.symmetry_plane_guess(target),
                                    tolerance=tolerance, max_level=max_level, check_samples_per_face=4)

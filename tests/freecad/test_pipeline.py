@@ -201,6 +201,31 @@ class OpenHalfModel(unittest.TestCase):
                          r"\n\s*symmetry\s*\n\s*{\s*\n\s*type\s+symmetryPlane;")
 
 
+class FullWing(unittest.TestCase):
+    def test_the_mirrored_m6_is_fitted_and_meshed_on_its_root_chord(self):
+        # The M6 fused with its mirror image: the trailing edge turns by 31 degrees at the root, where
+        # the wedge's faces used to bulge 1 mm behind it (the fit stopped at 0.69 mm at level 3 and the
+        # boundary layer folded); the reference length was the span (2437), and the automatic
+        # marching level (level 1, the highest within 4000 points) folded at the trailing edge.
+        folder = tempfile.mkdtemp(prefix="bvmesh-mesh-full-wing-")
+        half = Part.read(os.path.join(DATA, "AileM6_with_sharp_TE.stp"))
+        cad = os.path.join(folder, "full_wing.step")
+        half.fuse(half.mirror(FreeCAD.Vector(0, 0, 0), FreeCAD.Vector(0, 1, 0))).removeSplitter().exportStep(cad)
+        output = os.path.join(folder, "out")
+        done = mesh(cad, "--template", "wing", "--template-parameter", "tip_kinks=follow", "--output", output,
+                    "--target-cells", "20000", "--formats", "openfoam")
+        self.assertEqual(done.returncode, 0, done.stderr)  # converged, and checkMesh passes
+        self.assertRegex(done.stdout, r"fit: converged at level 3,")
+        match = re.search(r"Target: all 20 faces of the CAD; reference length ([0-9.]+);",
+                          read(os.path.join(output, "full_wing_report.md")))
+        self.assertIsNotNone(match)
+        self.assertAlmostEqual(float(match.group(1)), 810.5, delta=0.5)
+        volume_report = read(os.path.join(output, "full_wing_volume_report.md"))
+        self.assertIn("layers marched from the fit refitted to level 2", volume_report)
+        self.assertIn("checkMesh on full_wing_openfoam: Mesh OK.", volume_report)
+        self.assertRegex(volume_report, r"Cells with a non-positive scaled Jacobian: 0;")
+
+
 class WingInItsFlowDomain(unittest.TestCase):
     def test_reference_length_is_the_root_chord(self):
         # The M6 inside its half sphere, scaled to a unit root chord: the reference length is the
