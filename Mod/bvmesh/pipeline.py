@@ -71,32 +71,31 @@ def _extent_in_plane(shape, plane):
 
 
 def _body_target(doc, cad, half_model):
-    """(Target object, what it holds in words, reference length or None): the reference length is
-    the body's largest extent on its symmetry plane in a half model (the symmetry face's, or in a
-    flow domain or a half model without its symmetry face the outline of the body's open side: a
-    wing's root chord, a body's length), else left to the volume stage (the wall's largest
-    extent)."""
+    """(Target object, what it holds in words, reference length or None, symmetry plane or None):
+    the reference length is the body's largest extent on its symmetry plane in a half model (the
+    symmetry face's, or in a flow domain or a half model without its symmetry face the outline of
+    the body's open side: a wing's root chord, a body's length), else left to the caller; the plane
+    as api.symmetry_plane_guess gives it."""
     if not half_model:
         # A Target on all faces finds a flow domain's body itself (FlowDomain names the domain).
         target = api.make_target(doc, cad)
-        if target.FlowDomain:
-            plane = api.symmetry_plane_guess(target)
-            return target, "the body inside the CAD's flow domain ({}, {} faces)".format(
-                target.FlowDomain, len(target.Shape.Faces)), plane and _extent_in_plane(target.Shape, plane)
         plane = api.symmetry_plane_guess(target)
+        if target.FlowDomain:
+            return target, "the body inside the CAD's flow domain ({}, {} faces)".format(
+                target.FlowDomain, len(target.Shape.Faces)), plane and _extent_in_plane(target.Shape, plane), plane
         if plane is not None:  # an open half model: its open side lies on the symmetry plane
             return target, "all {} faces of the CAD, a half model open on its symmetry plane".format(
-                len(cad.Shape.Faces)), _extent_in_plane(target.Shape, plane)
-        return target, "all {} faces of the CAD".format(len(cad.Shape.Faces)), None
+                len(cad.Shape.Faces)), _extent_in_plane(target.Shape, plane), plane
+        return target, "all {} faces of the CAD".format(len(cad.Shape.Faces)), None, None
     if api.flow_domain_of(cad.Shape) is not None:
         raise ValueError("the CAD is a flow domain, whose symmetry plane the domain itself gives: "
                          "leave out the half model")
     _, symmetry_face, _ = load_core().remove_symmetry_face(cad.Shape.exportBrepToString())
     faces = ["Face{}".format(i + 1) for i in range(len(cad.Shape.Faces)) if i != symmetry_face]
     box = cad.Shape.Faces[symmetry_face].BoundBox
-    return (api.make_target(doc, cad, faces=faces),
-            "the CAD's faces without Face{}, its symmetry-plane face".format(symmetry_face + 1),
-            max(box.XLength, box.YLength, box.ZLength))
+    target = api.make_target(doc, cad, faces=faces)
+    return (target, "the CAD's faces without Face{}, its symmetry-plane face".format(symmetry_face + 1),
+            max(box.XLength, box.YLength, box.ZLength), api.symmetry_plane_guess(target))
 
 
 def _reference_length(target, given):
@@ -342,7 +341,7 @@ def run(cad_path, output_dir, template, name=None, title=None, template_paramete
     doc = FreeCAD.newDocument(name)
     try:
         cad = api.import_cad(doc, cad_path, name=os.path.splitext(os.path.basename(cad_path))[0])
-        target, what, symmetry_length = _body_target(doc, cad, half_model)
+        target, what, symmetry_length, symmetry_plane = _body_target(doc, cad, half_model)
         log("target: {}".format(what))
         placed = polyhedra.place(template, target.Proxy.core_target(target), template_parameters)
         mesh = placed["mesh"]
@@ -353,7 +352,7 @@ def run(cad_path, output_dir, template, name=None, title=None, template_paramete
         root_chord = placed["planform"]["root_chord"] if placed.get("planform") else None
         length = _reference_length(target, reference_length or symmetry_length or root_chord)
         tolerance = relative_tolerance * length
-        fit = api.make_surface_fit(doc, target, polyhedron, symmetry_plane=api.symmetry_plane_guess(target),
+        fit = api.make_surface_fit(doc, target, polyhedron, symmetry_plane=symmetry_plane,
                                    tolerance=tolerance, max_level=max_level, check_samples_per_face=4)
         api.fit_to_tolerance(fit)
         seconds = time.time() - started

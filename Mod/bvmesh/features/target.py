@@ -75,13 +75,15 @@ class TargetProxy(Proxy):
 
         if obj.Source is None or not hasattr(obj.Source, "Shape") or obj.Source.Shape.isNull():
             raise ValueError("the target needs a Source object with a shape")
+        source = obj.Source.Shape  # exported to BREP once, for both checks, where both run
         if len(obj.Source.Shape.Solids) > 1:
-            overlaps = load_core().overlapping_solids(obj.Source.Shape.exportBrepToString())
+            source = obj.Source.Shape.exportBrepToString()
+            overlaps = load_core().overlapping_solids(source)
             if overlaps:
                 raise ValueError("the Source {} holds {}".format(
                     obj.Source.Label, api.overlapping_solids_message(overlaps)))
         faces = list(obj.Faces)
-        domain = None if faces else api.flow_domain_of(obj.Source.Shape)
+        domain = None if faces else api.flow_domain_of(source)
         if domain is not None:
             faces = ["Face{}".format(i + 1) for i in domain["body_faces"]]
         self.set_flow_domain(obj, domain)
