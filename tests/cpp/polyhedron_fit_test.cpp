@@ -3,7 +3,9 @@
 // files with FreeCAD), and the fitter's own sample-to-target distances.
 #include <gtest/gtest.h>
 
+#include <BRepAlgoAPI_Fuse.hxx>
 #include <BRepOffsetAPI_ThruSections.hxx>
+#include <ShapeUpgrade_UnifySameDomain.hxx>
 
 #include <algorithm>
 #include <cmath>
@@ -115,6 +117,56 @@ TEST(PolyhedronFit, FlatTipHalfWingOnAGeneratedWing) {
   expectEveryLevelHalvesTheDistance(summary);
   EXPECT_LT(summary.history.back().maxDistance, 2e-5);  // 1.4e-5 of the root chord at level 3
   EXPECT_EQ(summary.history.back().failedProjections, 0);
+}
+
+TEST(PolyhedronFit, CrankedHalfWingGetsAStationOnTheCrank) {
+  // A transport wing's planform: two ruled lofts fused at a crank (y = 0.4), the trailing edge
+  // unswept inboard and swept outboard. The lofts meet in a kink of a few degrees, the trailing
+  // edge turns by 8 degrees there. Without a station on the crank the fit stagnated at 5.9e-4 of
+  // the root chord (level 4), the trailing edge's crease rounding the turn, and the boundary layer
+  // folded at the crank's trailing edge.
+  BRepOffsetAPI_ThruSections inboard(true, true), outboard(true, true);
+  inboard.AddWire(testing::nacaSectionWire(0.0, 0.0, 0.0, 1.0));
+  inboard.AddWire(testing::nacaSectionWire(0.4, 0.4, 0.0, 0.6));
+  outboard.AddWire(testing::nacaSectionWire(0.4, 0.4, 0.0, 0.6));
+  outboard.AddWire(testing::nacaSectionWire(0.862, 1.2, 0.0, 0.25));
+  BRepAlgoAPI_Fuse fuse(inboard.Shape(), outboard.Shape());
+  ShapeUpgrade_UnifySameDomain unify(fuse.Shape());
+  unify.Build();
+  const HalfModelShape half = removeSymmetryFace(unify.Shape());
+  auto target = std::make_shared<const target::Target>(half.shape);
+  const PlacedPolyhedron placed = placeTemplate(libraryTemplate("half_wing"), *target);
+  ASSERT_TRUE(placed.mapping.complete()) << placed.mapping.describeUnmapped();
+  // A ring on the crank, creased all round along the kink curves (the chains on them lie on the
+  // crank), its trailing-edge vertex a corner.
+  const auto onCrank = [&](int v) { return std::abs(placed.mesh.vertices()(v, 1) - 0.4) < 1e-6; };
+  int ringVertices = 0, ringCreases = 0, kinkChains = 0;
+  for (int v = 0; v < placed.mesh.numVertices(); ++v) ringVertices += onCrank(v);
+  for (Eigen::Index e = 0; e < placed.mesh.creases().rows(); ++e)
+    ringCreases += onCrank(placed.mesh.creases()(e, 0)) && onCrank(placed.mesh.creases()(e, 1));
+  for (size_t c = 0; c < placed.mapping.chains.size(); ++c) {
+    if (placed.curves[static_cast<size_t>(placed.mapping.chainMappings[c].curve)].kind != FeatureCurveKind::Kink)
+      continue;
+    ++kinkChains;
+    for (int v : placed.mapping.chains[c].vertices) EXPECT_TRUE(onCrank(v)) << v;
+  }
+  EXPECT_GE(ringVertices, 8);
+  EXPECT_EQ(ringCreases, ringVertices);
+  EXPECT_GE(kinkChains, 1);
+  bool crankCorner = false;
+  for (int v : placed.mesh.corners()) {
+    const Eigen::Vector3d p = placed.mesh.vertices().row(v).transpose();
+    crankCorner |= (p - Eigen::Vector3d(1.0, 0.4, 0.0)).norm() < 1e-6;
+  }
+  EXPECT_TRUE(crankCorner);
+
+  fit::FitOptions options;
+  options.tolerance = 1e-5;  // of the root chord
+  options.maxLevel = 3;
+  options.symmetryPlane = placed.symmetryPlane;
+  fit::SurfaceFitter fitter(target, placed.mesh, placed.mapping.map, options);
+  const fit::FitSummary summary = runAndRecord(fitter, "cranked_wing");
+  EXPECT_LT(summary.history.back().maxDistance, 5e-5);
 }
 
 TEST(PolyhedronFit, NacelleWithASharpLipTrailingEdge) {

@@ -6,7 +6,9 @@
 #include <cmath>
 #include <limits>
 #include <map>
+#include <set>
 #include <type_traits>
+#include <utility>
 
 #include "core/common/closest_point.h"
 #include "core/common/errors.h"
@@ -35,9 +37,14 @@ ControlMesh Draft::build(const Vec& reference) {
     sizes.push_back(static_cast<int>(face.size()));
     indices.insert(indices.end(), face.begin(), face.end());
   }
-  RowMatrixX2i pairs(static_cast<Eigen::Index>(creases.size()), 2);
-  for (size_t c = 0; c < creases.size(); ++c)
-    pairs.row(static_cast<Eigen::Index>(c)) << creases[c][0], creases[c][1];
+  // Creases and corners are sets: generators may mark one twice (curves meeting on a ring).
+  std::set<std::pair<int, int>> creased;
+  std::vector<std::array<int, 2>> unique;
+  for (const std::array<int, 2>& crease : creases)
+    if (creased.insert(std::minmax(crease[0], crease[1])).second) unique.push_back(crease);
+  RowMatrixX2i pairs(static_cast<Eigen::Index>(unique.size()), 2);
+  for (size_t c = 0; c < unique.size(); ++c)
+    pairs.row(static_cast<Eigen::Index>(c)) << unique[c][0], unique[c][1];
   std::sort(corners.begin(), corners.end());
   corners.erase(std::unique(corners.begin(), corners.end()), corners.end());
   return ControlMesh(x, sizes, indices, pairs, Eigen::VectorXd(), corners);

@@ -8,6 +8,7 @@
 
 #include <array>
 #include <map>
+#include <set>
 #include <optional>
 #include <string>
 #include <vector>
@@ -142,7 +143,7 @@ struct WingFrame {
   double extentLow = 0.0, extentHigh = 0.0;   // span range of the whole target
   std::vector<target::Points> trailingEdges;  // polylines of the sharp spanwise curves
   std::vector<int> trailingEdgeCurves;        // their indices in the feature curve list
-  std::map<double, target::Points> kinks;     // polylines of the sharp curves across the span, by span
+  std::set<double> kinks;                     // spans of the kink sections (kinkSections)
   // A blunt trailing edge: two spanwise sharp curves (its upper and lower edges) with a base face
   // between them; rings then have both edges as vertices (set by the wing generator).
   bool blunt = false;

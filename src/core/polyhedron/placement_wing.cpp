@@ -8,7 +8,6 @@
 #include <map>
 #include <type_traits>
 
-#include "core/common/closest_point.h"
 #include "core/common/errors.h"
 #include "core/common/number_text.h"
 #include "core/polyhedron/draft_check.h"
@@ -299,18 +298,18 @@ int nearestIndex(const std::vector<double>& fractions, double xi) {
   return static_cast<int>(best) + 1;
 }
 
-// Kink curves (FeatureCurveKind::Kink) lying in the plane across the span at `span` (within 1e-3
-// of the span extent, as kink sections do), as polylines.
-std::vector<target::Points> kinksInPlane(const target::Target& target, const std::vector<FeatureCurve>& curves,
-                                         const WingFrame& w, double span) {
-  std::vector<target::Points> lines;
-  for (const FeatureCurve& curve : curves) {
-    if (curve.kind != FeatureCurveKind::Kink) continue;
-    target::Points line = curvePolyline(target, curve);
+// The feature curves of the given kinds lying in the plane across the span at `span` (within 1e-3
+// of the span extent, as kink sections do), by index.
+std::vector<int> curvesInPlane(const target::Target& target, const std::vector<FeatureCurve>& curves,
+                               const WingFrame& w, double span, std::initializer_list<FeatureCurveKind> kinds) {
+  std::vector<int> found;
+  for (size_t c = 0; c < curves.size(); ++c) {
+    if (std::find(kinds.begin(), kinds.end(), curves[c].kind) == kinds.end()) continue;
+    const target::Points line = curvePolyline(target, curves[c]);
     const Eigen::VectorXd s = (line.rowwise() - w.origin.transpose()) * w.span;
-    if ((s.array() - span).abs().maxCoeff() <= 1e-3 * w.extent()) lines.push_back(std::move(line));
+    if ((s.array() - span).abs().maxCoeff() <= 1e-3 * w.extent()) found.push_back(static_cast<int>(c));
   }
-  return lines;
+  return found;
 }
 
 // The tips' wedge closures decide the chord fractions of every station: where the wedge's flat
@@ -337,7 +336,8 @@ WingLayout wingLayout(const target::Target& target, const std::vector<FeatureCur
     layout.tips[j] = tip;
     if (tip.upper) layout.tipFractions[j] = {section.fraction(*tip.upper), section.fraction(*tip.lower)};
     if (!followKinks || !kinkUpper.empty() || !kinkLower.empty()) continue;
-    for (const target::Points& line : kinksInPlane(target, curves, w, span)) {
+    for (const int c : curvesInPlane(target, curves, w, span, {FeatureCurveKind::Kink})) {
+      const target::Points line = curvePolyline(target, curves[static_cast<size_t>(c)]);
       for (const Eigen::Index end : {Eigen::Index{0}, line.rows() - 1}) {
         const Vec p = line.row(end).transpose();
         if (std::min((p - section.leadingEdge).norm(), (p - section.trailingEdge).norm()) <= w.nearCurve()) continue;
@@ -469,37 +469,62 @@ void addTipCap(Draft& draft, const target::Target& target, const WingFrame& w, c
   draft.corners.push_back(ring[0]);
 }
 
-// Sharp curves across the wing inside its span: each lies in one plane across the span (within
-// 1e-3 of the span extent), away from the tips, and is at least 5 % of the span long, such as the
-// leading-edge kink where the two halves of a swept wing meet at the root. By span coordinate.
-std::map<double, target::Points> kinkSections(const target::Target& target, const std::vector<FeatureCurve>& curves,
-                                              const WingFrame& w) {
-  std::map<double, target::Points> kinks;
-  for (SpanCurve& curve : longSharpCurves(target, curves, w)) {
-    const double mid = 0.5 * (curve.low + curve.high);
-    if (curve.high - curve.low <= 1e-3 * w.extent() && std::min(mid - w.low, w.high - mid) >= 0.01 * w.extent())
-      kinks[mid] = std::move(curve.line);
+// Spans of the sections across the wing where the CAD has an edge: a sharp or kink curve (not the
+// trailing edge) at least 5 % of the span long lying in one plane across the span (within 1e-3 of
+// the span extent), away from the tips, such as the root section where the two halves of a swept
+// wing meet (sharp at the leading edge) or a crank where two lofts meet (a kink of a few degrees).
+// Curves within 1e-3 of the span extent of each other (a crank's upper and lower seams) are one
+// section.
+std::set<double> kinkSections(const target::Target& target, const std::vector<FeatureCurve>& curves,
+                              const WingFrame& w) {
+  std::set<double> kinks;
+  for (size_t c = 0; c < curves.size(); ++c) {
+    const FeatureCurve& curve = curves[c];
+    if (curve.kind == FeatureCurveKind::Boundary || curve.length < 0.05 * w.extent()) continue;
+    if (std::find(w.trailingEdgeCurves.begin(), w.trailingEdgeCurves.end(), static_cast<int>(c)) !=
+        w.trailingEdgeCurves.end())
+      continue;
+    const target::Points line = curvePolyline(target, curve);
+    const Eigen::VectorXd s = (line.rowwise() - w.origin.transpose()) * w.span;
+    const double mid = 0.5 * (s.minCoeff() + s.maxCoeff());
+    const bool across = s.maxCoeff() - s.minCoeff() <= 1e-3 * w.extent();
+    const bool inside = std::min(mid - w.low, w.high - mid) >= 0.01 * w.extent();
+    const bool known = std::any_of(kinks.begin(), kinks.end(),
+                                   [&](double k) { return std::abs(k - mid) <= 1e-3 * w.extent(); });
+    if (across && inside && !known) kinks.insert(mid);
   }
   return kinks;
 }
 
-// Creases the ring edges that run along a sharp curve (both ends within `tolerance` of its
-// polyline, a tessellation polyline: the tolerance covers its chordal error); the ends of each
-// creased run are corners. A blunt trailing edge's ring is open over its base (the base can be
-// thinner than the tolerance, and a section's sharp outline ends at both of its edges).
-void creaseAlong(Draft& draft, const std::vector<int>& ring, const target::Points& line, double tolerance,
-                 bool openOverBase) {
-  const auto onLine = [&](int vertex) {
-    const Vec p = draft.vertices[static_cast<size_t>(vertex)];
-    for (Eigen::Index k = 0; k + 1 < line.rows(); ++k) {
-      if ((closestPointOnSegment(p, line.row(k).transpose(), line.row(k + 1).transpose()) - p).norm() <= tolerance)
-        return true;
+// Whether a CAD vertex of the trailing edge's curves (an end of any of their edges: where the
+// trailing edge turns at a crank inside one curve, too) lies within `tolerance` of p.
+bool trailingEdgeVertexAt(const target::Target& target, const std::vector<FeatureCurve>& curves, const WingFrame& w,
+                          const Vec& p, double tolerance) {
+  for (int c : w.trailingEdgeCurves) {
+    for (int e : curves[static_cast<size_t>(c)].edges) {
+      for (int v : target.edgeVertices(e))
+        if (v >= 0 && (target.vertexPosition(v) - p).norm() <= tolerance) return true;
     }
-    return false;
-  };
+  }
+  return false;
+}
+
+// Creases the ring edges that run along a CAD curve (both ends within `tolerance` of its edges,
+// measured exactly: a tessellation polyline's chordal error, near a leading edge, broke a run into
+// pieces whose ends mapped to no CAD vertex); the ends of each creased run are corners. A blunt
+// trailing edge's ring is open over its base (the base can be thinner than the tolerance, and a
+// section's sharp outline ends at both of its edges).
+void creaseAlong(Draft& draft, const target::Target& target, const std::vector<int>& ring, const FeatureCurve& curve,
+                 double tolerance, bool openOverBase) {
   const size_t count = ring.size();
+  target::Points points(static_cast<Eigen::Index>(count), 3);
+  for (size_t k = 0; k < count; ++k)
+    points.row(static_cast<Eigen::Index>(k)) = draft.vertices[static_cast<size_t>(ring[k])].transpose();
+  const target::ProjectionResult feet = target.projectToEdges(points, curve.edges);
   std::vector<bool> on(count);
-  for (size_t k = 0; k < count; ++k) on[k] = onLine(ring[k]);
+  for (size_t k = 0; k < count; ++k)
+    on[k] = feet.status[k] != target::ProjectionStatus::Failed &&
+            feet.distances[static_cast<Eigen::Index>(k)] <= tolerance;
   const auto onAt = [&](size_t k, bool forward) {  // the neighbour's flag; off beyond an open base
     if (openOverBase && (forward ? k + 1 == count : k == 0)) return false;
     return static_cast<bool>(on[forward ? (k + 1) % count : (k + count - 1) % count]);
@@ -516,7 +541,7 @@ void creaseAlong(Draft& draft, const std::vector<int>& ring, const target::Point
 // points of the short edges at a corner far behind it, and the limit surface folds there (at every
 // level and after fitting). With the corner's quads about as long as wide it does not. Moves the
 // tip's layout entries and the kink rings to the new station numbers.
-void addWedgeCornerStations(WingLayout& layout, std::vector<double>& spans, std::map<int, target::Points>& kinkRings,
+void addWedgeCornerStations(WingLayout& layout, std::vector<double>& spans, std::map<int, double>& kinkRings,
                             int tip) {
   const auto cornerEdge = [&](int station) {
     const auto found = layout.tips.find(station);
@@ -569,8 +594,8 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
     spans.push_back(w.low + (w.high - w.low) * (half ? std::sin(0.5 * kPi * t) : 0.5 * (1.0 - std::cos(kPi * t))));
   }
   // A kink section takes the place of the nearest inner station, whose ring is creased along it.
-  std::map<int, target::Points> kinkRings;
-  for (const auto& [span, line] : w.kinks) {
+  std::map<int, double> kinkRings;  // span by station
+  for (const double span : w.kinks) {
     int nearest = -1;
     for (int j = 1; j < stations; ++j) {
       if (!kinkRings.count(j) && (nearest < 0 || std::abs(spans[static_cast<size_t>(j)] - span) <
@@ -579,7 +604,7 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
     }
     if (nearest < 0) continue;
     spans[static_cast<size_t>(nearest)] = span;
-    kinkRings[nearest] = line;
+    kinkRings[nearest] = span;
   }
   const auto spanAt = [&](int j) { return spans[static_cast<size_t>(j)]; };
   std::map<int, double> tipSpans{{stations, spanAt(stations)}};  // the far tip, and a full wing's near one
@@ -602,37 +627,30 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
   }
   addWingStrips(draft, rings, w.blunt);
   const double kinkTolerance = w.nearCurve();
-  for (const auto& [j, line] : kinkRings) {
+  for (const auto& [j, span] : kinkRings) {
     const std::vector<int>& ring = rings[static_cast<size_t>(j)];
-    creaseAlong(draft, ring, line, kinkTolerance, w.blunt);
-    // The CAD's kinks in the section's plane too: where the two halves of a swept wing meet, the
-    // trailing-edge wedge's seam. Left smooth, the wedge's faces at the trailing edge's corner
-    // span the planform's notch there (more than 180 degrees), and subdivision bulges them behind
-    // the trailing edge (1 mm at level 3 on the full M6).
-    // A kink can be shorter than the placement's reach (the full M6's seam: 4.6 mm, 1.1 mm apart
-    // from the lower surface's): a tenth of its length then.
-    for (const target::Points& kink : kinksInPlane(target, curves, w, spanAt(j))) {
-      double length = 0.0;
-      for (Eigen::Index k = 0; k + 1 < kink.rows(); ++k) length += (kink.row(k + 1) - kink.row(k)).norm();
-      creaseAlong(draft, ring, kink, std::min(kinkTolerance, 0.1 * length), w.blunt);
+    // The ring is creased along every sharp curve and kink in its plane: on a swept full wing's
+    // root the sharp seam and the trailing-edge wedge's two seams (kinks), without which the
+    // wedge's faces, smooth across the planform's notch between the trailing edges (more than 180
+    // degrees), bulged 1 mm behind it at level 3 on the full M6. A curve can be shorter than the
+    // placement's reach (the M6's wedge seams: 4.6 mm, 1.1 mm apart): a tenth of its length then.
+    for (const int c : curvesInPlane(target, curves, w, span, {FeatureCurveKind::Sharp, FeatureCurveKind::Kink})) {
+      const FeatureCurve& curve = curves[static_cast<size_t>(c)];
+      creaseAlong(draft, target, ring, curve, std::min(kinkTolerance, 0.1 * curve.length), w.blunt);
     }
-    // Where the trailing edge ends on the kink section (its two halves meet at an angle there),
+    // Where the trailing edge turns on the kink section (the two halves of a full wing, a crank),
     // its vertex is a corner.
-    bool trailingEdgeEnds = false;
-    for (int c : w.trailingEdgeCurves) {
-      for (int v : {curves[static_cast<size_t>(c)].startVertex, curves[static_cast<size_t>(c)].endVertex})
-        trailingEdgeEnds |= v >= 0 && (target.vertexPosition(v) - draft.vertices[static_cast<size_t>(ring[0])]).norm() <=
-                                          kinkTolerance;
-    }
-    if (trailingEdgeEnds) draft.corners.push_back(ring[0]);
+    const bool trailingEdgeTurns = trailingEdgeVertexAt(target, curves, w, draft.vertices[static_cast<size_t>(ring[0])],
+                                                        kinkTolerance);
+    if (trailingEdgeTurns) draft.corners.push_back(ring[0]);
     // A blunt edge's base folds there too (by a few degrees: a kink of the CAD).
-    if (trailingEdgeEnds && w.blunt) draft.creases.push_back({ring.back(), ring[0]});
+    if (trailingEdgeTurns && w.blunt) draft.creases.push_back({ring.back(), ring[0]});
   }
   // A full wing's root is half way between its tips (on the kink section there, if any), not its
   // first station, which is the other tip.
   if (!half) {
     double root = 0.5 * (w.low + w.high);
-    for (const auto& [span, line] : w.kinks)
+    for (const double span : w.kinks)
       if (std::abs(span - root) <= 1e-3 * w.extent()) root = span;
     wingRing(target, w, root, layout.upper, layout.lower, &rootSection);
   }
