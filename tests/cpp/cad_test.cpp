@@ -2,6 +2,7 @@
 
 #include <BRepAdaptor_Surface.hxx>
 #include <BRepAlgoAPI_Cut.hxx>
+#include <BRepOffsetAPI_ThruSections.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
@@ -29,6 +30,7 @@
 #include "core/cad/solid_overlap.h"
 #include "core/cad/step_scan.h"
 #include "core/common/errors.h"
+#include "wing_body_geometry.h"
 
 namespace bvmesh::cad {
 namespace {
@@ -190,6 +192,32 @@ TEST(ShapeSummary, BoxHasTwelveSharpEdges) {
   ShapeSummaryOptions options;
   options.sharpAngleDegrees = 91.0;
   EXPECT_EQ(summarizeShape(BRepPrimAPI_MakeBox(1.0, 2.0, 3.0).Shape(), options).countEdges(EdgeKind::Sharp), 0);
+}
+
+// A wing lofted from single closed section curves (upper and lower surface in one B-spline, its
+// ends meeting at the trailing edge) is one face whose seam is the trailing edge: the face meets
+// itself there at the trailing-edge angle. Before, every seam was a smooth "seam" and the wing
+// templates found no sharp trailing edge. A cylinder's seam stays smooth.
+TEST(ShapeSummary, AFaceClosedWithAKinkAlongItsSeamIsSharpThere) {
+  BRepOffsetAPI_ThruSections loft(true, false);
+  loft.AddWire(testing::closedNacaSectionWire(0.0, 0.0, 1.0));
+  loft.AddWire(testing::closedNacaSectionWire(0.6, 2.0, 0.5));
+  const ShapeSummary wing = summarizeShape(loft.Shape());
+  EXPECT_EQ(wing.faceCount(), 3);  // the wrapped surface and two section faces
+  int seams = 0;
+  for (const EdgeInfo& edge : wing.edges) {
+    if (edge.faces.size() != 1) continue;
+    ++seams;
+    EXPECT_EQ(edge.kind, EdgeKind::Sharp);
+    EXPECT_GT(edge.maxDihedralDegrees, 150.0);  // the trailing edge's 16-degree wedge
+    EXPECT_NEAR(edge.length, std::hypot(2.0, 0.6 + 0.5 - 1.0), 1e-3);
+  }
+  EXPECT_EQ(seams, 1);
+  for (const EdgeInfo& edge : summarizeShape(BRepPrimAPI_MakeCylinder(1.0, 2.0).Shape()).edges) {
+    if (edge.faces.size() != 1) continue;
+    EXPECT_EQ(edge.kind, EdgeKind::Seam);
+    EXPECT_LT(edge.maxDihedralDegrees, 1e-6);
+  }
 }
 
 // 2 - 2 genus, whatever the faces: periodic ones with seams, a sphere's degenerate poles, annular

@@ -169,6 +169,27 @@ TEST(PolyhedronFit, CrankedHalfWingGetsAStationOnTheCrank) {
   EXPECT_LT(summary.history.back().maxDistance, 5e-5);
 }
 
+TEST(PolyhedronFit, HalfWingOnAWingWrappedInOneFace) {
+  // Lofted from single closed section curves: one face round the wing, its seam the sharp
+  // trailing edge. Before seams were measured, "the wing templates need a sharp trailing edge".
+  BRepOffsetAPI_ThruSections loft(true, false);
+  loft.AddWire(testing::closedNacaSectionWire(0.0, 0.0, 1.0));
+  loft.AddWire(testing::closedNacaSectionWire(0.6, 2.0, 0.5));
+  const HalfModelShape half = removeSymmetryFace(loft.Shape());
+  auto target = std::make_shared<const target::Target>(half.shape);
+  const PlacedPolyhedron placed = placeTemplate(libraryTemplate("half_wing"), *target);
+  ASSERT_TRUE(placed.mapping.complete()) << placed.mapping.describeUnmapped();
+  EXPECT_EQ(placed.parameters.at("trailing_edge"), "sharp");
+  fit::FitOptions options;
+  options.tolerance = 1e-5;  // of the root chord
+  options.maxLevel = 3;
+  options.symmetryPlane = placed.symmetryPlane;
+  fit::SurfaceFitter fitter(target, placed.mesh, placed.mapping.map, options);
+  const fit::FitSummary summary = runAndRecord(fitter, "wing_in_one_face");
+  EXPECT_LT(summary.history.back().maxDistance, 5e-5);
+  EXPECT_EQ(summary.history.back().failedProjections, 0);
+}
+
 TEST(PolyhedronFit, NacelleWithASharpLipTrailingEdge) {
   // testing::sharpLipNacelle: a NACA 0012 lip inclined by 5 degrees, revolved about the x axis;
   // its trailing edge is a sharp circle of radius 1 - sin(5 deg) about the axis.

@@ -95,6 +95,24 @@ inline TopoDS_Wire nacaSectionWire(double leadingEdge, double y, double z, doubl
   return wire.Wire();
 }
 
+// Section wire at span y as one curve: NACA 0012 points from the trailing edge over the upper side
+// to the leading edge and back under it, interpolated as one open B-spline whose ends meet at the
+// trailing edge (a kink there). A loft of such wires wraps the wing in one face whose seam is the
+// trailing edge, as lofts of single section curves in CAD systems do.
+inline TopoDS_Wire closedNacaSectionWire(double leadingEdge, double y, double chord) {
+  constexpr int kSide = 21;
+  const double pi = std::acos(-1.0);
+  Handle(TColgp_HArray1OfPnt) points = new TColgp_HArray1OfPnt(1, 2 * kSide - 1);
+  for (int i = 0; i < kSide; ++i) {
+    const double x = 0.5 * (1.0 + std::cos(pi * i / (kSide - 1)));  // 1 .. 0
+    points->SetValue(i + 1, gp_Pnt(leadingEdge + chord * x, y, chord * naca0012HalfThickness(x)));
+    points->SetValue(2 * kSide - 1 - i, gp_Pnt(leadingEdge + chord * x, y, -chord * naca0012HalfThickness(x)));
+  }
+  GeomAPI_Interpolate interpolate(points, false, 1e-9);
+  interpolate.Perform();
+  return BRepBuilderAPI_MakeWire(BRepBuilderAPI_MakeEdge(interpolate.Curve()).Edge()).Wire();
+}
+
 inline TopoDS_Shape makeFuselage(const WingBodyParameters& p) {
   const double pi = std::acos(-1.0);
   const double tailStart = p.length - p.tailLength;

@@ -49,12 +49,13 @@ bool faceNormalOnEdge(const TopoDS_Face& face, const TopoDS_Edge& edge, double t
   return true;
 }
 
-// Largest and mean angle between the faces' normals along the edge, in degrees.
-std::pair<double, double> dihedralDegrees(const TopoDS_Edge& edge, const TopoDS_Face& a, const TopoDS_Face& b,
-                                          int samples) {
+// Largest and mean angle between the faces' normals along the edge, in degrees. onA, onB: the
+// edge as each face uses it (a seam's two orientations pick its two pcurves on the one face).
+std::pair<double, double> dihedralDegrees(const TopoDS_Edge& onA, const TopoDS_Face& a, const TopoDS_Edge& onB,
+                                          const TopoDS_Face& b, int samples) {
   double first = 0.0;
   double last = 0.0;
-  BRep_Tool::Range(edge, first, last);
+  BRep_Tool::Range(onA, first, last);
   double maxAngle = 0.0;
   double sum = 0.0;
   int evenly = 0;
@@ -66,7 +67,7 @@ std::pair<double, double> dihedralDegrees(const TopoDS_Edge& edge, const TopoDS_
     const double t = first + (last - first) * fraction;
     gp_Vec na;
     gp_Vec nb;
-    if (!faceNormalOnEdge(a, edge, t, na) || !faceNormalOnEdge(b, edge, t, nb)) continue;
+    if (!faceNormalOnEdge(a, onA, t, na) || !faceNormalOnEdge(b, onB, t, nb)) continue;
     const double angle = na.Angle(nb);
     maxAngle = std::max(maxAngle, angle);
     if (i >= 0 && i < samples) {
@@ -97,11 +98,21 @@ EdgeInfo classifyEdge(const TopoDS_Edge& edge, const TopTools_ListOfShape& adjac
     info.kind = EdgeKind::NonManifold;
   } else if (info.faces.size() == 1) {
     const TopoDS_Face& face = TopoDS::Face(faceIndex(info.faces[0] + 1));
-    info.kind = BRep_Tool::IsClosed(edge, face) ? EdgeKind::Seam : EdgeKind::Free;
+    if (!BRep_Tool::IsClosed(edge, face)) {
+      info.kind = EdgeKind::Free;
+    } else {
+      // A seam: the face meets itself. One closed with a kink there (a wing lofted from single
+      // closed section curves, its seam the sharp trailing edge) is as sharp as two faces meeting
+      // at that angle.
+      std::tie(info.maxDihedralDegrees, info.meanDihedralDegrees) =
+          dihedralDegrees(TopoDS::Edge(edge.Oriented(TopAbs_FORWARD)), face,
+                          TopoDS::Edge(edge.Oriented(TopAbs_REVERSED)), face, options.samplesPerEdge);
+      info.kind = info.maxDihedralDegrees >= options.sharpAngleDegrees ? EdgeKind::Sharp : EdgeKind::Seam;
+    }
   } else if (info.faces.size() == 2) {
     std::tie(info.maxDihedralDegrees, info.meanDihedralDegrees) =
-        dihedralDegrees(edge, TopoDS::Face(faceIndex(info.faces[0] + 1)), TopoDS::Face(faceIndex(info.faces[1] + 1)),
-                        options.samplesPerEdge);
+        dihedralDegrees(edge, TopoDS::Face(faceIndex(info.faces[0] + 1)), edge,
+                        TopoDS::Face(faceIndex(info.faces[1] + 1)), options.samplesPerEdge);
     info.kind = info.maxDihedralDegrees >= options.sharpAngleDegrees ? EdgeKind::Sharp
                                                                       : EdgeKind::Smooth;
   } else {
