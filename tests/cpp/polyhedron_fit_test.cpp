@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "core/cad/shape_io.h"
 #include "core/fit/surface_fitter.h"
@@ -167,6 +168,40 @@ TEST(PolyhedronFit, CrankedHalfWingGetsAStationOnTheCrank) {
   fit::SurfaceFitter fitter(target, placed.mesh, placed.mapping.map, options);
   const fit::FitSummary summary = runAndRecord(fitter, "cranked_wing");
   EXPECT_LT(summary.history.back().maxDistance, 5e-5);
+}
+
+TEST(PolyhedronFit, RuledSectionsMoreThanTheStationsEachGetOne) {
+  // Nine NACA 0012 sections of an elliptic planform (quarter chord straight), ruled: seven kink
+  // sections inside the span, more than the template's five inner stations. The two left over
+  // had no station before; the trailing edge's turns there were rounded off and the boundary
+  // layer folded next to them.
+  BRepOffsetAPI_ThruSections loft(true, true);
+  std::vector<double> sections;
+  for (int k = 0; k < 9; ++k) {
+    const double y = 1.2 * k / 8.0;
+    const double chord = std::max(0.2, std::sqrt(std::max(0.0, 1.0 - (y / 1.3) * (y / 1.3))));
+    loft.AddWire(testing::nacaSectionWire(0.25 - 0.25 * chord, y, 0.0, chord));
+    sections.push_back(y);
+  }
+  const HalfModelShape half = removeSymmetryFace(loft.Shape());
+  auto target = std::make_shared<const target::Target>(half.shape);
+  const PlacedPolyhedron placed = placeTemplate(libraryTemplate("half_wing"), *target);
+  ASSERT_TRUE(placed.mapping.complete()) << placed.mapping.describeUnmapped();
+  // Each inner section: a creased ring on it, its trailing-edge vertex a corner.
+  for (size_t k = 1; k + 1 < sections.size(); ++k) {
+    int ring = 0, corners = 0;
+    for (int v = 0; v < placed.mesh.numVertices(); ++v) ring += std::abs(placed.mesh.vertices()(v, 1) - sections[k]) < 1e-9;
+    for (int v : placed.mesh.corners()) corners += std::abs(placed.mesh.vertices()(v, 1) - sections[k]) < 1e-9;
+    EXPECT_EQ(ring, 20) << "section " << k;  // 2 x chordwise
+    EXPECT_GE(corners, 1) << "section " << k;
+  }
+  fit::FitOptions options;
+  options.tolerance = 1e-5;  // of the root chord
+  options.maxLevel = 3;
+  options.symmetryPlane = placed.symmetryPlane;
+  fit::SurfaceFitter fitter(target, placed.mesh, placed.mapping.map, options);
+  const fit::FitSummary summary = runAndRecord(fitter, "ruled_sections");
+  EXPECT_LT(summary.history.back().maxDistance, 1e-4);
 }
 
 TEST(PolyhedronFit, HalfWingOnAWingWrappedInOneFace) {

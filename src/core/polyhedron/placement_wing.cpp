@@ -593,24 +593,35 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
     const double t = static_cast<double>(j) / stations;
     spans.push_back(w.low + (w.high - w.low) * (half ? std::sin(0.5 * kPi * t) : 0.5 * (1.0 - std::cos(kPi * t))));
   }
-  // A kink section takes the place of the nearest inner station, whose ring is creased along it.
-  std::map<int, double> kinkRings;  // span by station
+  // A kink section takes the place of the nearest inner station not taken yet (its ring is
+  // creased along it), or where every one is taken (a wing of many ruled sections) is a station of
+  // its own.
+  std::vector<bool> taken(spans.size(), false);
   for (const double span : w.kinks) {
     int nearest = -1;
     for (int j = 1; j < stations; ++j) {
-      if (!kinkRings.count(j) && (nearest < 0 || std::abs(spans[static_cast<size_t>(j)] - span) <
-                                                    std::abs(spans[static_cast<size_t>(nearest)] - span)))
+      if (!taken[static_cast<size_t>(j)] &&
+          (nearest < 0 || std::abs(spans[static_cast<size_t>(j)] - span) <
+                              std::abs(spans[static_cast<size_t>(nearest)] - span)))
         nearest = j;
     }
-    if (nearest < 0) continue;
+    if (nearest < 0) {
+      spans.push_back(span);
+      continue;
+    }
     spans[static_cast<size_t>(nearest)] = span;
-    kinkRings[nearest] = span;
+    taken[static_cast<size_t>(nearest)] = true;
   }
+  std::sort(spans.begin(), spans.end());
+  std::map<int, double> kinkRings;  // span by station
+  for (size_t j = 0; j < spans.size(); ++j)
+    if (w.kinks.count(spans[j])) kinkRings[static_cast<int>(j)] = spans[j];
   const auto spanAt = [&](int j) { return spans[static_cast<size_t>(j)]; };
-  std::map<int, double> tipSpans{{stations, spanAt(stations)}};  // the far tip, and a full wing's near one
+  const int farTip = static_cast<int>(spans.size()) - 1;
+  std::map<int, double> tipSpans{{farTip, spanAt(farTip)}};  // the far tip, and a full wing's near one
   if (!half) tipSpans[0] = spanAt(0);
   WingLayout layout = wingLayout(target, curves, w, m, rounded, tipSpans, values.choice("tip_kinks") == "follow");
-  addWedgeCornerStations(layout, spans, kinkRings, stations);
+  addWedgeCornerStations(layout, spans, kinkRings, farTip);
   const int tipStation = static_cast<int>(spans.size()) - 1;
 
   Draft draft;
