@@ -72,6 +72,18 @@ int chainOfKind(const FeatureMapping& mapping, FeatureCurveKind kind) {
   return found;
 }
 
+// Fits a half wing placed on `target` to 1e-5 of its root chord (1) up to level 3, recording the
+// history under `name`.
+fit::FitSummary fitHalfWing(const std::shared_ptr<const target::Target>& target, const PlacedPolyhedron& placed,
+                            const std::string& name) {
+  fit::FitOptions options;
+  options.tolerance = 1e-5;
+  options.maxLevel = 3;
+  options.symmetryPlane = placed.symmetryPlane;
+  fit::SurfaceFitter fitter(target, placed.mesh, placed.mapping.map, options);
+  return runAndRecord(fitter, name);
+}
+
 // A straight tapered, swept half wing from y = 0 to y = span with flat root and tip faces.
 TopoDS_Shape loftedWing(double rootChord, double tipChord, double span, double sweep) {
   BRepOffsetAPI_ThruSections loft(true, false);
@@ -109,12 +121,7 @@ TEST(PolyhedronFit, FlatTipHalfWingOnAGeneratedWing) {
   EXPECT_EQ(sharpChains, 2);
   EXPECT_EQ(placed.mapping.corners.size(), 2u);
 
-  fit::FitOptions options;
-  options.tolerance = 1e-5;  // of the root chord
-  options.maxLevel = 3;
-  options.symmetryPlane = placed.symmetryPlane;
-  fit::SurfaceFitter fitter(target, placed.mesh, placed.mapping.map, options);
-  const fit::FitSummary summary = runAndRecord(fitter, "generated_wing_flat_tip");
+  const fit::FitSummary summary = fitHalfWing(target, placed, "generated_wing_flat_tip");
   expectEveryLevelHalvesTheDistance(summary);
   EXPECT_LT(summary.history.back().maxDistance, 2e-5);  // 1.4e-5 of the root chord at level 3
   EXPECT_EQ(summary.history.back().failedProjections, 0);
@@ -161,12 +168,7 @@ TEST(PolyhedronFit, CrankedHalfWingGetsAStationOnTheCrank) {
   }
   EXPECT_TRUE(crankCorner);
 
-  fit::FitOptions options;
-  options.tolerance = 1e-5;  // of the root chord
-  options.maxLevel = 3;
-  options.symmetryPlane = placed.symmetryPlane;
-  fit::SurfaceFitter fitter(target, placed.mesh, placed.mapping.map, options);
-  const fit::FitSummary summary = runAndRecord(fitter, "cranked_wing");
+  const fit::FitSummary summary = fitHalfWing(target, placed, "cranked_wing");
   EXPECT_LT(summary.history.back().maxDistance, 5e-5);
 }
 
@@ -195,12 +197,7 @@ TEST(PolyhedronFit, RuledSectionsMoreThanTheStationsEachGetOne) {
     EXPECT_EQ(ring, 20) << "section " << k;  // 2 x chordwise
     EXPECT_GE(corners, 1) << "section " << k;
   }
-  fit::FitOptions options;
-  options.tolerance = 1e-5;  // of the root chord
-  options.maxLevel = 3;
-  options.symmetryPlane = placed.symmetryPlane;
-  fit::SurfaceFitter fitter(target, placed.mesh, placed.mapping.map, options);
-  const fit::FitSummary summary = runAndRecord(fitter, "ruled_sections");
+  const fit::FitSummary summary = fitHalfWing(target, placed, "ruled_sections");
   EXPECT_LT(summary.history.back().maxDistance, 1e-4);
 }
 
@@ -215,12 +212,7 @@ TEST(PolyhedronFit, HalfWingOnAWingWrappedInOneFace) {
   const PlacedPolyhedron placed = placeTemplate(libraryTemplate("half_wing"), *target);
   ASSERT_TRUE(placed.mapping.complete()) << placed.mapping.describeUnmapped();
   EXPECT_EQ(placed.parameters.at("trailing_edge"), "sharp");
-  fit::FitOptions options;
-  options.tolerance = 1e-5;  // of the root chord
-  options.maxLevel = 3;
-  options.symmetryPlane = placed.symmetryPlane;
-  fit::SurfaceFitter fitter(target, placed.mesh, placed.mapping.map, options);
-  const fit::FitSummary summary = runAndRecord(fitter, "wing_in_one_face");
+  const fit::FitSummary summary = fitHalfWing(target, placed, "wing_in_one_face");
   EXPECT_LT(summary.history.back().maxDistance, 5e-5);
   EXPECT_EQ(summary.history.back().failedProjections, 0);
 }
