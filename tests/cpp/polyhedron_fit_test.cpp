@@ -176,7 +176,7 @@ TEST(PolyhedronFit, RuledSectionsMoreThanTheStationsEachGetOne) {
   // Nine NACA 0012 sections of an elliptic planform (quarter chord straight), ruled: seven kink
   // sections inside the span, more than the template's five inner stations. The two left over
   // had no station before; the trailing edge's turns there were rounded off and the boundary
-  // layer folded next to them.
+  // layer folded next to them. A kink section far from every station is a station of its own.
   BRepOffsetAPI_ThruSections loft(true, true);
   std::vector<double> sections;
   for (int k = 0; k < 9; ++k) {
@@ -197,6 +197,15 @@ TEST(PolyhedronFit, RuledSectionsMoreThanTheStationsEachGetOne) {
     EXPECT_EQ(ring, 20) << "section " << k;  // 2 x chordwise
     EXPECT_GE(corners, 1) << "section " << k;
   }
+  // The stations stay dense towards the tip: one between the last section and the tip (given all
+  // the stations, the sections' uniform spacing left the tip strip coarse, and the grid had two
+  // inverted cells in the far field at the tip's leading edge).
+  int besideTheTip = 0;
+  for (int v = 0; v < placed.mesh.numVertices(); ++v) {
+    const double y = placed.mesh.vertices()(v, 1);
+    besideTheTip += y > sections[7] + 1e-6 && y < 1.2 - 1e-6;
+  }
+  EXPECT_GE(besideTheTip, 20);
   const fit::FitSummary summary = fitHalfWing(target, placed, "ruled_sections");
   EXPECT_LT(summary.history.back().maxDistance, 1e-4);
 }

@@ -593,9 +593,11 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
     const double t = static_cast<double>(j) / stations;
     spans.push_back(w.low + (w.high - w.low) * (half ? std::sin(0.5 * kPi * t) : 0.5 * (1.0 - std::cos(kPi * t))));
   }
-  // A kink section takes the place of the nearest inner station not taken yet (its ring is
-  // creased along it), or where every one is taken (a wing of many ruled sections) is a station of
-  // its own.
+  // A kink section takes the place of the nearest inner station not taken yet when it lies within
+  // half that station's smaller gap to a neighbour (its ring is creased along it), else it is a
+  // station of its own: a wing of many ruled sections keeps the stations dense towards the tip
+  // (given all of them, its uniform sections left the tip's strip coarse and the far field folded
+  // at the tip's leading edge).
   std::vector<bool> taken(spans.size(), false);
   for (const double span : w.kinks) {
     int nearest = -1;
@@ -605,7 +607,9 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
                               std::abs(spans[static_cast<size_t>(nearest)] - span)))
         nearest = j;
     }
-    if (nearest < 0) {
+    const auto at = [&](int j) { return spans[static_cast<size_t>(j)]; };
+    if (nearest < 0 ||
+        std::abs(at(nearest) - span) > 0.5 * std::min(at(nearest) - at(nearest - 1), at(nearest + 1) - at(nearest))) {
       spans.push_back(span);
       continue;
     }
