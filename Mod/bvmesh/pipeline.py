@@ -343,7 +343,15 @@ def run(cad_path, output_dir, template, name=None, title=None, template_paramete
         cad = api.import_cad(doc, cad_path, name=os.path.splitext(os.path.basename(cad_path))[0])
         target, what, symmetry_length, symmetry_plane = _body_target(doc, cad, half_model)
         log("target: {}".format(what))
-        placed = polyhedra.place(template, target.Proxy.core_target(target), template_parameters)
+        try:
+            placed = polyhedra.place(template, target.Proxy.core_target(target), template_parameters)
+        except load_core().InvalidInputError as error:
+            if half_model or symmetry_plane is not None or "symmetry plane" not in str(error):
+                raise
+            # A closed half model (its symmetry-plane face in the file) under a half template.
+            raise load_core().InvalidInputError(
+                "{}; to leave out a half model's symmetry-plane face, run with --half-model "
+                "(pipeline.run's half_model=True)".format(error)) from error
         mesh = placed["mesh"]
         polyhedron = api.make_polyhedron(doc, mesh.vertices, mesh.faces, creases=mesh.creases, corners=mesh.corners,
                                          features=placed["feature_map"])

@@ -249,6 +249,9 @@ class BadInput(unittest.TestCase):
         cases = [
             ((domain, "--template", "nosuch"), "no template named 'nosuch'"),
             ((domain, "--template", "capsule", "--half-model"), "leave out the half model"),
+            # The M6 with its root face, under the half wing template without --half-model.
+            ((os.path.join(DATA, "AileM6_with_sharp_TE.stp"), "--template", "half_wing"),
+             "(leave out the root face); to leave out a half model's symmetry-plane face, run with --half-model"),
             ((domain, "--template", "capsule", "--template-parameter", "axial"), "KEY=VALUE"),
             ((domain, "--template", "capsule", "--template-parameter", "nosuch=3"), "has no parameter 'nosuch'"),
             ((domain, "--template", "capsule", "--preset", "rans"), "needs --reynolds"),
