@@ -274,14 +274,17 @@ def _set_polyhedron_data(obj, vertices, faces, creases, corners):
     obj.Corners = [int(i) for i in corners]
 
 
-def make_polyhedron(doc, vertices, faces, creases=(), corners=(), features=None, name="ControlPolyhedron"):
+def make_polyhedron(doc, vertices, faces, creases=(), corners=(), features=None, name="ControlPolyhedron",
+                    root_chord=0.0):
     """A ControlPolyhedron from vertices [(x, y, z)], faces [[vertex ids, counter-clockwise]],
     crease vertex pairs and corner vertex ids; `features` optionally maps features to the target
-    ({curves, edge_curve, vertex_cad_vertex} as bvmesh.SurfaceFitter takes it)."""
+    ({curves, edge_curve, vertex_cad_vertex} as bvmesh.SurfaceFitter takes it); root_chord: of the
+    wing it was placed on (its RootChord, a VolumeMesh's default reference length), 0 for none."""
     from bvmesh.features import polyhedron
 
     def fill(obj):
         _set_polyhedron_data(obj, vertices, faces, creases, corners)
+        obj.RootChord = float(root_chord)
         if features:
             obj.FeatureCurves = [" ".join(str(int(e)) for e in curve) for curve in features.get("curves", [])]
             obj.EdgeCurves = [int(i) for i in features.get("edge_curve", [])]
@@ -346,12 +349,15 @@ def make_polyhedron_from_shape(doc, shape_object, name="ControlPolyhedron"):
 
 def make_polyhedron_from_template(doc, target, template, name="ControlPolyhedron", **parameters):
     """A ControlPolyhedron from template `template` placed on a BVMesh Target, with its feature
-    map (see bvmesh.extensions.place_template)."""
+    map and, from a wing template, the wing's root chord (RootChord; see
+    bvmesh.extensions.place_template)."""
     from bvmesh import extensions
 
-    mesh, features = extensions.place_template(target.Proxy.core_target(target), template, **parameters)
+    placed = extensions.place_template(target.Proxy.core_target(target), template, **parameters)
+    mesh, planform = placed["mesh"], placed.get("planform")
     return make_polyhedron(doc, mesh.vertices, mesh.faces, creases=mesh.creases, corners=mesh.corners,
-                           features=features, name=name)
+                           features=placed["feature_map"], name=name,
+                           root_chord=planform["root_chord"] if planform else 0.0)
 
 
 def mark_features(polyhedron, creases=(), corners=(), unmark=False):

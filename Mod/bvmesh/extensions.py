@@ -1,9 +1,9 @@
 """The two places where BVMesh's later stages plug into the workbench, one function each:
 
 - place_template(target, name, **parameters): a template control polyhedron placed on a target.
-  Expects bvmesh.polyhedra.place_template(target: bvmesh.Target, name: str, **parameters)
-  -> (bvmesh.ControlMesh, features: dict for bvmesh.SurfaceFitter or None), and
-  bvmesh.polyhedra.template_names() -> list of str.
+  Expects bvmesh.polyhedra.place(name: str, target: bvmesh.Target, parameters: dict) -> dict with
+  "mesh" (bvmesh.ControlMesh), "feature_map" (dict for bvmesh.SurfaceFitter) and "planform"
+  (a wing's, or None), and bvmesh.polyhedra.template_names() -> list of str.
 - limit_surface_to_shell(mesh): the limit surface of a control mesh as a sewn B-spline shell and
   what the conversion measured, from bvmesh._core.limit_surface_to_bsplines(control_mesh) -> dict
   whose "brep" entry is the sewn shell (or solid) as BREP text.
@@ -25,8 +25,8 @@ def templates_available():
     module, reason = _polyhedra()
     if module is None:
         return False, reason
-    if not hasattr(module, "place_template"):
-        return False, "bvmesh.polyhedra has no place_template()"
+    if not hasattr(module, "place"):
+        return False, "bvmesh.polyhedra has no place()"
     return True, ""
 
 
@@ -38,12 +38,13 @@ def template_names():
 
 
 def place_template(target, name, **parameters):
-    """(bvmesh.ControlMesh, features dict or None) of template `name` placed on a bvmesh.Target."""
+    """Template `name` placed on a bvmesh.Target: a dict with "mesh" (bvmesh.ControlMesh),
+    "feature_map" and "planform" (a wing's, or None), as bvmesh.polyhedra.place gives it."""
     available, reason = templates_available()
     if not available:
         raise RuntimeError(reason)
     module, _ = _polyhedra()
-    return module.place_template(target, name, **parameters)
+    return module.place(name, target, parameters)
 
 
 def shell_available():

@@ -20,7 +20,7 @@ import shutil
 import subprocess
 import time
 
-from bvmesh import api, load_core, polyhedra
+from bvmesh import api, load_core
 
 # Export format -> the file (or folder) name's ending after NAME.
 FORMAT_ENDINGS = {"cgns": ".cgns", "openfoam": "_openfoam", "plot3d": ".xyz", "vtk": ".vtm", "gismo": ".xml",
@@ -344,7 +344,7 @@ def run(cad_path, output_dir, template, name=None, title=None, template_paramete
         target, what, symmetry_length, symmetry_plane = _body_target(doc, cad, half_model)
         log("target: {}".format(what))
         try:
-            placed = polyhedra.place(template, target.Proxy.core_target(target), template_parameters)
+            polyhedron = api.make_polyhedron_from_template(doc, target, template, **(template_parameters or {}))
         except load_core().InvalidInputError as error:
             if half_model or symmetry_plane is not None or "symmetry plane" not in str(error):
                 raise
@@ -352,13 +352,9 @@ def run(cad_path, output_dir, template, name=None, title=None, template_paramete
             raise load_core().InvalidInputError(
                 "{}; to leave out a half model's symmetry-plane face, run with --half-model "
                 "(pipeline.run's half_model=True)".format(error)) from error
-        mesh = placed["mesh"]
-        polyhedron = api.make_polyhedron(doc, mesh.vertices, mesh.faces, creases=mesh.creases, corners=mesh.corners,
-                                         features=placed["feature_map"])
         log("polyhedron: " + polyhedron.Summary)
         # A wing's reference length is its root chord (a full wing's largest extent is its span).
-        root_chord = placed["planform"]["root_chord"] if placed.get("planform") else None
-        length = _reference_length(target, reference_length or symmetry_length or root_chord)
+        length = _reference_length(target, reference_length or symmetry_length or polyhedron.RootChord or None)
         tolerance = relative_tolerance * length
         fit = api.make_surface_fit(doc, target, polyhedron, symmetry_plane=symmetry_plane,
                                    tolerance=tolerance, max_level=max_level, check_samples_per_face=4)

@@ -69,9 +69,9 @@ def place(template, target, parameters=None, improve=True, strict=True, folder=N
 
 
 def place_template(target, name, **parameters):
-    """(mesh, feature_map) of library template `name` placed on `target`: the workbench's entry
-    (bvmesh.extensions.place_template). Unmapped features raise UnmappedFeatureError; the
-    symmetry plane of a half model is symmetry_plane(target)."""
+    """(mesh, feature_map) of library template `name` placed on `target` (place's dict has the rest).
+    Unmapped features raise UnmappedFeatureError; the symmetry plane of a half model is
+    symmetry_plane(target)."""
     placed = place(name, target, parameters)
     return placed["mesh"], placed["feature_map"]
 

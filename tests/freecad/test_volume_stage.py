@@ -854,6 +854,7 @@ class AutomaticMarchingLevel(unittest.TestCase):
             faces = ["Face{}".format(i + 1) for i in range(len(wing.Shape.Faces)) if i != symmetry_face]
             target = api.make_target(doc, wing, faces=faces)
             polyhedron = api.make_polyhedron_from_template(doc, target, "half_wing", tip_kinks="follow")
+            self.assertAlmostEqual(polyhedron.RootChord, 810.5, delta=0.5)  # as the template measured it
             fit = api.make_surface_fit(doc, target, polyhedron, symmetry_plane=api.symmetry_plane_guess(target),
                                        tolerance=8e-3, max_level=3)
             api.fit_to_tolerance(fit)
@@ -872,6 +873,11 @@ class AutomaticMarchingLevel(unittest.TestCase):
             self.assertEqual(explicit.MarchingLevelUsed, 2)
             self.assertEqual(automatic.Digest, explicit.Digest)
             self.assertEqual(unlimited.Digest, explicit.Digest)
+            # ReferenceLength 0: the wing's root chord, not the wall's largest extent (the span, 1196).
+            chord = api.make_volume_mesh(fit, marching_level=2, name="RootChord")
+            self.assertEqual(chord.ReferenceLength, 0.0)
+            self.assertEqual(chord.ReferenceLengthUsed, polyhedron.RootChord)
+            self.assertEqual(explicit.ReferenceLengthUsed, 805.0)
             # A limit below every level's size leaves level 1 (the M6's folds there); a negative one is
             # refused by name and the object keeps its options and blocks.
             unlimited.MarchingPointLimit = 100

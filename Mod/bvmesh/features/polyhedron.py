@@ -60,6 +60,10 @@ class PolyhedronProxy(Proxy):
                      "Per mesh edge: index into FeatureCurves, or -1 (empty: none)")
         add_property(obj, "App::PropertyIntegerList", "VertexCadVertices", "Feature map",
                      "Per mesh vertex: target vertex id it stays on, or -1 (empty: none)")
+        add_property(obj, "App::PropertyFloat", "RootChord", "Template",
+                     "Root chord of the wing a wing template was placed on, as the placement measured it (0: not "
+                     "placed from a wing template); a VolumeMesh whose ReferenceLength is 0 takes it", 0.0,
+                     mode=READ_ONLY)
         add_property(obj, "App::PropertyString", "Summary", "Result", "Counts of the polyhedron", mode=READ_ONLY)
 
     def compute(self, obj):

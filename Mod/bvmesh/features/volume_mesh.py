@@ -18,7 +18,8 @@ TYPE = "BVMesh::VolumeMesh"
 # (property, option of bvmesh.volume.offset_and_farfield, type, default, description)
 OPTIONS = (
     ("ReferenceLength", "reference_length", "App::PropertyFloat", 0.0,
-     "Reference length L (root chord of a wing, body length), model units; 0: the wall's largest extent"),
+     "Reference length L (root chord of a wing, body length), model units; 0: the root chord of a wing template's "
+     "polyhedron (its RootChord), else the wall's largest extent"),
     ("ReynoldsNumber", "reynolds_number", "App::PropertyFloat", 5e6,
      "Reynolds number on L, for the default boundary-layer thickness"),
     ("BoundaryLayerThickness", "boundary_layer_thickness", "App::PropertyFloat", 0.0,
@@ -61,6 +62,9 @@ VECTORS = (
 def options(obj):
     """The marching options of a VolumeMesh object, as offset_and_farfield's keywords."""
     settings = {option: getattr(obj, prop) for prop, option, _, _, _ in OPTIONS}
+    if not settings["reference_length"]:
+        polyhedron = getattr(obj.Fit, "Polyhedron", None) if obj.Fit is not None else None
+        settings["reference_length"] = getattr(polyhedron, "RootChord", 0.0)  # 0 in documents saved before it
     settings.update({option: bool(getattr(obj, prop)) for prop, option, _, _ in SWITCHES})
     settings["domain"] = obj.Domain
     settings["farfield_scheme"] = obj.FarfieldScheme
