@@ -187,11 +187,19 @@ class PlacementTest(unittest.TestCase):
                                   views=((25, -60), (0, 0), (90, -90)))
 
     def test_workbench_entry_feeds_the_surface_fitter(self):
-        # bvmesh.extensions.place_template's contract: (mesh, features) for bvmesh.SurfaceFitter.
-        mesh, features = polyhedra.place_template(self.body, "capsule", axial=4)
+        # bvmesh.extensions.place_template's contract: the mesh and features for bvmesh.SurfaceFitter,
+        # and a wing's planform (the workbench's RootChord).
+        from bvmesh import extensions
+
+        placed = extensions.place_template(self.body, "capsule", axial=4)
+        mesh, features = placed["mesh"], placed["feature_map"]
         self.assertEqual(sorted(features), ["curves", "edge_curve", "vertex_cad_vertex"])
+        self.assertIsNone(placed["planform"])
         fitter = bvmesh.SurfaceFitter(self.body, mesh, features)
         self.assertEqual(list(fitter.features["edge_curve"]), features["edge_curve"])
+        self.assertAlmostEqual(extensions.place_template(self.wing, "half_wing")["planform"]["root_chord"], 810.5,
+                               delta=0.5)
+        self.assertEqual(polyhedra.place_template(self.body, "capsule", axial=4)[1], features)
 
     def test_feature_curves_and_mapping_of_a_given_polyhedron(self):
         curves = polyhedra.detect_feature_curves(self.wing)
