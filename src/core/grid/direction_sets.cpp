@@ -173,6 +173,29 @@ BsplineCurve fanLine(const BsplineVolume& volume, const BlockPlan& plan, int dir
   return volume.isoCurve(direction, at(first), at(second));
 }
 
+// The fan line collapsed edge `e` along `direction` (edgeCurve's numbering) places its points by
+// where its block meets another fan end to end (a trailing edge turning at a crank): at the
+// edge's own end of the block's other tangential direction, at the first knot off the wall, so
+// that both blocks take the same line there, from their shared face's poles (each block's middle
+// line, fanLine, put their points up to 5e-8 of the model apart). None elsewhere (an end on the
+// symmetry plane, or closing), where the middle line serves.
+std::optional<BsplineCurve> fanLineAtEdge(const volume::Block& block, const BlockPlan& plan, int direction, int e) {
+  const int n = plan.normalDirection;
+  if (n < 0 || n == direction) return std::nullopt;
+  const auto [first, second] = otherDirections(direction);
+  const int along = first == n ? second : first;  // the block's other tangential direction
+  const int end = along == first ? (e & 1) : (e >> 1);
+  if (block.faces[static_cast<size_t>(2 * along + end)].condition != BoundaryCondition::Connected) return std::nullopt;
+  const BsplineVolume& volume = block.volume;
+  auto at = [&](int other, int upper) {
+    if (other != n) return upper != 0 ? volume.upper(other) : volume.lower(other);
+    const std::vector<double>& knots = volume.knots(n);
+    const auto degree = static_cast<size_t>(volume.degree(n));
+    return plan.wallEnd == 0 ? knots[degree + 1] : knots[knots.size() - degree - 2];
+  };
+  return volume.isoCurve(direction, at(first, e & 1), at(second, e >> 1));
+}
+
 double sweptAngle(const BsplineCurve& fan, const BsplineCurve& below) {
   constexpr int kSamples = 64;
   const double start = fan.knots.front(), end = fan.knots.back();
@@ -196,6 +219,7 @@ struct EdgeTables {
   std::vector<std::array<std::vector<ArcLength>, 3>> arcs;        // per block and direction: its 4 edges
   std::vector<std::array<std::vector<TurningTable>, 3>> turning;  // the same edges, then a middle line
   std::vector<std::array<std::optional<ArcLength>, 3>> fanArcs;   // per block and direction, where an edge is collapsed
+  std::vector<std::array<std::array<std::optional<ArcLength>, 4>, 3>> edgeFanArcs;  // per collapsed edge (fanLineAtEdge)
   std::vector<std::array<std::optional<TurningTable>, 3>> fanTurning;
   std::vector<std::vector<const TurningTable*>> counted;
   std::vector<std::vector<const TurningTable*>> countedFans;
@@ -203,11 +227,12 @@ struct EdgeTables {
   std::vector<double> longestEdge;
   std::vector<std::array<std::array<bool, 4>, 3>> collapsed;  // per block, direction and edge
 
-  // The arc-length table edge e of (b, d) places its points by: its own, or its fan line's.
+  // The arc-length table edge e of (b, d) places its points by: its own, or a fan line's.
   const ArcLength& placing(size_t b, int d, int e) const {
-    return collapsed[b][static_cast<size_t>(d)][static_cast<size_t>(e)]
-               ? *fanArcs[b][static_cast<size_t>(d)]
-               : arcs[b][static_cast<size_t>(d)][static_cast<size_t>(e)];
+    if (!collapsed[b][static_cast<size_t>(d)][static_cast<size_t>(e)])
+      return arcs[b][static_cast<size_t>(d)][static_cast<size_t>(e)];
+    const std::optional<ArcLength>& own = edgeFanArcs[b][static_cast<size_t>(d)][static_cast<size_t>(e)];
+    return own ? *own : *fanArcs[b][static_cast<size_t>(d)];
   }
 };
 
@@ -244,6 +269,7 @@ EdgeTables tabulateEdges(const std::vector<volume::Block>& blocks, const std::ve
   EdgeTables tables{std::vector<std::array<std::vector<ArcLength>, 3>>(blockCount),
                     std::vector<std::array<std::vector<TurningTable>, 3>>(blockCount),
                     std::vector<std::array<std::optional<ArcLength>, 3>>(blockCount),
+                    std::vector<std::array<std::array<std::optional<ArcLength>, 4>, 3>>(blockCount),
                     std::vector<std::array<std::optional<TurningTable>, 3>>(blockCount),
                     std::vector<std::vector<const TurningTable*>>(3 * blockCount),
                     std::vector<std::vector<const TurningTable*>>(3 * blockCount),
@@ -272,6 +298,13 @@ EdgeTables tabulateEdges(const std::vector<volume::Block>& blocks, const std::ve
                                   "'collapsed')");
         }
         tables.collapsed[b][static_cast<size_t>(d)][static_cast<size_t>(e)] = collapsed;
+        if (collapsed) {
+          if (const std::optional<BsplineCurve> own = fanLineAtEdge(blocks[b], plans[b], d, e)) {
+            ArcLength ownArc(*own, kIntervalsPerSpan);
+            if (ownArc.length() > 0.0)
+              tables.edgeFanArcs[b][static_cast<size_t>(d)][static_cast<size_t>(e)].emplace(std::move(ownArc));
+          }
+        }
         if (collapsed && !tables.fanArcs[b][static_cast<size_t>(d)]) {
           const BsplineCurve fan = fanLine(volume, plans[b], d);
           const ArcLength& fanArc = tables.fanArcs[b][static_cast<size_t>(d)].emplace(fan, kIntervalsPerSpan);
