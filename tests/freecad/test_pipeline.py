@@ -242,6 +242,25 @@ class WingInItsFlowDomain(unittest.TestCase):
         self.assertAlmostEqual(float(match.group(1)), 1.0, delta=1e-3)
 
 
+class UnmetGoals(unittest.TestCase):
+    def test_skew_faces_point_to_the_knife_edge_fans(self):
+        # Lofted wings' O-grids fail checkMesh's skewness at the sharp trailing edge's first cells
+        # (docs/hostile_input.md), which the fans replace: the warning says so when they were off.
+        from bvmesh import pipeline
+
+        skew = "***Max skewness = 15.03, 76 highly skew faces detected which may impair the quality of the results"
+        outcome = {"stop_reason": "converged", "check_mesh": skew, "knife_edge_fans": False}
+        self.assertEqual(pipeline.unmet_goals(outcome), [
+            "checkMesh on the OpenFOAM case: " + skew + "; skew faces at a sharp trailing edge are the O-grid's first "
+            "cells there, which --volume-option knife_edge_fans=true replaces by a fan of prisms"])
+        self.assertEqual(pipeline.unmet_goals(dict(outcome, knife_edge_fans=True)),
+                         ["checkMesh on the OpenFOAM case: " + skew])
+        aspect = "***High aspect ratio cells found, Max aspect ratio: 35000, number of cells 12"
+        self.assertEqual(pipeline.unmet_goals(dict(outcome, check_mesh=aspect)),
+                         ["checkMesh on the OpenFOAM case: " + aspect])
+        self.assertEqual(pipeline.unmet_goals(dict(outcome, check_mesh="Mesh OK.")), [])
+
+
 class BadInput(unittest.TestCase):
     def test_refused_with_a_message(self):
         domain = os.path.join(DATA, "hemisph-cyl.stp")
