@@ -249,18 +249,20 @@ WingPlanform measurePlanform(const WingFrame& w, const WingSection& root, const 
 }
 
 // The chord fractions of a wing's rings and its tips' wedge closures.
-// A sharp curve other than the trailing edge, at least 5 % of the span long (a tip rim, a kink
-// section): its polyline and the span range it covers.
+// A feature curve of the given kinds other than the trailing edge, at least 5 % of the span long
+// (a tip rim, a kink section): its polyline and the span range it covers.
 struct SpanCurve {
   target::Points line;
   double low = 0.0, high = 0.0;
 };
 
-std::vector<SpanCurve> longSharpCurves(const target::Target& target, const std::vector<FeatureCurve>& curves,
-                                       const WingFrame& w) {
+std::vector<SpanCurve> longCurves(const target::Target& target, const std::vector<FeatureCurve>& curves,
+                                  const WingFrame& w, std::initializer_list<FeatureCurveKind> kinds) {
   std::vector<SpanCurve> result;
   for (size_t c = 0; c < curves.size(); ++c) {
-    if (curves[c].kind != FeatureCurveKind::Sharp || curves[c].length < 0.05 * w.extent()) continue;
+    if (std::find(kinds.begin(), kinds.end(), curves[c].kind) == kinds.end() ||
+        curves[c].length < 0.05 * w.extent())
+      continue;
     if (std::find(w.trailingEdgeCurves.begin(), w.trailingEdgeCurves.end(), static_cast<int>(c)) !=
         w.trailingEdgeCurves.end())
       continue;
@@ -281,7 +283,7 @@ bool roundedTip(const TemplateValues& values, const target::Target& target, cons
   std::string tip = values.choice("tip");
   if (tip == "auto") {
     bool rim = false;
-    for (const SpanCurve& curve : longSharpCurves(target, curves, w))
+    for (const SpanCurve& curve : longCurves(target, curves, w, {FeatureCurveKind::Sharp}))
       rim |= std::max(std::abs(curve.low - tipSpan), std::abs(curve.high - tipSpan)) <= 0.01 * w.extent();
     tip = rim ? "flat" : "rounded";
   }
@@ -478,16 +480,9 @@ void addTipCap(Draft& draft, const target::Target& target, const WingFrame& w, c
 std::set<double> kinkSections(const target::Target& target, const std::vector<FeatureCurve>& curves,
                               const WingFrame& w) {
   std::set<double> kinks;
-  for (size_t c = 0; c < curves.size(); ++c) {
-    const FeatureCurve& curve = curves[c];
-    if (curve.kind == FeatureCurveKind::Boundary || curve.length < 0.05 * w.extent()) continue;
-    if (std::find(w.trailingEdgeCurves.begin(), w.trailingEdgeCurves.end(), static_cast<int>(c)) !=
-        w.trailingEdgeCurves.end())
-      continue;
-    const target::Points line = curvePolyline(target, curve);
-    const Eigen::VectorXd s = (line.rowwise() - w.origin.transpose()) * w.span;
-    const double mid = 0.5 * (s.minCoeff() + s.maxCoeff());
-    const bool across = s.maxCoeff() - s.minCoeff() <= 1e-3 * w.extent();
+  for (const SpanCurve& curve : longCurves(target, curves, w, {FeatureCurveKind::Sharp, FeatureCurveKind::Kink})) {
+    const double mid = 0.5 * (curve.low + curve.high);
+    const bool across = curve.high - curve.low <= 1e-3 * w.extent();
     const bool inside = std::min(mid - w.low, w.high - mid) >= 0.01 * w.extent();
     const bool known = std::any_of(kinks.begin(), kinks.end(),
                                    [&](double k) { return std::abs(k - mid) <= 1e-3 * w.extent(); });
