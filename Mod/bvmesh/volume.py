@@ -56,9 +56,8 @@ def march_from_first_level_that_holds(levels, march, finer=()):
     from . import InvalidInputError, SolverError
 
     failures = []
-    queue = list(levels)
     finer = sorted(finer)
-    finer_queued = False
+    queue = list(levels) + [lv for lv in finer if lv > max(levels)]
     while queue:
         level = queue.pop(0)
         try:
@@ -76,10 +75,6 @@ def march_from_first_level_that_holds(levels, march, finer=()):
                 break
             failures.append((level, error))
             queue = higher
-            finer_queued = True
-        if not queue and not finer_queued:
-            queue = [lv for lv in finer if lv > max(levels)]
-            finer_queued = True
     if len(failures) == 1:
         raise failures[0][1]
     folded = all(isinstance(error, SolverError) for _, error in failures)
