@@ -130,17 +130,46 @@ class SplayBands {
     return false;
   }
 
+  // Points on a crease: two of their wall cells turn by more than the sharp angle, per node of
+  // `view`. Every sharp point is one; a crease that turns by less than twice the sharp angle
+  // leaves its points' cells within the sharp angle of their mean normal, so that they are not
+  // sharp (a flat wing tip meeting its strongly swept nose at 55 degrees).
+  std::vector<char> creasePoints(const WallView& view) const {
+    std::vector<std::vector<Vector3d>> cells(static_cast<size_t>(front_.points.rows()));
+    for (const auto& q : front_.quads) {
+      const Vector3d a = front_.points.row(q[0]).transpose(), b = front_.points.row(q[1]).transpose();
+      const Vector3d c = front_.points.row(q[2]).transpose(), d = front_.points.row(q[3]).transpose();
+      const Vector3d area = (c - a).cross(d - b);
+      if (area.norm() == 0.0) continue;  // a fan's quad: no wall cell
+      for (int p : q) {
+        const int node = view.node[static_cast<size_t>(p)];
+        if (node >= 0) cells[static_cast<size_t>(node)].push_back(area.normalized());
+      }
+    }
+    std::vector<char> crease(cells.size(), 0);
+    for (size_t p = 0; p < cells.size(); ++p) {
+      for (size_t i = 0; i < cells[p].size() && crease[p] == 0; ++i) {
+        for (size_t j = i + 1; j < cells[p].size(); ++j) {
+          if (cells[p][i].dot(cells[p][j]) < std::cos(kSharpAngle)) crease[p] = 1;
+        }
+      }
+    }
+    return crease;
+  }
+
   // Per front point the splay band's width in its smooth region (the points connected without
-  // crossing a sharp-edge point): `width`, or half the region's largest distance from the sharp
-  // edges where that is less. Sharp-edge points keep `width`.
-  std::vector<double> regionBandWidths(const WallView& view, const std::vector<char>& sharp,
+  // crossing a crease point): `width`, or half the region's largest distance from the sharp edges
+  // where that is less. Crease points keep `width`. Were only the sharp points to part the
+  // regions, a flat tip whose rim is sharp but for a few points at its nose would join the wing's
+  // surfaces there, and the lines on the tip would take theirs, running along the tip.
+  std::vector<double> regionBandWidths(const WallView& view, const std::vector<char>& crease,
                                        const std::vector<double>& distance, double width) const {
-    const size_t n = sharp.size();
+    const size_t n = crease.size();
     std::vector<double> result(n, width);
     std::vector<char> seen(n, 0);
     std::vector<int> members;
     for (size_t seed = 0; seed < n; ++seed) {
-      if (sharp[seed] != 0 || seen[seed] != 0) continue;
+      if (crease[seed] != 0 || seen[seed] != 0) continue;
       members.assign(1, static_cast<int>(seed));
       seen[seed] = 1;
       double reach = 0.0;
@@ -148,7 +177,7 @@ class SplayBands {
         const auto p = static_cast<size_t>(members[next]);
         reach = std::max(reach, distance[p]);
         for (int q : view.neighbours[p]) {
-          if (sharp[static_cast<size_t>(q)] != 0 || seen[static_cast<size_t>(q)] != 0) continue;
+          if (crease[static_cast<size_t>(q)] != 0 || seen[static_cast<size_t>(q)] != 0) continue;
           seen[static_cast<size_t>(q)] = 1;
           members.push_back(q);
         }
@@ -193,7 +222,7 @@ class SplayBands {
         }
       }
     }
-    const std::vector<double> bandWidth = regionBandWidths(view, sharp, distance, width);
+    const std::vector<double> bandWidth = regionBandWidths(view, creasePoints(view), distance, width);
     const RowMatrixX3d cornerLines = concaveCornerLines(view, sharp);
     auto heldAtCorner = [&](Eigen::Index p) { return cornerLines.row(p).squaredNorm() > 0.0; };
     auto isNode = [&](Eigen::Index p) { return view.node[static_cast<size_t>(p)] == p; };
