@@ -130,11 +130,11 @@ class SplayBands {
     return false;
   }
 
-  // Points on a crease: two of their wall cells turn by more than the sharp angle, per node of
-  // `view`. Every sharp point is one; a crease that turns by less than twice the sharp angle
+  // Points on a crease, per node of `view`: the `sharp` ones, and those two of whose wall cells
+  // turn by more than the sharp angle. A crease that turns by less than twice the sharp angle
   // leaves its points' cells within the sharp angle of their mean normal, so that they are not
   // sharp (a flat wing tip meeting its strongly swept nose at 55 degrees).
-  std::vector<char> creasePoints(const WallView& view) const {
+  std::vector<char> creasePoints(const WallView& view, const std::vector<char>& sharp) const {
     std::vector<std::vector<Vector3d>> cells(static_cast<size_t>(front_.points.rows()));
     for (const auto& q : front_.quads) {
       const Vector3d a = front_.points.row(q[0]).transpose(), b = front_.points.row(q[1]).transpose();
@@ -146,7 +146,7 @@ class SplayBands {
         if (node >= 0) cells[static_cast<size_t>(node)].push_back(area.normalized());
       }
     }
-    std::vector<char> crease(cells.size(), 0);
+    std::vector<char> crease = sharp;
     for (size_t p = 0; p < cells.size(); ++p) {
       for (size_t i = 0; i < cells[p].size() && crease[p] == 0; ++i) {
         for (size_t j = i + 1; j < cells[p].size(); ++j) {
@@ -157,19 +157,16 @@ class SplayBands {
     return crease;
   }
 
-  // Per front point the splay band's width in its smooth region (the points connected without
-  // crossing a crease point): `width`, or half the region's largest distance from the sharp edges
-  // where that is less. Crease points keep `width`. Were only the sharp points to part the
-  // regions, a flat tip whose rim is sharp but for a few points at its nose would join the wing's
-  // surfaces there, and the lines on the tip would take theirs, running along the tip.
-  std::vector<double> regionBandWidths(const WallView& view, const std::vector<char>& crease,
-                                       const std::vector<double>& distance, double width) const {
-    const size_t n = crease.size();
-    std::vector<double> result(n, width);
+  // Per front point the largest distance from the sharp edges of the region it lies in (the points
+  // connected without crossing a `separator`); separators get infinity.
+  std::vector<double> regionReach(const WallView& view, const std::vector<char>& separator,
+                                  const std::vector<double>& distance) const {
+    const size_t n = separator.size();
+    std::vector<double> result(n, std::numeric_limits<double>::infinity());
     std::vector<char> seen(n, 0);
     std::vector<int> members;
     for (size_t seed = 0; seed < n; ++seed) {
-      if (crease[seed] != 0 || seen[seed] != 0) continue;
+      if (separator[seed] != 0 || seen[seed] != 0) continue;
       members.assign(1, static_cast<int>(seed));
       seen[seed] = 1;
       double reach = 0.0;
@@ -177,12 +174,32 @@ class SplayBands {
         const auto p = static_cast<size_t>(members[next]);
         reach = std::max(reach, distance[p]);
         for (int q : view.neighbours[p]) {
-          if (crease[static_cast<size_t>(q)] != 0 || seen[static_cast<size_t>(q)] != 0) continue;
+          if (separator[static_cast<size_t>(q)] != 0 || seen[static_cast<size_t>(q)] != 0) continue;
           seen[static_cast<size_t>(q)] = 1;
           members.push_back(q);
         }
       }
-      for (int p : members) result[static_cast<size_t>(p)] = std::min(width, 0.5 * reach);
+      for (int p : members) result[static_cast<size_t>(p)] = reach;
+    }
+    return result;
+  }
+
+  // Per front point the splay band's width: `width`, or half the largest distance from the sharp
+  // edges in the point's smooth region where that is less. The regions are parted by the sharp
+  // points, and also by the crease points where the face so parted off is at least a
+  // boundary layer wide: a flat tip whose rim is sharp but for a few points at its swept nose
+  // would otherwise join the wing's surfaces there, and its lines would take theirs, running
+  // along the tip (80 degrees off its normal); a tip narrower than the boundary layer is thick
+  // is left to the band, whose lines fan across it as across a rounded one.
+  std::vector<double> bandWidths(const WallView& view, const std::vector<char>& sharp,
+                                 const std::vector<double>& distance, double width) const {
+    const std::vector<char> crease = creasePoints(view, sharp);
+    const std::vector<double> bySharp = regionReach(view, sharp, distance);
+    const std::vector<double> byCrease = regionReach(view, crease, distance);
+    std::vector<double> result(sharp.size(), width);
+    for (size_t p = 0; p < sharp.size(); ++p) {
+      const double reach = crease[p] == 0 && byCrease[p] >= thickness_ ? byCrease[p] : bySharp[p];
+      result[p] = std::min(width, 0.5 * reach);
     }
     return result;
   }
@@ -222,7 +239,7 @@ class SplayBands {
         }
       }
     }
-    const std::vector<double> bandWidth = regionBandWidths(view, creasePoints(view), distance, width);
+    const std::vector<double> bandWidth = bandWidths(view, sharp, distance, width);
     const RowMatrixX3d cornerLines = concaveCornerLines(view, sharp);
     auto heldAtCorner = [&](Eigen::Index p) { return cornerLines.row(p).squaredNorm() > 0.0; };
     auto isNode = [&](Eigen::Index p) { return view.node[static_cast<size_t>(p)] == p; };
