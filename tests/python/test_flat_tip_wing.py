@@ -1,7 +1,8 @@
-"""A half wing as FreeCAD's Part module lofts it smoothly through three NACA 0012 sections, its
-leading edge swept more and more towards a flat tip: where the tip's rim meets the swept nose the
-wall turns by only 55 degrees, so those rim points are not sharp, yet the flat tip is a face of its
-own, whose boundary-layer lines leave along its normal."""
+"""Half wings as FreeCAD's Part module lofts them smoothly through three NACA 0012 sections, their
+leading edges swept more and more towards a flat tip: where the tip's rim meets the swept nose the
+wall turns by only 55 degrees, so those rim points are not sharp, yet a flat tip at least a
+boundary layer thick is a face of its own, whose boundary-layer lines leave along its normal; a
+smaller one is left to the splay band, whose lines fan across it."""
 
 import math
 import unittest
@@ -31,18 +32,25 @@ def section(leading_edge, y, chord):
     return Part.Wire([upper.toShape(), lower.toShape()])
 
 
+def euler_grid(sections, level=2):
+    """The euler grid (100 k cells) of the half wing lofted through `sections` (leading edge, y,
+    chord), fitted to `level` and marched from it at Re 5e6 on a unit root chord (a boundary layer
+    0.017 thick)."""
+    wing = Part.makeLoft([section(*s) for s in sections], True, False)
+    target, _, _ = polyhedra.half_model_target(wing)
+    placed = polyhedra.place("half_wing", target)
+    fitter = bvmesh.SurfaceFitter(target, placed["mesh"], placed["feature_map"],
+                                  symmetry_plane=placed["symmetry_plane"], max_level=level, tolerance=1e-5)
+    fitter.run()
+    volume = bvmesh.volume.offset_and_farfield(fitter, reference_length=1.0, reynolds_number=5e6)
+    return bvmesh.grid.refine(volume, "euler", target_cells=100000)
+
+
 @unittest.skipIf(Part is None, "FreeCAD is not importable")
 class FlatTipWingTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        wing = Part.makeLoft([section(0.0, 0.0, 1.0), section(0.2, 0.6, 0.8), section(0.6, TIP_Y, 0.35)], True, False)
-        target, _, _ = polyhedra.half_model_target(wing)
-        placed = polyhedra.place("half_wing", target)
-        fitter = bvmesh.SurfaceFitter(target, placed["mesh"], placed["feature_map"],
-                                      symmetry_plane=placed["symmetry_plane"], max_level=2, tolerance=1e-4)
-        fitter.run()
-        volume = bvmesh.volume.offset_and_farfield(fitter, reference_length=1.0, reynolds_number=5e6)
-        cls.grid = bvmesh.grid.refine(volume, "euler", target_cells=100000)
+        cls.grid = euler_grid([(0.0, 0.0, 1.0), (0.2, 0.6, 0.8), (0.6, TIP_Y, 0.35)])  # tip 0.042 thick
 
     def test_lines_leave_the_flat_tip_along_its_normal(self):
         # The tip's lines took the wing surfaces' normals, interpolated across the whole tip through
@@ -59,6 +67,13 @@ class FlatTipWingTest(unittest.TestCase):
         self.assertLess(np.median(angles), 20.0)
         non_orthogonality = bvmesh.grid.quality(self.grid)["non_orthogonality"]
         self.assertLess((non_orthogonality > 70.0).sum(), 50)
+
+    def test_a_tip_thinner_than_the_boundary_layer_fans_its_lines_across(self):
+        # A tip 0.0096 thick under a boundary layer 0.017 thick: parted off the wing, its lines in
+        # a band a quarter of its thickness wide, the far field's first layer folded at its nose
+        # (marched from level 3; -0.19).
+        grid = euler_grid([(0.0, 0.0, 1.0), (0.3, 0.8, 0.5), (0.7, 1.2, 0.08)], level=3)
+        self.assertGreater(bvmesh.grid.quality(grid)["scaled_jacobian"].min(), 0.0)
 
 
 if __name__ == "__main__":
