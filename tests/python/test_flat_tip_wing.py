@@ -1,8 +1,8 @@
 """Half wings as FreeCAD's Part module lofts them smoothly through three NACA 0012 sections, their
 leading edges swept more and more towards a flat tip: where the tip's rim meets the swept nose the
-wall turns by only 55 degrees, so those rim points are not sharp, yet a flat tip at least a
-boundary layer thick is a face of its own, whose boundary-layer lines leave along its normal; a
-smaller one is left to the splay band, whose lines fan across it."""
+wall turns by only 55 degrees, so those rim points are not sharp, yet a flat tip reaching at
+least half a boundary layer's thickness from its rim is a face of its own, whose boundary-layer
+lines leave along its normal; a smaller one is left to the splay band, whose lines fan across it."""
 
 import math
 import unittest
@@ -73,6 +73,12 @@ class FlatTipWingTest(unittest.TestCase):
         # a band a quarter of its thickness wide, the far field's first layer folded at its nose
         # (marched from level 3; -0.19).
         grid = euler_grid([(0.0, 0.0, 1.0), (0.3, 0.8, 0.5), (0.7, 1.2, 0.08)], level=3)
+        self.assertGreater(bvmesh.grid.quality(grid)["scaled_jacobian"].min(), 0.0)
+
+    def test_a_tip_half_a_boundary_layer_thick_is_parted_off(self):
+        # A delta-like wing's tip (chord 0.15, 0.018 thick, reaching 0.009 from its rim): left to
+        # the band, its grid had a cell of -0.044 above the tip.
+        grid = euler_grid([(0.0, 0.0, 1.0), (0.85, 1.2, 0.15)], level=3)
         self.assertGreater(bvmesh.grid.quality(grid)["scaled_jacobian"].min(), 0.0)
 
 

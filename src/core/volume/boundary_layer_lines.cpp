@@ -186,11 +186,13 @@ class SplayBands {
 
   // Per front point the splay band's width: `width`, or half the largest distance from the sharp
   // edges in the point's smooth region where that is less. The regions are parted by the sharp
-  // points, and also by the crease points where the face so parted off is at least a
-  // boundary layer wide: a flat tip whose rim is sharp but for a few points at its swept nose
-  // would otherwise join the wing's surfaces there, and its lines would take theirs, running
-  // along the tip (80 degrees off its normal); a tip narrower than the boundary layer is thick
-  // is left to the band, whose lines fan across it as across a rounded one.
+  // points, and also by the crease points where the face so parted off reaches at least half a
+  // boundary layer's thickness from its sharp edges: a flat tip whose rim is sharp but for a few
+  // points at its swept nose would otherwise join the wing's surfaces there, and its lines would
+  // take theirs, running along the tip (80 degrees off its normal). A narrower tip is left to the
+  // band, whose lines fan across it as across a rounded one: parted off, its band (half its
+  // reach) would turn its lines through 45 degrees within less than a quarter of the boundary
+  // layer's thickness, and the far field folded above it.
   std::vector<double> bandWidths(const WallView& view, const std::vector<char>& sharp,
                                  const std::vector<double>& distance, double width) const {
     const std::vector<char> crease = creasePoints(view, sharp);
@@ -198,7 +200,7 @@ class SplayBands {
     const std::vector<double> byCrease = regionReach(view, crease, distance);
     std::vector<double> result(sharp.size(), width);
     for (size_t p = 0; p < sharp.size(); ++p) {
-      const double reach = crease[p] == 0 && byCrease[p] >= thickness_ ? byCrease[p] : bySharp[p];
+      const double reach = crease[p] == 0 && byCrease[p] >= 0.5 * thickness_ ? byCrease[p] : bySharp[p];
       result[p] = std::min(width, 0.5 * reach);
     }
     return result;
