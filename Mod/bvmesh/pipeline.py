@@ -189,7 +189,7 @@ def _marching_words(vm):
         vm.MarchingLevelUsed, how)
 
 
-def _volume_report(title, vm, grid_object, quality, written, case, verdict, seconds):
+def _volume_report(title, vm, grid_object, quality, written, case, verdict, seconds, fans=None):
     lines = [
         "# {}: volume mesh".format(title),
         "",
@@ -201,6 +201,7 @@ def _volume_report(title, vm, grid_object, quality, written, case, verdict, seco
             vm.BlockCount, vm.ControlLayers, vm.BoundaryLayerThicknessUsed, vm.ReferenceLengthUsed,
             vm.ReynoldsNumber, _domain_words(vm), vm.FarfieldScheme, _smoothed_layers(vm)),
         _grid_line(grid_object),
+    ] + ([fans] if fans else []) + [
         "Cells with a non-positive scaled Jacobian: {}; with a face above 70 degrees of non-orthogonality: "
         "{}; with a determinant below 1e-3 (which checkMesh -allGeometry fails): {}.".format(
             quality.NonPositiveCells, quality.CellsAbove70Degrees, quality.SmallDeterminantCells),
@@ -282,6 +283,9 @@ def run_volume(fit, files, title, reference_length, reynolds_number, preset="eul
     quality = api.make_mesh_quality(grid_object, histogram_path=files["quality"])
     log("quality: min scaled Jacobian {:.3g}, max non-orthogonality {:.1f} ({:.1f} s)".format(
         quality.MinScaledJacobian, quality.MaxNonOrthogonality, time.time() - stage))
+    fans = None
+    if "knife_edge_fans" not in (volume_options or {}) and grid_method != "subdivision":
+        fans = _fans_where_skew(vm, quality, log)
     stage = time.time()
     _, point, normal = (cut or (lambda g, p: body_cut(g, p, title)))(grid_object, files["cut"])
     cut_object = api.make_grid_cut(grid_object, point=point, normal=normal)
@@ -299,11 +303,50 @@ def run_volume(fit, files, title, reference_length, reynolds_number, preset="eul
         verdict = check_mesh(case)
         log("checkMesh: {} ({:.1f} s)".format(verdict, time.time() - stage))
     lines = _volume_report(title, vm, grid_object, quality, [files[f] for f in formats], case, verdict,
-                           time.time() - started)
+                           time.time() - started, fans)
     with open(files["volume_report"], "w") as report:
         report.write("\n".join(lines) + "\n")
     return {"volume_mesh": vm, "grid": grid_object, "quality": quality, "cut": cut_object, "check_mesh": verdict,
-            "knife_edge_fans": bool(vm.KnifeEdgeFans)}
+            "knife_edge_fans": bool(vm.KnifeEdgeFans), "knife_edge_fans_tried": fans is not None}
+
+
+# checkMesh's largest skewness of an internal face (its default maxInternalSkewness).
+CHECKMESH_MAX_SKEWNESS = 4.0
+
+
+def _fans_where_skew(vm, quality, log):
+    """Where the grid has faces more skew than checkMesh passes, the volume mesh again with its
+    knife edges cut open (knife_edge_fans): an O-grid's first cells at a sharp trailing edge are
+    skew (4-15 on every FreeCAD-lofted wing measured; docs/hostile_input.md), a fan's prisms are
+    not. The fans are kept when their grid passes that limit with every cell positive, else the
+    O-grid is put back (a wall without knife edges gets the same blocks). vm's grid and quality
+    are recomputed with it. Returns the report's sentence on it, or None where the grid passed."""
+    skew = quality.MaxSkewness
+    if vm.KnifeEdgeFans or skew <= CHECKMESH_MAX_SKEWNESS:
+        return None
+    blocks = vm.BlockCount
+    stage = time.time()
+    try:
+        api.set_volume_options(vm, knife_edge_fans=True)
+    except RuntimeError as error:  # the O-grid is back (set_volume_options undoes a failed change)
+        failed = "the volume mesh with knife-edge fans failed ({}); the O-grid kept".format(error)
+    else:
+        if vm.BlockCount == blocks:
+            failed = "the wall has no knife edge to cut open"
+        elif quality.MaxSkewness > CHECKMESH_MAX_SKEWNESS or quality.NonPositiveCells > 0:
+            failed = "with knife-edge fans the grid's largest skewness is {:.3g} and {} cells are not positive".format(
+                quality.MaxSkewness, quality.NonPositiveCells)
+        else:
+            failed = None
+        if failed:
+            api.set_volume_options(vm, knife_edge_fans=False)
+    words = ("Largest skewness {:.3g} on the O-grid, above checkMesh's {:g}: {}.".format(
+        skew, CHECKMESH_MAX_SKEWNESS, failed) if failed else
+        "Knife edges cut open with fans of prisms (knife_edge_fans, chosen because the O-grid's largest skewness, "
+        "{:.3g}, is above checkMesh's {:g}; with the fans {:.3g}).".format(
+            skew, CHECKMESH_MAX_SKEWNESS, quality.MaxSkewness))
+    log("knife-edge fans: {} ({:.1f} s)".format("kept" if not failed else "not kept", time.time() - stage))
+    return words
 
 
 def run(cad_path, output_dir, template, name=None, title=None, template_parameters=None, half_model=False,
@@ -423,7 +466,8 @@ def unmet_goals(outcome):
         # prisms are not (docs/hostile_input.md).
         hint = ("; skew faces at a sharp trailing edge are the O-grid's first cells there, which "
                 "--volume-option knife_edge_fans=true replaces by a fan of prisms"
-                if "skew" in verdict and outcome.get("knife_edge_fans") is False else "")
+                if "skew" in verdict and outcome.get("knife_edge_fans") is False
+                and not outcome.get("knife_edge_fans_tried") else "")
         unmet.append("checkMesh on the OpenFOAM case: {}{}".format(verdict, hint))
     return unmet
 

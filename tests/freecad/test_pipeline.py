@@ -1,9 +1,10 @@
 """`python3 -m bvmesh mesh`: the whole job on any CAD file, as a batch run would call it. The
 body of a flow domain's file in every solver format, a closed body as a whole, a half model's
-surface with a template parameter, and bad input refused with a message and exit status 1; a
-run whose fit stops above its tolerance writes every file and ends with a warning and exit
-status 2."""
+surface with a template parameter, a lofted wing whose sharp trailing edge gets fans of prisms,
+and bad input refused with a message and exit status 1; a run whose fit stops above its tolerance
+writes every file and ends with a warning and exit status 2."""
 
+import math
 import os
 import re
 import subprocess
@@ -242,6 +243,48 @@ class WingInItsFlowDomain(unittest.TestCase):
         self.assertAlmostEqual(float(match.group(1)), 1.0, delta=1e-3)
 
 
+class LoftedWing(unittest.TestCase):
+    """A half wing as Part lofts it (two NACA 0012 sections, swept, tapered, a flat tip): its sharp
+    trailing edge's O-grid cells are skew beyond checkMesh's limit (11 here), so the mesh command
+    cuts the edge open with fans of prisms, unless told which to take."""
+
+    @staticmethod
+    def wing():
+        folder = tempfile.mkdtemp(prefix="bvmesh-mesh-loft-")
+        cad = os.path.join(folder, "loft.step")
+        sections = []
+        for leading_edge, y, chord in ((0.0, 0.0, 1.0), (0.5, 1.2, 0.4)):
+            xs = [0.5 * (1 + math.cos(math.pi * i / 40)) for i in range(41)]  # 1 .. 0
+            half = [0.6 * (0.2969 * math.sqrt(x) - 0.126 * x - 0.3516 * x**2 + 0.2843 * x**3 - 0.1036 * x**4)
+                    for x in xs]
+            upper, lower = Part.BSplineCurve(), Part.BSplineCurve()
+            upper.interpolate([FreeCAD.Vector(leading_edge + chord * x, y, chord * h) for x, h in zip(xs, half)])
+            lower.interpolate([FreeCAD.Vector(leading_edge + chord * x, y, -chord * h) for x, h in zip(xs, half)])
+            sections.append(Part.Wire([upper.toShape(), lower.toShape()]))
+        Part.makeLoft(sections, True, True).exportStep(cad)
+        return cad, os.path.join(folder, "out")
+
+    def run_mesh(self, *options):
+        cad, output = self.wing()
+        done = mesh(cad, "--template", "half_wing", "--half-model", "--output", output, "--max-level", "2",
+                    "--tolerance", "1e-4", "--target-cells", "30000", "--formats", "openfoam", *options)
+        return done, read(os.path.join(output, "loft_volume_report.md"))
+
+    def test_skew_trailing_edge_cells_are_replaced_by_fans(self):
+        done, report = self.run_mesh()
+        self.assertEqual(done.returncode, 0, done.stderr)
+        self.assertRegex(report, r"Knife edges cut open with fans of prisms \(knife_edge_fans, chosen because the "
+                                 r"O-grid's largest skewness, [0-9.]+, is above checkMesh's 4; with the fans [0-3]\.")
+        self.assertIn("checkMesh on loft_openfoam: Mesh OK.", report)
+
+    def test_the_o_grid_asked_for_is_kept_with_its_warning(self):
+        done, report = self.run_mesh("--volume-option", "knife_edge_fans=false")
+        self.assertEqual(done.returncode, 2, done.stderr)
+        self.assertIn("highly skew faces", done.stderr)
+        self.assertIn("--volume-option knife_edge_fans=true replaces", done.stderr)
+        self.assertNotIn("Knife edges cut open", report)
+
+
 class UnmetGoals(unittest.TestCase):
     def test_skew_faces_point_to_the_knife_edge_fans(self):
         # Lofted wings' O-grids fail checkMesh's skewness at the sharp trailing edge's first cells
@@ -254,6 +297,9 @@ class UnmetGoals(unittest.TestCase):
             "checkMesh on the OpenFOAM case: " + skew + "; skew faces at a sharp trailing edge are the O-grid's first "
             "cells there, which --volume-option knife_edge_fans=true replaces by a fan of prisms"])
         self.assertEqual(pipeline.unmet_goals(dict(outcome, knife_edge_fans=True)),
+                         ["checkMesh on the OpenFOAM case: " + skew])
+        # The mesh command tried the fans itself and kept the O-grid: no advice to try them.
+        self.assertEqual(pipeline.unmet_goals(dict(outcome, knife_edge_fans_tried=True)),
                          ["checkMesh on the OpenFOAM case: " + skew])
         aspect = "***High aspect ratio cells found, Max aspect ratio: 35000, number of cells 12"
         self.assertEqual(pipeline.unmet_goals(dict(outcome, check_mesh=aspect)),

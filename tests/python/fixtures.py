@@ -1,14 +1,16 @@
 """What several Python test modules share: the cube inscribed in the unit sphere (the thesis'
-starting polyhedron for the sphere fits), the unit sphere's fitted volume mesh, checkMesh, and the
-normal jump between B-spline charts along their shared smooth borders."""
+starting polyhedron for the sphere fits), the unit sphere's fitted volume mesh, checkMesh, the
+normal jump between B-spline charts along their shared smooth borders, and a wing section as a
+FreeCAD user draws it."""
 
+import math
 import os
 import subprocess
 
 import numpy as np
 from scipy.interpolate import BSpline
 
-import FreeCAD  # noqa: F401  -- Part needs it loaded first
+import FreeCAD  # Part needs it loaded first
 import Part
 
 import bvmesh
@@ -19,6 +21,17 @@ CUBE_VERTICES = A * np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1]
                               [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], dtype=float)
 CUBE_FACES = [[0, 3, 2, 1], [4, 5, 6, 7], [0, 1, 5, 4], [1, 2, 6, 5], [2, 3, 7, 6], [3, 0, 4, 7]]
 OPENFOAM = dict(os.environ, WM_PROJECT_DIR="/usr/share/openfoam")
+
+
+def naca0012_section(leading_edge, y, chord):
+    """A NACA 0012 section in the plane of span station y, as a FreeCAD user draws it for a loft:
+    an interpolated upper and lower curve meeting at a sharp trailing edge."""
+    xs = [0.5 * (1 + math.cos(math.pi * i / 40)) for i in range(41)]  # 1 .. 0
+    half = [0.6 * (0.2969 * math.sqrt(x) - 0.1260 * x - 0.3516 * x**2 + 0.2843 * x**3 - 0.1036 * x**4) for x in xs]
+    upper, lower = Part.BSplineCurve(), Part.BSplineCurve()
+    upper.interpolate([FreeCAD.Vector(leading_edge + chord * x, y, chord * h) for x, h in zip(xs, half)])
+    lower.interpolate([FreeCAD.Vector(leading_edge + chord * x, y, -chord * h) for x, h in zip(xs, half)])
+    return Part.Wire([upper.toShape(), lower.toShape()])
 
 
 def sphere_target():

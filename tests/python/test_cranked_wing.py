@@ -3,7 +3,6 @@ crank, the trailing edge unswept inboard and swept outboard): the half_wing temp
 on the crank, and the knife-edge fans of its sharp trailing edge, which turns there, meet end to
 end in point-matched grids."""
 
-import math
 import unittest
 
 import numpy as np
@@ -12,6 +11,7 @@ import bvmesh
 import bvmesh.grid
 import bvmesh.volume
 from bvmesh import polyhedra
+from fixtures import naca0012_section
 
 try:
     import FreeCAD
@@ -22,22 +22,13 @@ except ImportError:  # pragma: no cover - FreeCAD is installed on the test machi
 CRANK_Y = 0.4
 
 
-def section(leading_edge, y, chord):
-    xs = [0.5 * (1 + math.cos(math.pi * i / 40)) for i in range(41)]  # 1 .. 0
-    half = [0.6 * (0.2969 * math.sqrt(x) - 0.1260 * x - 0.3516 * x**2 + 0.2843 * x**3 - 0.1036 * x**4) for x in xs]
-    upper, lower = Part.BSplineCurve(), Part.BSplineCurve()
-    upper.interpolate([FreeCAD.Vector(leading_edge + chord * x, y, chord * h) for x, h in zip(xs, half)])
-    lower.interpolate([FreeCAD.Vector(leading_edge + chord * x, y, -chord * h) for x, h in zip(xs, half)])
-    return Part.Wire([upper.toShape(), lower.toShape()])
-
-
 @unittest.skipIf(Part is None, "FreeCAD is not importable")
 class CrankedWingTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
-        crank = section(0.4, CRANK_Y, 0.6)
-        inboard = Part.makeLoft([section(0.0, 0.0, 1.0), crank], True, True)
-        outboard = Part.makeLoft([crank, section(0.862, 1.2, 0.25)], True, True)
+        crank = naca0012_section(0.4, CRANK_Y, 0.6)
+        inboard = Part.makeLoft([naca0012_section(0.0, 0.0, 1.0), crank], True, True)
+        outboard = Part.makeLoft([crank, naca0012_section(0.862, 1.2, 0.25)], True, True)
         target, _, _ = polyhedra.half_model_target(inboard.fuse(outboard).removeSplitter())
         cls.placed = polyhedra.place("half_wing", target)
         cls.fitter = bvmesh.SurfaceFitter(target, cls.placed["mesh"], cls.placed["feature_map"],

@@ -4,7 +4,6 @@ wall turns by only 55 degrees, so those rim points are not sharp, yet a flat tip
 least half a boundary layer's thickness from its rim is a face of its own, whose boundary-layer
 lines leave along its normal; a smaller one is left to the splay band, whose lines fan across it."""
 
-import math
 import unittest
 
 import numpy as np
@@ -13,6 +12,7 @@ import bvmesh
 import bvmesh.grid
 import bvmesh.volume
 from bvmesh import polyhedra
+from fixtures import naca0012_section
 
 try:
     import FreeCAD
@@ -23,20 +23,11 @@ except ImportError:  # pragma: no cover - FreeCAD is installed on the test machi
 TIP_Y = 1.3
 
 
-def section(leading_edge, y, chord):
-    xs = [0.5 * (1 + math.cos(math.pi * i / 40)) for i in range(41)]  # 1 .. 0
-    half = [0.6 * (0.2969 * math.sqrt(x) - 0.1260 * x - 0.3516 * x**2 + 0.2843 * x**3 - 0.1036 * x**4) for x in xs]
-    upper, lower = Part.BSplineCurve(), Part.BSplineCurve()
-    upper.interpolate([FreeCAD.Vector(leading_edge + chord * x, y, chord * h) for x, h in zip(xs, half)])
-    lower.interpolate([FreeCAD.Vector(leading_edge + chord * x, y, -chord * h) for x, h in zip(xs, half)])
-    return Part.Wire([upper.toShape(), lower.toShape()])
-
-
 def euler_grid(sections, level=2):
     """The euler grid (100 k cells) of the half wing lofted through `sections` (leading edge, y,
     chord), fitted to `level` and marched from it at Re 5e6 on a unit root chord (a boundary layer
     0.017 thick)."""
-    wing = Part.makeLoft([section(*s) for s in sections], True, False)
+    wing = Part.makeLoft([naca0012_section(*s) for s in sections], True, False)
     target, _, _ = polyhedra.half_model_target(wing)
     placed = polyhedra.place("half_wing", target)
     fitter = bvmesh.SurfaceFitter(target, placed["mesh"], placed["feature_map"],
