@@ -41,20 +41,37 @@ class SplayBands {
         thickness_(thickness),
         wallNeighbours_(frontNeighbours(front, true)) {}
 
-  // Points where the wall turns sharply: an adjacent cell's normal more than 30 degrees off the
-  // point's (averaged) normal, per node of `view`.
-  std::vector<char> sharpEdgePoints(const WallView& view) const {
-    std::vector<char> sharp(static_cast<size_t>(front_.points.rows()), 0);
+  // The wall's cells round each node of `view`: their unit normals and centres (a fan's quads,
+  // collapsed onto their edge, are no wall cells).
+  struct CellsAround {
+    std::vector<std::vector<Vector3d>> normals, centres;
+  };
+  CellsAround cellsAround(const WallView& view) const {
+    const auto n = static_cast<size_t>(front_.points.rows());
+    CellsAround cells{std::vector<std::vector<Vector3d>>(n), std::vector<std::vector<Vector3d>>(n)};
     for (const auto& q : front_.quads) {
       const Vector3d a = front_.points.row(q[0]).transpose(), b = front_.points.row(q[1]).transpose();
       const Vector3d c = front_.points.row(q[2]).transpose(), d = front_.points.row(q[3]).transpose();
       const Vector3d area = (c - a).cross(d - b);
-      if (area.norm() == 0.0) continue;  // a fan's quad: no wall cell
-      const Vector3d n = area.normalized();
-      for (int p : q) {
-        const int node = view.node[static_cast<size_t>(p)];
-        if (node >= 0 && n.dot(view.normals.row(node).transpose()) < std::cos(kSharpAngle))
-          sharp[static_cast<size_t>(node)] = 1;
+      if (area.norm() == 0.0) continue;
+      for (int corner : q) {
+        const int node = view.node[static_cast<size_t>(corner)];
+        if (node < 0) continue;
+        cells.normals[static_cast<size_t>(node)].push_back(area.normalized());
+        cells.centres[static_cast<size_t>(node)].push_back(0.25 * (a + b + c + d));
+      }
+    }
+    return cells;
+  }
+
+  // Points where the wall turns sharply: an adjacent cell's normal more than 30 degrees off the
+  // point's (averaged) normal, per node of `view`.
+  std::vector<char> sharpEdgePoints(const WallView& view, const CellsAround& cells) const {
+    std::vector<char> sharp(cells.normals.size(), 0);
+    for (size_t p = 0; p < sharp.size(); ++p) {
+      const Vector3d mean = view.normals.row(static_cast<Eigen::Index>(p)).transpose();
+      for (const Vector3d& normal : cells.normals[p]) {
+        if (normal.dot(mean) < std::cos(kSharpAngle)) sharp[p] = 1;
       }
     }
     return sharp;
@@ -66,29 +83,17 @@ class SplayBands {
   // of the smallest cone holding them). Zero elsewhere. The band's harmonic interpolation there
   // mixes the fuselage's normal with the trailing edge's cancelling ones and leaves a line nearly in
   // the wing's surface; this one runs along the fuselage, downstream, between both.
-  RowMatrixX3d concaveCornerLines(const WallView& view, const std::vector<char>& sharp) const {
+  RowMatrixX3d concaveCornerLines(const CellsAround& cells, const std::vector<char>& sharp) const {
     const Eigen::Index n = front_.points.rows();
-    std::vector<std::vector<Vector3d>> normals(static_cast<size_t>(n)), centres(static_cast<size_t>(n));
-    for (const auto& q : front_.quads) {
-      const Vector3d a = front_.points.row(q[0]).transpose(), b = front_.points.row(q[1]).transpose();
-      const Vector3d c = front_.points.row(q[2]).transpose(), d = front_.points.row(q[3]).transpose();
-      const Vector3d normal = (c - a).cross(d - b);
-      if (normal.norm() == 0.0) continue;
-      for (int corner : q) {
-        const int p = view.node[static_cast<size_t>(corner)];
-        if (p < 0 || sharp[static_cast<size_t>(p)] == 0) continue;
-        normals[static_cast<size_t>(p)].push_back(normal.normalized());
-        centres[static_cast<size_t>(p)].push_back(0.25 * (a + b + c + d));
-      }
-    }
     RowMatrixX3d lines = RowMatrixX3d::Zero(n, 3);
     for (Eigen::Index p = 0; p < n; ++p) {
-      const auto& around = normals[static_cast<size_t>(p)];
+      if (sharp[static_cast<size_t>(p)] == 0) continue;
+      const auto& around = cells.normals[static_cast<size_t>(p)];
       // Beyond a few cells (a wall point has 4 per patch meeting there) the cubic candidate search
       // would cost more than the marching; such a point keeps the band's line.
       constexpr size_t kMostCells = 16;
       if (onPlane(p) || around.size() > kMostCells ||
-          !onConcaveCrease(front_.points.row(p).transpose(), around, centres[static_cast<size_t>(p)])) {
+          !onConcaveCrease(front_.points.row(p).transpose(), around, cells.centres[static_cast<size_t>(p)])) {
         continue;
       }
       std::vector<Vector3d> candidates(around.begin(), around.end());
@@ -134,23 +139,13 @@ class SplayBands {
   // turn by more than the sharp angle. A crease that turns by less than twice the sharp angle
   // leaves its points' cells within the sharp angle of their mean normal, so that they are not
   // sharp (a flat wing tip meeting its strongly swept nose at 55 degrees).
-  std::vector<char> creasePoints(const WallView& view, const std::vector<char>& sharp) const {
-    std::vector<std::vector<Vector3d>> cells(static_cast<size_t>(front_.points.rows()));
-    for (const auto& q : front_.quads) {
-      const Vector3d a = front_.points.row(q[0]).transpose(), b = front_.points.row(q[1]).transpose();
-      const Vector3d c = front_.points.row(q[2]).transpose(), d = front_.points.row(q[3]).transpose();
-      const Vector3d area = (c - a).cross(d - b);
-      if (area.norm() == 0.0) continue;  // a fan's quad: no wall cell
-      for (int p : q) {
-        const int node = view.node[static_cast<size_t>(p)];
-        if (node >= 0) cells[static_cast<size_t>(node)].push_back(area.normalized());
-      }
-    }
+  std::vector<char> creasePoints(const CellsAround& cells, const std::vector<char>& sharp) const {
     std::vector<char> crease = sharp;
-    for (size_t p = 0; p < cells.size(); ++p) {
-      for (size_t i = 0; i < cells[p].size() && crease[p] == 0; ++i) {
-        for (size_t j = i + 1; j < cells[p].size(); ++j) {
-          if (cells[p][i].dot(cells[p][j]) < std::cos(kSharpAngle)) crease[p] = 1;
+    for (size_t p = 0; p < crease.size(); ++p) {
+      const auto& around = cells.normals[p];
+      for (size_t i = 0; i < around.size() && crease[p] == 0; ++i) {
+        for (size_t j = i + 1; j < around.size(); ++j) {
+          if (around[i].dot(around[j]) < std::cos(kSharpAngle)) crease[p] = 1;
         }
       }
     }
@@ -193,9 +188,10 @@ class SplayBands {
   // band, whose lines fan across it as across a rounded one: parted off, its band (half its
   // reach) would turn its lines through 45 degrees within less than a quarter of the boundary
   // layer's thickness, and the far field folded above it.
-  std::vector<double> bandWidths(const WallView& view, const std::vector<char>& sharp,
-                                 const std::vector<double>& distance, double width) const {
-    const std::vector<char> crease = creasePoints(view, sharp);
+  std::vector<double> bandWidths(const WallView& view, const CellsAround& cells,
+                                 const std::vector<char>& sharp, const std::vector<double>& distance,
+                                 double width) const {
+    const std::vector<char> crease = creasePoints(cells, sharp);
     const std::vector<double> bySharp = regionReach(view, sharp, distance);
     const std::vector<double> byCrease = regionReach(view, crease, distance);
     std::vector<double> result(sharp.size(), width);
@@ -219,7 +215,8 @@ class SplayBands {
   // its node's line (a fan's points none: turnFans sets them).
   RowMatrixX3d splayedAtSharpEdges(const WallView& view, double width) const {
     const Eigen::Index n = front_.points.rows();
-    const std::vector<char> sharp = sharpEdgePoints(view);
+    const CellsAround cells = cellsAround(view);
+    const std::vector<char> sharp = sharpEdgePoints(view, cells);
     std::vector<double> distance(static_cast<size_t>(n), std::numeric_limits<double>::infinity());
     using Entry = std::pair<double, int>;
     std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
@@ -241,8 +238,8 @@ class SplayBands {
         }
       }
     }
-    const std::vector<double> bandWidth = bandWidths(view, sharp, distance, width);
-    const RowMatrixX3d cornerLines = concaveCornerLines(view, sharp);
+    const std::vector<double> bandWidth = bandWidths(view, cells, sharp, distance, width);
+    const RowMatrixX3d cornerLines = concaveCornerLines(cells, sharp);
     auto heldAtCorner = [&](Eigen::Index p) { return cornerLines.row(p).squaredNorm() > 0.0; };
     auto isNode = [&](Eigen::Index p) { return view.node[static_cast<size_t>(p)] == p; };
     auto inBand = [&](Eigen::Index p) {
