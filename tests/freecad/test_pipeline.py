@@ -4,10 +4,10 @@ surface with a template parameter, a lofted wing whose sharp trailing edge gets 
 and bad input refused with a message and exit status 1; a run whose fit stops above its tolerance
 writes every file and ends with a warning and exit status 2."""
 
-import math
 import os
 import re
 import subprocess
+import sys
 import tempfile
 import unittest
 import xml.etree.ElementTree as ElementTree
@@ -17,6 +17,9 @@ import Part
 
 import bvmesh
 from bvmesh import grid
+
+sys.path.insert(0, os.path.join(os.environ["BVMESH_SOURCE_DIR"], "tests", "python"))
+from fixtures import naca0012_section  # noqa: E402  -- the wing section the Python tests draw too
 
 DATA = os.environ.get("BVMESH_TEST_DATA_DIR", os.path.join(os.environ["BVMESH_SOURCE_DIR"], "tests", "data"))
 ENV = dict(os.environ, PYTHONPATH=os.pathsep.join([os.path.join(os.environ["BVMESH_SOURCE_DIR"], "Mod"),
@@ -252,15 +255,7 @@ class LoftedWing(unittest.TestCase):
     def wing():
         folder = tempfile.mkdtemp(prefix="bvmesh-mesh-loft-")
         cad = os.path.join(folder, "loft.step")
-        sections = []
-        for leading_edge, y, chord in ((0.0, 0.0, 1.0), (0.5, 1.2, 0.4)):
-            xs = [0.5 * (1 + math.cos(math.pi * i / 40)) for i in range(41)]  # 1 .. 0
-            half = [0.6 * (0.2969 * math.sqrt(x) - 0.126 * x - 0.3516 * x**2 + 0.2843 * x**3 - 0.1036 * x**4)
-                    for x in xs]
-            upper, lower = Part.BSplineCurve(), Part.BSplineCurve()
-            upper.interpolate([FreeCAD.Vector(leading_edge + chord * x, y, chord * h) for x, h in zip(xs, half)])
-            lower.interpolate([FreeCAD.Vector(leading_edge + chord * x, y, -chord * h) for x, h in zip(xs, half)])
-            sections.append(Part.Wire([upper.toShape(), lower.toShape()]))
+        sections = [naca0012_section(0.0, 0.0, 1.0), naca0012_section(0.5, 1.2, 0.4)]
         Part.makeLoft(sections, True, True).exportStep(cad)
         return cad, os.path.join(folder, "out")
 
