@@ -14,12 +14,16 @@
 #include <cmath>
 
 #include "core/common/errors.h"
+#include "core/subdiv/limit_evaluator.h"
+#include "core/subdiv/subdivision.h"
 
 namespace bvmesh::fit {
 namespace {
 
 // The plate [0, 3] x [0, 1] in z = 0.
-target::Target plate() { return target::Target(BRepBuilderAPI_MakeFace(gp_Pln(), 0.0, 3.0, 0.0, 1.0).Face()); }
+target::Target plate() {
+  return target::Target(BRepBuilderAPI_MakeFace(gp_Pln(), 0.0, 3.0, 0.0, 1.0).Face());
+}
 
 // Two flat quads in z = 0: [0, 1.4] x [0, 1] and [1.6, 3] x [0, 1] (every vertex a corner of its
 // one face, so each limit patch covers exactly its rectangle).
@@ -50,6 +54,45 @@ TEST(TwoSidedDistance, DenseTargetSamplesFindANarrowMissBetweenTessellationNodes
   EXPECT_NEAR(dense.targetToLimitAt.x(), 1.5, 1e-9);
   EXPECT_NEAR(dense.targetToLimitBeyondCad, 0.1, 1e-6);  // the plate's own tolerance is 1e-7
   EXPECT_LT(dense.limitToTarget, 1e-12);
+}
+
+// The target side is measured on the limit surface itself, not on its tessellation by the check's
+// grid: a cube's limit surface (subdivided twice, scaled to a mean radius of 1) against the unit
+// sphere. The limit surface is star-shaped about the origin, so each target point P is at most
+// | |Q| - 1 | from the limit point Q on its ray: the distance is bounded by the largest | |q| - 1 |
+// over the surface (a dense grid of limit points). The tessellation's chordal error at 2 points
+// per face broke that bound, and the result varied with the grid.
+TEST(TwoSidedDistance, TargetSideIsTheDistanceToTheLimitSurfaceWhateverTheGrid) {
+  const target::Target cad(BRepPrimAPI_MakeSphere(1.0).Shape());
+  RowMatrixX3d v(8, 3);
+  v << -1, -1, -1, 1, -1, -1, 1, 1, -1, -1, 1, -1, -1, -1, 1, 1, -1, 1, 1, 1, 1, -1, 1, 1;
+  ControlMesh mesh(v, {4, 4, 4, 4, 4, 4},
+                   {0, 3, 2, 1, 4, 5, 6, 7, 0, 1, 5, 4, 1, 2, 6, 5, 2, 3, 7, 6, 3, 0, 4, 7});
+  mesh = subdivide(subdivide(mesh).mesh).mesh;
+  const SubdivisionOptions options;
+
+  const LimitEvaluator evaluator(mesh, options);
+  std::vector<SurfaceLocation> dense;
+  const int n = 32;
+  for (int face = 0; face < evaluator.numPtexFaces(); ++face) {
+    for (int j = 0; j <= n; ++j) {
+      for (int i = 0; i <= n; ++i)
+        dense.push_back({face, static_cast<double>(i) / n, static_cast<double>(j) / n});
+    }
+  }
+  const RowMatrixX3d unscaled = evaluator.evaluate(mesh.vertices(), dense).positions;
+  const double scale = 1.0 / unscaled.rowwise().norm().mean();
+  mesh.setVertices(scale * mesh.vertices());
+  const double radialBound = (scale * unscaled.rowwise().norm().array() - 1.0).abs().maxCoeff();
+  ASSERT_GT(radialBound, 0.01);
+
+  const TwoSidedDistance coarse = measureTwoSidedDistance(mesh, options, cad, 2);
+  const TwoSidedDistance fine = measureTwoSidedDistance(mesh, options, cad, 8);
+  EXPECT_GT(coarse.targetToLimit, 0.5 * radialBound);
+  EXPECT_LE(coarse.targetToLimit, radialBound + 1e-9);
+  EXPECT_NEAR(coarse.targetToLimit, fine.targetToLimit, 1e-9);
+  EXPECT_NEAR((coarse.targetToLimitAt - fine.targetToLimitAt).norm(), 0.0, 1e-9);
+  EXPECT_NEAR(coarse.targetToLimitBeyondCad, fine.targetToLimitBeyondCad, 1e-9);
 }
 
 TEST(TwoSidedDistance, SurfaceSamplesLieOnTheCad) {

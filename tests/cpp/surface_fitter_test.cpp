@@ -336,15 +336,17 @@ TEST(SurfaceFitter, ConvergesToATolerance) {
 // one level more it goes on and converges by both measures; without, it stops as check_failed and
 // says which side of the check is above the tolerance.
 TEST(SurfaceFitter, ConvergedOnlyWhenTheTwoSidedCheckAgrees) {
-  FitOptions measureOnly = studyOptions(2);
+  // At level 3 the limit surface between the samples strays further from the sphere than at
+  // them: the check's denser grid sees more.
+  FitOptions measureOnly = studyOptions(3);
   SurfaceFitter probe(sphereTarget(), cube(), {}, measureOnly);
   probe.run();
   const double samples = probe.history().back().maxDistance;
   const TwoSidedDistance check = probe.twoSidedDistance(4);
   const double checked = std::max(check.limitToTarget, check.targetToLimitBeyondCad);
-  ASSERT_GT(checked, 1.2 * samples);  // the denser check sees more than the samples
+  ASSERT_GT(checked, 1.1 * samples);
 
-  FitOptions options = studyOptions(2);
+  FitOptions options = studyOptions(3);
   options.tolerance = 0.5 * (samples + checked);
   options.checkSamplesPerFace = 4;
   options.stagnationRatio = 0.9;
@@ -353,11 +355,11 @@ TEST(SurfaceFitter, ConvergedOnlyWhenTheTwoSidedCheckAgrees) {
   EXPECT_LE(stopped.history.back().maxDistance, options.tolerance);
   EXPECT_NE(stopped.detail.find("two-sided check above it"), std::string::npos) << stopped.detail;
 
-  options.maxLevel = 3;
+  options.maxLevel = 4;
   SurfaceFitter fitter(sphereTarget(), cube(), {}, options);
   const FitSummary summary = fitter.run();
   EXPECT_EQ(summary.reason, StopReason::Converged) << summary.detail;
-  EXPECT_EQ(fitter.level(), 3);
+  EXPECT_EQ(fitter.level(), 4);
   ASSERT_TRUE(summary.history.back().check.has_value());
   EXPECT_TRUE(summary.history.back().check->within(options.tolerance));
   EXPECT_TRUE(summary.detail.empty());

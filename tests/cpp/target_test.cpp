@@ -4,18 +4,20 @@
 
 #include <gtest/gtest.h>
 
-#include <BRep_Builder.hxx>
+#include <BRepBuilderAPI_GTransform.hxx>
 #include <BRepBuilderAPI_MakeEdge.hxx>
 #include <BRepBuilderAPI_MakeFace.hxx>
 #include <BRepBuilderAPI_MakeWire.hxx>
 #include <BRepPrimAPI_MakeBox.hxx>
 #include <BRepPrimAPI_MakeCylinder.hxx>
 #include <BRepPrimAPI_MakeSphere.hxx>
+#include <BRep_Builder.hxx>
 #include <GC_MakeCircle.hxx>
 #include <TopExp_Explorer.hxx>
 #include <TopoDS.hxx>
 #include <TopoDS_Compound.hxx>
 #include <gp_Circ.hxx>
+#include <gp_GTrsf.hxx>
 #include <gp_Pln.hxx>
 
 #include <Eigen/Geometry>
@@ -25,6 +27,7 @@
 #include <random>
 
 #include "core/common/errors.h"
+#include "core/common/math_constants.h"
 
 namespace bvmesh::target {
 namespace {
@@ -135,6 +138,37 @@ TEST(Target, WarmStartEqualsColdStart) {
   }
 }
 
+// An ellipsoid as one B-spline surface (a sphere stretched along x), whose poles at z = +-0.5 are
+// degenerate edges: Newton from a warm start on the far side of a pole stops there without
+// converging (u is undefined at the pole), which must not hide the true foot a few
+// micrometres away. Measured before the fix: 2 of 2000 points 2e-3 and 5e-3 off.
+TEST(Target, WarmStartsAcrossAPoleFindTheClosestPoint) {
+  gp_GTrsf stretch;
+  stretch.SetValue(1, 1, 2.0);
+  stretch.SetValue(3, 3, 0.5);
+  const Target target(BRepBuilderAPI_GTransform(BRepPrimAPI_MakeSphere(1.0).Shape(), stretch, true).Shape());
+  std::mt19937 random(7);
+  std::normal_distribution<double> across(0.0, 0.01);
+  std::normal_distribution<double> off(0.0, 1e-4);
+  std::uniform_real_distribution<double> angle(0.0, 2.0 * kPi);
+  const Eigen::Index n = 2000;
+  Points points(n, 3);
+  Points starts(n, 3);  // next to the surface, 0.05-0.1 from the pole, all round it
+  for (Eigen::Index i = 0; i < n; ++i) {
+    points.row(i) << across(random), across(random), -0.5 + off(random);
+    const double a = angle(random);
+    starts.row(i) << 0.1 * std::cos(a), 0.05 * std::sin(a), -0.5 * std::sqrt(1.0 - 0.0025 - 0.0025);
+  }
+  const ProjectionResult fromStarts = target.project(starts);
+  const SurfaceHints hints{fromStarts.faces, fromStarts.params};
+  const ProjectionResult warm = target.project(points, &hints);
+  const ProjectionResult cold = target.project(points);
+  for (Eigen::Index i = 0; i < n; ++i) {
+    EXPECT_NEAR(warm.distances[i], cold.distances[i], 1e-9) << "point " << i;
+    EXPECT_LT(warm.distances[i], 1e-3) << "point " << i;  // every point is within 1e-3 of the pole
+  }
+}
+
 TEST(Target, EdgesVerticesAndDirections) {
   const double r = 1.5, h = 4.0;
   const Target target(BRepPrimAPI_MakeCylinder(r, h).Shape());
@@ -156,7 +190,8 @@ TEST(Target, EdgesVerticesAndDirections) {
   const ProjectionResult vertices = target.projectToVertices(points, all);
   for (Eigen::Index i = 0; i < points.rows(); ++i) {
     double nearest = std::numeric_limits<double>::infinity();
-    for (int v : all) nearest = std::min(nearest, (target.vertexPosition(v) - points.row(i).transpose()).norm());
+    for (int v : all)
+      nearest = std::min(nearest, (target.vertexPosition(v) - points.row(i).transpose()).norm());
     EXPECT_DOUBLE_EQ(vertices.distances[i], nearest);
   }
   // Horizontal lines through the axis cross the lateral face at distance |rho - r| or rho + r.
@@ -192,8 +227,8 @@ Points randomDirections(int count, unsigned seed) {
 }
 
 // Expects the nearest crossing at distance `expected` (status Ok), on the line.
-void expectLineHit(const ProjectionResult& result, Eigen::Index i, const Eigen::Vector3d& q, const Eigen::Vector3d& d,
-                   double expected, double tolerance) {
+void expectLineHit(const ProjectionResult& result, Eigen::Index i, const Eigen::Vector3d& q,
+                   const Eigen::Vector3d& d, double expected, double tolerance) {
   ASSERT_EQ(result.status[static_cast<std::size_t>(i)], ProjectionStatus::Ok) << "line " << i;
   EXPECT_NEAR(result.distances[i], expected, tolerance) << "line " << i;
   const Eigen::Vector3d foot = result.points.row(i).transpose();
@@ -213,14 +248,16 @@ TEST(Target, LinesThroughSpherePolesHitTheNearPole) {
     Points origins(static_cast<Eigen::Index>(heights.size()), 3);
     Points directions(origins.rows(), 3);
     for (std::size_t k = 0; k < heights.size(); ++k) {
-      origins.row(static_cast<Eigen::Index>(k)) = (pole + sign * heights[k] * Eigen::Vector3d::UnitZ()).transpose();
+      origins.row(static_cast<Eigen::Index>(k)) =
+          (pole + sign * heights[k] * Eigen::Vector3d::UnitZ()).transpose();
       directions.row(static_cast<Eigen::Index>(k)) << 0, 0, k % 2 == 0 ? 1.0 : -1.0;
     }
     const ProjectionResult result = target.projectAlong(origins, directions);
     for (Eigen::Index i = 0; i < origins.rows(); ++i) {
       expectLineHit(result, i, origins.row(i).transpose(), directions.row(i).transpose(),
                     std::abs(heights[static_cast<std::size_t>(i)]), tolerance);
-      EXPECT_LE((result.points.row(i).transpose() - pole).norm(), tolerance) << "height " << heights[static_cast<std::size_t>(i)];
+      EXPECT_LE((result.points.row(i).transpose() - pole).norm(), tolerance)
+          << "height " << heights[static_cast<std::size_t>(i)];
       EXPECT_GT(result.normals.row(i).dot(sign * Eigen::Vector3d::UnitZ()), 1 - 1e-9);
     }
   }
@@ -294,9 +331,9 @@ TEST(Target, RandomLinesMatchCylinderCrossings) {
       }
     }
     if (ambiguous || crossings.empty()) continue;
-    const auto nearest = std::min_element(crossings.begin(), crossings.end(), [](const auto& x, const auto& y) {
-      return std::abs(x.first) < std::abs(y.first);
-    });
+    const auto nearest =
+        std::min_element(crossings.begin(), crossings.end(),
+                         [](const auto& x, const auto& y) { return std::abs(x.first) < std::abs(y.first); });
     expectLineHit(result, i, q, d, std::abs(nearest->first), tolerance);
     ++checked;
     onCaps += nearest->second ? 1 : 0;
@@ -336,7 +373,8 @@ TEST(Target, EmptyPointArraysGiveEmptyResults) {
   while (target.edgePolyline(edge).rows() == 0) ++edge;  // a non-degenerate edge
   for (const ProjectionResult& result :
        {target.project(none), target.project(none, &hints), target.projectToEdges(none, {edge}),
-        target.projectToFreeBoundary(none), target.projectToVertices(none, {0}), target.projectAlong(none, none)}) {
+        target.projectToFreeBoundary(none), target.projectToVertices(none, {0}),
+        target.projectAlong(none, none)}) {
     EXPECT_EQ(result.points.rows(), 0);
     EXPECT_EQ(result.distances.size(), 0);
     EXPECT_EQ(result.ids.size(), 0);
@@ -383,8 +421,9 @@ TEST(Target, OptionsAreNamedWithTheirValue) {
   options.relativeDeflection = std::numeric_limits<double>::infinity();
   expectNamed(options, "relative_deflection must be a finite number > 0, got inf");
   options.relativeDeflection = 1e-8;  // a tessellation of some 100 GB
-  expectNamed(options, "relative_deflection must be at least 1e-05 (a finer tessellation of the projection index "
-                       "costs memory as its inverse and changes no result), got 1e-08");
+  expectNamed(options,
+              "relative_deflection must be at least 1e-05 (a finer tessellation of the projection index "
+              "costs memory as its inverse and changes no result), got 1e-08");
   options = {};
   options.angularDeflection = std::nan("");
   expectNamed(options, "angular_deflection must be a finite number > 0, got nan");
@@ -416,10 +455,12 @@ TEST(Target, OverlappingFacesGiveFeetInsideAFace) {
   BRep_Builder builder;
   TopoDS_Compound compound;
   builder.MakeCompound(compound);
-  for (TopExp_Explorer face(BRepPrimAPI_MakeBox(2.0, 2.0, 2.0).Shape(), TopAbs_FACE); face.More(); face.Next())
+  for (TopExp_Explorer face(BRepPrimAPI_MakeBox(2.0, 2.0, 2.0).Shape(), TopAbs_FACE); face.More();
+       face.Next())
     builder.Add(compound, face.Current());
   const double lift = 1e-6;
-  builder.Add(compound, BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(0, 0, 2.0 + lift), gp::DZ()), 0.5, 1.5, 0.5, 1.5).Face());
+  builder.Add(compound,
+              BRepBuilderAPI_MakeFace(gp_Pln(gp_Pnt(0, 0, 2.0 + lift), gp::DZ()), 0.5, 1.5, 0.5, 1.5).Face());
   const Target target(compound);
   ASSERT_NEAR(target.report().tolerance, 3.46e-6, 1e-8);
   Points points(4, 3);
@@ -453,8 +494,9 @@ TEST(Target, TooLargeOrTooFarForOcctIsNamedAsSuch) {
   };
   expectNamed(BRepPrimAPI_MakeSphere(1e80).Shape(), "the target is too large, 3.46e+80 across");
   expectNamed(BRepPrimAPI_MakeSphere(1e150).Shape(), "the target is too large, 3.46e+150 across");
-  expectNamed(BRepPrimAPI_MakeSphere(gp_Pnt(1e16, 0, 0), 1.0).Shape(),
-              "the target lies too far from the origin for its size: at 1e+16 from it coordinates are 2.22 apart");
+  expectNamed(
+      BRepPrimAPI_MakeSphere(gp_Pnt(1e16, 0, 0), 1.0).Shape(),
+      "the target lies too far from the origin for its size: at 1e+16 from it coordinates are 2.22 apart");
   EXPECT_NO_THROW(Target(BRepPrimAPI_MakeSphere(1e60).Shape()));
   EXPECT_NO_THROW(Target(BRepPrimAPI_MakeSphere(gp_Pnt(1e8, 0, 0), 1e-3).Shape()));
 }

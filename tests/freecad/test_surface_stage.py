@@ -351,8 +351,9 @@ class Fitting(DocumentTest):
 
 class LaterStages(DocumentTest):
     def test_bspline_shell_of_a_sphere_fit_is_a_valid_solid_that_exports_to_step(self):
-        fit = self.sphere_fit(max_level=3, tolerance=1e-3)
+        fit = self.sphere_fit(max_level=3, tolerance=1e-4)
         api.fit_to_tolerance(fit)
+        self.assertEqual(fit.Level, 3)
         shell = api.make_bspline_shell(fit)
         self.assertTrue(shell.Shape.isValid())
         self.assertEqual(len(shell.Shape.Solids), 1)

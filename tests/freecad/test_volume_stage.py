@@ -30,7 +30,9 @@ def sphere_fit(doc):
     ball.Shape = Part.makeSphere(RADIUS)
     target = api.make_target(doc, ball)
     polyhedron = api.make_polyhedron_from_template(doc, target, "sphere")
-    fit = api.make_surface_fit(doc, target, polyhedron, relative_tolerance=1e-4, max_level=3)
+    # Converged at level 3 (level 2's samples are 1.7e-4 from the sphere): the tests march from
+    # lower levels.
+    fit = api.make_surface_fit(doc, target, polyhedron, relative_tolerance=3e-5, max_level=3)
     return api.fit_to_tolerance(fit)
 
 

@@ -10,8 +10,11 @@ namespace bvmesh::fit {
 //   projected onto the target (exact closest point on the trimmed CAD surface).
 // targetToLimit: every node of the target's tessellation, or with targetSubdivisions k > 1 the
 //   points of Target::surfaceSamples(k) (k^2 times as many, exactly on the CAD), to the nearest
-//   point of the limit surface, tessellated by the same grids (so it includes the grid's chordal
-//   error, which is small against the grid spacing squared times the curvature).
+//   point of the limit surface itself: the grids' triangles find the candidate ptex faces (every
+//   face with a triangle within the point's distance to the triangles plus twice their chordal
+//   deviation), and Gauss-Newton steps on those faces the nearest limit point. Only points that
+//   could still raise the maximum are measured so; the result does not depend on the grid's
+//   density as a tessellation's chordal error would.
 // faceHints (optional, one per ptex face): a nearby location on the target for each face, which
 // warm-starts the projections of that face's grid points.
 TwoSidedDistance measureTwoSidedDistance(const ControlMesh& mesh, const SubdivisionOptions& options,

@@ -151,7 +151,9 @@ Foot closestOnSurface(const Target::Data& data, ThreadContext& context, const Ei
   double radius = 0;
   if (hintFace >= 0) {
     best = solveOnFace(data, context, hintFace, q, hintU, hintV, -1.0);
-    context.anchors.push_back({hintFace, best.point});
+    // A descent that did not converge (held at a surface's pole, where u is undefined) marks no
+    // basin: the triangles round it are solved as they would be without the warm start.
+    if (best.status != ProjectionStatus::Fallback) context.anchors.push_back({hintFace, best.point});
   }
   auto addCandidate = [&](int t) {
     const TrianglePoint closest = closestOnMeshTriangle(data, t, q);
@@ -165,7 +167,7 @@ Foot closestOnSurface(const Target::Data& data, ThreadContext& context, const Ei
       // A triangle of the warm-start face with a node within half its size of the warm-started
       // foot lies within 1.5 sizes of it: the loop below would skip it as the same basin.
       const double size = data.triangleSize[static_cast<std::size_t>(t)];
-      if (data.triangleFaces[t] == hintFace &&
+      if (!context.anchors.empty() && data.triangleFaces[t] == hintFace &&
           (data.nodes.row(data.triangles(t, 0)).transpose() - context.anchors.front().point).squaredNorm() <=
               0.25 * size * size)
         return;
@@ -198,6 +200,10 @@ Foot closestOnSurface(const Target::Data& data, ThreadContext& context, const Ei
       continue;
     if (++solves > kMaxFaceSolvesPerPoint) break;
     const Foot foot = solveOnFace(data, context, face, q, candidate.u, candidate.v, best.distance);
+    if (foot.status == ProjectionStatus::Fallback) {  // no basin either (above)
+      if (best.distance < 0 || foot.distance < best.distance) best = foot;
+      continue;
+    }
     context.anchors.push_back({face, candidate.point});
     if (foot.distance < 0) continue;
     context.anchors.push_back({face, foot.point});
