@@ -92,10 +92,17 @@ def _body_target(doc, cad, half_model):
                          "leave out the half model")
     _, symmetry_face, _ = load_core().remove_symmetry_face(cad.Shape.exportBrepToString())
     faces = ["Face{}".format(i + 1) for i in range(len(cad.Shape.Faces)) if i != symmetry_face]
-    box = cad.Shape.Faces[symmetry_face].BoundBox
+    box = _tight_box(cad.Shape.Faces[symmetry_face])
     target = api.make_target(doc, cad, faces=faces)
     return (target, "the CAD's faces without Face{}, its symmetry-plane face".format(symmetry_face + 1),
             max(box.XLength, box.YLength, box.ZLength), api.symmetry_plane_guess(target))
+
+
+def _tight_box(shape):
+    """The shape's bounding box from its surfaces themselves: Shape.BoundBox is taken from the
+    B-spline poles, which a stretched sphere's lie far outside (a 4 x 1.4 x 1 ellipsoid's box was
+    6 long)."""
+    return shape.optimalBoundingBox()
 
 
 def _reference_length(target, given):
@@ -104,7 +111,7 @@ def _reference_length(target, given):
         if not (math.isfinite(given) and given > 0):
             raise ValueError("the reference length must be a positive number, got {!r}".format(given))
         return float(given)
-    box = target.Shape.BoundBox
+    box = _tight_box(target.Shape)
     return max(box.XLength, box.YLength, box.ZLength)
 
 
@@ -225,7 +232,7 @@ def body_cut(grid_object, path, title):
     from bvmesh import grid
 
     fit = grid_object.VolumeMesh.Fit
-    box = fit.Target.Shape.BoundBox
+    box = _tight_box(fit.Target.Shape)
     if fit.UseSymmetryPlane:
         normal = tuple(abs(c) for c in fit.SymmetryNormal)
     else:

@@ -122,6 +122,21 @@ class ClosedBodyAsAWhole(unittest.TestCase):
         self.assertIn("Cells with a non-positive scaled Jacobian: 0;", volume_report)
         self.assertFalse(os.path.exists(os.path.join(output, "ball.cgns")))
 
+    def test_reference_length_of_a_b_spline_body_is_its_extent(self):
+        # A sphere stretched to 4 x 1.4 x 1 is one B-spline surface whose poles reach 6 along x:
+        # FreeCAD's Shape.BoundBox made that the reference length (and the tolerance and the far
+        # field 1.5 times as large).
+        folder = tempfile.mkdtemp(prefix="bvmesh-mesh-ellipsoid-")
+        cad = os.path.join(folder, "ellipsoid.step")
+        ellipsoid = Part.makeSphere(1.0).transformGeometry(FreeCAD.Matrix(2, 0, 0, 0, 0, 0.7, 0, 0, 0, 0, 0.5, 0))
+        self.assertAlmostEqual(ellipsoid.BoundBox.XLength, 6.0, delta=1e-6)
+        ellipsoid.exportStep(cad)
+        done = mesh(cad, "--template", "sphere", "--output", os.path.join(folder, "out"), "--max-level", "1",
+                    "--surface-only")
+        self.assertIn(done.returncode, (0, 2), done.stderr)
+        report = read(os.path.join(folder, "out", "ellipsoid_report.md"))
+        self.assertIn("reference length 4; tolerance 4e-05", report)
+
     def test_a_grid_that_checkmesh_fails_is_written_with_a_warning(self):
         # y+ 1 at Re 1e7 on 20 000 cells: wall cells some 35 000 times wider than high, which
         # checkMesh's default checks fail. The files are there; the exit status says it.
