@@ -41,13 +41,14 @@ class LimitTessellation {
   }
 
   int perFace() const { return (n_ + 1) * (n_ + 1); }
+  int ptexFaceOf(int triangle) const { return triangle / (2 * n_ * n_); }
   const RowMatrixX3d& points() const { return points_; }
   const target::AabbTree& tree() const { return tree_; }
 
   // Grid point ids of triangle t: cell (i, j) of its ptex face split along its diagonal.
   Eigen::Vector3i triangle(int t) const {
     const int cell = t / 2;
-    const int face = cell / (n_ * n_);
+    const int face = ptexFaceOf(t);
     const int i = cell % n_;
     const int j = (cell / n_) % n_;
     const int a = face * perFace() + j * (n_ + 1) + i;
@@ -215,20 +216,21 @@ TwoSidedDistance measureTwoSidedDistance(const ControlMesh& mesh, const Subdivis
     for (Eigen::Index i : batch) {
       const Eigen::Vector3d p = nodes.row(i).transpose();
       std::map<int, std::pair<double, SurfaceLocation>> nearestPerFace;
-      auto consider = [&](int t) {
+      // Triangle t's foot, kept as its face's start where it is the nearest of that face's
+      // triangles and within `reach`.
+      auto consider = [&](int t, double reach) {
         const Eigen::Vector3d foot = tessellation.closestPoint(t, p);
         const double distance = (foot - p).norm();
-        const int face = t / (2 * samplesPerFace * samplesPerFace);
+        if (distance > reach) return;
+        const int face = tessellation.ptexFaceOf(t);
         auto found = nearestPerFace.find(face);
         if (found == nearestPerFace.end() || distance < found->second.first) {
           nearestPerFace[face] = {distance, tessellation.location(t, foot)};
         }
       };
-      consider(nearestTriangle[static_cast<size_t>(i)]);
+      consider(nearestTriangle[static_cast<size_t>(i)], std::numeric_limits<double>::infinity());
       const double reach = onTessellation[i] + 2.0 * chordal;
-      tessellation.tree().withinRadius(p, reach, [&](int t) {
-        if ((tessellation.closestPoint(t, p) - p).norm() <= reach) consider(t);
-      });
+      tessellation.tree().withinRadius(p, reach, [&](int t) { consider(t, reach); });
       for (const auto& [face, start] : nearestPerFace) {
         starts.push_back(start.second);
         owners.push_back(i);
