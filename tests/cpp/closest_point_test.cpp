@@ -37,6 +37,25 @@ TEST(ClosestPoint, TriangleMatchesBruteForceInEveryRegion) {
   }
 }
 
+TEST(ClosestPoint, TriangleWeightsInterpolateTheFootFromTheCorners) {
+  std::mt19937 random(5);
+  std::uniform_real_distribution<double> coordinate(-2.0, 2.0);
+  auto point = [&] { return Eigen::Vector3d(coordinate(random), coordinate(random), coordinate(random)); };
+  for (int trial = 0; trial < 200; ++trial) {
+    // Degenerate triangles too, as tessellations have them at a surface's pole: every fifth with
+    // its third corner on the line through the first two, every seventh with two corners at one
+    // point (a Voronoi-region walk divides by zero there unless it checks).
+    const Eigen::Vector3d a = point(), p = point();
+    const Eigen::Vector3d b = trial % 7 == 0 ? a : point();
+    const Eigen::Vector3d c = trial % 5 == 0 ? Eigen::Vector3d(a + 0.7 * (b - a)) : point();
+    const TriangleFoot foot = closestFootOnTriangle(p, a, b, c);
+    EXPECT_NEAR(foot.weights.sum(), 1.0, 1e-14);
+    EXPECT_GE(foot.weights.minCoeff(), 0.0);
+    EXPECT_LT((foot.weights[0] * a + foot.weights[1] * b + foot.weights[2] * c - foot.point).norm(), 1e-13);
+    EXPECT_LE((foot.point - p).norm(), bruteForceDistance(p, a, b, c) + 1e-12);
+  }
+}
+
 TEST(ClosestPoint, DegenerateTrianglesAndSegments) {
   const Eigen::Vector3d a(0, 0, 0), b(1, 0, 0), c(2, 0, 0);
   EXPECT_TRUE(closestPointOnTriangle(Eigen::Vector3d(1.5, 1, 0), a, b, c).isApprox(Eigen::Vector3d(1.5, 0, 0)));

@@ -55,30 +55,20 @@ class LimitTessellation {
     return t % 2 == 0 ? Eigen::Vector3i(a, a + 1, a + n_ + 2) : Eigen::Vector3i(a, a + n_ + 2, a + n_ + 1);
   }
 
-  Eigen::Vector3d closestPoint(int t, const Eigen::Vector3d& p) const {
+  TriangleFoot closestFoot(int t, const Eigen::Vector3d& p) const {
     const Eigen::Vector3i c = triangle(t);
-    return closestPointOnTriangle(p, corner(c[0]), corner(c[1]), corner(c[2]));
+    return closestFootOnTriangle(p, corner(c[0]), corner(c[1]), corner(c[2]));
   }
 
-  // The surface location whose grid parameters interpolate those of triangle t's corners as
-  // `point` (on the triangle) interpolates their positions.
-  SurfaceLocation location(int t, const Eigen::Vector3d& point) const {
+  // The surface location whose grid parameters interpolate those of triangle t's corners with
+  // the given barycentric weights.
+  SurfaceLocation location(int t, const Eigen::Vector3d& weights) const {
     const Eigen::Vector3i c = triangle(t);
-    const Eigen::Vector3d e1 = corner(c[1]) - corner(c[0]);
-    const Eigen::Vector3d e2 = corner(c[2]) - corner(c[0]);
-    Eigen::Matrix2d gram;
-    gram << e1.dot(e1), e1.dot(e2), e1.dot(e2), e2.dot(e2);
-    const Eigen::Vector3d offset = point - corner(c[0]);
-    Eigen::Vector2d weights = Eigen::Vector2d::Zero();
-    if (std::abs(gram.determinant()) > 1e-30 * gram.trace() * gram.trace()) {
-      weights = gram.ldlt().solve(Eigen::Vector2d(e1.dot(offset), e2.dot(offset)));
-    }
     SurfaceLocation result{c[0] / perFace(), 0.0, 0.0};
     for (int k = 0; k < 3; ++k) {
-      const double w = k == 0 ? 1.0 - weights.sum() : weights[k - 1];
       const int local = c[k] % perFace();
-      result.u += w * static_cast<double>(local % (n_ + 1)) / n_;
-      result.v += w * static_cast<double>(local / (n_ + 1)) / n_;
+      result.u += weights[k] * static_cast<double>(local % (n_ + 1)) / n_;
+      result.v += weights[k] * static_cast<double>(local / (n_ + 1)) / n_;
     }
     result.u = std::clamp(result.u, 0.0, 1.0);
     result.v = std::clamp(result.v, 0.0, 1.0);
@@ -102,8 +92,9 @@ class LimitTessellation {
     for (Eigen::Index cell = 0; cell < onSurface.rows(); ++cell) {
       const Eigen::Vector3d p = onSurface.row(cell).transpose();
       const int t = 2 * static_cast<int>(cell);
-      deviation =
-          std::max(deviation, std::min((closestPoint(t, p) - p).norm(), (closestPoint(t + 1, p) - p).norm()));
+      const double toTriangles =
+          std::min((closestFoot(t, p).point - p).norm(), (closestFoot(t + 1, p).point - p).norm());
+      deviation = std::max(deviation, toTriangles);
     }
     return deviation;
   }
@@ -202,7 +193,7 @@ TwoSidedDistance measureTwoSidedDistance(const ControlMesh& mesh, const Subdivis
       nearestTriangle[static_cast<size_t>(i)] = tessellation.tree().nearest(
           nodes.row(i).transpose(),
           [&](int t, const Eigen::Vector3d& p) {
-            return (tessellation.closestPoint(t, p) - p).squaredNorm();
+            return (tessellation.closestFoot(t, p).point - p).squaredNorm();
           },
           best);
       onTessellation[i] = std::sqrt(best);
@@ -219,13 +210,13 @@ TwoSidedDistance measureTwoSidedDistance(const ControlMesh& mesh, const Subdivis
       // Triangle t's foot, kept as its face's start where it is the nearest of that face's
       // triangles and within `reach`.
       auto consider = [&](int t, double reach) {
-        const Eigen::Vector3d foot = tessellation.closestPoint(t, p);
-        const double distance = (foot - p).norm();
+        const TriangleFoot foot = tessellation.closestFoot(t, p);
+        const double distance = (foot.point - p).norm();
         if (distance > reach) return;
         const int face = tessellation.ptexFaceOf(t);
         auto found = nearestPerFace.find(face);
         if (found == nearestPerFace.end() || distance < found->second.first) {
-          nearestPerFace[face] = {distance, tessellation.location(t, foot)};
+          nearestPerFace[face] = {distance, tessellation.location(t, foot.weights)};
         }
       };
       consider(nearestTriangle[static_cast<size_t>(i)], std::numeric_limits<double>::infinity());

@@ -17,6 +17,7 @@
 #include <cmath>
 #include <functional>
 
+#include "core/common/closest_point.h"
 #include "core/target/projection_steps.h"
 
 namespace bvmesh::target {
@@ -25,40 +26,6 @@ namespace {
 constexpr int kMaxFaceSolvesPerPoint = 16;
 constexpr int kMaxCurveSeeds = 4;
 
-// Closest point of triangle abc to p (Ericson, Real-Time Collision Detection 5.1.5);
-// returns the barycentric weights of b and c in (wb, wc).
-Eigen::Vector3d closestOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                  const Eigen::Vector3d& c, double& wb, double& wc) {
-  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) { wb = 0; wc = 0; return a; }
-  const Eigen::Vector3d bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) { wb = 1; wc = 0; return b; }
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) {
-    wb = d1 / (d1 - d3); wc = 0;
-    return a + wb * ab;
-  }
-  const Eigen::Vector3d cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) { wb = 0; wc = 1; return c; }
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) {
-    wb = 0; wc = d2 / (d2 - d6);
-    return a + wc * ac;
-  }
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) {
-    wc = (d4 - d3) / ((d4 - d3) + (d5 - d6)); wb = 1 - wc;
-    return b + wc * (c - b);
-  }
-  const double denominator = 1.0 / (va + vb + vc);
-  wb = vb * denominator;
-  wc = vc * denominator;
-  return a + wb * ab + wc * ac;
-}
-
 struct TrianglePoint {
   Eigen::Vector3d point;
   double u, v;
@@ -66,13 +33,13 @@ struct TrianglePoint {
 
 TrianglePoint closestOnMeshTriangle(const Target::Data& data, int triangle, const Eigen::Vector3d& q) {
   const auto nodes = data.triangles.row(triangle);
-  double wb = 0, wc = 0;
-  const Eigen::Vector3d point =
-      closestOnTriangle(q, data.nodes.row(nodes[0]).transpose(), data.nodes.row(nodes[1]).transpose(),
-                        data.nodes.row(nodes[2]).transpose(), wb, wc);
-  const Eigen::Vector2d uv = (1 - wb - wc) * data.nodeUV.row(nodes[0]) + wb * data.nodeUV.row(nodes[1]) +
-                             wc * data.nodeUV.row(nodes[2]);
-  return {point, uv[0], uv[1]};
+  const TriangleFoot foot = closestFootOnTriangle(q, data.nodes.row(nodes[0]).transpose(),
+                                                  data.nodes.row(nodes[1]).transpose(),
+                                                  data.nodes.row(nodes[2]).transpose());
+  const Eigen::Vector2d uv = foot.weights[0] * data.nodeUV.row(nodes[0]) +
+                             foot.weights[1] * data.nodeUV.row(nodes[1]) +
+                             foot.weights[2] * data.nodeUV.row(nodes[2]);
+  return {foot.point, uv[0], uv[1]};
 }
 
 // Closest point on the trimmed face: Newton from (u, v), then the trim test; outside the trim a
