@@ -83,7 +83,7 @@ def march_from_first_level_that_holds(levels, march, finer=()):
 
 
 def offset_and_farfield(fit_or_mesh, symmetry_plane=None, marching_wall=None, marching_level=None,
-                        marching_point_limit=MARCHING_POINT_LIMIT, **options):
+                        marching_point_limit=None, **options):
     """The volume mesh around a fitted wall: boundary-layer control layers along the wall normals,
     the far field marched out to a sphere (half sphere on the symmetry plane), one tricubic
     B-spline block per wall patch.
@@ -99,7 +99,7 @@ def offset_and_farfield(fit_or_mesh, symmetry_plane=None, marching_wall=None, ma
     the blocks' wall faces (a fine wall whose own marching folds keeps its accuracy).
     marching_level: for a SurfaceFitter, the level below its own whose mesh (fitter.mesh_at_level)
     is the marching wall, or -1: the highest level whose mesh has at most marching_point_limit
-    points (0: the fit's own) and, where that folds, each lower one in turn (marching_levels), then
+    points (default MARCHING_POINT_LIMIT; 0: the fit's own) and, where that folds, each lower one in turn (marching_levels), then
     the finer ones up to the fit's own (march_from_first_level_that_holds), as the workbench's MarchingLevel -1 does; a wall of more than a few thousand points marches its
     hyperbolic far field in minutes, from a level down in seconds (docs/volume.md). options: those
     of bvmesh.generate_volume_mesh (reference_length, reynolds_number, boundary_layer_thickness,
@@ -110,7 +110,13 @@ def offset_and_farfield(fit_or_mesh, symmetry_plane=None, marching_wall=None, ma
     Returns a bvmesh.VolumeMesh; raises ValueError (bvmesh.InvalidInputError) for a bad wall or
     option and bvmesh.SolverError when the marching would fold, naming where.
     """
-    if marching_level == -1 and not isinstance(marching_level, bool):
+    automatic = marching_level == -1 and not isinstance(marching_level, bool)
+    if marching_point_limit is not None and not automatic:
+        raise ValueError("marching_point_limit applies to marching_level=-1 only (the automatic choice of the "
+                         "marching wall's level), got marching_level={!r}".format(marching_level))
+    if automatic:
+        if marching_point_limit is None:
+            marching_point_limit = MARCHING_POINT_LIMIT
         fitter = _fitter_for_levels(fit_or_mesh, marching_wall)
         points = {record["level"]: record["control_points"] for record in fitter.history}
         levels = marching_levels(fitter.level, points, marching_point_limit)

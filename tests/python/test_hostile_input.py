@@ -526,12 +526,17 @@ class VolumeStageInput(unittest.TestCase):
             with self.assertRaisesRegex(bvmesh.InvalidInputError, r"the wall has 2 separate bodies \(control vertices 0 and 8"):
                 bvmesh.volume.offset_and_farfield(wall, boundary_layer_thickness=0.05, farfield_distance=20.0)
 
-    def test_a_symmetry_plane_that_a_closed_wall_does_not_end_on_is_refused(self):
+    def test_a_boundary_plane_that_a_closed_wall_does_not_end_on_is_refused(self):
         with self.assertRaisesRegex(bvmesh.InvalidInputError, r"the wall reaches across the symmetry plane"):
             bvmesh.volume.offset_and_farfield(self.fitter, symmetry_plane=((0, 0, 0), (0, 1, 0)),
                                               boundary_layer_thickness=0.05, farfield_distance=20.0)
-        with self.assertRaisesRegex(bvmesh.InvalidInputError, r"the wall is closed and does not end on it"):
+        with self.assertRaisesRegex(bvmesh.InvalidInputError,
+                                    r"^the symmetry plane is given, but the wall is closed and does not end on it"):
             bvmesh.volume.offset_and_farfield(self.fitter, symmetry_plane=((0, 5, 0), (0, 1, 0)),
+                                              boundary_layer_thickness=0.05, farfield_distance=20.0)
+        with self.assertRaisesRegex(bvmesh.InvalidInputError,
+                                    r"^the outflow plane is given, but the wall is closed and does not end on it"):
+            bvmesh.volume.offset_and_farfield(self.fitter, outflow_plane=((5, 0, 0), (1, 0, 0)),
                                               boundary_layer_thickness=0.05, farfield_distance=20.0)
 
     def test_messages_quoting_bytes_that_are_not_utf8_keep_their_text(self):

@@ -125,6 +125,13 @@ class SphereVolume(unittest.TestCase):
         automatic = bvmesh.volume.offset_and_farfield(self.fitter, marching_level=-1, marching_point_limit=1000,
                                                       **options)
         own = bvmesh.volume.offset_and_farfield(self.fitter, marching_level=-1, **options)
+        # A point limit without the automatic level would be ignored: refused instead.
+        for level in (None, 2):
+            with self.assertRaisesRegex(ValueError, "marching_point_limit applies to marching_level=-1 only"):
+                bvmesh.volume.offset_and_farfield(self.fitter, marching_level=level, marching_point_limit=1000,
+                                                  **options)
+        with self.assertRaisesRegex(ValueError, "marching_point_limit -1 must be 0"):
+            bvmesh.volume.offset_and_farfield(self.fitter, marching_level=-1, marching_point_limit=-1, **options)
         for b in range(blocks.block_count):
             np.testing.assert_array_equal(automatic.blocks.poles(b), blocks.poles(b))
             np.testing.assert_array_equal(own.blocks.poles(b), self.result.blocks.poles(b))

@@ -236,7 +236,7 @@ std::vector<std::array<BoundaryCondition, 4>> markPlanePoints(const std::vector<
   for (size_t k = 0; k < 2; ++k) {
     if (given[k] && std::none_of(grid.front.onPlanes.begin(), grid.front.onPlanes.end(),
                                  [k](unsigned char on) { return (on & (1u << k)) != 0; })) {
-      throw InvalidInputError(std::string("a ") + kBoundaryPlaneNames[k] + " is given, but the wall " +
+      throw InvalidInputError(std::string("the ") + kBoundaryPlaneNames[k] + " is given, but the wall " +
                               (open ? "does not end on it" : "is closed and does not end on it") + ": " +
                               (k == 0
                                    ? "a closed body needs no symmetry plane (a half model is open on it)"
