@@ -3,6 +3,7 @@ defaults: a 2 x 1 x 1 box, a 2 x 1 x 1 ellipsoid, a cylinder and a capsule, each
 the volume stage (flat-plate boundary layer at Re 1e6) and the euler grid; and a torus, which no
 marched front can take."""
 
+import re
 import unittest
 
 import numpy as np
@@ -33,12 +34,12 @@ def half_cylinder():
     return whole.cut(Part.makeBox(100, 100, 100, FreeCAD.Vector(-50, -100, -50)))
 
 
-def fitted(shape, template, level, half=False, **options):
+def fitted(shape, template, level, half=False, parameters=None, **options):
     if half:
         target = polyhedra.half_model_target(shape)[0]
     else:
         target = bvmesh.Target.from_brep(shape.exportBrepToString())
-    placed = polyhedra.place(template, target)
+    placed = polyhedra.place(template, target, parameters)
     fitter = bvmesh.SurfaceFitter(target, placed["mesh"], placed["feature_map"],
                                   symmetry_plane=placed["symmetry_plane"], max_level=level, **options)
     return placed, fitter, fitter.run()
@@ -153,6 +154,26 @@ class SimpleBodiesTest(unittest.TestCase):
         _, fitter, _ = fitted(Part.makeTorus(2.0, 0.4), "nacelle", 1)
         with self.assertRaisesRegex(bvmesh.InvalidInputError, r"the wall is a ring \(genus 1"):
             bvmesh.volume.offset_and_farfield(fitter, reference_length=4.0, reynolds_number=1e6)
+
+    def test_a_fold_where_the_layers_converge_is_named_so(self):
+        # Two unit spheres 1.5 apart: the capsule template rounds their waist into a groove, into
+        # which the first far-field layer's lines from both spheres converge and fold (its cell
+        # has 0.11 of its wall area, the layer's median cell 1.17), as they do with smoothing 6 or
+        # a growth of 1.05; the error said to try those.
+        dumbbell = Part.makeSphere(1.0).fuse(Part.makeSphere(1.0, FreeCAD.Vector(0, 0, 1.5))).removeSplitter()
+        _, fitter, _ = fitted(dumbbell, "capsule", 3)
+        for options in ({}, {"smoothing": 6.0}):
+            with self.subTest(**options):
+                with self.assertRaisesRegex(bvmesh.SolverError, r"the layers converge there") as raised:
+                    bvmesh.volume.offset_and_farfield(fitter, reference_length=3.5, reynolds_number=1e6, **options)
+                at = re.search(r"at \(([^,]+), ([^,]+), ([^)]+)\)", str(raised.exception)).groups()
+                self.assertAlmostEqual(float(at[2]), 0.75, delta=0.05)  # in the waist
+        # A 2 x 1 x 1 box of 2 x 2 x 2 segments folds at a convex corner, where the cells grow and
+        # a lower growth does open the fold: its error keeps that advice.
+        _, fitter, _ = fitted(Part.makeBox(2, 1, 1), "box", 3, parameters={"segments_1": "2"})
+        with self.assertRaisesRegex(bvmesh.SolverError, r"raise the smoothing, lower the growth"):
+            bvmesh.volume.offset_and_farfield(fitter, reference_length=2.0, reynolds_number=1e6)
+        bvmesh.volume.offset_and_farfield(fitter, reference_length=2.0, reynolds_number=1e6, farfield_growth=1.1)
 
 
 if __name__ == "__main__":

@@ -24,6 +24,10 @@ using Eigen::Vector3d;
 
 // Rounds of local smoothing before a poor cell is accepted (if positive) or reported.
 constexpr int kRepairs = 30;
+// A far-field cell that folds with less than this share of its layer's median growth in area
+// (its area over its wall cell's) lies where the layers converge: a concave groove or corner
+// (two fused spheres' waist), which neither more smoothing nor a lower growth opened.
+constexpr double kConvergedAreaShare = 0.25;
 class Marcher {
  public:
   Marcher(const MarchingFront& front, const MarchingOptions& options)
@@ -463,8 +467,15 @@ class Marcher {
       const PoorCells cells = markPoorCells(points, next, bad);
       if (!cells.any || (repair >= kRepairs && cells.worst > 0.0)) return next;
       if (repair >= kRepairs || options_.smoothing == 0.0) {
+        const double share = areaShare(points, cells.where);
+        const double median = medianAreaShare(points);
         fold(layer, cells.worst, cells.where, points,
-             "after local smoothing: raise the smoothing, lower the growth or refine the wall there");
+             share > 0.0 && share < kConvergedAreaShare * median
+                 ? "after local smoothing: the layers converge there, its cell has " + numberText(share) +
+                       " of its area on the wall where the layer's median cell has " + numberText(median) +
+                       "; a concave groove or corner, which neither more smoothing nor a lower growth opens: "
+                       "docs/volume.md, \"Not there yet\""
+                 : "after local smoothing: raise the smoothing, lower the growth or refine the wall there");
       }
       const std::vector<char> marks = markAround(bad);
       smoothDirections(directions, 4, marks);
@@ -474,6 +485,30 @@ class Marcher {
       keepOnPlane(next);
       smoothPoints(next, directions, 4, 0.5, marks);
     }
+  }
+
+  // A front cell's area over its wall cell's (0 for a fan's cell, collapsed on the wall).
+  double areaShare(const RowMatrixX3d& points, int quad) const {
+    auto area = [&](const RowMatrixX3d& at) {
+      const auto& q = front_.quads[static_cast<size_t>(quad)];
+      const Vector3d diagonal = at.row(q[2]) - at.row(q[0]);
+      const Vector3d other = at.row(q[3]) - at.row(q[1]);
+      return 0.5 * diagonal.cross(other).norm();
+    };
+    const double wall = area(front_.points);
+    return wall > 0.0 ? area(points) / wall : 0.0;
+  }
+
+  double medianAreaShare(const RowMatrixX3d& points) const {
+    std::vector<double> shares;
+    for (size_t q = 0; q < front_.quads.size(); ++q) {
+      const double share = areaShare(points, static_cast<int>(q));
+      if (share > 0.0) shares.push_back(share);
+    }
+    if (shares.empty()) return 0.0;
+    const auto middle = shares.begin() + static_cast<std::ptrdiff_t>(shares.size() / 2);
+    std::nth_element(shares.begin(), middle, shares.end());
+    return *middle;
   }
 
   [[noreturn]] void fold(int layer, double worst, int quad, const RowMatrixX3d& points, const std::string& hint) const {
