@@ -3,6 +3,7 @@
 // (CGNS through libcgns and cgnscheck, Plot3D through readPlot3d, VTK and G+Smo XML by small
 // parsers here) and its connectivity checked point by point against the grid.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <cgns_io.h>
 #include <cgnslib.h>
@@ -26,6 +27,8 @@
 #include "core/io/io_common.h"
 #include "core/io/plot3d_io.h"
 #include "core/io/vtk_writer.h"
+#include "core/mesh/mesh_io.h"
+#include "core/volume/block_mesh_io.h"
 
 namespace bvmesh::io {
 namespace {
@@ -980,6 +983,36 @@ TEST(IoFiles, AWriteFailingMidwayLeavesNoFileUnderTheFinalName) {
   };
   blocked("io_midway.xyz", [&](const std::string& path) { writePlot3d(grid, path); });
   blocked("io_midway.xml", [&](const std::string& path) { writeGismo(mesh, path); });
+}
+
+// A reader given a folder read nothing and said the file "ends early"; given a device or a pipe
+// (/dev/zero, a FIFO) it read on until the memory ran out or hung waiting for a writer.
+TEST(IoFiles, ReadersTakeRegularFilesOnly) {
+  const std::string fifo = outputPath("io_reader.fifo");
+  fs::remove(fifo);
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::string plot3d = outputPath("io_reader.xyz");
+  writePlot3d(boxGrid(), plot3d);
+  const std::vector<std::pair<std::string, std::string>> refused{
+      {"/dev/zero", "not a regular file"}, {fifo, "not a regular file"},
+      {testing::TempDir(), "a folder, not a file"}, {outputPath("io_reader_missing.xyz"), "does not exist"}};
+  for (const auto& [path, reason] : refused) {
+    const auto expectRefused = [&](const std::string& what, const std::function<void()>& read) {
+      try {
+        read();
+        ADD_FAILURE() << what << " read " << path;
+      } catch (const InvalidInputError& error) {
+        const std::string message = error.what();
+        EXPECT_NE(message.find("cannot open " + what + " \"" + path + "\": it "), std::string::npos) << message;
+        EXPECT_NE(message.find(reason), std::string::npos) << message;
+      }
+    };
+    expectRefused("the Plot3D file", [&] { readPlot3d(path); });
+    expectRefused("the block mesh file", [&] { volume::readBlockMeshFile(path); });
+    expectRefused("the control mesh file", [&] { readControlMesh(path); });
+  }
+  EXPECT_EQ(readPlot3d(plot3d).size(), static_cast<size_t>(boxGrid().blockCount()));
+  fs::remove(fifo);
 }
 
 }  // namespace

@@ -549,6 +549,14 @@ class VolumeStageInput(unittest.TestCase):
         with self.assertRaisesRegex(bvmesh.InvalidInputError, r"cannot open the block mesh file .*missing\\xff"):
             bvmesh.read_block_mesh(os.path.join(self.folder.name, "missing\udcff.blocks"))
 
+    def test_files_that_are_no_regular_files_are_refused_by_name(self):
+        # /dev/zero was read until the memory ran out; a folder "ended early".
+        for path, reason in (("/dev/zero", "it is not a regular file"), (self.folder.name, "it is a folder")):
+            with self.assertRaisesRegex(bvmesh.InvalidInputError, r"cannot open the block mesh file .*: " + reason):
+                bvmesh.read_block_mesh(path)
+            with self.assertRaisesRegex(bvmesh.InvalidInputError, r"cannot open the control mesh file .*: " + reason):
+                bvmesh.read_control_mesh(path)
+
     def test_a_link_planted_under_the_temporary_name_is_not_followed(self):
         # Its target was overwritten by the block file (and by Plot3D files the same way).
         victim = os.path.join(self.folder.name, "someone_elses_file.txt")

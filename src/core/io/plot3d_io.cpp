@@ -10,6 +10,7 @@
 
 #include "core/common/atomic_file.h"
 #include "core/common/errors.h"
+#include "core/common/input_file.h"
 #include "core/io/io_common.h"
 
 namespace bvmesh::io {
@@ -194,8 +195,7 @@ void writePlot3d(const grid::StructuredGrid& grid, const std::string& path, Plot
 }
 
 std::vector<Plot3dBlock> readPlot3d(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InvalidInputError("cannot open the Plot3D file \"" + path + "\"");
+  std::ifstream in = openInputFile(path, "the Plot3D file", std::ios::in | std::ios::binary);
   std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   const std::string name = "the Plot3D file \"" + path + "\"";
   // A binary file opens with the 4-byte length of the block-count record; no text starts so.

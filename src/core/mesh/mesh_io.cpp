@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/common/errors.h"
+#include "core/common/input_file.h"
 
 namespace bvmesh {
 namespace {
@@ -349,8 +350,7 @@ void writeControlMeshObj(const ControlMesh& mesh, std::ostream& out) {
 }
 
 ControlMesh readControlMesh(const std::string& path, ControlMeshFormat format) {
-  std::ifstream in(path);
-  if (!in) throw InvalidInputError("cannot open control mesh file " + path);
+  std::ifstream in = openInputFile(path, "the control mesh file");
   return resolve(format, path) == ControlMeshFormat::Obj ? readControlMeshObj(in, path)
                                                          : readControlMeshText(in, path);
 }

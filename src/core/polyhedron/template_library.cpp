@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "core/common/errors.h"
+#include "core/common/input_file.h"
 
 namespace bvmesh::polyhedron {
 namespace {
@@ -153,8 +154,7 @@ PolyhedronTemplate parseTemplate(std::istream& in, const std::string& name) {
 }
 
 PolyhedronTemplate readTemplate(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InvalidInputError("cannot open template file '" + path + "'");
+  std::ifstream in = openInputFile(path, "the template file");
   return parseTemplate(in, path);
 }
 

@@ -10,6 +10,7 @@
 
 #include "core/common/atomic_file.h"
 #include "core/common/errors.h"
+#include "core/common/input_file.h"
 
 namespace bvmesh::volume {
 namespace {
@@ -198,8 +199,7 @@ BlockMesh readBlockMesh(std::istream& in, const std::string& name) {
 }
 
 BlockMesh readBlockMeshFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InvalidInputError("cannot open the block mesh file \"" + path + "\"");
+  std::ifstream in = openInputFile(path, "the block mesh file");
   return readBlockMesh(in, "\"" + path + "\"");
 }
 
