@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <exception>
 #include <iostream>
+#include <stdexcept>
 #include <string>
 
 #include "core/cad/isolated_reader.h"
@@ -16,6 +17,16 @@ namespace {
 int printUsage() {
   std::cerr << "usage: bvmesh info FILE [SHARP_ANGLE_DEGREES [SEW_TOLERANCE|off]]\n";
   return 2;
+}
+
+// A number argument, the whole of it ("30x" is no angle).
+double numberArgument(const std::string& text, const std::string& what) {
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (text.empty() || *end != '\0') {
+    throw std::invalid_argument(what + " must be a number, got \"" + text + "\"");
+  }
+  return value;
 }
 
 int info(const std::string& path, double sharpAngleDegrees, const bvmesh::cad::RepairOptions& repair) {
@@ -47,9 +58,9 @@ int main(int argc, char** argv) {
     bvmesh::cad::RepairOptions repair;
     if (argc > 4) {
       repair.sew = std::string(argv[4]) != "off";
-      repair.tolerance = repair.sew ? std::atof(argv[4]) : 0.0;
+      repair.tolerance = repair.sew ? numberArgument(argv[4], "SEW_TOLERANCE") : 0.0;
     }
-    return info(argv[2], argc > 3 ? std::atof(argv[3]) : 30.0, repair);
+    return info(argv[2], argc > 3 ? numberArgument(argv[3], "SHARP_ANGLE_DEGREES") : 30.0, repair);
   } catch (const std::exception& error) {
     std::cerr << "bvmesh: " << error.what() << "\n";
     return 1;

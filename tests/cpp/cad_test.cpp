@@ -192,6 +192,17 @@ TEST(ShapeSummary, BoxHasTwelveSharpEdges) {
   ShapeSummaryOptions options;
   options.sharpAngleDegrees = 91.0;
   EXPECT_EQ(summarizeShape(BRepPrimAPI_MakeBox(1.0, 2.0, 3.0).Shape(), options).countEdges(EdgeKind::Sharp), 0);
+  // Outside 0 .. 180 degrees every edge or none was sharp (NaN: none), a report that looked plausible.
+  for (const double angle : {std::nan(""), -5.0, 400.0}) {
+    options.sharpAngleDegrees = angle;
+    try {
+      summarizeShape(BRepPrimAPI_MakeBox(1.0, 2.0, 3.0).Shape(), options);
+      ADD_FAILURE() << "sharp angle " << angle << " accepted";
+    } catch (const InvalidInputError& error) {
+      EXPECT_NE(std::string(error.what()).find("the sharp angle must be 0 .. 180 degrees, got"), std::string::npos)
+          << error.what();
+    }
+  }
 }
 
 // A wing lofted from single closed section curves (upper and lower surface in one B-spline, its

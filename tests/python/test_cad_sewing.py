@@ -128,6 +128,12 @@ class SewnIges(unittest.TestCase):
                                capture_output=True, text=True, timeout=120)
         self.assertEqual(loose.returncode, 0, loose.stderr)
         self.assertIn("watertight: no", loose.stdout)
+        # A sharp angle outside 0 .. 180 degrees made every edge or none sharp, silently.
+        for angle in ("nan", "400"):
+            wrong = subprocess.run([sys.executable, "-m", "bvmesh", "info", "--sharp-angle", angle, self.capsule_iges],
+                                   env=env, capture_output=True, text=True, timeout=120)
+            self.assertEqual(wrong.returncode, 1, wrong.stdout)
+            self.assertIn("the sharp angle must be 0 .. 180 degrees, got " + angle, wrong.stderr)
 
     def test_command_line_info_names_a_flow_domain(self):
         env = dict(os.environ, PYTHONPATH=MOD + os.pathsep + "/usr/lib/freecad-python3/lib")

@@ -24,6 +24,7 @@
 
 #include "core/common/errors.h"
 #include "core/common/math_constants.h"
+#include "core/common/number_text.h"
 #include "core/common/occt_errors.h"
 
 namespace bvmesh::cad {
@@ -170,6 +171,11 @@ const char* edgeKindName(EdgeKind kind) {
 ShapeSummary summarizeShape(const TopoDS_Shape& shape, const ShapeSummaryOptions& options) {
   if (shape.IsNull()) throw InvalidInputError("cannot summarize a null shape");
   if (options.samplesPerEdge < 1) throw InvalidInputError("samplesPerEdge must be at least 1");
+  // Outside it every edge or none is sharp (NaN compares false with every angle): a report of
+  // the shape that looks plausible and is not.
+  if (!(options.sharpAngleDegrees >= 0.0 && options.sharpAngleDegrees <= 180.0)) {
+    throw InvalidInputError("the sharp angle must be 0 .. 180 degrees, got " + numberText(options.sharpAngleDegrees));
+  }
   return translateOcctErrors("summarizing shape", [&] {
     ShapeSummary summary;
     TopTools_IndexedMapOfShape solids;
