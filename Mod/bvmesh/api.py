@@ -646,9 +646,8 @@ def _set_options(obj, table, options, what):
     import FreeCAD
 
     by_option = {row[1]: row[0] for row in table}
+    _check_option_names(table, options, what)
     for option, value in options.items():
-        if option not in by_option:
-            raise ValueError("unknown {} option '{}'; known: {}".format(what, option, ", ".join(sorted(by_option))))
         prop = by_option[option]
         try:
             if isinstance(getattr(obj, prop), FreeCAD.Vector):
@@ -661,6 +660,27 @@ def _set_options(obj, table, options, what):
             # FreeCAD's own message is a dict of its internals: say what the option takes.
             raise ValueError("{} option '{}' takes {}, got {!r}".format(what, option, _property_kind(obj, prop),
                                                                        value)) from None
+
+
+def _check_option_names(table, options, what):
+    known = sorted(row[1] for row in table)
+    for option in options:
+        if option not in known:
+            raise ValueError("unknown {} option '{}'; known: {}".format(what, option, ", ".join(known)))
+
+
+def check_option_names(volume_options=None, grid_options=None):
+    """Raises ValueError for an option that make_volume_mesh (volume_options) or make_volume_grid
+    (grid_options) does not take: a batch run checks them before its surface fit, which they
+    would otherwise fail only after."""
+    from bvmesh.features import volume_grid
+
+    _check_option_names(_volume_option_table(), volume_options or {}, "volume mesh")
+    _check_option_names(_grid_option_table(volume_grid), grid_options or {}, "volume grid")
+
+
+def _grid_option_table(volume_grid):
+    return volume_grid.OPTIONS + volume_grid.SWITCHES + volume_grid.SUBDIVISION_OPTIONS
 
 
 def _property_kind(obj, prop):
@@ -807,8 +827,7 @@ def make_volume_grid(volume_mesh_object, preset="euler", name="VolumeGrid", show
         obj.Preset = preset
         obj.Distribution = distribution
         obj.Method = method
-        _set_options(obj, volume_grid.OPTIONS + volume_grid.SWITCHES + volume_grid.SUBDIVISION_OPTIONS, options,
-                     "volume grid")
+        _set_options(obj, _grid_option_table(volume_grid), options, "volume grid")
         obj.FeatureEdges = _feature_edge_links(feature_edges or [], volume_mesh_object.Document)
         obj.FeatureSpacing = feature_spacing
         _set_display(obj, volume_grid.DISPLAY, show)
@@ -822,8 +841,7 @@ def set_grid_options(grid_object, preset=None, distribution=None, method=None, s
     and recomputes; on a failure the object keeps its previous options."""
     from bvmesh.features import volume_grid
 
-    return _set_and_recompute(grid_object, volume_grid.OPTIONS + volume_grid.SWITCHES + volume_grid.SUBDIVISION_OPTIONS,
-                              volume_grid.DISPLAY,
+    return _set_and_recompute(grid_object, _grid_option_table(volume_grid), volume_grid.DISPLAY,
                               options, show, "volume grid",
                               {"Preset": preset, "Distribution": distribution, "Method": method,
                                "FeatureEdges": None if feature_edges is None else _feature_edge_links(

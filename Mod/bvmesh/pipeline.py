@@ -378,6 +378,8 @@ def run(cad_path, output_dir, template, name=None, title=None, template_paramete
     unknown = [f for f in formats if f not in FORMAT_ENDINGS]
     if unknown:
         raise ValueError("unknown format {!r}; known: {}".format(unknown[0], ", ".join(FORMAT_ENDINGS)))
+    if volume:
+        api.check_option_names(volume_options, grid_options)
     if not os.path.isfile(cad_path):
         raise ValueError("no CAD file at {}".format(cad_path))
     name = name or os.path.splitext(os.path.basename(cad_path))[0]

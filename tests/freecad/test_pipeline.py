@@ -354,6 +354,15 @@ class BadInput(unittest.TestCase):
                 self.assertEqual(done.returncode, 1, done.stdout + done.stderr)
                 self.assertIn(message, done.stderr)
                 self.assertNotIn("Traceback", done.stderr)
+        # Option names are checked before the surface fit, which a batch run spent first.
+        for option, message in ((("--volume-option", "farfield=3"), "unknown volume mesh option 'farfield'"),
+                                (("--grid-option", "edges=3"), "unknown volume grid option 'edges'")):
+            with self.subTest(option=option):
+                done = mesh(domain, "--template", "capsule", *option, "--output", output, "--max-level", "1",
+                            timeout=300)
+                self.assertEqual(done.returncode, 1, done.stdout + done.stderr)
+                self.assertIn(message, done.stderr)
+                self.assertNotIn("fit:", done.stdout)
 
     def test_solids_that_run_into_each_other_are_named(self):
         # A wing through a fuselage written as two solids: the template was fitted over both, the
