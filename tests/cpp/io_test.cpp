@@ -991,11 +991,15 @@ TEST(IoFiles, ReadersTakeRegularFilesOnly) {
   const std::string fifo = outputPath("io_reader.fifo");
   fs::remove(fifo);
   ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  const std::string loop = outputPath("io_reader_loop");  // a link to itself: it exists, but leads nowhere
+  fs::remove(loop);
+  fs::create_symlink(loop, loop);
   const std::string plot3d = outputPath("io_reader.xyz");
   writePlot3d(boxGrid(), plot3d);
   const std::vector<std::pair<std::string, std::string>> refused{
-      {"/dev/zero", "not a regular file"}, {fifo, "not a regular file"},
-      {testing::TempDir(), "a folder, not a file"}, {outputPath("io_reader_missing.xyz"), "does not exist"}};
+      {"/dev/zero", "it is not a regular file"}, {fifo, "it is not a regular file"},
+      {testing::TempDir(), "it is a folder, not a file"}, {outputPath("io_reader_missing.xyz"), "it does not exist"},
+      {loop, "symbolic links"}};
   for (const auto& [path, reason] : refused) {
     const auto expectRefused = [&](const std::string& what, const std::function<void()>& read) {
       try {
@@ -1003,7 +1007,7 @@ TEST(IoFiles, ReadersTakeRegularFilesOnly) {
         ADD_FAILURE() << what << " read " << path;
       } catch (const InvalidInputError& error) {
         const std::string message = error.what();
-        EXPECT_NE(message.find("cannot open " + what + " \"" + path + "\": it "), std::string::npos) << message;
+        EXPECT_NE(message.find("cannot open " + what + " \"" + path + "\": "), std::string::npos) << message;
         EXPECT_NE(message.find(reason), std::string::npos) << message;
       }
     };
@@ -1013,6 +1017,7 @@ TEST(IoFiles, ReadersTakeRegularFilesOnly) {
   }
   EXPECT_EQ(readPlot3d(plot3d).size(), static_cast<size_t>(boxGrid().blockCount()));
   fs::remove(fifo);
+  fs::remove(loop);
 }
 
 }  // namespace

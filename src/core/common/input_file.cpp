@@ -10,7 +10,10 @@ std::ifstream openInputFile(const std::string& path, const std::string& what, st
   const std::string named = what + " \"" + path + "\"";
   std::error_code error;
   const std::filesystem::file_status status = std::filesystem::status(path, error);
-  if (!std::filesystem::exists(status)) throw InvalidInputError("cannot open " + named + ": it does not exist");
+  if (status.type() == std::filesystem::file_type::not_found) {
+    throw InvalidInputError("cannot open " + named + ": it does not exist");
+  }
+  if (error) throw InvalidInputError("cannot open " + named + ": " + error.message());  // a folder on the way not readable
   if (std::filesystem::is_directory(status)) {
     throw InvalidInputError("cannot open " + named + ": it is a folder, not a file");
   }
