@@ -4,6 +4,7 @@
 #include <Eigen/SparseCholesky>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 #include <set>
@@ -28,6 +29,13 @@ constexpr int kRepairs = 30;
 // (its area over its wall cell's) lies where the layers converge: a concave groove or corner
 // (two fused spheres' waist), which neither more smoothing nor a lower growth opened.
 constexpr double kConvergedAreaShare = 0.25;
+
+// Twice a front quad's area times its unit normal: the cross product of its diagonals.
+Vector3d quadAreaVector(const RowMatrixX3d& points, const std::array<int, 4>& quad) {
+  const Vector3d diagonal = (points.row(quad[2]) - points.row(quad[0])).transpose();
+  return diagonal.cross((points.row(quad[3]) - points.row(quad[1])).transpose());
+}
+
 class Marcher {
  public:
   Marcher(const MarchingFront& front, const MarchingOptions& options)
@@ -227,9 +235,7 @@ class Marcher {
   RowMatrixX3d frontNormals(const RowMatrixX3d& points) const {
     RowMatrixX3d normals = RowMatrixX3d::Zero(points.rows(), 3);
     for (const auto& q : front_.quads) {
-      const Vector3d a = points.row(q[0]).transpose(), b = points.row(q[1]).transpose();
-      const Vector3d c = points.row(q[2]).transpose(), d = points.row(q[3]).transpose();
-      const Vector3d n = (c - a).cross(d - b);  // twice the area times the unit normal
+      const Vector3d n = quadAreaVector(points, q);
       for (int k = 0; k < 4; ++k) normals.row(q[static_cast<size_t>(k)]) += n.transpose();
     }
     for (Eigen::Index p = 0; p < normals.rows(); ++p) {
@@ -489,14 +495,9 @@ class Marcher {
 
   // A front cell's area over its wall cell's (0 for a fan's cell, collapsed on the wall).
   double areaShare(const RowMatrixX3d& points, int quad) const {
-    auto area = [&](const RowMatrixX3d& at) {
-      const auto& q = front_.quads[static_cast<size_t>(quad)];
-      const Vector3d diagonal = at.row(q[2]) - at.row(q[0]);
-      const Vector3d other = at.row(q[3]) - at.row(q[1]);
-      return 0.5 * diagonal.cross(other).norm();
-    };
-    const double wall = area(front_.points);
-    return wall > 0.0 ? area(points) / wall : 0.0;
+    const auto& q = front_.quads[static_cast<size_t>(quad)];
+    const double wall = quadAreaVector(front_.points, q).norm();
+    return wall > 0.0 ? quadAreaVector(points, q).norm() / wall : 0.0;
   }
 
   double medianAreaShare(const RowMatrixX3d& points) const {
