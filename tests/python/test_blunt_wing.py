@@ -108,15 +108,6 @@ class BluntTrailingEdgeTest(unittest.TestCase):
         self.assertGreater(blunt.min(), 0.3)
         self.assertLess(sharp.min(), 0.15)
 
-    def test_wing_body_with_a_blunt_wing_is_refused_by_name(self):
-        import test_wing_fuselage as body
-
-        wing = Part.makeLoft([section(body.ROOT_LE, body.ROOT_Y, body.ROOT_CHORD, BASE),
-                              section(body.ROOT_LE + 1.0, body.TIP_Y, body.TIP_CHORD, BASE)], True, False)
-        target, _, _ = polyhedra.half_model_target(body.cut_at_symmetry_plane(body.fuselage().fuse(wing)))
-        with self.assertRaisesRegex(ValueError, "wing_fuselage template takes a sharp trailing edge; this wing's is blunt"):
-            polyhedra.place("wing_fuselage", target)
-
     def test_a_sharp_leading_edge_is_no_base(self):
         # A biconvex section (two circular arcs): sharp leading and trailing edges, a chord apart.
         def biconvex(leading_edge, y, chord):

@@ -1,7 +1,8 @@
 """The wing_fuselage template through bvmesh.polyhedra on a wing-body half model built with
 FreeCAD's Part module (elliptic nose, cylinder, elliptic tail; swept, tapered NACA 0012 wing with
-a sharp trailing edge and a flat tip; fused and cut at y = 0): placement, mapping, a short fit
-and pictures (test-output/polyhedron_wing_fuselage*.png)."""
+a sharp trailing edge and a flat tip; fused and cut at y = 0), and on the same body with the
+wing's trailing edge opened to a base: placement, mapping, a short fit, how far the volume
+marches (the sharp one), and pictures (test-output/polyhedron_wing_fuselage*.png)."""
 
 import math
 import os
@@ -67,9 +68,17 @@ def cut_at_symmetry_plane(shape):
     return shape.cut(Part.makeBox(40, 20, 20, FreeCAD.Vector(-20, -20, -10)))
 
 
-def wing_body():
+def wing_body(base=0.0):
+    """The half model; base > 0: the wing's trailing edge opened to a base that fraction of the
+    chord thick (test_blunt_wing's sections)."""
+    from test_blunt_wing import section as blunt_section
+
     tip_le = ROOT_LE + (TIP_Y - ROOT_Y) * math.tan(math.radians(SWEEP_DEG))
-    wing = Part.makeLoft([section(ROOT_LE, ROOT_Y, ROOT_CHORD), section(tip_le, TIP_Y, TIP_CHORD)], True, False)
+    if base > 0.0:
+        sections = [blunt_section(ROOT_LE, ROOT_Y, ROOT_CHORD, base), blunt_section(tip_le, TIP_Y, TIP_CHORD, base)]
+    else:
+        sections = [section(ROOT_LE, ROOT_Y, ROOT_CHORD), section(tip_le, TIP_Y, TIP_CHORD)]
+    wing = Part.makeLoft(sections, True, False)
     return cut_at_symmetry_plane(fuselage().fuse(wing))
 
 
@@ -147,6 +156,46 @@ class WingFuselageTest(unittest.TestCase):
         target, _, _ = polyhedra.half_model_target(cut_at_symmetry_plane(fuselage()))
         with self.assertRaisesRegex(ValueError, "sharp trailing edge"):
             polyhedra.place("wing_fuselage", target)
+
+
+@unittest.skipIf(Part is None, "FreeCAD is not importable")
+class BluntWingFuselageTest(unittest.TestCase):
+    """The wing's trailing edge opened to a base 0.25 % of the chord thick."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.target, _, _ = polyhedra.half_model_target(wing_body(base=0.0025))
+        cls.placed = polyhedra.place("wing_fuselage", cls.target)  # strict: every feature mapped
+        cls.fitter = bvmesh.SurfaceFitter(cls.target, cls.placed["mesh"], cls.placed["feature_map"],
+                                          symmetry_plane=cls.placed["symmetry_plane"], max_level=2)
+        cls.history = cls.fitter.run()["history"]
+
+    def test_the_base_meets_the_body_in_one_edge_between_two_corners(self):
+        placed = self.placed
+        self.assertEqual(placed["parameters"]["trailing_edge"], "blunt")
+        mesh = placed["mesh"]
+        vertices = np.asarray(mesh.vertices)
+        sizes = np.array([len(f) for f in mesh.faces])
+        # The tip cap's face next to the base, and the body's face behind the base (two quads there
+        # on a sharp edge's body, which has a vertex between the wing's surfaces).
+        self.assertEqual(int((sizes == 5).sum()), 2)
+        self.assertEqual(int((sizes == 4).sum()), len(sizes) - 2)
+        kinds = sorted(c["kind"] for c in placed["chains"])
+        # Round the wing root and across the base; the base's two edges; the tip's rim and base.
+        self.assertEqual(kinds, ["boundary"] + ["crease"] * 6)
+        on_body = [c for c in placed["chains"] if c["kind"] == "crease" and vertices[c["vertices"], 1].max() < 2 * RADIUS]
+        self.assertEqual(len(on_body), 2)
+        for chain in on_body:
+            radii = np.hypot(vertices[chain["vertices"], 1], vertices[chain["vertices"], 2])
+            np.testing.assert_allclose(radii, RADIUS, atol=1e-6)
+        base_ends = [v for v in mesh.corners if abs(np.hypot(vertices[v, 1], vertices[v, 2]) - RADIUS) < 1e-6]
+        self.assertEqual(len(base_ends), 2)
+        apart = np.linalg.norm(vertices[base_ends[0]] - vertices[base_ends[1]])
+        self.assertAlmostEqual(apart, 0.0025 * ROOT_CHORD, delta=0.0015)  # the base where it meets the body
+
+    def test_fitted(self):
+        self.assertLess(self.history[-1]["max_distance"], 0.25 * self.history[0]["max_distance"])
+        self.assertLess(self.history[-1]["max_distance"], 1e-3 * LENGTH)
 
 
 if __name__ == "__main__":

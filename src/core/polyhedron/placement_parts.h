@@ -215,6 +215,10 @@ WingFrame wingFrame(const target::Target& target, const std::vector<FeatureCurve
 // more, or two farther apart (a sharp leading edge).
 bool bluntTrailingEdge(const target::Target& target, const WingFrame& w);
 
+// A blunt trailing edge's base is closed at a flat tip only (addTipCap): InvalidInputError on a
+// rounded one.
+void requireFlatTipForBluntEdge(const WingFrame& w, bool rounded);
+
 // The wing's ring at span s (sectionRing on the plane section of the target).
 std::vector<Vec> wingRing(const target::Target& target, const WingFrame& w, double s,
                           const std::vector<double>& upper, const std::vector<double>& lower,

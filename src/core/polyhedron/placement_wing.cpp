@@ -119,6 +119,13 @@ std::vector<double> cosineFractions(int m) {
   return xi;
 }
 
+void requireFlatTipForBluntEdge(const WingFrame& w, bool rounded) {
+  if (w.blunt && rounded) {
+    throw InvalidInputError(
+        "the wing templates close a blunt trailing edge only at a flat tip (a sharp rim round the tip "
+        "face); this wing's tip is rounded");
+  }
+}
 
 // The wing's ring at span s (sectionRing on the plane section of the target).
 std::vector<Vec> wingRing(const target::Target& target, const WingFrame& w, double s,
@@ -576,11 +583,7 @@ Draft buildWing(const TemplateValues& values, const target::Target& target,
   used["trailing_edge"] = w.blunt ? "blunt" : "sharp";
   w.kinks = kinkSections(target, curves, w);
   const bool rounded = roundedTip(values, target, curves, w, w.high, used);
-  if (w.blunt && rounded) {
-    throw InvalidInputError(
-        "the wing templates close a blunt trailing edge only at a flat tip (a sharp rim round the tip "
-        "face); this wing's tip is rounded");
-  }
+  requireFlatTipForBluntEdge(w, rounded);
   // Stations dense towards the tips, whose caps and wedge closures are small features, and coarse
   // where a wing's sections change slowly: half-cosine spacing, a half wing's root being no tip.
   std::vector<double> spans;

@@ -37,6 +37,137 @@ void removeUnusedVertices(Draft& draft) {
   for (int& corner : draft.corners) corner = index[static_cast<size_t>(corner)];
 }
 
+namespace {
+
+// The wing-body intersection: a closed polyline round the wing root, and where the trailing edge
+// meets it (one point for a sharp edge; a blunt edge's upper and lower edge).
+struct Junction {
+  target::Points loop;
+  std::vector<Vec> trailingEdge;
+};
+
+const char* const kNotFused = "the wing must be fused with the body, the intersection curve sharp";
+
+// A sharp trailing edge: the closed sharp curve starting at an end vertex of a (spanwise, open)
+// trailing-edge curve, the innermost one if several (a flat tip's rim also starts at the trailing
+// edge).
+Junction sharpJunction(const target::Target& target, const std::vector<FeatureCurve>& curves,
+                       const WingFrame& w) {
+  const double diagonal = target.report().diagonal;
+  const auto spanOf = [&](const Vec& p) { return (p - w.origin).dot(w.span); };
+  Junction junction;
+  double innermost = std::numeric_limits<double>::infinity();
+  for (const FeatureCurve& te : curves) {
+    if (te.kind != FeatureCurveKind::Sharp || te.closed) continue;
+    for (const FeatureCurve& loop : curves) {
+      if (loop.kind != FeatureCurveKind::Sharp || !loop.closed || loop.startVertex < 0 ||
+          (loop.startVertex != te.startVertex && loop.startVertex != te.endVertex))
+        continue;
+      const Vec corner = target.vertexPosition(loop.startVertex);
+      const target::Points line = curvePolyline(target, te);
+      const Eigen::VectorXd along = (line.rowwise() - w.origin.transpose()) * w.span;
+      // Spanwise and reaching outboard from the vertex.
+      if (std::abs(along.maxCoeff() - along.minCoeff()) < 0.25 * (w.extentHigh - w.extentLow) ||
+          along.maxCoeff() <= spanOf(corner) + 1e-3 * diagonal || spanOf(corner) >= innermost)
+        continue;
+      innermost = spanOf(corner);
+      junction.trailingEdge = {corner};
+      junction.loop = curvePolyline(target, loop);
+    }
+  }
+  if (junction.loop.rows() == 0) {
+    throw InvalidInputError(
+        std::string(
+            "wing-fuselage placement: no closed sharp curve (the wing-body intersection) starts where "
+            "the trailing edge meets the body: ") +
+        kNotFused);
+  }
+  return junction;
+}
+
+// A blunt trailing edge: its two curves' inner ends are joined by two sharp curves, the longer one
+// round the wing and the base's edge on the body (each ends there, where three sharp edges meet).
+Junction bluntJunction(const target::Target& target, const std::vector<FeatureCurve>& curves,
+                       const WingFrame& w) {
+  std::vector<int> ends;
+  for (const int c : w.trailingEdgeCurves) {
+    const FeatureCurve& te = curves[static_cast<size_t>(c)];
+    if (te.startVertex < 0 || te.endVertex < 0) continue;
+    const auto spanOf = [&](int v) { return (target.vertexPosition(v) - w.origin).dot(w.span); };
+    ends.push_back(spanOf(te.startVertex) < spanOf(te.endVertex) ? te.startVertex : te.endVertex);
+  }
+  std::vector<const FeatureCurve*> between;
+  if (ends.size() == 2) {
+    for (const FeatureCurve& curve : curves) {
+      if (curve.kind == FeatureCurveKind::Sharp && !curve.closed &&
+          ((curve.startVertex == ends[0] && curve.endVertex == ends[1]) ||
+           (curve.startVertex == ends[1] && curve.endVertex == ends[0])))
+        between.push_back(&curve);
+    }
+  }
+  if (between.size() != 2) {
+    throw InvalidInputError(
+        "wing-fuselage placement: the blunt trailing edge's inner ends should be joined by two sharp curves "
+        "on the body (round the wing root and across the base), found " +
+        std::to_string(between.size()) + ": " + kNotFused);
+  }
+  if (between[0]->length < between[1]->length) std::swap(between[0], between[1]);
+  // Round the wing from ends[0] to ends[1], then back across the base.
+  std::vector<Vec> points;
+  for (int part = 0; part < 2; ++part) {
+    target::Points line = curvePolyline(target, *between[static_cast<size_t>(part)]);
+    if (between[static_cast<size_t>(part)]->startVertex != ends[static_cast<size_t>(part)])
+      line = line.colwise().reverse().eval();
+    for (Eigen::Index k = part == 0 ? 0 : 1; k < line.rows(); ++k) points.push_back(line.row(k).transpose());
+  }
+  Junction junction;
+  junction.loop.resize(static_cast<Eigen::Index>(points.size()), 3);
+  for (size_t k = 0; k < points.size(); ++k)
+    junction.loop.row(static_cast<Eigen::Index>(k)) = points[k].transpose();
+  junction.trailingEdge = {target.vertexPosition(ends[0]), target.vertexPosition(ends[1])};
+  return junction;
+}
+
+Junction wingBodyJunction(const target::Target& target, const std::vector<FeatureCurve>& curves,
+                          const WingFrame& w) {
+  return w.blunt ? bluntJunction(target, curves, w) : sharpJunction(target, curves, w);
+}
+
+// Removes `vertex` where exactly two faces use it, sharing one edge from it: the two become one
+// face along their other edges (two quads, a pentagon).
+void dropVertexBetweenFaces(Draft& draft, int vertex) {
+  std::vector<size_t> users;
+  for (size_t f = 0; f < draft.faces.size(); ++f) {
+    const std::vector<int>& face = draft.faces[f];
+    if (std::find(face.begin(), face.end(), vertex) != face.end()) users.push_back(f);
+  }
+  if (users.size() != 2) {
+    throw InvalidInputError(
+        "wing-fuselage placement: the body vertex beside the blunt trailing edge's base has " +
+        std::to_string(users.size()) + " faces behind the wing instead of 2");
+  }
+  // Rotated so that each face starts at the vertex: a = (vertex, y, ...), b = (vertex, ..., y).
+  auto rotated = [&](size_t f) {
+    std::vector<int> face = draft.faces[f];
+    std::rotate(face.begin(), std::find(face.begin(), face.end(), vertex), face.end());
+    return face;
+  };
+  std::vector<int> a = rotated(users[0]), b = rotated(users[1]);
+  if (a[1] != b.back()) std::swap(a, b);
+  if (a[1] != b.back()) {
+    throw InvalidInputError(
+        "wing-fuselage placement: the two faces behind the blunt trailing edge's base share no edge");
+  }
+  // a walks vertex -> y -> ... -> vertex, b walks vertex -> ... -> y -> vertex: the merged face
+  // runs y ... (a's rest), then b's vertices between the vertex and y.
+  std::vector<int> merged(a.begin() + 1, a.end());
+  merged.insert(merged.end(), b.begin() + 1, b.end() - 1);
+  draft.faces[users[0]] = merged;
+  draft.faces.erase(draft.faces.begin() + static_cast<std::ptrdiff_t>(users[1]));
+}
+
+}  // namespace
+
 // A half fuselage (the revolution generator's body grid, its axis and stations taken from the
 // body's profile in the symmetry plane) with a hole where the wing root meets it, and the half
 // wing (the wing generator's stations and tip cap) extruded from the hole's boundary, which lies
@@ -117,59 +248,34 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
   // The wing: its trailing edge and, through the trailing edge's inner end, the intersection curve.
   std::optional<fit::SymmetryPlane> wingPlane;
   WingFrame w = wingFrame(target, curves, true, wingPlane);
-  if (bluntTrailingEdge(target, w)) {
-    throw InvalidInputError(
-        "the wing_fuselage template takes a sharp trailing edge; this wing's is blunt (the wing "
-        "templates take blunt ones)");
-  }
-  // The junction: a closed sharp curve starting at an end vertex of a (spanwise, open) trailing-
-  // edge curve, the innermost one if several (a flat tip's rim also starts at the trailing edge).
-  const auto spanOf = [&](const Vec& p) { return (p - w.origin).dot(w.span); };
-  target::Points junction;
-  Vec teRoot = Vec::Zero();
-  w.low = std::numeric_limits<double>::infinity();
-  for (const FeatureCurve& te : curves) {
-    if (te.kind != FeatureCurveKind::Sharp || te.closed) continue;
-    for (const FeatureCurve& loop : curves) {
-      if (loop.kind != FeatureCurveKind::Sharp || !loop.closed || loop.startVertex < 0 ||
-          (loop.startVertex != te.startVertex && loop.startVertex != te.endVertex))
-        continue;
-      const Vec corner = target.vertexPosition(loop.startVertex);
-      const target::Points line = curvePolyline(target, te);
-      const Eigen::VectorXd along = (line.rowwise() - w.origin.transpose()) * w.span;
-      // Spanwise and reaching outboard from the vertex.
-      if (std::abs(along.maxCoeff() - along.minCoeff()) < 0.25 * (w.extentHigh - w.extentLow) ||
-          along.maxCoeff() <= spanOf(corner) + 1e-3 * diagonal || spanOf(corner) >= w.low)
-        continue;
-      w.low = spanOf(corner);
-      teRoot = corner;
-      junction = curvePolyline(target, loop);
-    }
-  }
-  if (junction.rows() == 0) {
-    throw InvalidInputError(
-        "wing-fuselage placement: no closed sharp curve (the wing-body intersection) starts where the "
-        "trailing edge meets the body: the wing must be fused with the body, the intersection curve sharp");
-  }
+  w.blunt = bluntTrailingEdge(target, w);
+  used["trailing_edge"] = w.blunt ? "blunt" : "sharp";
+  const Junction junction = wingBodyJunction(target, curves, w);
+  const Vec teRoot = 0.5 * (junction.trailingEdge.front() + junction.trailingEdge.back());
+  w.low = (teRoot - w.origin).dot(w.span);
   const bool rounded = roundedTip(values, target, curves, w, w.high, used);
+  requireFlatTipForBluntEdge(w, rounded);
   const WingLayout layout = wingLayout(target, curves, w, m, rounded, {{stations, w.high}}, false);
   const int lead = layout.leadingEdge();  // ring index of the leading edge (chordwise, or one more
                                           // for a rounded tip's wedge closure)
-  const int holeSegments = lead - 2;
+  // The hole's columns: one per ring point pair of the upper and lower side; the trailing edge's
+  // vertex shares the first (a sharp edge) or has one of its own (a blunt edge's base).
+  const int holeSegments = w.blunt ? lead - 1 : lead - 2;
   if (lead < 3 || axial < holeSegments + 2) {
     throw InvalidInputError(
-        "template parameters: the wing-fuselage model needs chordwise >= 3 and axial >= "
-        "chordwise (the wing root takes chordwise - 2 axial segments), got axial " +
-        std::to_string(axial) + ", chordwise " + std::to_string(lead));
+        "template parameters: the wing-fuselage model needs chordwise >= 3 and axial >= " +
+        std::string(w.blunt ? "chordwise + 1 (the wing root with a blunt trailing edge takes chordwise - 1"
+                            : "chordwise (the wing root takes chordwise - 2") +
+        " axial segments), got axial " + std::to_string(axial) + ", chordwise " + std::to_string(lead));
   }
   WingSection rootSection;
-  const std::vector<Vec> root =
-      sectionRing(teRoot, junction, w.span, layout.upper, layout.lower, rootSection,
+  std::vector<Vec> root =
+      sectionRing(teRoot, junction.loop, w.span, layout.upper, layout.lower, rootSection,
                   [&](const Vec& base, const Vec& thickness, bool upperSide) {
                     // The junction's extreme crossing with the plane across the chord at `base`.
                     Vec best = base;
                     double height = -std::numeric_limits<double>::infinity();
-                    for (const Vec& p : planeCrossings(junction, true, base, w.span.cross(thickness))) {
+                    for (const Vec& p : planeCrossings(junction.loop, true, base, w.span.cross(thickness))) {
                       const double h = (upperSide ? 1.0 : -1.0) * (p - base).dot(thickness);
                       if (h > height) {
                         height = h;
@@ -178,6 +284,12 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
                     }
                     return best;
                   });
+  if (w.blunt) {  // the base's upper edge first, its lower edge last, as on the wing's rings
+    const bool upperFirst =
+        (junction.trailingEdge[0] - junction.trailingEdge[1]).dot(rootSection.thickness) > 0.0;
+    root[0] = junction.trailingEdge[upperFirst ? 0 : 1];
+    root.push_back(junction.trailingEdge[upperFirst ? 1 : 0]);
+  }
 
   // Stations: the hole's columns at the root ring's chord fractions, the rest spread evenly
   // ahead of and behind the wing.
@@ -187,6 +299,7 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
         .dot(body.e1);
   };
   std::vector<double> columns;  // axial coordinates of the hole's columns, increasing
+  if (w.blunt) columns.push_back((teRoot - body.origin).dot(body.e1));
   for (int r = 1; r < lead; ++r) columns.push_back(axialOf(r));
   if (trailingAft) std::reverse(columns.begin(), columns.end());
   const auto [rimNose, rimTail] = bodyRims(body);
@@ -244,9 +357,18 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
   for (int i = i0; i <= i1; ++i) upwards += (at(i, qc + 1) - at(i, qc - 1)).dot(thickness);
   const int upperRow = upwards > 0.0 ? qc + 1 : qc - 1;
   const int lowerRow = 2 * qc - upperRow;
-  std::vector<int> junctionRing(static_cast<size_t>(2 * lead));
-  const auto column = [&](int r) { return trailingAft ? i1 - (r - 1) : i0 + (r - 1); };
-  junctionRing[0] = side.at({trailingAft ? i1 : i0, qc});
+  std::vector<int> junctionRing(root.size());
+  const int teColumn = trailingAft ? i1 : i0;
+  const int firstColumn = w.blunt ? 1 : 0;  // of ring point 1, counted from the trailing edge's
+  const auto column = [&](int r) {
+    return trailingAft ? i1 - (r - 1 + firstColumn) : i0 + (r - 1 + firstColumn);
+  };
+  if (w.blunt) {
+    junctionRing.front() = side.at({teColumn, upperRow});
+    junctionRing.back() = side.at({teColumn, lowerRow});
+  } else {
+    junctionRing[0] = side.at({teColumn, qc});
+  }
   junctionRing[static_cast<size_t>(lead)] = side.at({trailingAft ? i0 : i1, qc});
   for (int r = 1; r < lead; ++r) {
     junctionRing[static_cast<size_t>(r)] = side.at({column(r), upperRow});
@@ -263,6 +385,9 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
                                      return std::all_of(face.begin(), face.end(), inHole);
                                    }),
                     draft.faces.end());
+  // A blunt edge's base meets the body in one edge between its two ring vertices: the body vertex
+  // between them goes, its two faces behind the wing becoming one pentagon.
+  if (w.blunt) dropVertexBetweenFaces(draft, side.at({teColumn, qc}));
 
   // The wing from the junction ring to the tip; its first station clear of the body.
   double clear = -std::numeric_limits<double>::infinity();
@@ -285,7 +410,7 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
   }
   Draft wing;
   wing.vertices = draft.vertices;
-  addWingStrips(wing, rings, false);
+  addWingStrips(wing, rings, w.blunt);
   addTipCap(wing, target, w, layout, stations, rings.back(), 1.0, rounded);
   // The wing's faces must run against the fuselage's along the junction edges.
   const int a = junctionRing[0], b = junctionRing[1];
@@ -302,11 +427,10 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
   draft.vertices = wing.vertices;
   draft.creases.insert(draft.creases.end(), wing.creases.begin(), wing.creases.end());
   draft.corners.insert(draft.corners.end(), wing.corners.begin(), wing.corners.end());
-  for (int r = 0; r < 2 * lead; ++r) {
-    draft.creases.push_back(
-        {junctionRing[static_cast<size_t>(r)], junctionRing[static_cast<size_t>((r + 1) % (2 * lead))]});
-  }
-  draft.corners.push_back(junctionRing[0]);
+  for (size_t r = 0; r < junctionRing.size(); ++r)
+    draft.creases.push_back({junctionRing[r], junctionRing[(r + 1) % junctionRing.size()]});
+  draft.corners.push_back(junctionRing.front());
+  if (w.blunt) draft.corners.push_back(junctionRing.back());
   planform = measurePlanform(w, rootSection, tipSection);
   removeUnusedVertices(draft);
   return draft;
