@@ -454,6 +454,71 @@ TEST(VolumeMesh, AHyperbolicLayerThatWouldFoldTakesTheSmoothedStep) {
   for (double worst : result.layerMinScaledJacobian) EXPECT_GT(worst, 0.0);
 }
 
+// An L-shaped prism, its section the L of legs 2 long and 1 thick in the x-z plane, 2 deep along
+// y: every edge sharp, the inner one (x = z = 1) a concave crease.
+surface::QuadControlMesh lShapedPrism(int levels) {
+  const std::array<std::array<double, 2>, 8> outline{
+      {{0, 0}, {1, 0}, {2, 0}, {2, 1}, {1, 1}, {1, 2}, {0, 2}, {0, 1}}};
+  std::vector<Vector3d> points;
+  for (const double y : {-1.0, 1.0}) {
+    for (const auto& xz : outline) points.emplace_back(xz[0], y, xz[1]);
+  }
+  std::vector<std::array<int, 4>> quads;
+  for (int k = 0; k < 8; ++k) quads.push_back({k, 8 + k, 8 + (k + 1) % 8, (k + 1) % 8});
+  for (const std::array<int, 4>& cap :
+       std::vector<std::array<int, 4>>{{0, 1, 4, 7}, {1, 2, 3, 4}, {7, 4, 5, 6}}) {
+    quads.push_back(cap);
+    quads.push_back({cap[3] + 8, cap[2] + 8, cap[1] + 8, cap[0] + 8});
+  }
+  std::vector<std::array<int, 2>> creases;
+  std::vector<int> corners;
+  for (int k = 0; k < 8; ++k) {
+    creases.push_back({k, (k + 1) % 8});
+    creases.push_back({8 + k, 8 + (k + 1) % 8});
+    if (k == 1 || k == 7) continue;  // the middles of the long legs' outer faces
+    creases.push_back({k, 8 + k});
+    corners.push_back(k);
+    corners.push_back(8 + k);
+  }
+  surface::QuadControlMesh prism = surface::makeQuadControlMesh(points, quads, creases);
+  prism.corners = corners;
+  return surface::testing::subdivide(prism, levels);
+}
+
+TEST(VolumeMesh, AConcaveCreaseMarchesAsTheWallsOffset) {
+  // Along the L's inner edge the faces' normals cross: straight lines along them would fold the
+  // cells above the edge within the boundary layer. The lines there turn towards the edge's
+  // bisector, wholly at the edge and not at all four boundary-layer thicknesses away, and each is
+  // as long as keeps its layers at their distance from its wall cells: the boundary layer's top
+  // above the edge is the offset's corner, (1 + t, 1 + t), and the whole volume marches with
+  // positive cells (before: the lines stopped half way next to the edge, whose boundary-layer top
+  // dipped into the corner, and the far field folded there in its first layer).
+  const surface::QuadControlMesh wall = lShapedPrism(3);
+  VolumeMeshOptions options;
+  options.boundaryLayerThickness = 0.1;
+  options.farfieldDistance = 40.0;
+  const VolumeMesh result = generateVolumeMesh(wall, options);
+  for (double worst : result.layerMinScaledJacobian) EXPECT_GT(worst, 0.0);
+  const double top = result.layerDistance[static_cast<size_t>(options.boundaryLayerLayers)];
+  ASSERT_NEAR(top, 0.1, 1e-12);
+  const double wTop = top / result.layerDistance.back();
+  int samples = 0;
+  for (const Block& block : result.blocks.blocks()) {
+    const BsplineVolume& v = block.volume;
+    const std::vector<double> u = grevilleAbscissae(v.knots(0), 3), w = grevilleAbscissae(v.knots(1), 3);
+    RowMatrixX3d wallPoints, topPoints;
+    v.evaluateGrid(u, w, {v.lower(2)}, wallPoints);
+    v.evaluateGrid(u, w, {v.lower(2) + wTop * (v.upper(2) - v.lower(2))}, topPoints);
+    for (Eigen::Index p = 0; p < wallPoints.rows(); ++p) {
+      const Vector3d at = wallPoints.row(p).transpose();
+      if (std::hypot(at.x() - 1.0, at.z() - 1.0) > 1e-6 || std::abs(at.y()) > 0.5) continue;
+      EXPECT_LT((topPoints.row(p).transpose() - Vector3d(1.1, at.y(), 1.1)).norm(), 0.01) << at.transpose();
+      ++samples;
+    }
+  }
+  EXPECT_GT(samples, 4);
+}
+
 TEST(VolumeMesh, HalfModelKeepsTheSymmetryPlane) {
   const surface::QuadControlMesh half = surface::testing::upperHalfOfRefinedCube();
   VolumeMeshOptions options;

@@ -2,7 +2,7 @@
 FreeCAD's Part module (elliptic nose, cylinder, elliptic tail; swept, tapered NACA 0012 wing with
 a sharp trailing edge and a flat tip; fused and cut at y = 0), and on the same body with the
 wing's trailing edge opened to a base: placement, mapping, a short fit, how far the volume
-marches (the sharp one), and pictures (test-output/polyhedron_wing_fuselage*.png)."""
+marches, and pictures (test-output/polyhedron_wing_fuselage*.png)."""
 
 import math
 import os
@@ -82,6 +82,17 @@ def wing_body(base=0.0):
     return cut_at_symmetry_plane(fuselage().fuse(wing))
 
 
+def march_until_it_folds(fitter):
+    """The layer and the point where the volume stage's marching folds (the default boundary layer:
+    0.23, a flat-plate estimate at Re 1e6 over the body length, in 4 layers)."""
+    with unittest.TestCase().assertRaises(bvmesh.SolverError) as stop:
+        bvmesh.volume.offset_and_farfield(fitter, reference_length=LENGTH, reynolds_number=1e6)
+    message = str(stop.exception)
+    layer = int(message.split("at layer ")[1].split(" ")[0])
+    where = [float(x) for x in message.split(" at (")[1].split(")")[0].split(",")]
+    return layer, where, message
+
+
 @unittest.skipIf(Part is None, "FreeCAD is not importable")
 class WingFuselageTest(unittest.TestCase):
     @classmethod
@@ -128,29 +139,19 @@ class WingFuselageTest(unittest.TestCase):
         self.assertLess(history[-1]["max_distance"], 0.25 * history[0]["max_distance"])
         self.assertLess(history[-1]["max_distance"], 1e-3 * LENGTH)
 
-    def test_boundary_layer_passes_the_concave_junction_and_the_root_trailing_edge(self):
-        # The default boundary layer (0.23, a flat-plate estimate at Re 1e6 over the body length) is
-        # 15 times as thick as the wall cells in the junction at the wing root's leading edge, where
-        # the fuselage's and the wing's grid lines converge. The lines there stop before they fold,
-        # and at the root trailing edge, where the sharp edge meets the fuselage, the line runs
-        # along the fuselage between the wing's surfaces, so the whole boundary layer is marched;
-        # the far field's first layer still folds in the junction at the root leading edge
-        # (docs/volume.md, "Not there yet").
+    def test_the_march_passes_the_junction_and_stops_behind_the_trailing_edge(self):
+        # In the concave junction the lines turn towards its bisector over four boundary-layer
+        # thicknesses and reach its offset, and the far field goes on from there (before: the
+        # lines stopped half way, and the far field's first layer, layer 5, folded in the junction
+        # at the root's leading edge). It folds above and behind the root trailing edge, where the O-grid's
+        # fan round the sharp edge runs into the body (docs/volume.md, "Not there yet").
         placed = polyhedra.place("wing_fuselage", self.target)
         fitter = bvmesh.SurfaceFitter(self.target, placed["mesh"], placed["feature_map"],
                                       symmetry_plane=placed["symmetry_plane"], max_level=2, tolerance=1e-9)
         fitter.run()
-        boundary_layer_layers = 4
-        with self.assertRaises(bvmesh.SolverError) as stop:
-            bvmesh.volume.offset_and_farfield(fitter, reference_length=LENGTH, reynolds_number=1e6,
-                                              boundary_layer_layers=boundary_layer_layers)
-        message = str(stop.exception)
-        layer = int(message.split("at layer ")[1].split(" ")[0])
-        self.assertGreater(layer, boundary_layer_layers, message)
-        where = [float(x) for x in message.split(" at (")[1].split(")")[0].split(",")]
-        junction_leading_edge = ROOT_LE + (RADIUS - ROOT_Y) * math.tan(math.radians(SWEEP_DEG))
-        self.assertLess(abs(where[0] - junction_leading_edge), 0.1, message)
-        self.assertLess(abs(where[1] - RADIUS), 0.15, message)
+        layer, where, message = march_until_it_folds(fitter)
+        self.assertGreaterEqual(layer, 8, message)
+        self.assertGreater(where[0], ROOT_LE + ROOT_CHORD, message)  # at or behind the root trailing edge
 
     def test_body_without_a_wing_is_a_value_error(self):
         target, _, _ = polyhedra.half_model_target(cut_at_symmetry_plane(fuselage()))
@@ -196,6 +197,16 @@ class BluntWingFuselageTest(unittest.TestCase):
     def test_fitted(self):
         self.assertLess(self.history[-1]["max_distance"], 0.25 * self.history[0]["max_distance"])
         self.assertLess(self.history[-1]["max_distance"], 1e-3 * LENGTH)
+
+    def test_the_march_passes_the_junction_and_stops_behind_the_base(self):
+        # The base's ends on the body are concave corners of three faces, whose lines run along
+        # their best-seeing direction, 1.73 times the distance. The march folds at layer 11, 1.4
+        # behind the root's base: the body's points just behind the wing, which the layers round
+        # the base swallow, converge (docs/volume.md, "Not there yet"). Before, the far field's
+        # first layer (layer 5) folded at the root's base.
+        layer, where, message = march_until_it_folds(self.fitter)
+        self.assertGreaterEqual(layer, 9, message)
+        self.assertGreater(where[0], ROOT_LE + ROOT_CHORD, message)
 
 
 if __name__ == "__main__":

@@ -121,15 +121,20 @@ class SplayBands {
     return lines;
   }
 
-  // Whether some wall cell at `point` lies in front of another's plane (by more than a quarter of
-  // its distance) where the two turn by more than the sharp angle: a concave crease.
+  // Whether some wall cell at `point` lies in front of another's plane where the two turn by more
+  // than the sharp angle: a concave crease. In front by more than a quarter of its distance across
+  // the crease between them (a cell long along the crease is only a little in front of the other's
+  // plane, by a tenth of its whole distance at least).
   static bool onConcaveCrease(const Vector3d& point, const std::vector<Vector3d>& normals,
                               const std::vector<Vector3d>& centres) {
     for (const Vector3d& normal : normals) {
       for (size_t j = 0; j < normals.size(); ++j) {
+        if (normal.dot(normals[j]) >= std::cos(kSharpAngle)) continue;
         const Vector3d toCell = centres[j] - point;
-        if (normal.dot(normals[j]) < std::cos(kSharpAngle) && normal.dot(toCell) > 0.25 * toCell.norm())
-          return true;
+        const Vector3d crease = normal.cross(normals[j]).normalized();
+        const Vector3d across = toCell - toCell.dot(crease) * crease;
+        const double ahead = normal.dot(toCell);
+        if (ahead > 0.25 * across.norm() && ahead > 0.1 * toCell.norm()) return true;
       }
     }
     return false;
@@ -213,31 +218,11 @@ class SplayBands {
   // otherwise have no rim of its own in the band, and every line on it would take its
   // neighbours' normals, leaving the first cells flat. On the nodes of `view`; every point gets
   // its node's line (a fan's points none: turnFans sets them).
-  RowMatrixX3d splayedAtSharpEdges(const WallView& view, double width) const {
+  BoundaryLayerLines splayedAtSharpEdges(const WallView& view, double width) const {
     const Eigen::Index n = front_.points.rows();
     const CellsAround cells = cellsAround(view);
     const std::vector<char> sharp = sharpEdgePoints(view, cells);
-    std::vector<double> distance(static_cast<size_t>(n), std::numeric_limits<double>::infinity());
-    using Entry = std::pair<double, int>;
-    std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
-    for (Eigen::Index p = 0; p < n; ++p) {
-      if (sharp[static_cast<size_t>(p)] != 0) {
-        distance[static_cast<size_t>(p)] = 0.0;
-        queue.emplace(0.0, static_cast<int>(p));
-      }
-    }
-    while (!queue.empty()) {
-      const auto [d, p] = queue.top();
-      queue.pop();
-      if (d > distance[static_cast<size_t>(p)]) continue;
-      for (int q : view.neighbours[static_cast<size_t>(p)]) {
-        const double through = d + (front_.points.row(p) - front_.points.row(q)).norm();
-        if (through < distance[static_cast<size_t>(q)]) {
-          distance[static_cast<size_t>(q)] = through;
-          queue.emplace(through, q);
-        }
-      }
-    }
+    const std::vector<double> distance = geodesicFrom(view, sharp).distance;
     const std::vector<double> bandWidth = bandWidths(view, cells, sharp, distance, width);
     const RowMatrixX3d cornerLines = concaveCornerLines(cells, sharp);
     auto heldAtCorner = [&](Eigen::Index p) { return cornerLines.row(p).squaredNorm() > 0.0; };
@@ -275,7 +260,90 @@ class SplayBands {
       d = inPlanes(p, d);
       lines.row(p) = d.normalized().transpose();
     }
-    return lines;
+    BoundaryLayerLines result{std::move(lines), Eigen::VectorXd::Ones(n)};
+    bendTowardsConcaveCreases(view, cells, sharp, cornerLines, result);
+    return result;
+  }
+
+  // Geodesic distance along the wall's edges (of `view`) from the `source` points, and per point
+  // the source it is nearest to (-1 where none is reached).
+  struct Geodesic {
+    std::vector<double> distance;
+    std::vector<int> nearest;
+  };
+  Geodesic geodesicFrom(const WallView& view, const std::vector<char>& source) const {
+    const auto n = source.size();
+    Geodesic result{std::vector<double>(n, std::numeric_limits<double>::infinity()), std::vector<int>(n, -1)};
+    using Entry = std::pair<double, int>;
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<>> queue;
+    for (size_t p = 0; p < n; ++p) {
+      if (source[p] == 0) continue;
+      result.distance[p] = 0.0;
+      result.nearest[p] = static_cast<int>(p);
+      queue.emplace(0.0, static_cast<int>(p));
+    }
+    while (!queue.empty()) {
+      const auto [d, p] = queue.top();
+      queue.pop();
+      if (d > result.distance[static_cast<size_t>(p)]) continue;
+      for (int q : view.neighbours[static_cast<size_t>(p)]) {
+        const double through = d + (front_.points.row(p) - front_.points.row(q)).norm();
+        if (through < result.distance[static_cast<size_t>(q)]) {
+          result.distance[static_cast<size_t>(q)] = through;
+          result.nearest[static_cast<size_t>(q)] = result.nearest[static_cast<size_t>(p)];
+          queue.emplace(through, q);
+        }
+      }
+    }
+    return result;
+  }
+
+  // Next to a concave crease (a wing-body junction) the two faces' normals cross within about the
+  // corner's width, so that straight lines along them converge and their cells fold as soon as the
+  // boundary layer is thicker than the wall's cells there are wide. Within kConcaveBandWidth
+  // boundary-layer thicknesses of the crease the lines turn towards the nearest crease point's
+  // best-seeing line, wholly at the crease and not at all at the band's width: lines so blended in
+  // a 90 degree corner first cross at about 1.27 times that width, above the boundary layer. The
+  // lines of a convex sharp edge next to the crease (a trailing edge ending on the junction) turn
+  // too, or they would run into the crease's. Each line in the band is as long as keeps its layers
+  // at their distance from the wall cells round its point (1 / its smallest cosine with their
+  // normals, at most kLongestLine: the bisector of a 90 degree corner 1.41 times the distance), so
+  // that the boundary layer's top is the walls' offset and does not dip into the corner, where the
+  // far field would start from a notch; nearer a convex sharp point than the crease that length
+  // fades to 1 (its splayed lines lean off its cells' normals by design).
+  void bendTowardsConcaveCreases(const WallView& view, const CellsAround& cells,
+                                 const std::vector<char>& sharp, const RowMatrixX3d& cornerLines,
+                                 BoundaryLayerLines& lines) const {
+    constexpr double kConcaveBandWidth = 4.0;
+    constexpr double kLongestLine = 2.0;
+    const auto n = sharp.size();
+    std::vector<char> concave(n, 0), convex(n, 0);
+    for (size_t p = 0; p < n; ++p) {
+      concave[p] = cornerLines.row(static_cast<Eigen::Index>(p)).squaredNorm() > 0.0 ? 1 : 0;
+      convex[p] = sharp[p] != 0 && concave[p] == 0 ? 1 : 0;
+    }
+    if (std::none_of(concave.begin(), concave.end(), [](char c) { return c != 0; })) return;
+    const Geodesic fromConcave = geodesicFrom(view, concave);
+    const std::vector<double> fromConvex = geodesicFrom(view, convex).distance;
+    const double width = kConcaveBandWidth * thickness_;
+    for (Eigen::Index p = 0; p < lines.directions.rows(); ++p) {
+      const auto node = view.node[static_cast<size_t>(p)];
+      if (node < 0) continue;
+      const double d = fromConcave.distance[static_cast<size_t>(node)];
+      if (d >= width) continue;
+      const double toConvex = fromConvex[static_cast<size_t>(node)];
+      const double crease = std::isinf(toConvex) ? 1.0 : toConvex / (d + toConvex);
+      Vector3d line = lines.directions.row(p).transpose();
+      if (d > 0.0) {
+        const Vector3d towards = cornerLines.row(fromConcave.nearest[static_cast<size_t>(node)]).transpose();
+        line = inPlanes(p, turnedBetween(line, towards, 1.0 - d / width)).normalized();
+        lines.directions.row(p) = line.transpose();
+      }
+      double nearest = 1.0;
+      for (const Vector3d& normal : cells.normals[static_cast<size_t>(node)])
+        nearest = std::min(nearest, normal.dot(line));
+      lines.lengths[p] = 1.0 + crease * ((nearest > 1.0 / kLongestLine ? 1.0 / nearest : kLongestLine) - 1.0);
+    }
   }
 
   // The wall as the splay bands see it: with every knife edge cut open for its fan (each copy a
@@ -319,10 +387,11 @@ class SplayBands {
   // widest angle times the thickness) equals the distance: straight lines nearer than that would
   // turn the fan's cells at the corner over, were they the fan's own. The fan narrows to nothing
   // at the corner, whose cells are the O-grid's.
-  RowMatrixX3d lines(double width) const {
-    RowMatrixX3d lines = splayedAtSharpEdges(wallView(false), width);
+  BoundaryLayerLines lines(double width) const {
+    BoundaryLayerLines result = splayedAtSharpEdges(wallView(false), width);
+    RowMatrixX3d& lines = result.directions;
     if (!front_.fanClosings.empty()) {
-      const RowMatrixX3d closed = splayedAtSharpEdges(wallView(true), width);
+      const RowMatrixX3d closed = splayedAtSharpEdges(wallView(true), width).directions;
       for (Eigen::Index p = 0; p < lines.rows(); ++p) {
         double share = 1.0;
         for (const FanClosing& closing : front_.fanClosings) {
@@ -335,7 +404,7 @@ class SplayBands {
       }
     }
     turnFans(front_, planes_, lines);
-    return lines;
+    return result;
   }
 
  private:
@@ -351,8 +420,8 @@ class SplayBands {
 
 }  // namespace
 
-RowMatrixX3d boundaryLayerLines(const MarchingFront& front, const BoundaryPlanes& planes, double thickness,
-                                double width) {
+BoundaryLayerLines boundaryLayerLines(const MarchingFront& front, const BoundaryPlanes& planes,
+                                      double thickness, double width) {
   return SplayBands(front, planes, thickness).lines(width);
 }
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <exception>
 #include <optional>
 #include <set>
 #include <string>
@@ -71,9 +72,10 @@ class Marcher {
     // Straight grid lines along the wall normals; where a cell would be poor (a patch smaller
     // than the boundary layer is thick, next to a sharp edge), the lines' directions are smoothed
     // there alone, so the wall stays orthogonal everywhere else.
-    RowMatrixX3d lines = boundaryLayerLines(front_, options_.planes, options_.boundaryLayerThickness,
-                                            options_.sharpEdgeSplay * options_.boundaryLayerThickness);
-    const Eigen::VectorXd reach = foldLimitedReach(lines);
+    BoundaryLayerLines bl = boundaryLayerLines(front_, options_.planes, options_.boundaryLayerThickness,
+                                               options_.sharpEdgeSplay * options_.boundaryLayerThickness);
+    RowMatrixX3d& lines = bl.directions;
+    const Eigen::VectorXd reach = foldLimitedReach(lines, bl.lengths).cwiseProduct(bl.lengths);
     std::vector<RowMatrixX3d> blLayers;
     for (int repair = 0;; ++repair) {
       blLayers.clear();
@@ -158,18 +160,21 @@ class Marcher {
       const double towardsDomain = std::min(1.0, distance / wallSize_);
       const RowMatrixX3d& points = result.layers.back();
       // A hyperbolic layer that would fold (a convex box corner's splayed boundary-layer top)
-      // takes the smoothed step, whose radial turn and point smoothing open it.
-      std::optional<RowMatrixX3d> marched;
-      if (hyperbolic) {
-        try {
-          marched = hyperbolicOnce(*hyperbolic, result.layers[result.layers.size() - 2], points, step,
-                                   progress, nBl + k, directions);
-        } catch (const SolverError&) {
+      // takes the smoothed step, whose radial turn and point smoothing open it, or the smoothed
+      // step round its fold alone (smoothedOrBlended).
+      RowMatrixX3d next;
+      if (!hyperbolic) {
+        next = marchOnce(points, directions, step, progress, towardsDomain, nBl + k);
+      } else {
+        HyperbolicAttempt attempt = hyperbolicOnce(*hyperbolic, result.layers[result.layers.size() - 2],
+                                                   points, step, progress, directions);
+        if (attempt.points) {
+          next = std::move(*attempt.points);
+        } else {
           ++result.farfieldLayersSmoothed;
+          next = smoothedOrBlended(points, directions, step, progress, towardsDomain, nBl + k, attempt);
         }
       }
-      RowMatrixX3d next = marched ? std::move(*marched)
-                                  : marchOnce(points, directions, step, progress, towardsDomain, nBl + k);
       distance += step;
       result.layers.push_back(std::move(next));
       result.layerDistance.push_back(distance);
@@ -351,7 +356,7 @@ class Marcher {
   // falls below the quality threshold, its points' lines stop at half of that, and the fraction
   // rises back to 1 over a few cells around such a place so that the boundary layer's top has no
   // step. 1 wherever the whole thickness is safe.
-  Eigen::VectorXd foldLimitedReach(const RowMatrixX3d& lines) const {
+  Eigen::VectorXd foldLimitedReach(const RowMatrixX3d& lines, const Eigen::VectorXd& lengths) const {
     constexpr int kSamples = 32;
     constexpr double kShareOfFold = 0.5;
     constexpr double kRisePerCell = 0.25;
@@ -365,8 +370,10 @@ class Marcher {
         const double upper = thickness * (s + 1) / kSamples;
         for (int k = 0; k < 4; ++k) {
           const int p = front_.quads[quad][static_cast<size_t>(k)];
-          corners[static_cast<size_t>(k)] = (front_.points.row(p) + lower * lines.row(p)).transpose();
-          corners[static_cast<size_t>(k + 4)] = (front_.points.row(p) + upper * lines.row(p)).transpose();
+          corners[static_cast<size_t>(k)] =
+              (front_.points.row(p) + lower * lengths[p] * lines.row(p)).transpose();
+          corners[static_cast<size_t>(k + 4)] =
+              (front_.points.row(p) + upper * lengths[p] * lines.row(p)).transpose();
         }
         if (!isPoor(quad, hexScaledJacobian(corners))) continue;
         // Only a converging column (its cross-section shrinking: a concave corner) is stopped; a
@@ -427,6 +434,17 @@ class Marcher {
   // (which no scaled Jacobian notices) until the grid lines cross the plane.
   RowMatrixX3d marchOnce(const RowMatrixX3d& points, RowMatrixX3d& previous, double step, double progress,
                          double towardsDomain, int layer) const {
+    RowMatrixX3d directions;
+    RowMatrixX3d next = smoothedStep(points, previous, step, progress, towardsDomain, directions);
+    next = repairPoorCells(points, std::move(next), directions,
+                           Eigen::VectorXd::Constant(points.rows(), step), layer);
+    previous = std::move(directions);
+    return next;
+  }
+
+  // The smoothed step's points before the local repair, and their `directions`.
+  RowMatrixX3d smoothedStep(const RowMatrixX3d& points, const RowMatrixX3d& previous, double step,
+                            double progress, double towardsDomain, RowMatrixX3d& directions) const {
     const RowMatrixX3d normals = frontNormals(points);
     RowMatrixX3d blended(points.rows(), 3);
     for (Eigen::Index p = 0; p < points.rows(); ++p) {
@@ -437,52 +455,163 @@ class Marcher {
       const Vector3d radial = fromCentre.norm() > 0 ? fromCentre.normalized() : local;
       blended.row(p) = ((1.0 - towardsDomain) * local + towardsDomain * radial).normalized().transpose();
     }
-    RowMatrixX3d directions = implicitlySmoothed(blended, options_.smoothing * (2.0 + 20.0 * progress));
+    directions = implicitlySmoothed(blended, options_.smoothing * (2.0 + 20.0 * progress));
     const int pointIterations = static_cast<int>(std::lround(options_.smoothing * (1.0 + 10.0 * progress)));
     const double weight = std::min(0.5, 0.2 + 0.3 * progress);
     RowMatrixX3d next = points + step * directions;
     keepOnPlane(next);
     smoothPoints(next, directions, pointIterations, weight);
-    next = repairPoorCells(points, std::move(next), directions,
-                           Eigen::VectorXd::Constant(points.rows(), step), layer);
-    previous = std::move(directions);
     return next;
   }
 
+  // The local repair's outcome: the points, the cells still poor (`poor` marks them) and whether
+  // that is a fold (a cell not positive, or any poor cell without smoothing).
+  struct Repaired {
+    RowMatrixX3d points;
+    PoorCells left;
+    std::vector<char> poor;
+    bool failed = false;
+  };
+
   // One far-field step by the hyperbolic equations, then the same local repair as marchOnce's
   // along the step's own directions and lengths, which become `previous` (the smoothed step's
-  // memory, should a later layer fall back to it).
-  RowMatrixX3d hyperbolicOnce(HyperbolicStepper& stepper, const RowMatrixX3d& below,
-                              const RowMatrixX3d& points, double step, double progress, int layer,
-                              RowMatrixX3d& previous) const {
-    RowMatrixX3d next = stepper.advance(below, points, step, progress);
+  // memory, should a later layer fall back to it): the layer's points, or, where the repaired
+  // step still folds, the repaired step and its poor cells (nothing for a degenerate front).
+  struct HyperbolicAttempt {
+    std::optional<RowMatrixX3d> points;
+    std::optional<Repaired> folded;
+  };
+  HyperbolicAttempt hyperbolicOnce(HyperbolicStepper& stepper, const RowMatrixX3d& below,
+                                   const RowMatrixX3d& points, double step, double progress,
+                                   RowMatrixX3d& previous) const {
+    HyperbolicAttempt attempt;
+    RowMatrixX3d next;
+    try {
+      next = stepper.advance(below, points, step, progress);
+    } catch (const SolverError&) {
+      return attempt;
+    }
     const RowMatrixX3d moves = next - points;
-    const Eigen::VectorXd lengths = moves.rowwise().norm();
     RowMatrixX3d directions = moves.rowwise().normalized();
-    next = repairPoorCells(points, std::move(next), directions, lengths, layer);
-    previous = std::move(directions);
-    return next;
+    Repaired repaired = repairedPoorCells(points, std::move(next), directions, moves.rowwise().norm());
+    if (repaired.failed) {
+      attempt.folded = std::move(repaired);
+    } else {
+      previous = std::move(directions);
+      attempt.points = std::move(repaired.points);
+    }
+    return attempt;
+  }
+
+  // A layer the hyperbolic step folds: the smoothed step, whose radial turn and point smoothing
+  // open a convex corner's fold (a box's splayed corner), or the hyperbolic step with the smoothed
+  // one taken round its folded cells alone (a wing-body's junction behind the trailing edge, which
+  // the smoothed step folds and the hyperbolic one holds), whichever holds with the better worst
+  // cell; failing both, the smoothed step's error.
+  RowMatrixX3d smoothedOrBlended(const RowMatrixX3d& points, RowMatrixX3d& previous, double step,
+                                 double progress, double towardsDomain, int layer,
+                                 const HyperbolicAttempt& attempt) const {
+    RowMatrixX3d smoothedDirections = previous;
+    std::optional<RowMatrixX3d> smoothed;
+    std::exception_ptr smoothedFold;
+    try {
+      smoothed = marchOnce(points, smoothedDirections, step, progress, towardsDomain, layer);
+    } catch (const SolverError&) {
+      smoothedFold = std::current_exception();
+    }
+    std::optional<RowMatrixX3d> blended;
+    RowMatrixX3d blendedDirections;
+    if (attempt.folded) {
+      try {
+        RowMatrixX3d next = blendedWithSmoothed(points, attempt.folded->points, attempt.folded->poor,
+                                                previous, step, progress, towardsDomain);
+        const RowMatrixX3d moves = next - points;
+        blendedDirections = moves.rowwise().normalized();
+        blended = repairPoorCells(points, std::move(next), blendedDirections, moves.rowwise().norm(), layer);
+      } catch (const SolverError&) {
+      }
+    }
+    if (blended && worstCell(points, *blended) >= options_.minScaledJacobian &&
+        (!smoothed || worstCell(points, *blended) > worstCell(points, *smoothed))) {
+      previous = std::move(blendedDirections);
+      return std::move(*blended);
+    }
+    if (!smoothed) std::rethrow_exception(smoothedFold);
+    previous = std::move(smoothedDirections);
+    return std::move(*smoothed);
+  }
+
+  // The hyperbolic step `next` with the smoothed step taken instead round the cells it folds (the
+  // `poor` ones not positive): on their points and kSmoothedRings rings of neighbours wholly,
+  // blended back over kBlendRings more.
+  RowMatrixX3d blendedWithSmoothed(const RowMatrixX3d& points, const RowMatrixX3d& next,
+                                   const std::vector<char>& poor, const RowMatrixX3d& previous, double step,
+                                   double progress, double towardsDomain) const {
+    constexpr int kSmoothedRings = 2;
+    constexpr int kBlendRings = 8;
+    const Eigen::Index n = points.rows();
+    std::vector<int> ring(static_cast<size_t>(n), -1);
+    std::vector<int> current;
+    for (size_t q = 0; q < front_.quads.size(); ++q) {
+      if (poor[q] == 0 || cellQuality(points, next, q) > 0.0) continue;
+      for (int p : front_.quads[q]) {
+        if (ring[static_cast<size_t>(p)] < 0) current.push_back(p);
+        ring[static_cast<size_t>(p)] = 0;
+      }
+    }
+    for (int r = 1; r <= kSmoothedRings + kBlendRings && !current.empty(); ++r) {
+      std::vector<int> reached;
+      for (int p : current) {
+        for (int q : neighbours_[static_cast<size_t>(p)]) {
+          if (ring[static_cast<size_t>(q)] >= 0) continue;
+          ring[static_cast<size_t>(q)] = r;
+          reached.push_back(q);
+        }
+      }
+      current = std::move(reached);
+    }
+    RowMatrixX3d directions;
+    const RowMatrixX3d smoothed = smoothedStep(points, previous, step, progress, towardsDomain, directions);
+    RowMatrixX3d blended = next;
+    for (Eigen::Index p = 0; p < n; ++p) {
+      const int r = ring[static_cast<size_t>(p)];
+      if (r < 0) continue;
+      const double share =
+          std::clamp(1.0 - static_cast<double>(r - kSmoothedRings) / (kBlendRings + 1), 0.0, 1.0);
+      blended.row(p) += share * (smoothed.row(p) - next.row(p));
+    }
+    keepOnPlane(blended);
+    return blended;
   }
 
   // Where a cell between `points` and `next` would be poor, more smoothing of the directions and
   // points there alone; each repaired point moves `lengths` along its direction.
   RowMatrixX3d repairPoorCells(const RowMatrixX3d& points, RowMatrixX3d next, RowMatrixX3d& directions,
                                const Eigen::VectorXd& lengths, int layer) const {
+    Repaired repaired = repairedPoorCells(points, std::move(next), directions, lengths);
+    if (repaired.failed) {
+      const double share = areaShare(points, repaired.left.where);
+      const double median = medianAreaShare(points);
+      fold(layer, repaired.left.worst, repaired.left.where, points,
+           share > 0.0 && share < kConvergedAreaShare * median
+               ? "after local smoothing: the layers converge there, its cell has " + numberText(share) +
+                     " of its area on the wall where the layer's median cell has " + numberText(median) +
+                     "; a concave groove or corner, which neither more smoothing nor a lower growth opens: "
+                     "docs/volume.md, \"Not there yet\""
+               : "after local smoothing: raise the smoothing, lower the growth or refine the wall there");
+    }
+    return std::move(repaired.points);
+  }
+
+  Repaired repairedPoorCells(const RowMatrixX3d& points, RowMatrixX3d next, RowMatrixX3d& directions,
+                             const Eigen::VectorXd& lengths) const {
     for (int repair = 0;; ++repair) {
       std::vector<char> bad(front_.quads.size(), 0);
       const PoorCells cells = markPoorCells(points, next, bad);
-      if (!cells.any || (repair >= kRepairs && cells.worst > 0.0)) return next;
-      if (repair >= kRepairs || options_.smoothing == 0.0) {
-        const double share = areaShare(points, cells.where);
-        const double median = medianAreaShare(points);
-        fold(layer, cells.worst, cells.where, points,
-             share > 0.0 && share < kConvergedAreaShare * median
-                 ? "after local smoothing: the layers converge there, its cell has " + numberText(share) +
-                       " of its area on the wall where the layer's median cell has " + numberText(median) +
-                       "; a concave groove or corner, which neither more smoothing nor a lower growth opens: "
-                       "docs/volume.md, \"Not there yet\""
-                 : "after local smoothing: raise the smoothing, lower the growth or refine the wall there");
-      }
+      if (!cells.any || (repair >= kRepairs && cells.worst > 0.0))
+        return {std::move(next), cells, std::move(bad), false};
+      if (repair >= kRepairs || options_.smoothing == 0.0)
+        return {std::move(next), cells, std::move(bad), true};
       const std::vector<char> marks = markAround(bad);
       smoothDirections(directions, 4, marks);
       for (Eigen::Index p = 0; p < points.rows(); ++p) {

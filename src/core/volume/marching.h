@@ -110,7 +110,8 @@ struct MarchingResult {
   std::vector<double> layerDistance;        // mean marched distance of each layer
   std::vector<double> layerMinScaledJacobian;  // per layer k >= 1: worst cell between layers k-1 and k
   // With the hyperbolic scheme: far-field layers it would have folded (after the local repair),
-  // marched by the smoothed scheme's step instead.
+  // marched by the smoothed scheme's step instead (or, where that folds too, by the hyperbolic
+  // step with the smoothed one round its folded cells).
   int farfieldLayersSmoothed = 0;
 };
 
