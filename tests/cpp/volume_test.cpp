@@ -491,8 +491,9 @@ TEST(VolumeMesh, AConcaveCreaseMarchesAsTheWallsOffset) {
   // bisector, wholly at the edge and not at all four boundary-layer thicknesses away, and each is
   // as long as keeps its layers at their distance from its wall cells: the boundary layer's top
   // above the edge is the offset's corner, (1 + t, 1 + t), and the whole volume marches with
-  // positive cells (before: the lines stopped half way next to the edge, whose boundary-layer top
-  // dipped into the corner, and the far field folded there in its first layer).
+  // positive cells (before: the edge read as convex, its cells being long along it, the lines
+  // next to it stopped at 0.45 of the thickness, the boundary layer's top dipped into the corner,
+  // and the far field folded there at layer 7).
   const surface::QuadControlMesh wall = lShapedPrism(3);
   VolumeMeshOptions options;
   options.boundaryLayerThickness = 0.1;
