@@ -219,6 +219,10 @@ bool bluntTrailingEdge(const target::Target& target, const WingFrame& w);
 // rounded one.
 void requireFlatTipForBluntEdge(const WingFrame& w, bool rounded);
 
+// A blunt trailing edge's ring (sectionRing's, started at the base's middle): its upper edge
+// (along `thickness`) in place of that first vertex, its lower edge appended last.
+void putBaseEdges(std::vector<Vec>& ring, const Vec& a, const Vec& b, const Vec& thickness);
+
 // The wing's ring at span s (sectionRing on the plane section of the target).
 std::vector<Vec> wingRing(const target::Target& target, const WingFrame& w, double s,
                           const std::vector<double>& upper, const std::vector<double>& lower,

@@ -127,6 +127,12 @@ void requireFlatTipForBluntEdge(const WingFrame& w, bool rounded) {
   }
 }
 
+void putBaseEdges(std::vector<Vec>& ring, const Vec& a, const Vec& b, const Vec& thickness) {
+  const bool aUpper = (a - b).dot(thickness) >= 0.0;
+  ring[0] = aUpper ? a : b;
+  ring.push_back(aUpper ? b : a);
+}
+
 // The wing's ring at span s (sectionRing on the plane section of the target).
 std::vector<Vec> wingRing(const target::Target& target, const WingFrame& w, double s,
                           const std::vector<double>& upper, const std::vector<double>& lower,
@@ -156,11 +162,7 @@ std::vector<Vec> wingRing(const target::Target& target, const WingFrame& w, doub
                     if (hits.empty()) return base;
                     return Vec(base + (upperSide ? hits.back() : hits.front()) * thickness);
                   });
-  if (w.blunt) {  // the base's upper edge first, its lower edge last
-    if ((edges[0] - edges[1]).dot(wing.thickness) < 0.0) std::swap(edges[0], edges[1]);
-    ring[0] = edges[0];
-    ring.push_back(edges[1]);
-  }
+  if (w.blunt) putBaseEdges(ring, edges[0], edges[1], wing.thickness);
   // Stations at the ends of the span lie on the end itself.
   for (Vec& v : ring) v += (s - (v - w.origin).dot(w.span)) * w.span;
   if (sectionOut) {

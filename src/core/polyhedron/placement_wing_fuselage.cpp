@@ -284,12 +284,7 @@ Draft buildWingFuselage(const TemplateValues& values, const target::Target& targ
                     }
                     return best;
                   });
-  if (w.blunt) {  // the base's upper edge first, its lower edge last, as on the wing's rings
-    const bool upperFirst =
-        (junction.trailingEdge[0] - junction.trailingEdge[1]).dot(rootSection.thickness) > 0.0;
-    root[0] = junction.trailingEdge[upperFirst ? 0 : 1];
-    root.push_back(junction.trailingEdge[upperFirst ? 1 : 0]);
-  }
+  if (w.blunt) putBaseEdges(root, junction.trailingEdge[0], junction.trailingEdge[1], rootSection.thickness);
 
   // Stations: the hole's columns at the root ring's chord fractions, the rest spread evenly
   // ahead of and behind the wing.
