@@ -12,7 +12,7 @@ namespace bvmesh::volume {
 // The boundary layer's grid lines: per point of the front its unit direction, and the line's
 // length per unit of boundary-layer distance (1 but in a concave crease's band, where the line
 // leans off the wall's normals: there as long as keeps its layers at their distance from the
-// wall cells round it, at most kLongestLine).
+// wall cells round it, at most 2).
 struct BoundaryLayerLines {
   RowMatrixX3d directions;
   Eigen::VectorXd lengths;

@@ -511,11 +511,14 @@ class Marcher {
   RowMatrixX3d smoothedOrBlended(const RowMatrixX3d& points, RowMatrixX3d& previous, double step,
                                  double progress, double towardsDomain, int layer,
                                  const HyperbolicAttempt& attempt) const {
-    RowMatrixX3d smoothedDirections = previous;
+    RowMatrixX3d smoothedDirections;
+    const RowMatrixX3d stepped =
+        smoothedStep(points, previous, step, progress, towardsDomain, smoothedDirections);
     std::optional<RowMatrixX3d> smoothed;
     std::exception_ptr smoothedFold;
     try {
-      smoothed = marchOnce(points, smoothedDirections, step, progress, towardsDomain, layer);
+      smoothed = repairPoorCells(points, stepped, smoothedDirections,
+                                 Eigen::VectorXd::Constant(points.rows(), step), layer);
     } catch (const SolverError&) {
       smoothedFold = std::current_exception();
     }
@@ -523,16 +526,17 @@ class Marcher {
     RowMatrixX3d blendedDirections;
     if (attempt.folded) {
       try {
-        RowMatrixX3d next = blendedWithSmoothed(points, attempt.folded->points, attempt.folded->poor,
-                                                previous, step, progress, towardsDomain);
+        RowMatrixX3d next =
+            blendedWithSmoothed(points, attempt.folded->points, attempt.folded->poor, stepped);
         const RowMatrixX3d moves = next - points;
         blendedDirections = moves.rowwise().normalized();
         blended = repairPoorCells(points, std::move(next), blendedDirections, moves.rowwise().norm(), layer);
       } catch (const SolverError&) {
       }
     }
-    if (blended && worstCell(points, *blended) >= options_.minScaledJacobian &&
-        (!smoothed || worstCell(points, *blended) > worstCell(points, *smoothed))) {
+    const double blendedWorst = blended ? worstCell(points, *blended) : 0.0;
+    if (blended && blendedWorst >= options_.minScaledJacobian &&
+        (!smoothed || blendedWorst > worstCell(points, *smoothed))) {
       previous = std::move(blendedDirections);
       return std::move(*blended);
     }
@@ -541,12 +545,11 @@ class Marcher {
     return std::move(*smoothed);
   }
 
-  // The hyperbolic step `next` with the smoothed step taken instead round the cells it folds (the
-  // `poor` ones not positive): on their points and kSmoothedRings rings of neighbours wholly,
-  // blended back over kBlendRings more.
+  // The hyperbolic step `next` with the smoothed step's points `smoothed` (before its repair) taken
+  // instead round the cells it folds (the `poor` ones not positive): on their points and
+  // kSmoothedRings rings of neighbours wholly, blended back over kBlendRings more.
   RowMatrixX3d blendedWithSmoothed(const RowMatrixX3d& points, const RowMatrixX3d& next,
-                                   const std::vector<char>& poor, const RowMatrixX3d& previous, double step,
-                                   double progress, double towardsDomain) const {
+                                   const std::vector<char>& poor, const RowMatrixX3d& smoothed) const {
     constexpr int kSmoothedRings = 2;
     constexpr int kBlendRings = 8;
     const Eigen::Index n = points.rows();
@@ -570,8 +573,6 @@ class Marcher {
       }
       current = std::move(reached);
     }
-    RowMatrixX3d directions;
-    const RowMatrixX3d smoothed = smoothedStep(points, previous, step, progress, towardsDomain, directions);
     RowMatrixX3d blended = next;
     for (Eigen::Index p = 0; p < n; ++p) {
       const int r = ring[static_cast<size_t>(p)];
