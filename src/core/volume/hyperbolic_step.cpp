@@ -31,6 +31,8 @@ constexpr double kSmoothingGrowthExponent = 0.15;
 // which the factor is stale and the step is solved directly, which refreshes it.
 constexpr int kSmoothingIterations = 60;
 constexpr int kFactorIterations = 12;
+// Ring edges more than this many times apart in length: the step's direction stays Fourier's.
+constexpr double kGradedRing = 8.0;
 
 // Eigen's preconditioner interface for one prepared before the solver runs (given by `use`):
 // the solver's own analysis and factorisation calls do nothing.
@@ -339,13 +341,19 @@ RowMatrixX3d HyperbolicStepper::pseudoStep(const RowMatrixX3d& before, const Row
     const Vector3d x = points.row(p).transpose();
     const Vector3d xBefore = before.row(p).transpose();
     Vector3d rXi = Vector3d::Zero(), rEta = Vector3d::Zero(), laplacian = Vector3d::Zero();
+    Vector3d unitXi = Vector3d::Zero(), unitEta = Vector3d::Zero();
     double lengthBefore = 0.0, length = 0.0;
+    double shortestEdge = std::numeric_limits<double>::infinity(), longestEdge = 0.0;
     for (const RingEntry& entry : ring) {
       const Vector3d d = ringPoint(points, entry) - x;
       rXi += entry.xiWeight * d;
       rEta += entry.etaWeight * d;
+      unitXi += entry.xiWeight * d.normalized();
+      unitEta += entry.etaWeight * d.normalized();
       laplacian += (4.0 / valence) * d;
       length += d.norm();
+      shortestEdge = std::min(shortestEdge, d.norm());
+      longestEdge = std::max(longestEdge, d.norm());
       lengthBefore += (ringPoint(before, entry) - xBefore).norm();
     }
     const Vector3d sigma = rXi.cross(rEta);
@@ -353,7 +361,17 @@ RowMatrixX3d HyperbolicStepper::pseudoStep(const RowMatrixX3d& before, const Row
       throw SolverError("hyperbolic marching: the front is degenerate at point " + std::to_string(p) + " (" +
                         coordinatesText(x) + ")");
     }
-    const Vector3d rZeta = (volume[p] / area[p]) * sigma.normalized();
+    // The step's direction. Fourier's normal sigma weighs the ring's triangles by their area, which
+    // on a convex front leans it towards the side of longer edges (at the corners of a box whose
+    // long faces have 2:1 cells, 16 degrees off the diagonal, and the first far-field layer folded
+    // there); where the front is convex the ring's unit edges give it, each triangle weighed by its
+    // angle. Not where it is concave, nor on a ring whose edges differ more than kGradedRing times
+    // in length (a tiny block's edges beside a large one's): there the unit edges folded a
+    // wing-body's layers earlier and a thin tip's corner cells (docs/volume.md, "Direction").
+    const Vector3d unitNormal = unitXi.cross(unitEta);
+    const bool angleWeighted =
+        laplacian.dot(sigma) < 0.0 && longestEdge <= kGradedRing * shortestEdge && unitNormal.norm() > 1e-12;
+    const Vector3d rZeta = (volume[p] / area[p]) * (angleWeighted ? unitNormal : sigma).normalized();
     Matrix3d pMatrix, q1, q2;
     pMatrix << rXi.transpose(), rEta.transpose(), sigma.transpose();
     q1 << rZeta.transpose(), Eigen::RowVector3d::Zero(), rEta.cross(rZeta).transpose();
