@@ -346,14 +346,16 @@ RowMatrixX3d HyperbolicStepper::pseudoStep(const RowMatrixX3d& before, const Row
     double shortestEdge = std::numeric_limits<double>::infinity(), longestEdge = 0.0;
     for (const RingEntry& entry : ring) {
       const Vector3d d = ringPoint(points, entry) - x;
+      const double edgeLength = d.norm();
+      const Vector3d unit = d.normalized();
       rXi += entry.xiWeight * d;
       rEta += entry.etaWeight * d;
-      unitXi += entry.xiWeight * d.normalized();
-      unitEta += entry.etaWeight * d.normalized();
+      unitXi += entry.xiWeight * unit;
+      unitEta += entry.etaWeight * unit;
       laplacian += (4.0 / valence) * d;
-      length += d.norm();
-      shortestEdge = std::min(shortestEdge, d.norm());
-      longestEdge = std::max(longestEdge, d.norm());
+      length += edgeLength;
+      shortestEdge = std::min(shortestEdge, edgeLength);
+      longestEdge = std::max(longestEdge, edgeLength);
       lengthBefore += (ringPoint(before, entry) - xBefore).norm();
     }
     const Vector3d sigma = rXi.cross(rEta);
