@@ -10,6 +10,7 @@ failures, so their logs are read.
 Pure Python (no FreeCAD).
 """
 
+import glob
 import json
 import os
 import re
@@ -154,6 +155,19 @@ def _run_tool(case, arguments, log_path, prefix, environment, limit=None, mode="
     return text, timed_out
 
 
+def _drop_unfinished_write(folder, log_text):
+    """After a solver stopped at its time limit: removes `folder`'s latest time folder when the
+    solver's log shows that step unfinished (no ExecutionTime line after its "Time = " line). The
+    stop can land while the solver writes it, and a half-written field (a binary block cut short)
+    made the next run fail to read it; the write before it is whole."""
+    written = _time_folders(folder)
+    if not written:
+        return
+    at = log_text.rfind("\nTime = {}\n".format(written[-1]))
+    if at >= 0 and "ExecutionTime" not in log_text[at:]:
+        shutil.rmtree(os.path.join(folder, written[-1]))
+
+
 def latest_step(case):
     """The latest step the case has written (0 before its first write)."""
     written = _time_folders(case)
@@ -223,6 +237,8 @@ def run_case(case, cores=1, nice=19, timeout=None, log_name=None):
         text, timed_out = _run_tool(case, arguments, log_path, command, environment, limit, mode)
         if timed_out:
             stopped.append("after {:.0f} s".format(timeout))
+            for folder in [case] + sorted(glob.glob(os.path.join(case, "processor[0-9]*"))):
+                _drop_unfinished_write(folder, text)
         return text
 
     if cores > 1 and hasattr(os, "geteuid") and os.geteuid() == 0:

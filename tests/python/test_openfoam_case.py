@@ -224,6 +224,21 @@ class Errors(unittest.TestCase):
     def tearDown(self):
         self.folder.cleanup()
 
+    def test_a_step_the_time_limit_cut_short_is_dropped(self):
+        # A solver stopped at run_case's time limit while it wrote step 255 left a field cut short
+        # (seen: "Expected a ')' while reading binaryBlock" in 255/rDeltaT), and the continued run
+        # failed reading it. Its log shows that step unfinished: no ExecutionTime after "Time = 255".
+        case = tempfile.mkdtemp(dir=self.folder.name)
+        for step in ("250", "255"):
+            os.makedirs(os.path.join(case, step))
+            open(os.path.join(case, step, "p"), "w").close()
+        whole = "\nTime = 250\n\nExecutionTime = 3.1 s  ClockTime = 3 s\n"
+        ofr._drop_unfinished_write(case, whole + "\nTime = 255\n\nsmoothSolver:  Solving for Ux\n")
+        self.assertEqual(ofr.latest_step(case), 250)
+        # A step whose ExecutionTime line follows it was written whole, and stays.
+        ofr._drop_unfinished_write(case, whole)
+        self.assertEqual(ofr.latest_step(case), 250)
+
     def fake_case(self, patches):
         case = tempfile.mkdtemp(dir=self.folder.name)
         os.makedirs(os.path.join(case, "constant", "polyMesh"))
