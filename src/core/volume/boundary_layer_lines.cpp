@@ -193,6 +193,13 @@ class SplayBands {
   // band, whose lines fan across it as across a rounded one: parted off, its band (half its
   // reach) would turn its lines through 45 degrees within less than a quarter of the boundary
   // layer's thickness, and the far field folded above it.
+  // A region reaching less than kNarrowRegion boundary-layer thicknesses from its sharp edges (a
+  // blunt trailing edge's base) is banded to its farthest points: its lines fan from edge to edge
+  // as round a rounded edge. Banded over half its reach, its outer halves fanned and its middle
+  // went straight, and the blocks' cubic interpolation of that kinked fan crossed the middle, where
+  // the base's two halves' blocks meet (a lofted wing's base, 0.05 thicknesses: 632 negative cells).
+  // A wing-body's flat tip (0.26) banded whole folded at the first layer.
+  static constexpr double kNarrowRegion = 0.1;
   std::vector<double> bandWidths(const WallView& view, const CellsAround& cells,
                                  const std::vector<char>& sharp, const std::vector<double>& distance,
                                  double width) const {
@@ -202,7 +209,8 @@ class SplayBands {
     std::vector<double> result(sharp.size(), width);
     for (size_t p = 0; p < sharp.size(); ++p) {
       const double reach = crease[p] == 0 && byCrease[p] >= 0.5 * thickness_ ? byCrease[p] : bySharp[p];
-      result[p] = std::min(width, 0.5 * reach);
+      const double share = reach < kNarrowRegion * thickness_ ? 1.0 : 0.5;
+      result[p] = std::min(width, share * reach);
     }
     return result;
   }
