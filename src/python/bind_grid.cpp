@@ -177,7 +177,8 @@ void bindGrid(py::module_& module) {
           "merged_points", [](const StructuredGrid& g) { return rowsArray(grid::mergePoints(g).points); },
           "Every distinct point once (shared faces merged), in the order OpenFOAM's points file has them.");
 
-  py::class_<grid::RefinedGrid>(module, "RefinedGrid", "A grid made by refine_blocks, with what its wall lines measure.")
+  py::class_<grid::RefinedGrid>(module, "RefinedGrid",
+                                "A grid made by refine_blocks, with what its wall lines measure.")
       .def_readonly("grid", &grid::RefinedGrid::grid)
       .def_readonly("normal_points", &grid::RefinedGrid::normalPoints)
       .def_readonly("first_cell_height_asked", &grid::RefinedGrid::firstCellHeightAsked)
@@ -185,15 +186,16 @@ void bindGrid(py::module_& module) {
       .def_readonly("first_cell_height_max", &grid::RefinedGrid::firstCellHeightMax)
       .def_readonly("growth_max", &grid::RefinedGrid::growthMax)
       .def_readonly("outer_faces_split", &grid::RefinedGrid::outerFacesSplit)
-      .def_readonly("even_far_field_used", &grid::RefinedGrid::evenFarFieldUsed);
+      .def_readonly("even_far_field_used", &grid::RefinedGrid::evenFarFieldUsed)
+      .def_readonly("fold_refinements", &grid::RefinedGrid::foldRefinements);
 
   module.def(
       "refine_blocks",
       [](const volume::BlockMesh& blocks, int normalPoints, double firstCellHeight, double yPlus,
          double reynoldsNumber, double referenceLength, double growth, const std::string& distribution,
          int edgePoints, double tangentialSpacing, long long targetCells, double edgeEndSpacing,
-         double maxTurningAngle, double maxSpacingJump, bool evenFarField,
-         const py::object& featureSpacings, const volume::VolumeMesh* outerDomainOf, long long maxPoints) {
+         double maxTurningAngle, double maxSpacingJump, bool evenFarField, const py::object& featureSpacings,
+         const volume::VolumeMesh* outerDomainOf, long long maxPoints) {
         grid::RefinementOptions options;
         options.normalPoints = normalPoints;
         options.firstCellHeight = firstCellHeight;
@@ -220,8 +222,8 @@ void bindGrid(py::module_& module) {
       py::arg("growth") = 1.2, py::arg("distribution") = "geometric", py::arg("edge_points") = 17,
       py::arg("tangential_spacing") = 0.0, py::arg("target_cells") = 0, py::arg("edge_end_spacing") = 0.0,
       py::arg("max_turning_angle") = 0.0, py::arg("max_spacing_jump") = 0.0,
-      py::arg("even_far_field") = false,
-      py::arg("feature_spacings") = py::none(), py::arg("outer_domain_of") = nullptr, py::arg("max_points") = 0,
+      py::arg("even_far_field") = false, py::arg("feature_spacings") = py::none(),
+      py::arg("outer_domain_of") = nullptr, py::arg("max_points") = 0,
       R"doc(Evaluates a BlockMesh on stretched, point-matched grids.
 
 Wall-normal lines (from wall faces, and every direction a connection links to them): normal_points
@@ -250,6 +252,11 @@ outer_domain_of: the VolumeMesh the blocks come from; a box or cylinder domain's
 then inlet, outlet or side quad by quad (RefinedGrid.outer_faces_split counts the faces split).
 max_points (0: no limit): a grid of more points is refused (ValueError) when its sizes are planned,
 before any point is computed (bvmesh.grid.refine sets it from the free memory).
+A grid with a folded cell (a non-positive scaled Jacobian) is refined again with twice the
+tangential cells in the blocks a fold is in (their linked sets with them), while that leaves fewer
+blocks folded, twice at most and within max_points: a block one or two cells across, whose layers
+wrap round a corner of the wall, can fold where it is sampled that coarsely and not where it is
+sampled finer (RefinedGrid.fold_refinements says how often).
 Returns a RefinedGrid.)doc");
 
   module.def(

@@ -385,6 +385,7 @@ std::vector<GridBlock> twoCellRow(const std::array<int, 3>& at, const Vector3d& 
 }
 
 TEST(GridFolds, EveryCornerTurnedInsideOutIsFoundAndASkewedOrPrismCellIsNot) {
+  auto hasFoldedCell = [](const std::vector<GridBlock>& grids) { return foldedBlocks(grids)[0] == 1; };
   EXPECT_FALSE(hasFoldedCell(twoCellRow({0, 0, 0}, Vector3d::Zero())));
   // Each point of the row, whichever corner of its cells it is: pushed through them along the
   // diagonal, its corners turn inside out; a fifth as far, they are skewed but valid.
@@ -411,6 +412,37 @@ TEST(GridFolds, EveryCornerTurnedInsideOutIsFoundAndASkewedOrPrismCellIsNot) {
     for (int j = 0; j < 2; ++j) prism[0].points.row(prism[0].index(2, j, k)) << 0.8, 0.0, k;
   }
   EXPECT_TRUE(hasFoldedCell(prism));
+}
+
+TEST(GridFolds, EachBlockIsFlaggedOnItsOwn) {
+  std::vector<GridBlock> grids = twoCellRow({0, 0, 0}, Vector3d::Zero());
+  grids.push_back(twoCellRow({1, 1, 1}, Vector3d(-1.5, 1.5, 1.5))[0]);
+  grids.push_back(grids[0]);
+  EXPECT_EQ(foldedBlocks(grids), (std::vector<char>{0, 1, 0}));
+}
+
+TEST(GridRefinement, BlocksThatFoldWhereSampledCoarselyTakeTwiceTheCells) {
+  // The one-layer box bent round the z axis' parallel through the origin: x -> angle, z -> radius
+  // 1 + z, y -> height; each block's x spans `degrees`. The blocks are valid B-spline volumes,
+  // but a cell whose corners lie more than 180 degrees apart round the bend is turned inside out:
+  // at one cell per edge it folds, at two it does not.
+  auto bent = [](double degrees) {
+    const double perUnit = degrees * M_PI / 180.0;
+    return mappedOneLayerBox([perUnit](const Vector3d& x) {
+      const double angle = perUnit * x.x(), radius = 1.0 + x.z();
+      return Vector3d(radius * std::cos(angle), radius * std::sin(angle), x.y());
+    });
+  };
+  RefinementOptions options;
+  options.edgePoints = 2;
+  options.normalPoints = 3;
+  const RefinedGrid folding = refineBlockMesh(bent(200.0), options);
+  EXPECT_EQ(folding.foldRefinements, 1);
+  EXPECT_EQ(folding.grid.cellCount(), 4 * 2 * 2 * 2);
+  EXPECT_EQ(foldedBlocks(folding.grid.blocks()), std::vector<char>(4, 0));
+  const RefinedGrid valid = refineBlockMesh(bent(150.0), options);
+  EXPECT_EQ(valid.foldRefinements, 0);
+  EXPECT_EQ(valid.grid.cellCount(), 4 * 1 * 1 * 2);
 }
 
 TEST(GridPlaneCut, ACollapsedFaceOrATouchedCornerDrawsNoSegment) {

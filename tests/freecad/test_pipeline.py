@@ -295,6 +295,25 @@ class LoftedWing(unittest.TestCase):
         self.assertNotIn("Knife edges cut open", report)
 
 
+class BluntLoftedWing(unittest.TestCase):
+    def test_a_corner_block_that_folds_sampled_coarsely_is_refined(self):
+        # The lofted half wing with a base 0.25 % of the chord thick (tests/python/test_blunt_wing.py)
+        # at the mesh command's fit: one or two cells across the blocks where the base meets the
+        # flat tip, whose layers wrap round that corner, left 2 folded cells there (scaled Jacobian
+        # -0.048; the blocks themselves are positive), and the writers refused the grid.
+        from test_blunt_wing import BASE, half_wing
+
+        folder = tempfile.mkdtemp(prefix="bvmesh-mesh-blunt-")
+        cad = os.path.join(folder, "blunt.step")
+        half_wing(BASE).exportStep(cad)
+        done = mesh(cad, "--template", "half_wing", "--half-model", "--output", os.path.join(folder, "out"),
+                    "--target-cells", "300000", "--formats", "openfoam")
+        self.assertEqual(done.returncode, 0, done.stderr)
+        report = read(os.path.join(folder, "out", "blunt_volume_report.md"))
+        self.assertIn("The blocks with a folded cell took twice the tangential cells 1 time(s)", report)
+        self.assertIn("checkMesh on blunt_openfoam: Mesh OK.", report)
+
+
 class UnmetGoals(unittest.TestCase):
     def test_skew_faces_point_to_the_knife_edge_fans(self):
         # Lofted wings' O-grids fail checkMesh's skewness at the sharp trailing edge's first cells

@@ -169,6 +169,8 @@ class VolumeGridProxy(RecomputedProxy):
             ("GrowthMax", "App::PropertyFloat", "Largest growth ratio of the wall-normal lines"),
             ("OuterFacesSplit", "App::PropertyInteger",
              "Outer block faces of a box or cylinder domain whose quads go to more than one of inlet, outlet, side"),
+            ("FoldRefinements", "App::PropertyInteger",
+             "Times the blocks with a folded cell were refined with twice the tangential cells"),
             ("Digest", "App::PropertyString", "SHA-1 of the grid's points"),
         ):
             add_property(obj, type_name, name, r, doc, mode=READ_ONLY)
@@ -214,7 +216,7 @@ class VolumeGridProxy(RecomputedProxy):
                 walls = [b for b in range(structured.block_count) if structured.faces(b)["w_min"]["condition"] == "wall"]
                 obj.NormalPointsUsed = structured.size(walls[0])[2] if walls else 0
                 obj.FirstCellHeightAsked = obj.FirstCellHeightMin = obj.FirstCellHeightMax = obj.GrowthMax = 0.0
-                obj.OuterFacesSplit = 0
+                obj.OuterFacesSplit = obj.FoldRefinements = 0
             else:
                 obj.NormalPointsUsed = result.normal_points
                 obj.FirstCellHeightAsked = result.first_cell_height_asked
@@ -222,6 +224,7 @@ class VolumeGridProxy(RecomputedProxy):
                 obj.FirstCellHeightMax = result.first_cell_height_max
                 obj.GrowthMax = result.growth_max
                 obj.OuterFacesSplit = result.outer_faces_split
+                obj.FoldRefinements = result.fold_refinements
         conditions = shown_conditions(obj, DISPLAY)
         obj.Shape = boundary_lines_shape(structured, conditions)
 

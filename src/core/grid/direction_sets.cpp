@@ -621,7 +621,8 @@ void placeEdgePoints(const std::vector<volume::Block>& blocks, const DirectionSe
 }  // namespace
 
 std::vector<BlockPlan> planDirectionSets(const std::vector<volume::Block>& blocks,
-                                         const RefinementOptions& options, double firstHeight) {
+                                         const RefinementOptions& options, double firstHeight,
+                                         const std::vector<int>& minimumPoints) {
   const DirectionSets sets = linkedDirections(blocks);
   const std::vector<int> wallParity = wallParities(blocks, sets);
   std::vector<BlockPlan> plans = wallNormalPlans(blocks, sets, wallParity);
@@ -640,7 +641,18 @@ std::vector<BlockPlan> planDirectionSets(const std::vector<volume::Block>& block
   const double spacing = options.targetCells > 0 ? spacingForTarget(countsFor, edges.longestEdge,
                                                                     normalPoints, options.targetCells)
                                                  : options.tangentialSpacing;
-  const std::vector<int> counts = countsFor(spacing, normalPoints);
+  std::vector<int> counts = countsFor(spacing, normalPoints);
+  if (!minimumPoints.empty()) {
+    std::vector<int> setMinimum(counts.size(), 0);
+    for (size_t node = 0; node < counts.size(); ++node) {
+      int& least = setMinimum[static_cast<size_t>(sets.find(static_cast<int>(node)).first)];
+      least = std::max(least, minimumPoints[node]);
+    }
+    for (size_t node = 0; node < counts.size(); ++node) {
+      const auto root = static_cast<size_t>(sets.find(static_cast<int>(node)).first);
+      if (wallParity[root] < 0) counts[node] = std::max(counts[node], setMinimum[root]);
+    }
+  }
 
   // Tangential edge distributions: the set's shared measure, clustered at its ends as asked.
   const std::vector<std::optional<SharedMeasure>> setMeasure =

@@ -17,8 +17,10 @@ namespace bvmesh::grid {
 // edge parameters. Along the wall-normal direction the size is options.normalPoints, or when
 // that is automatic (0) the estimate from the wall blocks' edges that served the cell target
 // (the wall-normal lines decide the count). firstHeight: the first cell height asked (0: none).
-// Throws InvalidInputError for block layouts the refinement cannot take (naming the block).
+// minimumPoints: per block direction (3 b + d) the fewest points its tangential set takes (empty:
+// none). Throws InvalidInputError for block layouts the refinement cannot take (naming the block).
 std::vector<BlockPlan> planDirectionSets(const std::vector<volume::Block>& blocks,
-                                         const RefinementOptions& options, double firstHeight);
+                                         const RefinementOptions& options, double firstHeight,
+                                         const std::vector<int>& minimumPoints = {});
 
 }  // namespace bvmesh::grid

@@ -6,19 +6,22 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <memory>
 
 #include "core/common/parallel.h"
 #include "core/volume/hex_scaled_jacobian.h"
 
 namespace bvmesh::grid {
 
-bool hasFoldedCell(const std::vector<GridBlock>& grids) {
+std::vector<char> foldedBlocks(const std::vector<GridBlock>& grids) {
   // Rows of cells along i, numbered block after block: one pool of threads for all.
   std::vector<std::int64_t> offset{0};
   for (const GridBlock& grid : grids) {
     offset.push_back(offset.back() + static_cast<std::int64_t>(grid.size[1] - 1) * (grid.size[2] - 1));
   }
-  std::atomic<bool> folded{false};
+  // One flag per block: a block's rows are skipped once a fold is found in it.
+  std::unique_ptr<std::atomic<bool>[]> folded(new std::atomic<bool>[grids.size()]);
+  for (size_t b = 0; b < grids.size(); ++b) folded[b] = false;
   parallelChunks(offset.back(), 64, [&](std::int64_t begin, std::int64_t end) {
     size_t b =
         static_cast<size_t>(std::upper_bound(offset.begin(), offset.end(), begin) - offset.begin()) - 1;
@@ -38,8 +41,9 @@ bool hasFoldedCell(const std::vector<GridBlock>& grids) {
       }
     };
     CellFace face[2];
-    for (std::int64_t row = begin; row < end && !folded.load(std::memory_order_relaxed); ++row) {
+    for (std::int64_t row = begin; row < end; ++row) {
       while (row >= offset[b + 1]) ++b;
+      if (folded[b].load(std::memory_order_relaxed)) continue;
       const GridBlock& grid = grids[b];
       const std::int64_t local = row - offset[b], nj = grid.size[1] - 1;
       const int j0 = static_cast<int>(local % nj), k0 = static_cast<int>(local / nj);
@@ -63,11 +67,16 @@ bool hasFoldedCell(const std::vector<GridBlock>& grids) {
         // hexScaledJacobian's corner order: 000 100 110 010 001 101 111 011.
         const std::array<Eigen::Vector3d, 8> corners{low.x[0][0], high.x[0][0], high.x[1][0], low.x[1][0],
                                                      low.x[0][1], high.x[0][1], high.x[1][1], low.x[1][1]};
-        if (!(volume::hexScaledJacobian(corners) > 0.0)) folded = true;
+        if (!(volume::hexScaledJacobian(corners) > 0.0)) {
+          folded[b] = true;
+          break;
+        }
       }
     }
   });
-  return folded;
+  std::vector<char> result(grids.size());
+  for (size_t b = 0; b < grids.size(); ++b) result[b] = folded[b].load() ? 1 : 0;
+  return result;
 }
 
 }  // namespace bvmesh::grid

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <future>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -244,11 +245,11 @@ void makeSharedPointsIdentical(const std::vector<Eigen::Index>& roots, double to
                     " apart: the distributions disagree across a shared face (block layout not supported)");
 }
 
-// The grid of refineBlockMesh with `options` as they are.
+// The grid of refineBlockMesh with `options` as they are (and the sets' fewest points).
 RefinedGrid refineOnce(const BlockMesh& mesh, const RefinementOptions& options, double firstHeight,
-                       const BlocksExtent& extent, bool& folded) {
+                       const BlocksExtent& extent, const std::vector<int>& minimumPoints) {
   const auto& blocks = mesh.blocks();
-  const std::vector<BlockPlan> plans = planDirectionSets(blocks, options, firstHeight);
+  const std::vector<BlockPlan> plans = planDirectionSets(blocks, options, firstHeight, minimumPoints);
   const SlideShares shares = slideShares(blocks, plans, options.evenFarField);
   // Automatic: the edges' estimate served the cell target; the wall-normal lines themselves decide.
   const int normalPoints = options.normalPoints == 0
@@ -269,10 +270,42 @@ RefinedGrid refineOnce(const BlockMesh& mesh, const RefinementOptions& options, 
   result.firstCellHeightMax = measured.firstHeightMax;
   result.growthMax = measured.growthMax;
   result.evenFarFieldUsed = !shares.empty();
-  folded = result.evenFarFieldUsed && hasFoldedCell(grids);
   if (options.outerDomain) result.outerFacesSplit = tagOuterQuads(grids, *options.outerDomain);
   result.grid = StructuredGrid(std::move(grids), firstHeight > 0.0);
   return result;
+}
+
+long long countOf(const std::vector<char>& flags) { return std::count(flags.begin(), flags.end(), 1); }
+
+// A cell that folds where its block need not: the grid samples the block too coarsely for the way
+// its lines turn (a corner block one or two cells across, whose layers wrap round a corner of the
+// wall). The blocks a fold is in take twice the tangential cells (their sets with them), while
+// that leaves fewer blocks folded, at most kFoldRefinements times and within the point budget.
+constexpr int kFoldRefinements = 2;
+
+RefinedGrid refinedWhereFolded(const BlockMesh& mesh, const RefinementOptions& options, double firstHeight,
+                               const BlocksExtent& extent, RefinedGrid refined, std::vector<char> folded) {
+  std::vector<int> minimumPoints(3 * folded.size(), 0);
+  for (int round = 1; round <= kFoldRefinements && countOf(folded) > 0; ++round) {
+    for (size_t b = 0; b < folded.size(); ++b) {
+      if (folded[b] == 0) continue;
+      const std::array<int, 3>& size = refined.grid.blocks()[b].size;
+      for (size_t d = 0; d < 3; ++d)
+        minimumPoints[3 * b + d] = 2 * size[d] - 1;  // the wall-normal one unused
+    }
+    std::optional<RefinedGrid> finer;
+    try {
+      finer = refineOnce(mesh, options, firstHeight, extent, minimumPoints);
+    } catch (const InvalidInputError&) {
+      break;  // beyond the point budget: the folded grid stands (the writers refuse it, naming the cell)
+    }
+    std::vector<char> stillFolded = foldedBlocks(finer->grid.blocks());
+    if (countOf(stillFolded) >= countOf(folded)) break;
+    refined = std::move(*finer);
+    refined.foldRefinements = round;
+    folded = std::move(stillFolded);
+  }
+  return refined;
 }
 
 }  // namespace
@@ -285,14 +318,17 @@ RefinedGrid refineBlockMesh(const BlockMesh& mesh, const RefinementOptions& opti
   const BlocksExtent extent = blocksExtent(blocks);
   checkSpacingsResolvable(extent, options, firstHeight);
 
-  bool folded = false;
-  RefinedGrid refined = refineOnce(mesh, options, firstHeight, extent, folded);
-  if (!folded) return refined;
-  // Slid lines that fold a cell (neighbouring lines sliding far apart grow to different lengths,
-  // and the wall law places their points at different heights): the grid without the slide.
-  RefinementOptions withoutSlide = options;
-  withoutSlide.evenFarField = false;
-  return refineOnce(mesh, withoutSlide, firstHeight, extent, folded);
+  RefinedGrid refined = refineOnce(mesh, options, firstHeight, extent, {});
+  std::vector<char> folded = foldedBlocks(refined.grid.blocks());
+  RefinementOptions used = options;
+  if (refined.evenFarFieldUsed && countOf(folded) > 0) {
+    // Slid lines that fold a cell (neighbouring lines sliding far apart grow to different lengths,
+    // and the wall law places their points at different heights): the grid without the slide.
+    used.evenFarField = false;
+    refined = refineOnce(mesh, used, firstHeight, extent, {});
+    folded = foldedBlocks(refined.grid.blocks());
+  }
+  return refinedWhereFolded(mesh, used, firstHeight, extent, std::move(refined), std::move(folded));
 }
 
 }  // namespace bvmesh::grid

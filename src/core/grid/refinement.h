@@ -104,6 +104,8 @@ struct RefinedGrid {
   double growthMax = 0.0;
   int outerFacesSplit = 0;  // outer block faces whose quads lie on more than one part of the domain
   bool evenFarFieldUsed = false;  // the far field's lines slid (RefinementOptions::evenFarField)
+  // Times the blocks with a folded cell took twice the tangential cells (refineBlockMesh).
+  int foldRefinements = 0;
 };
 
 // Each wall-normal line runs in one block from the wall to the outer boundary (blocks stacked on
