@@ -103,12 +103,15 @@ class BluntTrailingEdgeTest(unittest.TestCase):
 
     def test_the_base_gives_trailing_edge_cells_the_o_topology_cannot(self):
         # An O-grid round a sharp edge has a knife-edge cell (a corner of nearly 180 degrees) on
-        # each side; a base's cells have right angles. Measured: 0.358 against 0.112.
+        # each side; a base's cells have right angles. Measured: 0.632 against 0.142, and no face
+        # above 70 degrees on the blunt edge's grid. With the base's lines fanning over its outer
+        # halves only (its middle straight): 0.390, and 32 faces above 70 degrees.
         blunt = trailing_edge_cells(*self.results["blunt"][3:])
         sharp = trailing_edge_cells(*self.results["sharp"][3:])
         self.assertGreater(len(blunt), 100)
-        self.assertGreater(blunt.min(), 0.3)
+        self.assertGreater(blunt.min(), 0.5)
         self.assertLess(sharp.min(), 0.15)
+        self.assertEqual((np.asarray(self.results["blunt"][4]["non_orthogonality"]) > 70.0).sum(), 0)
 
     def test_the_default_grid_is_positive_across_the_base(self):
         # The base (0.25 % of the chord) is narrow beside the boundary layer (2.3 %): its lines fan
