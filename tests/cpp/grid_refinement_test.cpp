@@ -1,6 +1,6 @@
-// The volume grid: distributions against closed forms, and refinement of hand-made block meshes
-// (every connection orientation, a mirrored block) against the affine map they represent, point
-// matching, counts and clustering. Cell quality: quality_test.cpp; the OpenFOAM writer:
+// Refinement of hand-made block meshes (every connection orientation, a mirrored block) against
+// the affine map they represent: point matching, counts, clustering, the even far field and folds.
+// Distributions: grid_distribution_test.cpp; cell quality: quality_test.cpp; the OpenFOAM writer:
 // openfoam_writer_test.cpp.
 #include <gtest/gtest.h>
 
@@ -17,162 +17,19 @@
 #include "core/common/errors.h"
 #include "core/grid/distribution.h"
 #include "core/grid/folded_cells.h"
-#include "core/grid/hex_topology.h"
-#include "core/grid/plane_cut.h"
 #include "core/grid/refinement.h"
+#include "grid_fixtures.h"
 
 namespace bvmesh::grid {
 namespace {
 
 using Eigen::Vector3d;
 
-TEST(GridDistribution, VinokurEndsAndMonotone) {
-  const std::vector<double> x = vinokurFractions(41, 0.002, 0.002);
-  ASSERT_EQ(x.size(), 41u);
-  EXPECT_EQ(x.front(), 0.0);
-  EXPECT_EQ(x.back(), 1.0);
-  for (size_t i = 1; i < x.size(); ++i) EXPECT_GT(x[i], x[i - 1]);
-  // Symmetric, with the end spacings asked.
-  for (size_t i = 0; i < x.size(); ++i) EXPECT_NEAR(x[i] + x[x.size() - 1 - i], 1.0, 1e-12);
-  EXPECT_NEAR(x[1] / 0.002, 1.0, 1e-9);
-  const std::vector<double> oneSided = vinokurFractions(30, 0.0, 0.01);
-  EXPECT_NEAR((1.0 - oneSided[28]) / 0.01, 1.0, 1e-9);
-  for (size_t i = 1; i < oneSided.size(); ++i) EXPECT_GT(oneSided[i], oneSided[i - 1]);
-  const std::vector<double> uniform = vinokurFractions(5, 0.0, 0.0);
-  EXPECT_DOUBLE_EQ(uniform[1], 0.25);
-  EXPECT_THROW(vinokurFractions(5, 1.5, 0.0), InvalidInputError);
-}
-
-TEST(GridDistribution, TanhWallFirstSpacingIsExact) {
-  const std::vector<double> x = tanhWallFractions(60, 1e-7);
-  EXPECT_NEAR(x[1] / 1e-7, 1.0, 1e-9);
-  for (size_t i = 1; i < x.size(); ++i) EXPECT_GT(x[i], x[i - 1]);
-  EXPECT_EQ(x.back(), 1.0);
-  EXPECT_THROW(tanhWallFractions(10, 0.5), InvalidInputError);
-}
-
-TEST(GridDistribution, GeometricLawClosedForms) {
-  // Three points, first spacing 1, length 1 + r: r = length - 1.
-  EXPECT_NEAR(geometricGrowth(3, 1.0, 2.44), 1.44, 1e-13);
-  const double r = geometricGrowth(50, 1e-6, 1.0);
-  const std::vector<double> d = geometricDistances(50, 1e-6, r, 1.0);
-  EXPECT_DOUBLE_EQ(d[1], 1e-6);
-  for (size_t k = 2; k < d.size(); ++k) EXPECT_NEAR((d[k] - d[k - 1]) / (d[k - 1] - d[k - 2]), r, 1e-9 * r);
-  EXPECT_DOUBLE_EQ(d.back(), 1.0);
-  // Points needed: 1e-6 (1.2^n - 1) / 0.2 >= 1 first at n = 67 intervals.
-  EXPECT_EQ(geometricPointsNeeded(1e-6, 1.2, 1.0), 68);
-  EXPECT_THROW(geometricGrowth(11, 0.1, 1.0), InvalidInputError);  // 10 spacings of 0.1 fill it already
-}
-
-TEST(GridDistribution, FlatPlateFirstCellHeight) {
-  // White: Cf = 0.026 Re^(-1/7); at Re = 1e6, L = 1: Cf = 3.6127e-3, y(y+ = 1) = 2.3529e-5.
-  EXPECT_NEAR(flatPlateFirstCellHeight(1.0, 1e6, 1.0), 2.3529e-5, 1e-9);
-  EXPECT_NEAR(flatPlateYPlus(flatPlateFirstCellHeight(2.5, 3e6, 0.8), 3e6, 0.8), 2.5, 1e-12);
-  EXPECT_THROW(flatPlateFirstCellHeight(1.0, 0.0, 1.0), InvalidInputError);
-}
-
-TEST(GridDistribution, ArcLengthOfAnUnevenlyParameterisedLine) {
-  // A cubic B-spline with poles bunched on a straight line: arc length is distance along it.
-  BsplineCurve line;
-  line.degree = 3;
-  line.knots = {0, 0, 0, 0, 0.1, 0.5, 1, 1, 1, 1};
-  line.poles.resize(6, 3);
-  const double at[6] = {0.0, 0.01, 0.05, 0.4, 2.0, 3.0};
-  for (int p = 0; p < 6; ++p) line.poles.row(p) = (at[p] * Vector3d(1, 2, 2) / 3.0).transpose();
-  const ArcLength arc(line, 8);
-  EXPECT_NEAR(arc.length(), 3.0, 1e-12);
-  // The Hermite inversion of t(s): to about 1e-5 of s even on this strongly uneven line.
-  for (double s : {1e-7, 0.003, 0.5, 1.7, 2.9999}) EXPECT_NEAR(line.point(arc.parameterAt(s)).norm() / s, 1.0, 1e-5);
-  const double t = parameterAtDistance(line, 0.0, 1, 1e-6, 1e-3);
-  EXPECT_NEAR(line.point(t).norm(), 1e-6, 1e-18);
-}
-
-// A planar cubic B-spline whose control polygon runs straight along x, bends left and leaves
-// along y: a convex polygon gives a curve that turns one way only, so its tangent turns by
-// exactly the angle between its end legs, 90 degrees, mostly in the bend near x = 3.5 .. 3.9.
-BsplineCurve straightThenBent() {
-  BsplineCurve curve;
-  curve.knots = {0, 0, 0, 0, 0.2, 0.4, 0.6, 0.8, 1, 1, 1, 1};
-  curve.poles.resize(8, 3);
-  const double xy[8][2] = {{0, 0}, {1, 0}, {2, 0}, {3, 0}, {3.5, 0.1}, {3.8, 0.5}, {3.9, 1.0}, {3.9, 2.0}};
-  for (int p = 0; p < 8; ++p) curve.poles.row(p) = Vector3d(xy[p][0], xy[p][1], 0.0).transpose();
-  return curve;
-}
-
-double tangentAngleDegrees(const BsplineCurve& curve, double t0, double t1) {
-  Vector3d a, b;
-  curve.point(t0, &a);
-  curve.point(t1, &b);
-  return std::atan2(a.cross(b).norm(), a.dot(b)) * 180.0 / M_PI;
-}
-
-TEST(GridDistribution, TurningMeasureGathersPointsInTheBend) {
-  const BsplineCurve curve = straightThenBent();
-  const ArcLength arc(curve, 8);
-  const TurningTable table(curve, arc, 400);
-  EXPECT_NEAR(table.turning(), M_PI / 2.0, 1e-12);
-  EXPECT_NEAR(table.length(), arc.length(), 1e-15);
-  const double limit = 10.0 * M_PI / 180.0;
-  // No turning limit: the arc-length fractions exactly (grids refined without it keep their points
-  // bit for bit), with or without end spacings.
-  SharedMeasure plain(1000, 0.5, 0.0);
-  plain.add(table, false);
-  plain.add(table, true);
-  EXPECT_TRUE(plain.uniformInArcLength());
-  EXPECT_EQ(plain.fractions(11, 0.0, 0.0), vinokurFractions(11, 0.0, 0.0));
-  EXPECT_EQ(plain.fractions(11, 0.01, 0.01), vinokurFractions(11, 0.01, 0.01));
-  // One end clustered (the other's step 0, or no shorter than an equal step): the one-sided law.
-  const std::vector<double> oneSided = plain.fractions(11, 0.0, 0.01);
-  EXPECT_EQ(oneSided, vinokurFractions(11, 0.0, 0.01));
-  EXPECT_EQ(plain.fractions(11, 0.2, 0.01), oneSided);
-  EXPECT_NEAR(1.0 - oneSided[9], 0.01, 1e-12);
-  EXPECT_GT(oneSided[1], 0.1);
-  EXPECT_EQ(plain.at(0.3), 0.3);
-  // Spacing 0.5 and 10 degrees: length / 0.5 + 9 cells; none longer than 0.5 in arc length, none
-  // whose end tangents differ by more than 10 degrees (measured on the curve, not the table).
-  const double cells = table.measure(0.5, limit);
-  EXPECT_NEAR(cells, arc.length() / 0.5 + 9.0, 1e-9);
-  const int points = static_cast<int>(std::ceil(cells)) + 1;
-  SharedMeasure shared(1000, 0.5, limit);
-  shared.add(table, false);
-  EXPECT_FALSE(shared.uniformInArcLength());
-  const std::vector<double> sigma = shared.fractions(points, 0.0, 0.0);
-  int inBend = 0;
-  for (size_t i = 1; i < sigma.size(); ++i) {
-    EXPECT_GT(sigma[i], sigma[i - 1]);
-    EXPECT_LE((sigma[i] - sigma[i - 1]) * arc.length(), 0.5 * (1.0 + 1e-6));
-    const double t0 = arc.parameterAt(sigma[i - 1] * arc.length()), t1 = arc.parameterAt(sigma[i] * arc.length());
-    EXPECT_LE(tangentAngleDegrees(curve, t0, t1), 10.0 * 1.02);
-    if (curve.point(t1).x() > 3.4 && curve.point(t1).y() < 1.2) ++inBend;
-  }
-  // Uniform points at that count put about 3 in the bend (its arc is about a quarter of the
-  // curve's 5.3); the turning measure gives the bend its nine 10-degree steps.
-  EXPECT_GE(inBend, 8);
-  // End spacings of 0.02 asked at both ends, as steps of the measure: met to its tabulation.
-  const double end = 0.02 / arc.length();
-  const std::vector<double> ends = shared.fractions(points, shared.at(end), 1.0 - shared.at(1.0 - end));
-  EXPECT_NEAR(ends[1] / end, 1.0, 1e-2);
-  EXPECT_NEAR((1.0 - ends[ends.size() - 2]) / end, 1.0, 1e-2);
-  // The same edge added against the shared sense gives the mirrored measure.
-  SharedMeasure mirrored(1000, 0.5, limit);
-  mirrored.add(table, true);
-  for (const double x : {0.1, 0.5, 0.77, 0.95}) EXPECT_NEAR(mirrored.at(x), 1.0 - shared.at(1.0 - x), 1e-12);
-}
-
-// The unwarped box's refinement: 5 points per tangential edge, 9 along z.
-RefinementOptions affineBoxOptions() {
-  RefinementOptions options;
-  options.edgePoints = 5;
-  options.normalPoints = 9;
-  options.growth = 1.3;
-  return options;
-}
-
 TEST(GridRefinement, AffineBoxGivesTheExactLattice) {
   // Unwarped, every block is an affine map: uniform arc length along x and y is a uniform
   // lattice, and the wall-normal lines from the wall at z = 0 follow the geometric law exactly.
   const test::BoxBlocks box = test::boxBlocks(0.0, true, 1);
-  RefinementOptions options = affineBoxOptions();
+  RefinementOptions options = test::affineBoxOptions();
   options.firstCellHeight = 0.01;
   options.growth = 1.8;
   const RefinedGrid refined = refineBlockMesh(box.mesh, options);
@@ -185,7 +42,8 @@ TEST(GridRefinement, AffineBoxGivesTheExactLattice) {
   for (const GridBlock& block : grid.blocks()) {
     for (Eigen::Index r = 0; r < block.points.rows(); ++r) {
       const Vector3d x = block.points.row(r).transpose();
-      for (int axis = 0; axis < 2; ++axis) EXPECT_NEAR(std::remainder(x[axis] * 4.0, 1.0), 0.0, 1e-9) << x.transpose();
+      for (int axis = 0; axis < 2; ++axis)
+        EXPECT_NEAR(std::remainder(x[axis] * 4.0, 1.0), 0.0, 1e-9) << x.transpose();
       EXPECT_TRUE(std::any_of(law.begin(), law.end(), [&](double d) { return std::abs(d - x.z()) < 1e-9; }))
           << x.transpose();
     }
@@ -199,7 +57,7 @@ TEST(GridRefinement, APointBudgetRefusesALargerGridByItsPlannedSize) {
   // 4 blocks of 5 x 5 x 9 points: allowed at exactly that many, refused one below, and a count
   // far beyond any machine (100 000 points per edge) refused before a point is computed.
   const test::BoxBlocks box = test::boxBlocks(0.0, true, 1);
-  RefinementOptions options = affineBoxOptions();
+  RefinementOptions options = test::affineBoxOptions();
   options.maxPoints = 4 * 5 * 5 * 9;
   EXPECT_EQ(refineBlockMesh(box.mesh, options).grid.cellCount(), 4 * 4 * 4 * 8);
   options.maxPoints -= 1;
@@ -218,61 +76,6 @@ TEST(GridRefinement, APointBudgetRefusesALargerGridByItsPlannedSize) {
   EXPECT_THROW(refineBlockMesh(box.mesh, options), InvalidInputError);
 }
 
-// [0, 2] x [0, 2] x [0, 1] as 2 x 2 unwarped blocks (turned and mirrored), 5 points per edge
-// and 9 along z: the lattice the plane-cut tests cut.
-StructuredGrid affineBoxGrid() {
-  return refineBlockMesh(test::boxBlocks(0.0, true, 1).mesh, affineBoxOptions()).grid;
-}
-
-TEST(GridPlaneCut, AffineBoxCutAcrossXHasTheLatticeLines) {
-  // [0, 2] x [0, 2] x [0, 1] as 2 x 2 blocks (turned and mirrored), 5 points per edge: the plane
-  // x = 0.6 crosses the faces normal to y (5 per block, 1 long in z; y = 1 is in both blocks at
-  // x < 1) and normal to z (9 levels, 2 long in y): 28 in all, every point at x = 0.6, and each
-  // segment's cell straddles the plane.
-  const StructuredGrid grid = affineBoxGrid();
-  const PlaneCut cut = cutByPlane(grid, Vector3d(0.6, 7.0, -3.0), Vector3d(2.0, 0.0, 0.0));
-  ASSERT_GT(cut.cell.size(), 0u);
-  double length = 0.0;
-  const HexTopology topology(grid);
-  for (Eigen::Index s = 0; s < cut.start.rows(); ++s) {
-    EXPECT_NEAR(cut.start(s, 0), 0.6, 1e-12);
-    EXPECT_NEAR(cut.end(s, 0), 0.6, 1e-12);
-    length += (cut.end.row(s) - cut.start.row(s)).norm();
-    double low = 1e9, high = -1e9;
-    for (Eigen::Index corner : topology.cellCorners(cut.cell[static_cast<size_t>(s)])) {
-      low = std::min(low, topology.points().points(corner, 0));
-      high = std::max(high, topology.points().points(corner, 0));
-    }
-    EXPECT_LE(low, 0.6);
-    EXPECT_GE(high, 0.6);
-  }
-  EXPECT_NEAR(length, 28.0, 1e-9);
-  EXPECT_EQ(cut.start.rows(), 2 * 5 * 8 + 9 * 8);
-  EXPECT_THROW(cutByPlane(grid, Vector3d::Zero(), Vector3d::Zero()), InvalidInputError);
-  EXPECT_THROW(cutByPlane(grid, Vector3d::Zero(), Vector3d(0.0, std::nan(""), 1.0)), InvalidInputError);
-}
-
-TEST(GridPlaneCut, APlaneTheGridTouchesFromOneSideDrawsTheGridLinesInIt) {
-  // The box's face x = 0 (as a half model's symmetry plane) cut with the normal pointing into the
-  // grid and away from it: the same lines either way, the face's lattice: in each of the two blocks
-  // on it (y 0..1 and 1..2) 5 lines along z of length 1 and 9 along y of length 1 in 4 steps, each
-  // step a segment on its own (the line y = 1 once per block).
-  const StructuredGrid grid = affineBoxGrid();
-  for (const double side : {1.0, -1.0}) {
-    const PlaneCut cut = cutByPlane(grid, Vector3d(0.0, 0.3, 0.4), Vector3d(side, 0.0, 0.0));
-    ASSERT_EQ(cut.start.rows(), 2 * (5 * 8 + 9 * 4)) << side;
-    double length = 0.0;
-    for (Eigen::Index s = 0; s < cut.start.rows(); ++s) {
-      EXPECT_EQ(cut.start(s, 0), 0.0);
-      EXPECT_EQ(cut.end(s, 0), 0.0);
-      length += (cut.end.row(s) - cut.start.row(s)).norm();
-    }
-    EXPECT_NEAR(length, 2.0 * (5.0 + 9.0), 1e-12) << side;
-  }
-  // A plane beyond the grid still cuts nothing.
-  EXPECT_EQ(cutByPlane(grid, Vector3d(-0.1, 0.0, 0.0), Vector3d(1.0, 0.0, 0.0)).start.rows(), 0);
-}
-
 TEST(GridRefinement, WarpedBoxIsPointMatchedWithExactWallSpacing) {
   const test::BoxBlocks box = test::boxBlocks(0.08, true, 1);
   RefinementOptions options;
@@ -280,7 +83,8 @@ TEST(GridRefinement, WarpedBoxIsPointMatchedWithExactWallSpacing) {
   options.normalPoints = 0;
   options.firstCellHeight = 1e-5;
   options.edgeEndSpacing = 0.02;
-  const RefinedGrid refined = refineBlockMesh(box.mesh, options);  // the grid's constructor checks matching bit for bit
+  const RefinedGrid refined =
+      refineBlockMesh(box.mesh, options);  // the grid's constructor checks matching bit for bit
   EXPECT_GE(refined.grid.blocks()[0].size[0], 13);
   EXPECT_NEAR(refined.firstCellHeightMin / 1e-5, 1.0, 1e-9);
   EXPECT_NEAR(refined.firstCellHeightMax / 1e-5, 1.0, 1e-9);
@@ -303,7 +107,8 @@ volume::BlockMesh mappedOneLayerBox(Map map) {
   std::vector<volume::Block> blocks = test::boxBlocks(0.0, true, 1).mesh.blocks();
   for (volume::Block& block : blocks) {
     const RowMatrixX3d poles = block.volume.poles();
-    for (Eigen::Index row = 0; row < poles.rows(); ++row) block.volume.setPole(row, map(Vector3d(poles.row(row).transpose())));
+    for (Eigen::Index row = 0; row < poles.rows(); ++row)
+      block.volume.setPole(row, map(Vector3d(poles.row(row).transpose())));
   }
   return volume::BlockMesh(blocks);
 }
@@ -369,58 +174,6 @@ double stepSpread(const std::vector<double>& steps, size_t first, size_t last) {
   return *high / *low;
 }
 
-// A block of 3 x 2 x 2 points (two unit cells along i), corner (i, j, k) of its cells at
-// (i, j, k) before `moved` is added to point `at`.
-std::vector<GridBlock> twoCellRow(const std::array<int, 3>& at, const Vector3d& moved) {
-  GridBlock block;
-  block.size = {3, 2, 2};
-  block.points.resize(block.pointCount(), 3);
-  for (int k = 0; k < 2; ++k) {
-    for (int j = 0; j < 2; ++j) {
-      for (int i = 0; i < 3; ++i) block.points.row(block.index(i, j, k)) << i, j, k;
-    }
-  }
-  block.points.row(block.index(at[0], at[1], at[2])) += moved.transpose();
-  return {block};
-}
-
-TEST(GridFolds, EveryCornerTurnedInsideOutIsFoundAndASkewedOrPrismCellIsNot) {
-  auto hasFoldedCell = [](const std::vector<GridBlock>& grids) { return foldedBlocks(grids)[0] == 1; };
-  EXPECT_FALSE(hasFoldedCell(twoCellRow({0, 0, 0}, Vector3d::Zero())));
-  // Each point of the row, whichever corner of its cells it is: pushed through them along the
-  // diagonal, its corners turn inside out; a fifth as far, they are skewed but valid.
-  for (int k = 0; k < 2; ++k) {
-    for (int j = 0; j < 2; ++j) {
-      for (int i = 0; i < 3; ++i) {
-        const Vector3d inwards(i == 0 ? 1.0 : -1.0, j == 0 ? 1.0 : -1.0, k == 0 ? 1.0 : -1.0);
-        EXPECT_TRUE(hasFoldedCell(twoCellRow({i, j, k}, 1.5 * inwards))) << i << " " << j << " " << k;
-        EXPECT_FALSE(hasFoldedCell(twoCellRow({i, j, k}, 0.3 * inwards))) << i << " " << j << " " << k;
-        // Across the diagonal of its own i-face: that face folds, and only the corners on it turn
-        // (on the last face, only far corners: each cell's are checked, not only its near ones).
-        const Vector3d acrossFace(0.0, inwards.y(), inwards.z());
-        EXPECT_TRUE(hasFoldedCell(twoCellRow({i, j, k}, 1.5 * acrossFace))) << i << " " << j << " " << k;
-      }
-    }
-  }
-  // A prism: the second cell's far face (i = 2) merged into its edge at j = 0 (a collapsed face's
-  // cells), valid though its merged corners have no triple product; the same with that edge
-  // pulled back behind the cell's near face is folded.
-  std::vector<GridBlock> prism = twoCellRow({2, 1, 0}, Vector3d(0.0, -1.0, 0.0));
-  prism[0].points.row(prism[0].index(2, 1, 1)) << 2.0, 0.0, 1.0;
-  EXPECT_FALSE(hasFoldedCell(prism));
-  for (int k = 0; k < 2; ++k) {
-    for (int j = 0; j < 2; ++j) prism[0].points.row(prism[0].index(2, j, k)) << 0.8, 0.0, k;
-  }
-  EXPECT_TRUE(hasFoldedCell(prism));
-}
-
-TEST(GridFolds, EachBlockIsFlaggedOnItsOwn) {
-  std::vector<GridBlock> grids = twoCellRow({0, 0, 0}, Vector3d::Zero());
-  grids.push_back(twoCellRow({1, 1, 1}, Vector3d(-1.5, 1.5, 1.5))[0]);
-  grids.push_back(grids[0]);
-  EXPECT_EQ(foldedBlocks(grids), (std::vector<char>{0, 1, 0}));
-}
-
 TEST(GridRefinement, BlocksThatFoldWhereSampledCoarselyTakeTwiceTheCells) {
   // The one-layer box bent round the z axis' parallel through the origin: x -> angle, z -> radius
   // 1 + z, y -> height; each block's x spans `degrees`. The blocks are valid B-spline volumes,
@@ -443,26 +196,6 @@ TEST(GridRefinement, BlocksThatFoldWhereSampledCoarselyTakeTwiceTheCells) {
   const RefinedGrid valid = refineBlockMesh(bent(150.0), options);
   EXPECT_EQ(valid.foldRefinements, 0);
   EXPECT_EQ(valid.grid.cellCount(), 4 * 1 * 1 * 2);
-}
-
-TEST(GridPlaneCut, ACollapsedFaceOrATouchedCornerDrawsNoSegment) {
-  // Two unit cells along x, the second a prism: its far face (x = 2) merged into the edge y = 0.
-  // The plane z = 0.5 crosses the faces normal to x at x = 0 and 1 and those normal to y, one
-  // unit segment each (the prism's slanted face sqrt(2)); the merged face's crossings are one
-  // point, no segment (a CAD line through it would fail: the GridCut feature of a grid with fans).
-  std::vector<GridBlock> prism = twoCellRow({2, 1, 0}, Vector3d(0.0, -1.0, 0.0));
-  prism[0].points.row(prism[0].index(2, 1, 1)) << 2.0, 0.0, 1.0;
-  const StructuredGrid grid(prism);
-  const PlaneCut cut = cutByPlane(grid, Vector3d(0.0, 0.0, 0.5), Vector3d(0.0, 0.0, 1.0));
-  ASSERT_EQ(cut.start.rows(), 6);
-  double length = 0.0;
-  for (Eigen::Index s = 0; s < cut.start.rows(); ++s) {
-    EXPECT_GT((cut.end.row(s) - cut.start.row(s)).norm(), 0.99);
-    length += (cut.end.row(s) - cut.start.row(s)).norm();
-  }
-  EXPECT_NEAR(length, 5.0 + std::sqrt(2.0), 1e-12);
-  // A plane through the corner (0, 0, 0) alone touches three faces there and cuts none.
-  EXPECT_EQ(cutByPlane(grid, Vector3d::Zero(), Vector3d(-1.0, -1.0, -1.0)).start.rows(), 0);
 }
 
 TEST(GridRefinement, AnEvenFarFieldSpreadsTheOuterPointsAndKeepsTheWall) {
@@ -490,7 +223,8 @@ TEST(GridRefinement, AnEvenFarFieldSpreadsTheOuterPointsAndKeepsTheWall) {
   EXPECT_GT(stepSpread(plainTop, 0, 8), 2.4) << ::testing::PrintToString(plainTop);
   // Block edges from x = 0 to 2.5 and from 2.5 to 8 (the wall's x = 1 at the top), 8 cells each,
   // uniform to the accuracy of the edges' arc-length tables.
-  for (size_t i = 0; i < evenTop.size(); ++i) EXPECT_NEAR(evenTop[i] / (i < 8 ? 2.5 / 8 : 5.5 / 8), 1.0, 1e-3) << i;
+  for (size_t i = 0; i < evenTop.size(); ++i)
+    EXPECT_NEAR(evenTop[i] / (i < 8 ? 2.5 / 8 : 5.5 / 8), 1.0, 1e-3) << i;
 
   // The wall and the first cell heights are untouched, the growth stays within its maximum.
   EXPECT_EQ(pointsAtHeight(even, 0.0, 0.0), pointsAtHeight(plain, 0.0, 0.0));
@@ -536,10 +270,13 @@ TEST(GridRefinement, WallEdgesThatTurnGetTheirPointsFromTheTurningLimit) {
       const int n = block.size[static_cast<size_t>(d)];
       const int other = block.size[static_cast<size_t>(along[static_cast<size_t>(1 - axis)])];
       auto wallPoint = [&](int i, int j) {
-        return Vector3d(block.points.row(axis == 0 ? block.facePoint(wall, i, j) : block.facePoint(wall, j, i)).transpose());
+        return Vector3d(
+            block.points.row(axis == 0 ? block.facePoint(wall, i, j) : block.facePoint(wall, j, i))
+                .transpose());
       };
       // The direction's grid lines on the wall: do they bend (x) or run straight (y)?
-      const Vector3d first = wallPoint(1, 0) - wallPoint(0, 0), last = wallPoint(n - 1, 0) - wallPoint(n - 2, 0);
+      const Vector3d first = wallPoint(1, 0) - wallPoint(0, 0),
+                     last = wallPoint(n - 1, 0) - wallPoint(n - 2, 0);
       const bool turns = std::abs(first.normalized().dot(last.normalized())) < 0.99;
       const int coarseCount = coarse.grid.blocks()[b].size[static_cast<size_t>(d)];
       if (!turns) {
@@ -622,8 +359,9 @@ TEST(GridRefinement, UpperEndWallsOnUnevenKnotsFollowTheLawInEveryBlock) {
           const double z = block.points(block.index(i, j, k), 2);
           EXPECT_NEAR(1.0 - z, law[static_cast<size_t>(points - 1 - k)], 1e-12) << i << " " << j << " " << k;
         }
-        EXPECT_NEAR(block.points(block.index(i, j, points - 1), 2) - block.points(block.index(i, j, points - 2), 2),
-                    1e-3, 1e-15);
+        EXPECT_NEAR(
+            block.points(block.index(i, j, points - 1), 2) - block.points(block.index(i, j, points - 2), 2),
+            1e-3, 1e-15);
       }
     }
   }
@@ -650,7 +388,8 @@ std::vector<volume::Block> bentLineBlocks() {
   const std::vector<double> along = grevilleAbscissae(wKnots, 3);
   auto path = [](double x, double y, double s) {
     const double radius = 0.3 + 0.2 * y, turn = M_PI / 3.0;
-    if (s <= radius * turn) return Vector3d(x + radius * (1.0 - std::cos(s / radius)), y, radius * std::sin(s / radius));
+    if (s <= radius * turn)
+      return Vector3d(x + radius * (1.0 - std::cos(s / radius)), y, radius * std::sin(s / radius));
     const Vector3d bend(x + radius * (1.0 - std::cos(turn)), y, radius * std::sin(turn));
     return Vector3d(bend + (s - radius * turn) * Vector3d(std::sin(turn), 0.0, std::cos(turn)));
   };
@@ -678,7 +417,9 @@ std::pair<double, double> measuredGrowth(const StructuredGrid& grid) {
     for (int j = 0; j < block.size[1]; ++j) {
       for (int i = 0; i < block.size[0]; ++i) {
         for (int k = 2; k < block.size[2]; ++k) {
-          auto at = [&](int level) { return Vector3d(block.points.row(block.index(i, j, level)).transpose()); };
+          auto at = [&](int level) {
+            return Vector3d(block.points.row(block.index(i, j, level)).transpose());
+          };
           const double ratio = (at(k) - at(k - 1)).norm() / (at(k - 1) - at(k - 2)).norm();
           largest = std::max(largest, ratio);
           smallest = std::min(smallest, ratio);
@@ -946,7 +687,8 @@ TEST(GridRefinement, BlocksStackedOnAWallBlockAreRefused) {
     refineBlockMesh(box.mesh, options);
     FAIL();
   } catch (const InvalidInputError& error) {
-    EXPECT_NE(std::string(error.what()).find("stacked along the wall-normal direction"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("stacked along the wall-normal direction"), std::string::npos)
+        << error.what();
   }
 }
 
