@@ -254,7 +254,8 @@ max_points (0: no limit): a grid of more points is refused (ValueError) when its
 before any point is computed (bvmesh.grid.refine sets it from the free memory).
 A grid with a folded cell (a non-positive scaled Jacobian) is refined again with twice the
 tangential cells in the blocks a fold is in (their linked sets with them), while that leaves fewer
-blocks folded, twice at most and within max_points: a block one or two cells across, whose layers
+blocks folded, twice at most and within max_points (less the folded grid's points, held
+meanwhile): a block one or two cells across, whose layers
 wrap round a corner of the wall, can fold where it is sampled that coarsely and not where it is
 sampled finer (RefinedGrid.fold_refinements says how often).
 Returns a RefinedGrid.)doc");

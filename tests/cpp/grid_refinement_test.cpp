@@ -196,6 +196,14 @@ TEST(GridRefinement, BlocksThatFoldWhereSampledCoarselyTakeTwiceTheCells) {
   const RefinedGrid valid = refineBlockMesh(bent(150.0), options);
   EXPECT_EQ(valid.foldRefinements, 0);
   EXPECT_EQ(valid.grid.cellCount(), 4 * 1 * 1 * 2);
+  // The finer grid (4 blocks of 3 x 3 x 3 points) fits in the point budget beside the folded one
+  // (4 of 2 x 2 x 3) it replaces, or the folded one stands.
+  options.maxPoints = 48 + 108;
+  EXPECT_EQ(refineBlockMesh(bent(200.0), options).foldRefinements, 1);
+  options.maxPoints = 48 + 107;
+  const RefinedGrid overBudget = refineBlockMesh(bent(200.0), options);
+  EXPECT_EQ(overBudget.foldRefinements, 0);
+  EXPECT_EQ(foldedBlocks(overBudget.grid.blocks()), std::vector<char>(4, 1));
 }
 
 TEST(GridRefinement, AnEvenFarFieldSpreadsTheOuterPointsAndKeepsTheWall) {

@@ -280,11 +280,13 @@ long long countOf(const std::vector<char>& flags) { return std::count(flags.begi
 // A cell that folds where its block need not: the grid samples the block too coarsely for the way
 // its lines turn (a corner block one or two cells across, whose layers wrap round a corner of the
 // wall). The blocks a fold is in take twice the tangential cells (their sets with them), while
-// that leaves fewer blocks folded, at most kFoldRefinements times and within the point budget.
+// that leaves fewer blocks folded, at most kFoldRefinements times and within the point budget
+// (less the grid held meanwhile).
 constexpr int kFoldRefinements = 2;
 
 RefinedGrid refinedWhereFolded(const BlockMesh& mesh, const RefinementOptions& options, double firstHeight,
                                const BlocksExtent& extent, RefinedGrid refined, std::vector<char> folded) {
+  RefinementOptions finerOptions = options;
   std::vector<int> minimumPoints(3 * folded.size(), 0);
   for (int round = 1; round <= kFoldRefinements && countOf(folded) > 0; ++round) {
     for (size_t b = 0; b < folded.size(); ++b) {
@@ -293,9 +295,12 @@ RefinedGrid refinedWhereFolded(const BlockMesh& mesh, const RefinementOptions& o
       for (size_t d = 0; d < 3; ++d)
         minimumPoints[3 * b + d] = 2 * size[d] - 1;  // the wall-normal one unused
     }
+    if (options.maxPoints > 0)
+      finerOptions.maxPoints =
+          std::max(1LL, options.maxPoints - static_cast<long long>(refined.grid.pointCount()));
     std::optional<RefinedGrid> finer;
     try {
-      finer = refineOnce(mesh, options, firstHeight, extent, minimumPoints);
+      finer = refineOnce(mesh, finerOptions, firstHeight, extent, minimumPoints);
     } catch (const InvalidInputError&) {
       break;  // beyond the point budget: the folded grid stands (the writers refuse it, naming the cell)
     }
