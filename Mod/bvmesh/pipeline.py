@@ -181,8 +181,8 @@ def _grid_line(grid_object):
                     grid_object.SubdivisionSteps, grid_object.CellCount, grid_object.PointCount,
                     grid_object.NormalPointsUsed))
     folds = ("" if not grid_object.FoldRefinements else
-             " The blocks with a folded cell took twice the tangential cells {} time(s) (sampled coarser, a block "
-             "whose layers wrap round a corner of the wall folded).".format(grid_object.FoldRefinements))
+             " The blocks with a folded cell took {} times their tangential cells (sampled coarser, a block whose "
+             "layers wrap round a corner of the wall folded).".format(2 ** grid_object.FoldRefinements))
     return ("Grid: preset {}, {} cells, {} points over the blocks, {} points on the wall-normal lines, first cell "
             "height {:.4g} .. {:.4g}, largest wall-normal growth {:.4g}.{}".format(
                 grid_object.Preset, grid_object.CellCount, grid_object.PointCount, grid_object.NormalPointsUsed,

@@ -252,12 +252,12 @@ outer_domain_of: the VolumeMesh the blocks come from; a box or cylinder domain's
 then inlet, outlet or side quad by quad (RefinedGrid.outer_faces_split counts the faces split).
 max_points (0: no limit): a grid of more points is refused (ValueError) when its sizes are planned,
 before any point is computed (bvmesh.grid.refine sets it from the free memory).
-A grid with a folded cell (a non-positive scaled Jacobian) is refined again with twice the
-tangential cells in the blocks a fold is in (their linked sets with them), while that leaves fewer
-blocks folded, twice at most and within max_points (less the folded grid's points, held
-meanwhile): a block one or two cells across, whose layers
-wrap round a corner of the wall, can fold where it is sampled that coarsely and not where it is
-sampled finer (RefinedGrid.fold_refinements says how often).
+A grid with a folded cell (a non-positive scaled Jacobian) is refined again with twice, then four
+times the tangential cells in the blocks a fold is in (their linked sets with them), each try kept
+when it leaves fewer blocks folded and made only within max_points (less the grid kept meanwhile):
+a block one or two cells across, whose layers wrap round a corner of the wall, can fold where it
+is sampled that coarsely and not where it is sampled finer (RefinedGrid.fold_refinements: 1 for
+twice, 2 for four times).
 Returns a RefinedGrid.)doc");
 
   module.def(

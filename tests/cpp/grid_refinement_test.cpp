@@ -178,7 +178,7 @@ TEST(GridRefinement, BlocksThatFoldWhereSampledCoarselyTakeTwiceTheCells) {
   // The one-layer box bent round the z axis' parallel through the origin: x -> angle, z -> radius
   // 1 + z, y -> height; each block's x spans `degrees`. The blocks are valid B-spline volumes,
   // but a cell whose corners lie more than 180 degrees apart round the bend is turned inside out:
-  // at one cell per edge it folds, at two it does not.
+  // at 200 degrees per block, one cell per edge folds, two do not.
   auto bent = [](double degrees) {
     const double perUnit = degrees * M_PI / 180.0;
     return mappedOneLayerBox([perUnit](const Vector3d& x) {
@@ -196,6 +196,11 @@ TEST(GridRefinement, BlocksThatFoldWhereSampledCoarselyTakeTwiceTheCells) {
   const RefinedGrid valid = refineBlockMesh(bent(150.0), options);
   EXPECT_EQ(valid.foldRefinements, 0);
   EXPECT_EQ(valid.grid.cellCount(), 4 * 1 * 1 * 2);
+  // Blocks inside out (the box mirrored) fold however finely sampled: the grid comes back as it was.
+  const RefinedGrid inverted = refineBlockMesh(
+      mappedOneLayerBox([](const Vector3d& x) { return Vector3d(-x.x(), x.y(), x.z()); }), options);
+  EXPECT_EQ(inverted.foldRefinements, 0);
+  EXPECT_EQ(inverted.grid.cellCount(), 4 * 1 * 1 * 2);
   // The finer grid (4 blocks of 3 x 3 x 3 points) fits in the point budget beside the folded one
   // (4 of 2 x 2 x 3) it replaces, or the folded one stands.
   options.maxPoints = 48 + 108;

@@ -310,7 +310,7 @@ class BluntLoftedWing(unittest.TestCase):
                     "--target-cells", "300000", "--formats", "openfoam")
         self.assertEqual(done.returncode, 0, done.stderr)
         report = read(os.path.join(folder, "out", "blunt_volume_report.md"))
-        self.assertIn("The blocks with a folded cell took twice the tangential cells 1 time(s)", report)
+        self.assertIn("The blocks with a folded cell took 2 times their tangential cells", report)
         self.assertIn("checkMesh on blunt_openfoam: Mesh OK.", report)
 
 

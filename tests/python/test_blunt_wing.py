@@ -122,6 +122,23 @@ class BluntTrailingEdgeTest(unittest.TestCase):
         grid = bvmesh.grid.refine(self.volumes["blunt"], "euler")
         self.assertGreater(bvmesh.grid.quality(grid)["summary"]["scaled_jacobian"]["min"], 0.05)
 
+    def test_corner_blocks_that_fold_sampled_coarsely_are_refined(self):
+        # The wing rectangular (chord 1, span 4) at a finer fit, its layers marched from a coarser
+        # level: where the base meets the flat tip, blocks of one cell across wrap round that corner
+        # and 4 cells folded at 300 k cells (scaled Jacobian -0.19), though the blocks are positive.
+        # Their sets with twice the cells still folded there; with four times, none (397 k cells,
+        # minimum 0.046).
+        wing = Part.makeLoft([section(0.0, 0.0, 1.0, BASE), section(0.0, 4.0, 1.0, BASE)], True, False)
+        target, _, _ = polyhedra.half_model_target(wing)
+        placed = polyhedra.place("half_wing", target)
+        fitter = bvmesh.SurfaceFitter(target, placed["mesh"], placed["feature_map"],
+                                      symmetry_plane=placed["symmetry_plane"], max_level=3, tolerance=1e-5)
+        fitter.run()
+        volume = bvmesh.volume.offset_and_farfield(fitter, marching_level=-1, reference_length=1.0)
+        grid = bvmesh.grid.refine(volume, "euler", target_cells=300000)
+        self.assertEqual(grid.fold_refinements, 2)
+        self.assertGreater(bvmesh.grid.quality(grid)["summary"]["scaled_jacobian"]["min"], 0.0)
+
     def test_a_sharp_leading_edge_is_no_base(self):
         # A biconvex section (two circular arcs): sharp leading and trailing edges, a chord apart.
         def biconvex(leading_edge, y, chord):

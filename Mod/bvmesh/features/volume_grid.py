@@ -170,7 +170,7 @@ class VolumeGridProxy(RecomputedProxy):
             ("OuterFacesSplit", "App::PropertyInteger",
              "Outer block faces of a box or cylinder domain whose quads go to more than one of inlet, outlet, side"),
             ("FoldRefinements", "App::PropertyInteger",
-             "Times the blocks with a folded cell were refined with twice the tangential cells"),
+             "Where a cell folded, the blocks it was in took 2^FoldRefinements times their tangential cells"),
             ("Digest", "App::PropertyString", "SHA-1 of the grid's points"),
         ):
             add_property(obj, type_name, name, r, doc, mode=READ_ONLY)

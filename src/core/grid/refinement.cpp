@@ -279,21 +279,25 @@ long long countOf(const std::vector<char>& flags) { return std::count(flags.begi
 
 // A cell that folds where its block need not: the grid samples the block too coarsely for the way
 // its lines turn (a corner block one or two cells across, whose layers wrap round a corner of the
-// wall). The blocks a fold is in take twice the tangential cells (their sets with them), while
-// that leaves fewer blocks folded, at most kFoldRefinements times and within the point budget
-// (less the grid held meanwhile).
+// wall). The blocks a fold is in take twice, then four times their tangential cells (their sets
+// with them; one doubling may leave a corner block folded that the next opens), and so do the
+// blocks the first try folds; a try is kept when it leaves fewer blocks folded. Each try fits in
+// the point budget beside the grid kept meanwhile; a grid whose blocks fold themselves comes back
+// as it was.
 constexpr int kFoldRefinements = 2;
 
 RefinedGrid refinedWhereFolded(const BlockMesh& mesh, const RefinementOptions& options, double firstHeight,
                                const BlocksExtent& extent, RefinedGrid refined, std::vector<char> folded) {
+  long long fewest = countOf(folded);
+  std::vector<std::array<int, 3>> firstSize;
+  for (const GridBlock& grid : refined.grid.blocks()) firstSize.push_back(grid.size);
   RefinementOptions finerOptions = options;
   std::vector<int> minimumPoints(3 * folded.size(), 0);
-  for (int round = 1; round <= kFoldRefinements && countOf(folded) > 0; ++round) {
+  for (int round = 1; round <= kFoldRefinements && fewest > 0; ++round) {
     for (size_t b = 0; b < folded.size(); ++b) {
       if (folded[b] == 0) continue;
-      const std::array<int, 3>& size = refined.grid.blocks()[b].size;
-      for (size_t d = 0; d < 3; ++d)
-        minimumPoints[3 * b + d] = 2 * size[d] - 1;  // the wall-normal one unused
+      for (size_t d = 0; d < 3; ++d)  // the wall-normal one unused
+        minimumPoints[3 * b + d] = (1 << round) * (firstSize[b][d] - 1) + 1;
     }
     if (options.maxPoints > 0)
       finerOptions.maxPoints =
@@ -302,13 +306,16 @@ RefinedGrid refinedWhereFolded(const BlockMesh& mesh, const RefinementOptions& o
     try {
       finer = refineOnce(mesh, finerOptions, firstHeight, extent, minimumPoints);
     } catch (const InvalidInputError&) {
-      break;  // beyond the point budget: the folded grid stands (the writers refuse it, naming the cell)
+      break;  // beyond the point budget: the grid kept stands (the writers refuse a folded one, naming the
+              // cell)
     }
-    std::vector<char> stillFolded = foldedBlocks(finer->grid.blocks());
-    if (countOf(stillFolded) >= countOf(folded)) break;
-    refined = std::move(*finer);
-    refined.foldRefinements = round;
-    folded = std::move(stillFolded);
+    const std::vector<char> stillFolded = foldedBlocks(finer->grid.blocks());
+    for (size_t b = 0; b < folded.size(); ++b) folded[b] = static_cast<char>(folded[b] | stillFolded[b]);
+    if (countOf(stillFolded) < fewest) {
+      fewest = countOf(stillFolded);
+      refined = std::move(*finer);
+      refined.foldRefinements = round;
+    }
   }
   return refined;
 }

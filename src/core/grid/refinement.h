@@ -104,7 +104,8 @@ struct RefinedGrid {
   double growthMax = 0.0;
   int outerFacesSplit = 0;  // outer block faces whose quads lie on more than one part of the domain
   bool evenFarFieldUsed = false;  // the far field's lines slid (RefinementOptions::evenFarField)
-  // Times the blocks with a folded cell took twice the tangential cells (refineBlockMesh).
+  // Where a cell folded: the blocks a fold was in took 2^foldRefinements times their tangential
+  // cells (refineBlockMesh); 0 where none folded or no finer grid folded less.
   int foldRefinements = 0;
 };
 
