@@ -306,8 +306,7 @@ RefinedGrid refinedWhereFolded(const BlockMesh& mesh, const RefinementOptions& o
     try {
       finer = refineOnce(mesh, finerOptions, firstHeight, extent, minimumPoints);
     } catch (const InvalidInputError&) {
-      break;  // beyond the point budget: the grid kept stands (the writers refuse a folded one, naming the
-              // cell)
+      break;  // beyond the point budget: the grid kept stands (a folded one the writers refuse)
     }
     const std::vector<char> stillFolded = foldedBlocks(finer->grid.blocks());
     for (size_t b = 0; b < folded.size(); ++b) folded[b] = static_cast<char>(folded[b] | stillFolded[b]);
